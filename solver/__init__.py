@@ -1,0 +1,1 @@
+"""Manikin pose prediction: a balanced, comfort-maximising unified IK solver in NumPy/SciPy (no bpy)."""

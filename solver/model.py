@@ -1,0 +1,298 @@
+"""The manikin as a tree of 1-DoF joints: data, a builder, forward kinematics and Jacobians.
+
+Link i is moved by joint i; its frame sits at the joint. ``parent[i]`` is the parent link (-1 = world).
+In the zero pose every link frame is a pure translation of its parent by ``origin_position`` rotated by
+``origin_rotation``. Units: m, rad, kg. Forward kinematics is vectorised by pointer jumping: after
+ceil(log2(depth)) batched compositions every link holds its world transform.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ModelError
+from .spatial import axis_angle_matrices
+
+GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2, world frame
+EXTERIOR_JOINTS = ("root_tx", "root_ty", "root_tz", "root_rz", "root_rx", "root_ry")
+
+
+@dataclass(frozen=True)
+class Tcp:
+    """A named frame on a link: ``rotation`` (3x3) and ``position`` (m) in the link frame.
+
+    ``sole`` is an optional contact polygon (k x 2, m) in the TCP's x-y plane, used when the TCP is a support.
+    """
+
+    name: str
+    link: int
+    rotation: np.ndarray
+    position: np.ndarray
+    sole: np.ndarray | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """Arrays describing the joint tree. Build with :class:`ModelBuilder`."""
+
+    name: str
+    joint_names: tuple[str, ...]
+    link_names: tuple[str, ...]
+    parent: np.ndarray  # (n,) int, parent link, -1 = world
+    prismatic: np.ndarray  # (n,) bool
+    axis: np.ndarray  # (n, 3) unit axis in the link frame
+    origin_rotation: np.ndarray  # (n, 3, 3)
+    origin_position: np.ndarray  # (n, 3) m, in the parent frame
+    lower: np.ndarray  # (n,) rad or m
+    upper: np.ndarray  # (n,)
+    neutral: np.ndarray  # (n,) most comfortable value
+    strength: np.ndarray  # (n, 2) N*m (N for prismatic): muscle capacity for negative, positive moments
+    range_weight: np.ndarray  # (n,) weight of the joint in the comfort's joint-range term (0 = ignored)
+    mass: np.ndarray  # (n,) kg of link i
+    com: np.ndarray  # (n, 3) m, link i's center of mass in its frame
+    tcps: dict[str, Tcp]
+    info: dict = field(default_factory=dict)  # body description (sex, stature, mass, sources)
+    descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
+    _jumps: tuple = field(init=False)
+
+    def __post_init__(self) -> None:
+        n = len(self.joint_names)
+        desc = np.zeros((n, n), dtype=bool)
+        for k in range(n):
+            j = k
+            while j >= 0:
+                desc[j, k] = True
+                j = int(self.parent[j])
+        object.__setattr__(self, "descendant", desc)
+        # Pointer-jumping schedule: in each round, link i composes with its current ancestor pointer.
+        anc = self.parent.copy()
+        jumps = []
+        while np.any(anc >= 0):
+            idx = np.nonzero(anc >= 0)[0]
+            jumps.append((idx, anc[idx].copy()))
+            anc[idx] = np.where(anc[anc[idx]] >= 0, anc[anc[idx]], -1)
+        object.__setattr__(self, "_jumps", tuple(jumps))
+        self.prismatic.setflags(write=False)
+        self.descendant.setflags(write=False)
+
+    @property
+    def n(self) -> int:
+        """Number of joints (= links)."""
+        return len(self.joint_names)
+
+    @property
+    def total_mass(self) -> float:
+        """Body mass, kg."""
+        return float(self.mass.sum())
+
+    def joint_index(self, name: str) -> int:
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise ModelError(f"unknown joint '{name}'") from None
+
+    def link_index(self, name: str) -> int:
+        try:
+            return self.link_names.index(name)
+        except ValueError:
+            raise ModelError(f"unknown link '{name}'") from None
+
+    def tcp(self, name: str) -> Tcp:
+        try:
+            return self.tcps[name]
+        except KeyError:
+            known = ", ".join(sorted(self.tcps))
+            raise ModelError(f"unknown TCP '{name}' (known: {known})") from None
+
+    def zero_pose(self) -> np.ndarray:
+        """All joint values zero (standing upright), clipped into the joint ranges."""
+        return np.clip(np.zeros(self.n), self.lower, self.upper)
+
+    def forward(self, theta: np.ndarray) -> Kinematics:
+        """World frames of all links for joint values ``theta`` (rad / m)."""
+        theta = np.asarray(theta, dtype=float)
+        rev_angles = np.where(self.prismatic, 0.0, theta)
+        local_r = self.origin_rotation @ axis_angle_matrices(self.axis, rev_angles)
+        slide = np.where(self.prismatic, theta, 0.0)[:, None] * self.axis
+        local_p = self.origin_position + np.einsum("nij,nj->ni", self.origin_rotation, slide)
+        rot, pos = local_r, local_p
+        for idx, anc in self._jumps:
+            ra = rot[anc]
+            new_r = rot.copy()
+            new_p = pos.copy()
+            new_r[idx] = ra @ rot[idx]
+            new_p[idx] = np.einsum("nij,nj->ni", ra, pos[idx]) + pos[anc]
+            rot, pos = new_r, new_p
+        world_axis = np.einsum("nij,nj->ni", rot, self.axis)
+        world_com = pos + np.einsum("nij,nj->ni", rot, self.com)
+        return Kinematics(self, theta, rot, pos, world_axis, world_com)
+
+
+@dataclass(frozen=True, eq=False)
+class Kinematics:
+    """World frames of every link for one joint vector: rotation (n,3,3), position (n,3) m, axis (n,3), com (n,3)."""
+
+    model: Model
+    theta: np.ndarray
+    rotation: np.ndarray
+    position: np.ndarray
+    axis: np.ndarray
+    com: np.ndarray
+
+    def tcp_frame(self, tcp: Tcp) -> tuple[np.ndarray, np.ndarray]:
+        """(rotation 3x3, position m) of a TCP in the world."""
+        r = self.rotation[tcp.link]
+        return r @ tcp.rotation, self.position[tcp.link] + r @ tcp.position
+
+    def body_com(self) -> np.ndarray:
+        """Whole-body center of mass, m."""
+        m = self.model.mass
+        return (m @ self.com) / m.sum()
+
+    def point_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
+        """(3, n): d(world point fixed to ``link``)/d theta."""
+        mask = self.model.descendant[:, link]
+        lever = point[None, :] - self.position
+        cols = np.where(self.model.prismatic[:, None], self.axis, np.cross(self.axis, lever))
+        return (cols * mask[:, None]).T
+
+    def frame_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
+        """(6, n) geometric Jacobian [linear velocity of ``point``; angular velocity] of a frame on ``link``."""
+        mask = self.model.descendant[:, link]
+        lin = self.point_jacobian(link, point)
+        ang = np.where(self.model.prismatic[:, None], 0.0, self.axis) * mask[:, None]
+        return np.vstack([lin, ang.T])
+
+
+class ModelBuilder:
+    """Collects joints, links and TCPs by name and produces a :class:`Model`."""
+
+    def __init__(self, name: str, info: dict | None = None) -> None:
+        self.name = name
+        self.info = dict(info or {})
+        self._joints: list[dict] = []
+        self._link_index: dict[str, int] = {}
+        self._tcps: list[dict] = []
+
+    def add_joint(
+        self,
+        name: str,
+        parent: str | None,
+        axis: tuple[float, float, float],
+        origin: tuple[float, float, float] = (0.0, 0.0, 0.0),
+        *,
+        limits: tuple[float, float] = (-np.inf, np.inf),
+        prismatic: bool = False,
+        neutral: float = 0.0,
+        strength: tuple[float, float] = (np.inf, np.inf),
+        range_weight: float = 1.0,
+        link: str | None = None,
+        mass: float = 0.0,
+        com: tuple[float, float, float] = (0.0, 0.0, 0.0),
+        origin_rotation: np.ndarray | None = None,
+    ) -> str:
+        """Add joint ``name`` moving a new link (named ``link`` or ``name``) hung from link ``parent``.
+
+        ``origin`` is the joint position in the parent link frame (m), ``axis`` the joint axis in the new
+        link frame, ``limits`` (lower, upper) in rad (m if prismatic), ``strength`` (negative, positive)
+        muscle capacity in N*m, ``range_weight`` the joint's weight in the comfort's range term.
+        Returns the link name.
+        """
+        link_name = link or name
+        if link_name in self._link_index:
+            raise ModelError(f"link '{link_name}' defined twice")
+        if any(j["name"] == name for j in self._joints):
+            raise ModelError(f"joint '{name}' defined twice")
+        if parent is not None and parent not in self._link_index:
+            raise ModelError(f"joint '{name}': unknown parent link '{parent}'")
+        a = np.asarray(axis, dtype=float)
+        if a.shape != (3,) or not np.isfinite(a).all() or np.linalg.norm(a) < 1e-9:
+            raise ModelError(f"joint '{name}': axis must be a non-zero 3-vector")
+        lo, hi = float(limits[0]), float(limits[1])
+        if not lo <= neutral <= hi:
+            raise ModelError(f"joint '{name}': neutral {neutral} outside limits [{lo}, {hi}]")
+        if mass < 0:
+            raise ModelError(f"joint '{name}': negative mass")
+        self._link_index[link_name] = len(self._joints)
+        self._joints.append(
+            dict(
+                name=name,
+                link=link_name,
+                parent=-1 if parent is None else self._link_index[parent],
+                axis=a / np.linalg.norm(a),
+                origin=np.asarray(origin, dtype=float),
+                origin_rotation=np.eye(3) if origin_rotation is None else np.asarray(origin_rotation, float),
+                lower=lo,
+                upper=hi,
+                prismatic=bool(prismatic),
+                neutral=float(neutral),
+                strength=(float(strength[0]), float(strength[1])),
+                range_weight=float(range_weight),
+                mass=float(mass),
+                com=np.asarray(com, dtype=float),
+            )
+        )
+        return link_name
+
+    def set_mass(self, link: str, mass: float, com: tuple[float, float, float]) -> None:
+        """Give an existing link its mass (kg) and center of mass (m, link frame)."""
+        j = self._joints[self._link_index[link]]
+        j["mass"], j["com"] = float(mass), np.asarray(com, dtype=float)
+
+    def add_tcp(
+        self,
+        name: str,
+        link: str,
+        position: tuple[float, float, float],
+        rotation: np.ndarray | None = None,
+        sole: np.ndarray | None = None,
+    ) -> None:
+        """Add a TCP frame on ``link`` at ``position`` (m, link frame) with ``rotation`` (3x3, link frame)."""
+        if link not in self._link_index:
+            raise ModelError(f"TCP '{name}': unknown link '{link}'")
+        self._tcps.append(dict(name=name, link=link, position=position, rotation=rotation, sole=sole))
+
+    def add_exterior_root(self, pelvis_position: tuple[float, float, float], link: str = "pelvis") -> str:
+        """Three prismatic then three revolute joints (z, x, y) from the world origin to ``link``.
+
+        With all six values zero the root link sits at ``pelvis_position`` (m) with identity rotation.
+        """
+        parent = None
+        for name, axis in zip(EXTERIOR_JOINTS[:3], np.eye(3)):
+            parent = self.add_joint(name, parent, tuple(axis), prismatic=True, limits=(-10.0, 10.0), range_weight=0.0)
+        parent = self.add_joint(
+            "root_rz", parent, (0, 0, 1), pelvis_position, limits=(-4 * np.pi, 4 * np.pi), range_weight=0.0
+        )
+        parent = self.add_joint("root_rx", parent, (1, 0, 0), limits=(-np.pi, np.pi), range_weight=0.0)
+        return self.add_joint("root_ry", parent, (0, 1, 0), limits=(-np.pi, np.pi), range_weight=0.0, link=link)
+
+    def build(self) -> Model:
+        js = self._joints
+        if not js:
+            raise ModelError(f"model '{self.name}' has no joints")
+        tcps = {}
+        for t in self._tcps:
+            rot = np.eye(3) if t["rotation"] is None else np.asarray(t["rotation"], dtype=float)
+            sole = None if t["sole"] is None else np.asarray(t["sole"], dtype=float).reshape(-1, 2)
+            tcps[t["name"]] = Tcp(t["name"], self._link_index[t["link"]], rot, np.asarray(t["position"], float), sole)
+        return Model(
+            name=self.name,
+            joint_names=tuple(j["name"] for j in js),
+            link_names=tuple(j["link"] for j in js),
+            parent=np.array([j["parent"] for j in js], dtype=int),
+            prismatic=np.array([j["prismatic"] for j in js], dtype=bool),
+            axis=np.array([j["axis"] for j in js]),
+            origin_rotation=np.array([j["origin_rotation"] for j in js]),
+            origin_position=np.array([j["origin"] for j in js]),
+            lower=np.array([j["lower"] for j in js]),
+            upper=np.array([j["upper"] for j in js]),
+            neutral=np.array([j["neutral"] for j in js]),
+            strength=np.array([j["strength"] for j in js]),
+            range_weight=np.array([j["range_weight"] for j in js]),
+            mass=np.array([j["mass"] for j in js]),
+            com=np.array([j["com"] for j in js]),
+            tcps=tcps,
+            info=self.info,
+        )

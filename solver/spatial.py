@@ -1,0 +1,112 @@
+"""Rotations and rigid motions: skew, SO(3) exp/log and the inverse left Jacobian, quaternions.
+
+Conventions: rotation matrices act on column vectors; quaternions are (w, x, y, z); angles in rad.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+_SMALL = 1e-8
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """Cross-product matrix [v]x of a 3-vector (or a stack of them, shape (..., 3) -> (..., 3, 3))."""
+    v = np.asarray(v, dtype=float)
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1] = -v[..., 2]
+    out[..., 0, 2] = v[..., 1]
+    out[..., 1, 0] = v[..., 2]
+    out[..., 1, 2] = -v[..., 0]
+    out[..., 2, 0] = -v[..., 1]
+    out[..., 2, 1] = v[..., 0]
+    return out
+
+
+def exp_so3(w: np.ndarray) -> np.ndarray:
+    """Rotation matrix of the rotation vector w (axis * angle, rad)."""
+    w = np.asarray(w, dtype=float)
+    angle = float(np.linalg.norm(w))
+    k = skew(w)
+    if angle < _SMALL:
+        return np.eye(3) + k + 0.5 * k @ k
+    return np.eye(3) + (np.sin(angle) / angle) * k + ((1.0 - np.cos(angle)) / angle**2) * k @ k
+
+
+def log_so3(r: np.ndarray) -> np.ndarray:
+    """Rotation vector (axis * angle, angle in [0, pi]) of the rotation matrix r."""
+    r = np.asarray(r, dtype=float)
+    cos_angle = np.clip((np.trace(r) - 1.0) * 0.5, -1.0, 1.0)
+    angle = float(np.arccos(cos_angle))
+    vee = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    if angle < 1e-6:
+        return 0.5 * vee
+    if np.pi - angle > 1e-4:
+        return vee * (angle / (2.0 * np.sin(angle)))
+    # Near pi the antisymmetric part vanishes: take the axis from the symmetric part.
+    sym = 0.5 * (r + r.T) - cos_angle * np.eye(3)
+    col = int(np.argmax(np.diag(sym)))
+    axis = sym[:, col] / np.sqrt(max(sym[col, col], _SMALL))
+    if axis @ vee < 0.0:
+        axis = -axis
+    return axis / np.linalg.norm(axis) * angle
+
+
+def left_jacobian_inverse_so3(w: np.ndarray) -> np.ndarray:
+    """Inverse left Jacobian of SO(3): d log(exp([d] ) exp(w)) / d d at d = 0.
+
+    If r = log(R) and R is perturbed on the left, R' = exp([d]) R, then dr = J_l^-1(r) d exactly to first
+    order. Used for the exact Jacobian of the rotation error (not only the small-error identity).
+    """
+    w = np.asarray(w, dtype=float)
+    angle = float(np.linalg.norm(w))
+    k = skew(w)
+    if angle < 1e-5:
+        return np.eye(3) - 0.5 * k + (1.0 / 12.0) * k @ k
+    half = 0.5 * angle
+    coef = (1.0 - half * np.cos(half) / np.sin(half)) / angle**2
+    return np.eye(3) - 0.5 * k + coef * k @ k
+
+
+def quat_to_matrix(q: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a quaternion (w, x, y, z); the quaternion is normalised first."""
+    q = np.asarray(q, dtype=float)
+    norm = np.linalg.norm(q)
+    if not np.isfinite(norm) or norm < _SMALL:
+        raise ValueError("a rotation quaternion must be finite and non-zero")
+    w, x, y, z = q / norm
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def matrix_to_quat(r: np.ndarray) -> np.ndarray:
+    """Quaternion (w, x, y, z) with w >= 0 of a rotation matrix."""
+    r = np.asarray(r, dtype=float)
+    trace = np.trace(r)
+    if trace > 0.0:
+        s = 2.0 * np.sqrt(trace + 1.0)
+        q = np.array([0.25 * s, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s])
+    else:
+        i = int(np.argmax(np.diag(r)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * np.sqrt(max(1.0 + r[i, i] - r[j, j] - r[k, k], _SMALL))
+        q = np.zeros(4)
+        q[0] = (r[k, j] - r[j, k]) / s
+        q[1 + i] = 0.25 * s
+        q[1 + j] = (r[j, i] + r[i, j]) / s
+        q[1 + k] = (r[k, i] + r[i, k]) / s
+    q /= np.linalg.norm(q)
+    return q if q[0] >= 0.0 else -q
+
+
+def axis_angle_matrices(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Stack of rotation matrices about unit axes (n, 3) by angles (n,), rad (Rodrigues, vectorised)."""
+    k = skew(axes)
+    s = np.sin(angles)[:, None, None]
+    c = np.cos(angles)[:, None, None]
+    return np.eye(3)[None] + s * k + (1.0 - c) * (k @ k)
