@@ -1,0 +1,98 @@
+"""The comfort function h(x) the solver maximises in the constraints' null space (thesis §3.3).
+
+h = -(w_range * range + w_load * load + w_contact * contact), all dimensionless:
+
+* range   = sum_i c_i tan^2(u_i), u_i = (pi/2)(theta_i - n_i)/(hi_i - n_i) above the neutral value n_i and
+            (pi/2)(theta_i - n_i)/(n_i - lo_i) below it: the thesis's tan^2 form, generalised to asymmetric
+            limits; 0 at the neutral value, infinite at a limit (u is capped at 0.48 pi to stay finite).
+* load    = sum_i c_i (tau_i / s_i)^2, tau_i the moment about joint i's axis (eq. 3.10-3.11) and s_i the
+            joint's strength in the direction the muscles must act (so the square is the strain).
+* contact = sum_k (w_k / body weight)^2, a small preference for spreading contact forces evenly.
+
+c_i is the model's per-joint comfort weight (1/17 per thoracolumbar vertebra, so bending the whole region
+costs like one joint). Gradients are analytic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import GRAVITY, Model
+from .state import State
+
+U_MAX = 0.48 * np.pi
+
+
+@dataclass(frozen=True)
+class ComfortWeights:
+    """Weights of the three comfort terms (dimensionless)."""
+
+    range: float = 1.0
+    load: float = 1.0
+    contact: float = 0.01
+
+
+class Comfort:
+    """Value and gradient of h(x) for one model."""
+
+    def __init__(self, model: Model, weights: ComfortWeights = ComfortWeights()) -> None:
+        self.model = model
+        self.weights = weights
+        lo, hi, mid = model.lower, model.upper, model.neutral
+        finite = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
+        self.range_weight = np.where(finite, model.range_weight, 0.0)
+        self.span_up = np.where(finite, np.maximum(hi - mid, 1e-9), 1.0)
+        self.span_down = np.where(finite, np.maximum(mid - lo, 1e-9), 1.0)
+        strength = np.where(np.isfinite(model.strength) & (model.strength > 0), model.strength, np.inf)
+        self.inv_strength = 1.0 / strength  # (n, 2): for negative and positive muscle moments
+        self.load_weight = np.where(model.prismatic, 0.0, model.range_weight)
+        self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
+
+    def _range_terms(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        d = theta - self.model.neutral
+        span = np.where(d >= 0.0, self.span_up, self.span_down)
+        u = np.clip(0.5 * np.pi * d / span, -U_MAX, U_MAX)
+        t = np.tan(u)
+        du = np.where(np.abs(0.5 * np.pi * d / span) < U_MAX, 0.5 * np.pi / span, 0.0)
+        return t * t, 2.0 * t * (1.0 + t * t) * du
+
+    def _strain_scale(self, tau: np.ndarray) -> np.ndarray:
+        # The muscles must produce -tau: positive capacity when tau < 0.
+        return np.where(tau < 0.0, self.inv_strength[:, 1], self.inv_strength[:, 0])
+
+    def parts(self, state: State) -> dict[str, float]:
+        """The three (unweighted) terms, each >= 0, for reports."""
+        rng, _ = self._range_terms(state.theta)
+        out = {"range": float(self.range_weight @ rng), "load": 0.0, "contact": 0.0}
+        if self.weights.load:
+            tau = state.statics.axis_loads()
+            strain = tau * self._strain_scale(tau)
+            out["load"] = float(self.load_weight @ (strain * strain))
+        if len(state.w):
+            out["contact"] = float(np.sum((state.w / self.body_weight) ** 2))
+        return out
+
+    def value(self, state: State) -> float:
+        """h(x) (<= 0; larger is more comfortable)."""
+        p = self.parts(state)
+        w = self.weights
+        return -(w.range * p["range"] + w.load * p["load"] + w.contact * p["contact"])
+
+    def gradient(self, state: State) -> np.ndarray:
+        """dh/dx, shape (n_x,)."""
+        n = self.model.n
+        grad = np.zeros(state.n_x)
+        _, d_rng = self._range_terms(state.theta)
+        grad[:n] -= self.weights.range * self.range_weight * d_rng
+        if self.weights.load:
+            tau = state.statics.axis_loads()
+            scale = self._strain_scale(tau)
+            coef = 2.0 * self.load_weight * tau * scale * scale
+            d_theta, d_w = state.statics.axis_load_jacobian()
+            grad[:n] -= self.weights.load * (coef @ d_theta)
+            grad[n:] -= self.weights.load * (coef @ d_w)
+        if len(state.w):
+            grad[n:] -= self.weights.contact * 2.0 * state.w / self.body_weight**2
+        return grad

@@ -1,0 +1,34 @@
+"""The one interface every constraint implements (thesis §5.3): rows, error, Jacobian, tolerance."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import numpy as np
+
+from ..state import State
+
+
+class Constraint(ABC):
+    """g(x) = 0 rows. ``tolerance`` is per row in the row's own units; |error| <= tolerance is met."""
+
+    name: str
+    weight: float = 1.0
+
+    @property
+    @abstractmethod
+    def rows(self) -> int: ...
+
+    @abstractmethod
+    def tolerance(self) -> np.ndarray: ...
+
+    @abstractmethod
+    def error(self, state: State) -> np.ndarray: ...
+
+    @abstractmethod
+    def jacobian(self, state: State) -> np.ndarray:
+        """(rows, n_x): d error / d x, x = [theta, w]."""
+
+    @abstractmethod
+    def residuals(self, state: State) -> dict[str, float]:
+        """Readable residuals in their own units (m, rad, N, N*m), keyed ``<name>.<quantity>``."""

@@ -1,0 +1,181 @@
+"""A pose problem: targets, loops, loads, supports and comfort for one model, and its variable vector.
+
+x = [theta (n joints, rad or m), w (contact edge weights, N)]. The solver works in scaled variables
+y = x / scale (forces divided by body weight) on rows divided by their tolerance, so that meters, radians and
+newtons compare and "converged" means max |scaled error| <= 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .comfort import Comfort, ComfortWeights
+from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, lock_operator
+from .contacts import Support, build_contacts
+from .errors import ManikinError
+from .model import GRAVITY, Model
+from .state import State
+from .statics import Load, StaticsLayout
+
+
+@dataclass(frozen=True)
+class Target:
+    """Hold ``tcp`` on a world frame. ``rotation`` (3x3) None means the TCP's zero-pose orientation.
+
+    ``lock`` lists the constrained axes of the target frame; ``operator`` (k x 6) replaces it when given.
+    A ``support`` target also carries contact forces (friction coefficient ``friction``, optional sole).
+    """
+
+    tcp: str
+    position: np.ndarray
+    rotation: np.ndarray | None = None
+    lock: tuple[str, ...] = AXES
+    operator: np.ndarray | None = None
+    weight: float = 1.0
+    support: bool = False
+    friction: float = 0.6
+    sole: np.ndarray | None = None
+    enabled: bool = True
+
+
+@dataclass(frozen=True)
+class Loop:
+    """Hold ``tcp`` on the frame of ``other`` composed with an offset (in ``other``'s frame)."""
+
+    tcp: str
+    other: str
+    offset_position: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    offset_rotation: np.ndarray | None = None
+    lock: tuple[str, ...] = ("x", "y", "z")
+    operator: np.ndarray | None = None
+    weight: float = 1.0
+
+
+@dataclass(frozen=True)
+class ExternalLoad:
+    """A force (N, world frame) applied at ``tcp``."""
+
+    tcp: str
+    force: np.ndarray
+
+
+class Problem:
+    """Everything the solver needs, assembled from plain specifications."""
+
+    def __init__(
+        self,
+        model: Model,
+        targets: list[Target] = (),
+        loops: list[Loop] = (),
+        loads: list[ExternalLoad] = (),
+        balance: bool = True,
+        comfort_weights: ComfortWeights = ComfortWeights(),
+    ) -> None:
+        self.model = model
+        self.targets = [t for t in targets if t.enabled]
+        self.loops = list(loops)
+        self.balance = balance
+        zero = model.forward(model.zero_pose())
+        supports = []
+        if balance:
+            for t in self.targets:
+                if t.support:
+                    supports.append(Support(model.tcp(t.tcp), self._rotation_of(t, zero), t.friction, t.sole))
+            if not supports:
+                raise ManikinError("balance needs at least one support target (support = true)")
+        self.contacts = build_contacts(model, supports)
+        self.loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in loads]
+        self.layout = StaticsLayout(model, self.contacts, self.loads)
+        n, n_w = model.n, self.contacts.n_vars
+        self.n_x = n + n_w
+        self.constraints: list[Constraint] = []
+        for t in self.targets:
+            op = t.operator if t.operator is not None else lock_operator(t.lock)
+            self.constraints.append(
+                FrameConstraint(
+                    t.tcp, model.tcp(t.tcp), self._rotation_of(t, zero), t.position, op, self.n_x, weight=t.weight
+                )
+            )
+        for lp in self.loops:
+            op = lp.operator if lp.operator is not None else lock_operator(lp.lock)
+            rot = np.eye(3) if lp.offset_rotation is None else lp.offset_rotation
+            self.constraints.append(
+                FrameConstraint(
+                    f"loop {lp.tcp}-{lp.other}",
+                    model.tcp(lp.tcp),
+                    rot,
+                    lp.offset_position,
+                    op,
+                    self.n_x,
+                    reference=model.tcp(lp.other),
+                    weight=lp.weight,
+                )
+            )
+        if balance:
+            self.constraints.append(BalanceConstraint(self.n_x))
+        self.comfort = Comfort(model, comfort_weights)
+        self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
+        self.lower = np.concatenate([model.lower, np.zeros(n_w)])
+        self.upper = np.concatenate([model.upper, np.full(n_w, np.inf)])
+        self.scale = np.concatenate([np.ones(n), np.full(n_w, self.body_weight)])
+        self.row_tolerance = np.concatenate([c.tolerance() for c in self.constraints]) if self.constraints else np.zeros(0)
+        self.row_weight = (
+            np.concatenate([np.full(c.rows, c.weight) for c in self.constraints]) if self.constraints else np.zeros(0)
+        )
+        self.n_rows = len(self.row_tolerance)
+
+    @staticmethod
+    def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
+        if target.rotation is not None:
+            return np.asarray(target.rotation, dtype=float)
+        return zero_pose_kin.tcp_frame(zero_pose_kin.model.tcp(target.tcp))[0]
+
+    def state(self, x: np.ndarray) -> State:
+        return State(x, self.model.n, self.layout)
+
+    def start(self, x0: np.ndarray | None = None) -> np.ndarray:
+        """A valid starting x: ``x0`` (joint values alone, or joints + forces) clipped into bounds.
+
+        Missing or mismatched force values are replaced by an even share of body weight plus loads.
+        """
+        n = self.model.n
+        x0 = self.model.zero_pose() if x0 is None else np.asarray(x0, dtype=float)
+        if x0.shape[0] not in (n, self.n_x) or not np.isfinite(x0).all():
+            raise ManikinError(f"start pose must be {n} finite joint values (or {self.n_x} with forces)")
+        theta = x0[:n]
+        if x0.shape[0] == self.n_x and self.contacts.n_vars:
+            w = x0[n:]
+        else:
+            down = self.body_weight - sum(float(ld.force[2]) for ld in self.loads)
+            w = self.contacts.even_weights(down)
+        return np.clip(np.concatenate([theta, w]), self.lower, self.upper)
+
+    def scaled_error(self, state: State) -> np.ndarray:
+        """All constraint rows divided by their tolerance and multiplied by their weight."""
+        if not self.constraints:
+            return np.zeros(0)
+        e = np.concatenate([c.error(state) for c in self.constraints])
+        return e * self.row_weight / self.row_tolerance
+
+    def scaled_jacobian(self, state: State) -> np.ndarray:
+        """d scaled_error / d y, y = x / scale."""
+        if not self.constraints:
+            return np.zeros((0, self.n_x))
+        jac = np.vstack([c.jacobian(state) for c in self.constraints])
+        return jac * (self.row_weight / self.row_tolerance)[:, None] * self.scale[None, :]
+
+    def residuals(self, state: State) -> dict[str, float]:
+        out: dict[str, float] = {}
+        for c in self.constraints:
+            out.update(c.residuals(state))
+        return out
+
+    def unmet(self, state: State) -> list[str]:
+        """Names of the constraints with some row outside its tolerance."""
+        names = []
+        for c in self.constraints:
+            if np.any(np.abs(c.error(state)) > c.tolerance() * (1 + 1e-9)):
+                names.append(c.name)
+        return names

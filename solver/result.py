@@ -1,0 +1,91 @@
+"""What a solve returns: the pose, contact forces, residuals in their own units, and a readable summary."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .problem import Problem
+    from .state import State
+
+
+@dataclass
+class Result:
+    """Outcome of :func:`solver.solve`. ``x`` = [joint values, contact edge weights]; never NaN."""
+
+    problem: Problem
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    time_s: float
+    residuals: dict[str, float]
+    unmet: list[str]
+    comfort: float
+    comfort_parts: dict[str, float]
+    contacts: list[dict]
+    com: np.ndarray
+
+    @classmethod
+    def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
+        unmet = problem.unmet(state)
+        return cls(
+            problem=problem,
+            x=state.x.copy(),
+            converged=not unmet,
+            iterations=iterations,
+            time_s=time_s,
+            residuals=problem.residuals(state),
+            unmet=unmet,
+            comfort=problem.comfort.value(state),
+            comfort_parts=problem.comfort.parts(state),
+            contacts=problem.contacts.wrenches(state.kin, state.w),
+            com=state.kin.body_com(),
+        )
+
+    @property
+    def theta(self) -> np.ndarray:
+        """Joint values, rad (m for the prismatic root joints)."""
+        return self.x[: self.problem.model.n]
+
+    @property
+    def state(self) -> State:
+        return self.problem.state(self.x)
+
+    def joint_values(self) -> dict[str, float]:
+        return dict(zip(self.problem.model.joint_names, map(float, self.theta)))
+
+    def summary(self) -> str:
+        """A few lines a person can read: status, each constraint's residual, contacts, comfort."""
+        status = "converged" if self.converged else "NOT converged"
+        lines = [f"{self.problem.model.name}: {status} in {self.iterations} iterations, {self.time_s * 1e3:.1f} ms"]
+        if self.unmet:
+            lines.append("  unmet: " + ", ".join(self.unmet))
+        for name, value in self.residuals.items():
+            unit = _unit(name)
+            shown = np.rad2deg(value) if unit == "deg" else value * (1e3 if unit == "mm" else 1.0)
+            lines.append(f"  {name:<32s} {shown:10.3f} {unit}")
+        for c in self.contacts:
+            f = c["force"]
+            lines.append(
+                f"  contact {c['tcp']:<24s} force [{f[0]:8.1f} {f[1]:8.1f} {f[2]:8.1f}] N"
+                f"  COP [{c['point'][0]:.3f} {c['point'][1]:.3f} {c['point'][2]:.3f}] m"
+            )
+        parts = ", ".join(f"{k} {v:.3f}" for k, v in self.comfort_parts.items())
+        lines.append(f"  comfort {self.comfort:.4f} ({parts})")
+        lines.append(f"  center of mass [{self.com[0]:.3f} {self.com[1]:.3f} {self.com[2]:.3f}] m")
+        return "\n".join(lines)
+
+
+def _unit(name: str) -> str:
+    if name.endswith(".position"):
+        return "mm"
+    if name.endswith(".rotation"):
+        return "deg"
+    if name.endswith(".force"):
+        return "N"
+    if name.endswith(".moment"):
+        return "N*m"
+    return ""

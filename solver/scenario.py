@@ -1,0 +1,319 @@
+"""Scenario files (TOML) in, result files (JSON) out: the public interface shared by CLI, Blender and batch.
+
+Every problem in a file raises :class:`ScenarioError` with one line naming the file, the key and what was
+expected. Units: m, rad, N, kg; rotations are quaternions (w, x, y, z).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .bodies import load_body
+from .comfort import ComfortWeights
+from .constraints import AXES
+from .errors import ManikinError, ScenarioError
+from .model import GRAVITY, Model
+from .problem import ExternalLoad, Loop, Problem, Target
+from .result import Result
+from .solve import SolverOptions
+from .spatial import matrix_to_quat, quat_to_matrix
+
+SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "name", "description"}
+
+
+@dataclass
+class Scenario:
+    """A parsed scenario: the model, the problem, solver options and the start pose."""
+
+    path: Path
+    model: Model
+    problem: Problem
+    options: SolverOptions
+    start: np.ndarray
+    frame: int = 1
+
+
+class _Reader:
+    """Typed access to a TOML table with error messages that name the file and the key."""
+
+    def __init__(self, path: Path, data: dict, prefix: str = "") -> None:
+        self.path, self.data, self.prefix = path, data, prefix
+
+    def fail(self, key: str, expected: str, value: Any = None) -> ScenarioError:
+        got = "" if value is None else f", got {value!r}"
+        return ScenarioError(f"{self.path}: {self.prefix}{key}: expected {expected}{got}")
+
+    def sub(self, key: str, data: dict) -> _Reader:
+        return _Reader(self.path, data, f"{self.prefix}{key}.")
+
+    def known(self, keys: set[str]) -> None:
+        for key in self.data:
+            if key not in keys:
+                raise self.fail(key, "one of " + ", ".join(sorted(keys)) + " (unknown key)")
+
+    def get(self, key: str, default: Any = None) -> Any:
+        return self.data.get(key, default)
+
+    def number(self, key: str, default: float | None = None, low: float = -math.inf, high: float = math.inf) -> float:
+        value = self.data.get(key, default)
+        if value is None:
+            raise self.fail(key, "a number (missing)")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise self.fail(key, "a finite number", value)
+        if not low <= value <= high:
+            raise self.fail(key, f"a number in [{low}, {high}]", value)
+        return float(value)
+
+    def boolean(self, key: str, default: bool) -> bool:
+        value = self.data.get(key, default)
+        if not isinstance(value, bool):
+            raise self.fail(key, "true or false", value)
+        return value
+
+    def string(self, key: str, default: str | None = None) -> str:
+        value = self.data.get(key, default)
+        if not isinstance(value, str) or not value:
+            raise self.fail(key, "a non-empty string", value)
+        return value
+
+    def vector(self, key: str, size: int, default: Any = None) -> np.ndarray:
+        value = self.data.get(key, default)
+        ok = isinstance(value, list) and len(value) == size
+        ok = ok and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+        if not ok:
+            raise self.fail(key, f"{size} finite numbers", value)
+        return np.asarray(value, dtype=float)
+
+    def rotation(self, key: str) -> np.ndarray | None:
+        if key not in self.data:
+            return None
+        q = self.vector(key, 4)
+        if np.linalg.norm(q) < 1e-9:
+            raise self.fail(key, "a non-zero quaternion [w, x, y, z]", self.data[key])
+        return quat_to_matrix(q)
+
+    def lock(self, key: str, default: tuple[str, ...]) -> tuple[str, ...]:
+        value = self.data.get(key, list(default))
+        if not isinstance(value, list) or not all(isinstance(a, str) and a in AXES for a in value):
+            raise self.fail(key, f"a list of axes from {list(AXES)}", value)
+        return tuple(value)
+
+    def operator(self, key: str) -> np.ndarray | None:
+        if key not in self.data:
+            return None
+        value = self.data[key]
+        try:
+            op = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise self.fail(key, "a list of rows of 6 numbers", value) from None
+        if op.ndim != 2 or op.shape[1] != 6 or op.shape[0] == 0 or not np.isfinite(op).all():
+            raise self.fail(key, "a list of rows of 6 finite numbers", value)
+        return op
+
+    def tcp(self, key: str, model: Model) -> str:
+        name = self.string(key)
+        if name not in model.tcps:
+            raise self.fail(key, "a TCP of the manikin: " + ", ".join(sorted(model.tcps)), name)
+        return name
+
+    def table_list(self, key: str) -> list[_Reader]:
+        value = self.data.get(key, [])
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            raise self.fail(key, "an array of tables ([[...]])", value)
+        return [_Reader(self.path, v, f"{self.prefix}{key}[{i}].") for i, v in enumerate(value)]
+
+    def table(self, key: str) -> _Reader:
+        value = self.data.get(key, {})
+        if not isinstance(value, dict):
+            raise self.fail(key, "a table", value)
+        return self.sub(key, value)
+
+
+def read_toml(path: Path) -> dict:
+    """Parse a TOML file, turning every failure into a one-line ScenarioError."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ScenarioError(f"{path}: file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"{path}: cannot read ({exc})") from None
+    if not text.strip():
+        raise ScenarioError(f"{path}: the file is empty; expected a scenario with [manikin] and [[targets]]")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{path}: malformed TOML ({exc})") from None
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file into a ready-to-solve :class:`Scenario`."""
+    path = Path(path)
+    root = _Reader(path, read_toml(path))
+    root.known(SECTIONS)
+    model = _read_manikin(root.table("manikin"), path)
+    solver_t = root.table("solver")
+    solver_t.known({"balance", "reduction", "max_iterations", "comfort"})
+    if solver_t.boolean("reduction", False):
+        raise solver_t.fail("reduction", "false: variable reduction is not available in this version", True)
+    balance = solver_t.boolean("balance", True)
+    options = SolverOptions(
+        max_iterations=int(solver_t.number("max_iterations", 200, 1, 100000)),
+        optimize_comfort=solver_t.boolean("comfort", True),
+    )
+    comfort_t = root.table("comfort")
+    comfort_t.known({"range", "load", "contact"})
+    weights = ComfortWeights(
+        comfort_t.number("range", 1.0, 0.0), comfort_t.number("load", 1.0, 0.0), comfort_t.number("contact", 0.01, 0.0)
+    )
+    targets = [_read_target(t, model) for t in root.table_list("targets")]
+    loads = [_read_load(t, model) for t in root.table_list("loads")]
+    loops = [_read_loop(t, model) for t in root.table_list("loops")]
+    if not targets and not loops:
+        raise root.fail("targets", "at least one [[targets]] entry")
+    if balance and not any(t.support and t.enabled for t in targets):
+        raise root.fail("targets", "a target with support = true when [solver] balance = true")
+    try:
+        problem = Problem(model, targets, loops, loads, balance=balance, comfort_weights=weights)
+    except ManikinError as exc:
+        raise ScenarioError(f"{path}: {exc}") from None
+    start = _read_start(root.table("start"), model, problem)
+    frame = int(root.number("frame", 1, -1e9, 1e9))
+    return Scenario(path, model, problem, options, start, frame)
+
+
+def _read_manikin(t: _Reader, path: Path) -> Model:
+    t.known({"preset", "file"})
+    if ("preset" in t.data) == ("file" in t.data):
+        raise t.fail("preset", "exactly one of preset = \"male_50\" or file = \"body.toml\"")
+    try:
+        if "preset" in t.data:
+            return load_body(preset=t.string("preset"))
+        body = Path(t.string("file"))
+        return load_body(file=body if body.is_absolute() else path.parent / body)
+    except ManikinError as exc:
+        raise ScenarioError(f"{path}: manikin: {exc}") from None
+
+
+def _read_target(t: _Reader, model: Model) -> Target:
+    t.known({"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
+             "name"})
+    sole = None
+    if "sole" in t.data:
+        value = t.data["sole"]
+        ok = isinstance(value, list) and len(value) >= 1 and all(isinstance(p, list) and len(p) == 2 for p in value)
+        sole = np.asarray(value, dtype=float) if ok else None
+        if sole is None or not np.isfinite(sole).all():
+            raise t.fail("sole", "a list of [x, y] corners in the TCP frame, m", value)
+    return Target(
+        tcp=t.tcp("tcp", model),
+        position=t.vector("position", 3),
+        rotation=t.rotation("rotation"),
+        lock=t.lock("lock", AXES),
+        operator=t.operator("operator"),
+        weight=t.number("weight", 1.0, 1e-6),
+        support=t.boolean("support", False),
+        friction=t.number("friction", 0.6, 0.0, 10.0),
+        sole=sole,
+        enabled=t.boolean("enabled", True),
+    )
+
+
+def _read_load(t: _Reader, model: Model) -> ExternalLoad:
+    t.known({"tcp", "force", "mass"})
+    if ("force" in t.data) == ("mass" in t.data):
+        raise t.fail("force", "exactly one of force = [fx, fy, fz] (N) or mass = kg")
+    force = t.vector("force", 3) if "force" in t.data else t.number("mass", low=0.0) * GRAVITY
+    return ExternalLoad(t.tcp("tcp", model), force)
+
+
+def _read_loop(t: _Reader, model: Model) -> Loop:
+    t.known({"tcp", "other", "offset_position", "offset_rotation", "lock", "operator", "weight"})
+    return Loop(
+        tcp=t.tcp("tcp", model),
+        other=t.tcp("other", model),
+        offset_position=t.vector("offset_position", 3, [0.0, 0.0, 0.0]),
+        offset_rotation=t.rotation("offset_rotation"),
+        lock=t.lock("lock", ("x", "y", "z")),
+        operator=t.operator("operator"),
+        weight=t.number("weight", 1.0, 1e-6),
+    )
+
+
+def _read_start(t: _Reader, model: Model, problem: Problem) -> np.ndarray:
+    t.known({"joints"})
+    theta = model.zero_pose()
+    joints = t.table("joints")
+    for name in joints.data:
+        if name not in model.joint_names:
+            raise joints.fail(name, "a joint name of the manikin (unknown joint)")
+        theta[model.joint_index(name)] = joints.number(name)
+    return problem.start(theta)
+
+
+def _vec(v: np.ndarray) -> list[float]:
+    return [float(a) for a in v]
+
+
+def _limit(v: float) -> float | None:
+    return float(v) if math.isfinite(v) else None
+
+
+def result_to_dict(result: Result, frame: int = 1) -> dict:
+    """One frame of the result file: enough to recompute balance and joint loads from the file alone."""
+    problem = result.problem
+    model = problem.model
+    state = result.state
+    kin = state.kin
+    joints = {}
+    for i, name in enumerate(model.joint_names):
+        joints[name] = dict(
+            value=float(result.theta[i]),
+            min=_limit(model.lower[i]),
+            max=_limit(model.upper[i]),
+            type="prismatic" if model.prismatic[i] else "revolute",
+            link=model.link_names[i],
+            position=_vec(kin.position[i]),
+            axis=_vec(kin.axis[i]),
+        )
+    tcps = {}
+    for name, tcp in model.tcps.items():
+        rot, pos = kin.tcp_frame(tcp)
+        tcps[name] = dict(position=_vec(pos), rotation=_vec(matrix_to_quat(rot)), link=model.link_names[tcp.link])
+    links = [
+        dict(
+            name=model.link_names[i],
+            parent=None if model.parent[i] < 0 else model.link_names[model.parent[i]],
+            mass=float(model.mass[i]),
+            com=_vec(kin.com[i]),
+        )
+        for i in range(model.n)
+    ]
+    contacts = {c["tcp"]: dict(point=_vec(c["point"]), force=_vec(c["force"]), moment=_vec(c["moment"]))
+                for c in result.contacts}
+    loads = [
+        dict(tcp=ld.tcp.name, point=_vec(p), force=_vec(ld.force))
+        for ld, p in zip(problem.loads, state.statics.load_points)
+    ]
+    return dict(
+        frame=frame,
+        converged=result.converged,
+        iterations=result.iterations,
+        time_s=result.time_s,
+        unmet=list(result.unmet),
+        residuals=result.residuals,
+        comfort=result.comfort,
+        comfort_terms=result.comfort_parts,
+        com=_vec(result.com),
+        gravity=_vec(GRAVITY),
+        joints=joints,
+        tcps=tcps,
+        links=links,
+        contacts=contacts,
+        loads=loads,
+    )

@@ -1,0 +1,141 @@
+"""Static loads on the tree: balance residual, joint moments and their exact derivatives.
+
+Every external force is a point force: gravity m_i g at each link COM, contact forces at sole corners,
+user loads at TCPs. With per-link sums pushed up the tree (subtree sums ``S``), for joint j at p_j with
+world axis a_j:
+
+* moment of its subtree about p_j:  M_j = S_L[j] - p_j x S_F[j]     (thesis eq. 3.11)
+* load about its axis:              tau_j = a_j . M_j  (a_j . S_F[j] for a prismatic joint)
+* d(total moment)/d theta_j:        G_j = sum_k (a_j x (q_k - p_j)) x F_k   (eq. 3.7), a_j x S_F[j] if prismatic
+* d tau_i / d theta_j:              a_j . G_i if j is i or an ancestor of i (revolute j), a_i . G_j if j is a
+                                    descendant of i, else 0.
+
+All forces are constant in the world frame (gravity, loads, cone edges fixed to the target frames), which
+is what makes these formulas exact. Units: N, N*m, m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contacts import ContactSet
+from .model import GRAVITY, Kinematics, Model, Tcp
+
+
+@dataclass(frozen=True)
+class Load:
+    """An external force (N, world frame) applied at a TCP, e.g. a carried box's weight."""
+
+    tcp: Tcp
+    force: np.ndarray
+
+
+class StaticsLayout:
+    """What stays fixed for one problem: which link every point force acts on, as subtree incidence."""
+
+    def __init__(self, model: Model, contacts: ContactSet, loads: list[Load]) -> None:
+        self.model = model
+        self.contacts = contacts
+        self.loads = list(loads)
+        n = model.n
+        point_links = np.concatenate(
+            [np.arange(n), contacts.corner_link, np.array([ld.tcp.link for ld in loads], dtype=int)]
+        )
+        desc = model.descendant.astype(float)
+        # subtree[i, k] = 1 if point k acts on a link in the subtree of joint i
+        self.subtree_points = desc[:, point_links]
+        n_c = len(contacts.corner_link)
+        self.corner_slice = slice(n, n + n_c)
+        self.load_local = np.array([ld.tcp.position for ld in loads]).reshape(-1, 3)
+        self.load_link = np.array([ld.tcp.link for ld in loads], dtype=int)
+        self.load_force = np.array([ld.force for ld in loads], dtype=float).reshape(-1, 3)
+        self.gravity_force = model.mass[:, None] * GRAVITY[None, :]
+        rev = ~model.prismatic
+        self.ancestor_or_self_rev = desc.T * rev[None, :]  # [i, j]: j is i or an ancestor, j revolute
+        self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
+
+    def evaluate(self, kin: Kinematics, w: np.ndarray) -> Statics:
+        return Statics(self, kin, w)
+
+
+class Statics:
+    """Point forces and their subtree sums for one state (joint values + contact weights)."""
+
+    def __init__(self, layout: StaticsLayout, kin: Kinematics, w: np.ndarray) -> None:
+        self.layout = layout
+        self.kin = kin
+        self.w = w
+        contacts = layout.contacts
+        self.corner_points = contacts.corner_points(kin)
+        load_points = kin.position[layout.load_link] + np.einsum(
+            "lij,lj->li", kin.rotation[layout.load_link], layout.load_local
+        )
+        self.load_points = load_points
+        points = np.vstack([kin.com, self.corner_points, load_points])
+        forces = np.vstack([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
+        moments = np.cross(points, forces)
+        outer = (points[:, :, None] * forces[:, None, :]).reshape(-1, 9)
+        sums = layout.subtree_points @ np.hstack([forces, moments, outer])
+        self.total_force = forces.sum(axis=0)
+        self.total_moment = moments.sum(axis=0)  # about the world origin
+        self.sub_force = sums[:, 0:3]
+        self.sub_moment = sums[:, 3:6]
+        self.sub_outer = sums[:, 6:15].reshape(-1, 3, 3)
+        self._g = None
+
+    def joint_moments(self) -> np.ndarray:
+        """(n, 3) moment of each joint's subtree loads about the joint position, N*m (world)."""
+        return self.sub_moment - np.cross(self.kin.position, self.sub_force)
+
+    def axis_loads(self) -> np.ndarray:
+        """(n,) component of the joint moment about the joint axis, N*m (axial force in N if prismatic)."""
+        kin = self.kin
+        torque = np.einsum("ni,ni->n", kin.axis, self.joint_moments())
+        force = np.einsum("ni,ni->n", kin.axis, self.sub_force)
+        return np.where(self.layout.model.prismatic, force, torque)
+
+    def moment_derivatives(self) -> np.ndarray:
+        """(n, 3) G_j = d(total moment)/d theta_j, N*m per rad (per m if prismatic)."""
+        if self._g is None:
+            a, p, sf = self.kin.axis, self.kin.position, self.sub_force
+            a_dot_f = np.einsum("ni,ni->n", a, sf)
+            trace = np.einsum("nii->n", self.sub_outer)
+            w_rev = (
+                np.einsum("nij,nj->ni", self.sub_outer, a)
+                - p * a_dot_f[:, None]
+                - a * (trace - np.einsum("ni,ni->n", p, sf))[:, None]
+            )
+            self._g = np.where(self.layout.model.prismatic[:, None], np.cross(a, sf), w_rev)
+        return self._g
+
+    def balance_error(self) -> np.ndarray:
+        """(6,) total force (N) and total moment about the world origin (N*m)."""
+        return np.concatenate([self.total_force, self.total_moment])
+
+    def balance_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
+        """d balance_error / d theta (6, n) and / d w (6, n_w)."""
+        n = self.layout.model.n
+        d_theta = np.vstack([np.zeros((3, n)), self.moment_derivatives().T])
+        contacts = self.layout.contacts
+        dirs = contacts.var_direction
+        q = self.corner_points[contacts.var_corner]
+        d_w = np.vstack([dirs.T, np.cross(q, dirs).T])
+        return d_theta, d_w
+
+    def axis_load_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
+        """d axis_loads / d theta (n, n) and / d w (n, n_w), exact; rows of prismatic joints are left 0."""
+        layout = self.layout
+        a, p = self.kin.axis, self.kin.position
+        g = self.moment_derivatives()
+        d_theta = layout.ancestor_or_self_rev * (g @ a.T) + layout.strict_descendant * (a @ g.T)
+        contacts = layout.contacts
+        dirs = contacts.var_direction
+        q = self.corner_points[contacts.var_corner]
+        acts = layout.subtree_points[:, layout.corner_slice][:, contacts.var_corner]
+        d_w = acts * (a @ np.cross(q, dirs).T - np.cross(a, p) @ dirs.T)
+        prism = layout.model.prismatic
+        d_theta[prism] = 0.0
+        d_w[prism] = 0.0
+        return d_theta, d_w

@@ -1,0 +1,116 @@
+"""Every Jacobian and gradient against central finite differences, at random and near-singular poses."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import finite_difference, random_tree
+
+from solver.comfort import ComfortWeights
+from solver.constraints import FrameConstraint, lock_operator
+from solver.problem import ExternalLoad, Loop, Problem, Target
+from solver.spatial import exp_so3, log_so3
+
+
+def random_pose(model, rng, spread=1.0):
+    theta = rng.uniform(-spread, spread, model.n)
+    return np.clip(theta, model.lower + 0.05, model.upper - 0.05)
+
+
+def make_problem(model, rng, balance=True):
+    targets = [
+        Target("t0", rng.normal(size=3), exp_so3(rng.normal(size=3)), support=True, friction=0.5),
+        Target("t1", rng.normal(size=3), exp_so3(rng.normal(size=3)), lock=("z", "rx", "ry"), support=True),
+        Target("t2", rng.normal(size=3), exp_so3(rng.normal(size=3)), lock=("x", "y", "z", "rx", "ry")),
+    ]
+    loops = [Loop("t3", "t2", rng.normal(scale=0.2, size=3), exp_so3(rng.normal(size=3)), lock=tuple("xyz") + ("rz",))]
+    loads = [ExternalLoad("t3", np.array([3.0, -2.0, -40.0]))]
+    return Problem(model, targets, loops, loads, balance=balance, comfort_weights=ComfortWeights(1.0, 1.0, 0.3))
+
+
+def state_x(problem, rng):
+    theta = random_pose(problem.model, rng)
+    w = rng.uniform(0.0, 50.0, problem.contacts.n_vars)
+    return np.concatenate([theta, w])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_tcp_frame_jacobian(seed):
+    model = random_tree(seed)
+    rng = np.random.default_rng(seed)
+    theta = random_pose(model, rng)
+    for tcp in model.tcps.values():
+        kin = model.forward(theta)
+        r0, o0 = kin.tcp_frame(tcp)
+        jac = kin.frame_jacobian(tcp.link, o0)
+        lin = finite_difference(lambda t: model.forward(t).tcp_frame(tcp)[1], theta)
+        ang = finite_difference(lambda t: log_so3(model.forward(t).tcp_frame(tcp)[0] @ r0.T), theta)
+        np.testing.assert_allclose(jac[:3], lin, atol=1e-6)
+        np.testing.assert_allclose(jac[3:], ang, atol=1e-6)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_constraint_jacobians(seed):
+    model = random_tree(seed)
+    rng = np.random.default_rng(100 + seed)
+    problem = make_problem(model, rng)
+    x = state_x(problem, rng)
+    for c in problem.constraints:
+        analytic = c.jacobian(problem.state(x))
+        numeric = finite_difference(lambda xx: c.error(problem.state(xx)), x)
+        scale = max(1.0, np.abs(numeric).max())
+        np.testing.assert_allclose(analytic, numeric, atol=2e-6 * scale, err_msg=c.name)
+
+
+def test_rotation_error_jacobian_large_error():
+    """Exact log Jacobian: rotation errors near 170 degrees, not only small ones."""
+    model = random_tree(5)
+    rng = np.random.default_rng(5)
+    theta = random_pose(model, rng)
+    tcp = model.tcps["t2"]
+    r, o = model.forward(theta).tcp_frame(tcp)
+    axis = rng.normal(size=3)
+    target_r = r @ exp_so3(axis / np.linalg.norm(axis) * np.deg2rad(170))
+    c = FrameConstraint("t2", tcp, target_r, o + 0.3, lock_operator(("x", "y", "z", "rx", "ry", "rz")), model.n)
+    problem = Problem(model, balance=False)
+    err = c.error(problem.state(theta))
+    assert np.linalg.norm(err[3:]) > np.deg2rad(160)
+    numeric = finite_difference(lambda t: c.error(problem.state(t)), theta)
+    np.testing.assert_allclose(c.jacobian(problem.state(theta)), numeric, atol=1e-5)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_axis_load_jacobian(seed):
+    model = random_tree(seed)
+    rng = np.random.default_rng(200 + seed)
+    problem = make_problem(model, rng)
+    x = state_x(problem, rng)
+    n = model.n
+    d_theta, d_w = problem.state(x).statics.axis_load_jacobian()
+    numeric = finite_difference(lambda xx: problem.state(xx).statics.axis_loads(), x)
+    interior = ~model.prismatic
+    np.testing.assert_allclose(d_theta[interior], numeric[interior, :n], atol=1e-5)
+    np.testing.assert_allclose(d_w[interior], numeric[interior, n:], atol=1e-5)
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("balance", [True, False])
+def test_comfort_gradient(seed, balance):
+    model = random_tree(seed)
+    rng = np.random.default_rng(300 + seed)
+    problem = make_problem(model, rng, balance=balance)
+    x = state_x(problem, rng)[: problem.n_x]
+    grad = problem.comfort.gradient(problem.state(x))
+    numeric = finite_difference(lambda xx: [problem.comfort.value(problem.state(xx))], x)[0]
+    np.testing.assert_allclose(grad, numeric, rtol=1e-5, atol=1e-6)
+
+
+def test_near_singular_pose_jacobians():
+    """At a stretched-out (singular) configuration the analytic Jacobians still match."""
+    model = random_tree(7)
+    rng = np.random.default_rng(7)
+    problem = make_problem(model, rng)
+    x = np.concatenate([np.zeros(model.n), np.full(problem.contacts.n_vars, 10.0)])
+    for c in problem.constraints:
+        numeric = finite_difference(lambda xx: c.error(problem.state(xx)), x)
+        np.testing.assert_allclose(c.jacobian(problem.state(x)), numeric, atol=2e-6 * max(1, np.abs(numeric).max()))
