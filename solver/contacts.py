@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import Kinematics, Model, Tcp
+from .spatial import cross
 
 EDGE_ANGLES = np.deg2rad([0.0, 90.0, 180.0, 270.0])
 
@@ -75,7 +76,7 @@ class ContactSet:
                 cop = (pressure @ pts) / pressure.sum()
             else:
                 cop = pts.mean(axis=0)
-            moment = np.cross(pts - cop, fs).sum(axis=0)
+            moment = cross(pts - cop, fs).sum(axis=0)
             out.append(dict(tcp=support.tcp.name, point=cop, force=total, moment=moment))
         return out
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ModelError
-from .spatial import axis_angle_matrices
+from .spatial import cross, skew
 
 GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2, world frame
 EXTERIOR_JOINTS = ("root_tx", "root_ty", "root_tz", "root_rz", "root_rx", "root_ry")
@@ -56,6 +56,9 @@ class Model:
     info: dict = field(default_factory=dict)  # body description (sex, stature, mass, sources)
     descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
     _jumps: tuple = field(init=False)
+    _axis_skew: np.ndarray = field(init=False)
+    _axis_skew2: np.ndarray = field(init=False)
+    _plain_origins: bool = field(init=False)
 
     def __post_init__(self) -> None:
         n = len(self.joint_names)
@@ -74,6 +77,10 @@ class Model:
             jumps.append((idx, anc[idx].copy()))
             anc[idx] = np.where(anc[anc[idx]] >= 0, anc[anc[idx]], -1)
         object.__setattr__(self, "_jumps", tuple(jumps))
+        k = skew(self.axis)
+        object.__setattr__(self, "_axis_skew", k)
+        object.__setattr__(self, "_axis_skew2", k @ k)
+        object.__setattr__(self, "_plain_origins", bool(np.allclose(self.origin_rotation, np.eye(3))))
         self.prismatic.setflags(write=False)
         self.descendant.setflags(write=False)
 
@@ -113,18 +120,25 @@ class Model:
     def forward(self, theta: np.ndarray) -> Kinematics:
         """World frames of all links for joint values ``theta`` (rad / m)."""
         theta = np.asarray(theta, dtype=float)
+        n = len(theta)
         rev_angles = np.where(self.prismatic, 0.0, theta)
-        local_r = self.origin_rotation @ axis_angle_matrices(self.axis, rev_angles)
+        sin, cos = np.sin(rev_angles)[:, None, None], np.cos(rev_angles)[:, None, None]
+        local = np.zeros((n, 4, 4))
+        local[:, 3, 3] = 1.0
+        spin = np.eye(3) + sin * self._axis_skew + (1.0 - cos) * self._axis_skew2
         slide = np.where(self.prismatic, theta, 0.0)[:, None] * self.axis
-        local_p = self.origin_position + np.einsum("nij,nj->ni", self.origin_rotation, slide)
-        rot, pos = local_r, local_p
+        if self._plain_origins:
+            local[:, :3, :3] = spin
+            local[:, :3, 3] = self.origin_position + slide
+        else:
+            local[:, :3, :3] = self.origin_rotation @ spin
+            local[:, :3, 3] = self.origin_position + np.einsum("nij,nj->ni", self.origin_rotation, slide)
+        # Pointer jumping: each round composes every link with its current ancestor (in place is safe:
+        # the right-hand side gathers copies first).
         for idx, anc in self._jumps:
-            ra = rot[anc]
-            new_r = rot.copy()
-            new_p = pos.copy()
-            new_r[idx] = ra @ rot[idx]
-            new_p[idx] = np.einsum("nij,nj->ni", ra, pos[idx]) + pos[anc]
-            rot, pos = new_r, new_p
+            local[idx] = local[anc] @ local[idx]
+        rot = local[:, :3, :3]
+        pos = local[:, :3, 3]
         world_axis = np.einsum("nij,nj->ni", rot, self.axis)
         world_com = pos + np.einsum("nij,nj->ni", rot, self.com)
         return Kinematics(self, theta, rot, pos, world_axis, world_com)
@@ -155,7 +169,7 @@ class Kinematics:
         """(3, n): d(world point fixed to ``link``)/d theta."""
         mask = self.model.descendant[:, link]
         lever = point[None, :] - self.position
-        cols = np.where(self.model.prismatic[:, None], self.axis, np.cross(self.axis, lever))
+        cols = np.where(self.model.prismatic[:, None], self.axis, cross(self.axis, lever))
         return (cols * mask[:, None]).T
 
     def frame_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:

@@ -74,8 +74,10 @@ class Problem:
         comfort_weights: ComfortWeights = ComfortWeights(),
     ) -> None:
         self.model = model
+        self.all_targets = list(targets)
         self.targets = [t for t in targets if t.enabled]
         self.loops = list(loops)
+        self.load_specs = list(loads)
         self.balance = balance
         zero = model.forward(model.zero_pose())
         supports = []
@@ -125,6 +127,10 @@ class Problem:
             np.concatenate([np.full(c.rows, c.weight) for c in self.constraints]) if self.constraints else np.zeros(0)
         )
         self.n_rows = len(self.row_tolerance)
+
+    def with_targets(self, targets: list[Target]) -> Problem:
+        """The same problem (loops, loads, balance, comfort) with other targets."""
+        return Problem(self.model, targets, self.loops, self.load_specs, self.balance, self.comfort.weights)
 
     @staticmethod
     def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:

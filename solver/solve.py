@@ -66,11 +66,20 @@ def _direction(jac, err, grad, free, fixed_dy, opts):
     return task, comfort
 
 
+def _room(problem, x):
+    """Distance to the lower and upper bounds in scaled variables (<= 0 below, >= 0 above)."""
+    return (problem.lower - x) / problem.scale, (problem.upper - x) / problem.scale
+
+
 def _clamped_step(problem, x, jac, err, grad, opts):
-    """Task step and comfort direction (scaled variables) that keep x inside its bounds."""
-    lo = (problem.lower - x) / problem.scale
-    hi = (problem.upper - x) / problem.scale
-    free = lo < hi  # variables with an empty range never move
+    """Task step and comfort direction (scaled variables) that keep x inside its bounds.
+
+    Variables sitting on a bound that comfort pushes outwards are held from the start; variables the task
+    step would push past a bound are saturated there and the step is solved again without them.
+    """
+    lo, hi = _room(problem, x)
+    at_lo, at_hi = lo >= -1e-12, hi <= 1e-12
+    free = (lo < hi) & ~(at_lo & (grad < 0)) & ~(at_hi & (grad > 0))
     fixed_dy = np.zeros_like(x)
     task = comfort = np.zeros_like(x)
     for _ in range(opts.clamping_rounds):
@@ -85,9 +94,31 @@ def _clamped_step(problem, x, jac, err, grad, opts):
         fixed_dy[below] = lo[below]
         fixed_dy[above] = hi[above]
         free &= ~(below | above)
-    # the comfort direction must not push a variable at a bound outwards either
-    comfort = np.where((comfort < 0) & (lo >= -1e-12) | (comfort > 0) & (hi <= 1e-12), 0.0, comfort)
-    return np.nan_to_num(task), np.nan_to_num(comfort)
+    return np.nan_to_num(task), np.nan_to_num(comfort), free
+
+
+def _comfort_direction(problem, x, jac, grad, direction, free, opts):
+    """Unit comfort direction and the longest step before a bound; holds blocking variables and re-projects."""
+    for _ in range(3):
+        size = np.max(np.abs(direction), initial=0.0)
+        if not np.isfinite(size) or size <= 1e-12:
+            return None, 0.0
+        unit = direction / size
+        lo, hi = _room(problem, x)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            reach = np.where(unit > 0, hi / unit, np.where(unit < 0, lo / unit, np.inf))
+        reach = np.where(free, np.maximum(reach, 0.0), np.inf)
+        longest = float(np.min(reach, initial=np.inf))
+        if longest > 1e-9:
+            return unit, longest
+        free = free & (reach > 1e-9)
+        _, basis = _svd_step(jac[:, free], np.zeros(jac.shape[0]), opts)
+        direction = np.zeros_like(grad)
+        direction[free] = grad[free] - basis.T @ (basis @ grad[free])
+    return None, 0.0
+
+
+COMFORT_SLACK = 10.0  # how far (in tolerances) a comfort step may leave the constraints before the next task step
 
 
 class _Evaluator:
@@ -118,14 +149,13 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
     comfort_on = opts.optimize_comfort
     h = evaluate.comfort(state) if comfort_on else 0.0
     lam = opts.comfort_step
-    history = [h]
+    quiet = 0  # consecutive comfort steps with a negligible gain
     stalls = 0
     iterations = 0
     for iterations in range(1, opts.max_iterations + 1):
-        converged = worst <= 1.0
         jac = problem.scaled_jacobian(state)
         grad = problem.comfort.gradient(state) * problem.scale if comfort_on else np.zeros(problem.n_x)
-        task, direction = _clamped_step(problem, x, jac, err, grad, opts)
+        task, direction, free = _clamped_step(problem, x, jac, err, grad, opts)
 
         # 1. task step: backtrack on the constraint error
         moved = False
@@ -134,7 +164,7 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
             for _ in range(6):
                 x_try = np.clip(x + alpha * task * problem.scale, problem.lower, problem.upper)
                 s_try, e_try, m_try, w_try = evaluate(x_try)
-                if m_try < merit or (converged and w_try <= 1.0 and m_try <= merit * 1.0001):
+                if m_try < merit:
                     x, state, err, merit, worst, moved = x_try, s_try, e_try, m_try, w_try, True
                     break
                 alpha *= 0.5
@@ -145,36 +175,34 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
         elif worst > 1.0:
             stalls += 1
 
-        # 2. comfort step along the projected gradient, length lam (largest change in scaled units)
-        gained = False
-        size = np.max(np.abs(direction), initial=0.0)
-        if comfort_on and size > 1e-12 and np.isfinite(size):
-            unit = direction / size
+        # 2. comfort step along the projected gradient, length lam (largest change in scaled units). It may
+        #    leave the constraints by a little (COMFORT_SLACK tolerances); the next task step restores them.
+        unit, longest = (None, 0.0)
+        if comfort_on:
+            unit, longest = _comfort_direction(problem, x, jac, grad, direction, free, opts)
+        if unit is not None:
             slope = float(grad @ unit)
+            lam = min(lam, longest)
             x_try = np.clip(x + lam * unit * problem.scale, problem.lower, problem.upper)
             s_try, e_try, m_try, w_try = evaluate(x_try)
             h_try = evaluate.comfort(s_try)
-            ok_constraints = w_try <= 1.0 if worst <= 1.0 else m_try <= merit
             curvature = (h_try - h - lam * slope) / lam**2
-            if np.isfinite(h_try) and h_try > h + 1e-4 * lam * slope and ok_constraints:
+            rises = np.isfinite(h_try) and h_try > h + 1e-4 * lam * slope
+            if rises and w_try <= max(COMFORT_SLACK, worst):
+                gain = h_try - h
                 x, state, err, merit, worst, h = x_try, s_try, e_try, m_try, w_try, h_try
-                gained = True
                 lam = min(-slope / (2 * curvature), 3 * lam) if curvature < 0 else 3 * lam
+                quiet = quiet + 1 if gain <= opts.comfort_tolerance * max(abs(h), 1e-3) else 0
             else:
-                lam = -slope / (2 * curvature) if curvature < 0 else lam / 3
-                lam = min(lam, 0.5 * opts.comfort_step * 10)
+                lam = min(-slope / (2 * curvature), lam / 2) if (curvature < 0 and not rises) else lam / 2
+                quiet += 1
             lam = float(np.clip(lam, 1e-7, 0.5))
-        history.append(h)
+        else:
+            quiet += 1
 
-        if worst <= 1.0:
-            window = history[-4:]
-            settled = (
-                not comfort_on
-                or (len(window) == 4 and window[-1] - window[0] <= opts.comfort_tolerance * max(abs(h), 1e-3))
-                or (not gained and lam <= 1e-6)
-            )
-            if settled:
-                break
-        elif stalls >= 4:
+        comfort_settled = not comfort_on or quiet >= 3 or lam <= 1e-6
+        if worst <= 1.0 and comfort_settled:
+            break
+        if worst > 1.0 and stalls >= 4:
             break
     return Result.from_state(problem, state, iterations, time.perf_counter() - t0)

@@ -22,6 +22,7 @@ import numpy as np
 
 from .contacts import ContactSet
 from .model import GRAVITY, Kinematics, Model, Tcp
+from .spatial import cross
 
 
 @dataclass(frozen=True)
@@ -75,7 +76,7 @@ class Statics:
         self.load_points = load_points
         points = np.vstack([kin.com, self.corner_points, load_points])
         forces = np.vstack([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
-        moments = np.cross(points, forces)
+        moments = cross(points, forces)
         outer = (points[:, :, None] * forces[:, None, :]).reshape(-1, 9)
         sums = layout.subtree_points @ np.hstack([forces, moments, outer])
         self.total_force = forces.sum(axis=0)
@@ -87,7 +88,7 @@ class Statics:
 
     def joint_moments(self) -> np.ndarray:
         """(n, 3) moment of each joint's subtree loads about the joint position, N*m (world)."""
-        return self.sub_moment - np.cross(self.kin.position, self.sub_force)
+        return self.sub_moment - cross(self.kin.position, self.sub_force)
 
     def axis_loads(self) -> np.ndarray:
         """(n,) component of the joint moment about the joint axis, N*m (axial force in N if prismatic)."""
@@ -107,7 +108,7 @@ class Statics:
                 - p * a_dot_f[:, None]
                 - a * (trace - np.einsum("ni,ni->n", p, sf))[:, None]
             )
-            self._g = np.where(self.layout.model.prismatic[:, None], np.cross(a, sf), w_rev)
+            self._g = np.where(self.layout.model.prismatic[:, None], cross(a, sf), w_rev)
         return self._g
 
     def balance_error(self) -> np.ndarray:
@@ -121,7 +122,7 @@ class Statics:
         contacts = self.layout.contacts
         dirs = contacts.var_direction
         q = self.corner_points[contacts.var_corner]
-        d_w = np.vstack([dirs.T, np.cross(q, dirs).T])
+        d_w = np.vstack([dirs.T, cross(q, dirs).T])
         return d_theta, d_w
 
     def axis_load_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
@@ -134,7 +135,7 @@ class Statics:
         dirs = contacts.var_direction
         q = self.corner_points[contacts.var_corner]
         acts = layout.subtree_points[:, layout.corner_slice][:, contacts.var_corner]
-        d_w = acts * (a @ np.cross(q, dirs).T - np.cross(a, p) @ dirs.T)
+        d_w = acts * (a @ cross(q, dirs).T - cross(a, p) @ dirs.T)
         prism = layout.model.prismatic
         d_theta[prism] = 0.0
         d_w[prism] = 0.0

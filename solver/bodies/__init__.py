@@ -1,0 +1,107 @@
+"""Manikin bodies: the human (from published anthropometry) and the thesis' snake, built or loaded from TOML.
+
+A body TOML file has one table::
+
+    [body]
+    kind = "human"          # or "snake"
+    sex = "male"            # human: "male" or "female"
+    stature = 1.74          # human: m, 0.5-2.5
+    mass = 74.0             # human: kg, 10-300
+    percentile = 50         # optional, 0-100
+    source = "survey, table, year"   # optional
+    # snake only, all optional: segments = 9, segment_length = 0.2 (m), segment_mass = 1.0 (kg)
+
+Presets live in ``presets/manikins/<name>.toml`` at the repository (extension) root.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+from ..errors import ModelError
+from ..model import Model
+from .human import build_human, validate_human
+from .snake import build_snake, validate_snake
+
+__all__ = ["PRESETS_DIR", "MANIKINS_DIR", "build_human", "build_snake", "load_body", "list_presets", "body_from_dict"]
+
+PRESETS_DIR = Path(__file__).resolve().parents[2] / "presets"
+MANIKINS_DIR = PRESETS_DIR / "manikins"
+
+_COMMON_KEYS = {"kind", "name", "percentile", "source"}
+_KEYS = {
+    "human": _COMMON_KEYS | {"sex", "stature", "mass"},
+    "snake": _COMMON_KEYS | {"segments", "segment_length", "segment_mass"},
+}
+
+
+def list_presets() -> list[str]:
+    """Names of the shipped manikin presets (file stems in ``presets/manikins``), sorted."""
+    return sorted(p.stem for p in MANIKINS_DIR.glob("*.toml")) if MANIKINS_DIR.is_dir() else []
+
+
+def load_body(preset: str | None = None, file: str | Path | None = None) -> Model:
+    """Build the body of a preset name or of a body TOML file; every problem raises a one-line ModelError."""
+    if (preset is None) == (file is None):
+        raise ModelError("load_body needs exactly one of preset=<name> or file=<body TOML path>")
+    if preset is not None:
+        path = MANIKINS_DIR / f"{preset}.toml"
+        if not isinstance(preset, str) or preset not in list_presets():
+            known = ", ".join(list_presets()) or "none"
+            raise ModelError(f"unknown manikin preset {preset!r} (known: {known})")
+        name = preset
+    else:
+        path = Path(file)
+        if not path.is_file():
+            raise ModelError(f"body file not found: {path}")
+        name = path.stem
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"{path}: malformed TOML: {exc}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ModelError(f"{path}: cannot read the body file: {exc}") from None
+    return body_from_dict(data, where=str(path), name=name)
+
+
+def body_from_dict(data: dict, where: str = "body", name: str = "body") -> Model:
+    """Build a body from parsed TOML ``data`` (a dict with a ``body`` table); ``where`` prefixes error messages."""
+    body = data.get("body") if isinstance(data, dict) else None
+    if not isinstance(body, dict):
+        raise ModelError(f'{where}: missing table [body] (with kind = "human" or "snake")')
+    kind = body.get("kind")
+    if kind not in _KEYS:
+        raise ModelError(f'{where}: [body] kind must be "human" or "snake", got {kind!r}')
+    unknown = sorted(set(body) - _KEYS[kind])
+    if unknown:
+        raise ModelError(
+            f"{where}: [body] unknown key {unknown[0]!r} for kind {kind!r} (known: {', '.join(sorted(_KEYS[kind]))})"
+        )
+    name = body.get("name", name)
+    if not isinstance(name, str) or not name:
+        raise ModelError(f"{where}: [body] name must be a non-empty string, got {name!r}")
+    info = {"file": where}
+    if "source" in body:
+        if not isinstance(body["source"], str):
+            raise ModelError(f"{where}: [body] source must be a string, got {body['source']!r}")
+        info["source"] = body["source"]
+    if "percentile" in body:
+        p = body["percentile"]
+        if isinstance(p, bool) or not isinstance(p, int | float) or not (math.isfinite(p) and 0 <= p <= 100):
+            raise ModelError(f"{where}: [body] percentile must be a number in [0, 100], got {p!r}")
+        info["percentile"] = p
+    try:
+        if kind == "human":
+            expected = {"sex": "'male' or 'female'", "stature": "a number in m", "mass": "a number in kg"}
+            for key, what in expected.items():
+                if key not in body:
+                    raise ModelError(f"missing key '{key}' (expected {what})")
+            validate_human(body["sex"], body["stature"], body["mass"])
+            return build_human(body["sex"], body["stature"], body["mass"], name=name, info=info)
+        args = (body.get("segments", 9), body.get("segment_length", 0.2), body.get("segment_mass", 1.0))
+        validate_snake(*args)
+        return build_snake(*args, name=name, info=info)
+    except ModelError as exc:
+        raise ModelError(f"{where}: [body] {exc}") from None
