@@ -51,12 +51,16 @@ class Comfort:
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
 
     def _range_terms(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """tan^2(u) per joint and its derivative; beyond |u| = U_MAX continued linearly (C1, finite)."""
         d = theta - self.model.neutral
         span = np.where(d >= 0.0, self.span_up, self.span_down)
-        u = np.clip(0.5 * np.pi * d / span, -U_MAX, U_MAX)
-        t = np.tan(u)
-        du = np.where(np.abs(0.5 * np.pi * d / span) < U_MAX, 0.5 * np.pi / span, 0.0)
-        return t * t, 2.0 * t * (1.0 + t * t) * du
+        u = 0.5 * np.pi * d / span
+        du = 0.5 * np.pi / span
+        t = np.tan(np.clip(u, -U_MAX, U_MAX))
+        slope = 2.0 * t * (1.0 + t * t)
+        beyond = np.abs(u) - U_MAX
+        value = t * t + np.where(beyond > 0.0, np.abs(slope) * beyond, 0.0)
+        return value, slope * du
 
     def _strain_scale(self, tau: np.ndarray) -> np.ndarray:
         # The muscles must produce -tau: positive capacity when tau < 0.

@@ -61,6 +61,17 @@ class ExternalLoad:
     force: np.ndarray
 
 
+def joint_scale(model: Model) -> np.ndarray:
+    """Scaled-variable unit per joint: half its range, within [0.02, 1] (rad or m).
+
+    A minimum-norm step in scaled variables then shares motion in proportion to each joint's range, so the
+    72 vertebrae (a few degrees each) do not saturate before the hips and shoulders move; it is also the
+    diagonal Newton scaling of the comfort's tan^2 range term.
+    """
+    half = 0.5 * (model.upper - model.lower)
+    return np.where(np.isfinite(half), np.clip(half, 0.02, 1.0), 1.0)
+
+
 class Problem:
     """Everything the solver needs, assembled from plain specifications."""
 
@@ -121,7 +132,7 @@ class Problem:
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
         self.lower = np.concatenate([model.lower, np.zeros(n_w)])
         self.upper = np.concatenate([model.upper, np.full(n_w, np.inf)])
-        self.scale = np.concatenate([np.ones(n), np.full(n_w, self.body_weight)])
+        self.scale = np.concatenate([joint_scale(model), np.full(n_w, self.body_weight)])
         self.row_tolerance = np.concatenate([c.tolerance() for c in self.constraints]) if self.constraints else np.zeros(0)
         self.row_weight = (
             np.concatenate([np.full(c.rows, c.weight) for c in self.constraints]) if self.constraints else np.zeros(0)

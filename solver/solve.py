@@ -182,7 +182,6 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
             unit, longest = _comfort_direction(problem, x, jac, grad, direction, free, opts)
         if unit is not None:
             slope = float(grad @ unit)
-            lam = min(lam, longest)
             x_try = np.clip(x + lam * unit * problem.scale, problem.lower, problem.upper)
             s_try, e_try, m_try, w_try = evaluate(x_try)
             h_try = evaluate.comfort(s_try)
