@@ -10,7 +10,8 @@ h = -(w_range * range + w_load * load + w_contact * contact), all dimensionless:
 * contact = sum_k (w_k / body weight)^2, a small preference for spreading contact forces evenly.
 
 c_i is the model's per-joint comfort weight (1/17 per thoracolumbar vertebra, so bending the whole region
-costs like one joint). Gradients are analytic.
+costs like one joint). Gradients are analytic; :meth:`Comfort.derivatives` also gives a diagonal
+curvature model of -h that the solver uses as the metric of its steps.
 """
 
 from __future__ import annotations
@@ -50,8 +51,8 @@ class Comfort:
         self.load_weight = np.where(model.prismatic, 0.0, model.range_weight)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
 
-    def _range_terms(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """tan^2(u) per joint and its derivative; beyond |u| = U_MAX continued linearly (C1, finite)."""
+    def _range_terms(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """tan^2(u) per joint, its first and second derivative; past |u| = U_MAX continued linearly (C1)."""
         d = theta - self.model.neutral
         span = np.where(d >= 0.0, self.span_up, self.span_down)
         u = 0.5 * np.pi * d / span
@@ -60,7 +61,8 @@ class Comfort:
         slope = 2.0 * t * (1.0 + t * t)
         beyond = np.abs(u) - U_MAX
         value = t * t + np.where(beyond > 0.0, np.abs(slope) * beyond, 0.0)
-        return value, slope * du
+        curvature = 2.0 * (1.0 + t * t) * (1.0 + 3.0 * t * t) * du * du
+        return value, slope * du, curvature
 
     def _strain_scale(self, tau: np.ndarray) -> np.ndarray:
         # The muscles must produce -tau: positive capacity when tau < 0.
@@ -68,7 +70,7 @@ class Comfort:
 
     def parts(self, state: State) -> dict[str, float]:
         """The three (unweighted) terms, each >= 0, for reports."""
-        rng, _ = self._range_terms(state.theta)
+        rng, _, _ = self._range_terms(state.theta)
         out = {"range": float(self.range_weight @ rng), "load": 0.0, "contact": 0.0}
         if self.weights.load:
             tau = state.statics.axis_loads()
@@ -84,19 +86,32 @@ class Comfort:
         w = self.weights
         return -(w.range * p["range"] + w.load * p["load"] + w.contact * p["contact"])
 
-    def gradient(self, state: State) -> np.ndarray:
-        """dh/dx, shape (n_x,)."""
-        n = self.model.n
+    def derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """dh/dx (n_x,) and a positive diagonal curvature model of -h (n_x,).
+
+        The curvature is exact for the range and contact terms and the diagonal of the Gauss-Newton matrix
+        for the load term; the solver uses it as the metric of its steps.
+        """
+        n, wts = self.model.n, self.weights
         grad = np.zeros(state.n_x)
-        _, d_rng = self._range_terms(state.theta)
-        grad[:n] -= self.weights.range * self.range_weight * d_rng
-        if self.weights.load:
+        curv = np.zeros(state.n_x)
+        _, d_rng, dd_rng = self._range_terms(state.theta)
+        grad[:n] -= wts.range * self.range_weight * d_rng
+        curv[:n] += wts.range * self.range_weight * dd_rng
+        if wts.load:
             tau = state.statics.axis_loads()
             scale = self._strain_scale(tau)
             coef = 2.0 * self.load_weight * tau * scale * scale
             d_theta, d_w = state.statics.axis_load_jacobian()
-            grad[:n] -= self.weights.load * (coef @ d_theta)
-            grad[n:] -= self.weights.load * (coef @ d_w)
+            d_tau = np.hstack([d_theta, d_w])
+            grad -= wts.load * (coef @ d_tau)
+            rows = 2.0 * wts.load * self.load_weight * scale * scale
+            curv += rows @ (d_tau * d_tau)
         if len(state.w):
-            grad[n:] -= self.weights.contact * 2.0 * state.w / self.body_weight**2
-        return grad
+            grad[n:] -= wts.contact * 2.0 * state.w / self.body_weight**2
+            curv[n:] += wts.contact * 2.0 / self.body_weight**2
+        return grad, curv
+
+    def gradient(self, state: State) -> np.ndarray:
+        """dh/dx, shape (n_x,)."""
+        return self.derivatives(state)[0]

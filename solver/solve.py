@@ -1,14 +1,22 @@
-"""The iteration: dx = -J^+ g(x) + lambda (I - J^+ J) grad h(x) (thesis eq. 2.4), made robust.
+"""The iteration: dx = -J^+ g(x) + lambda (I - J^+ J) grad h(x) (thesis eq. 2.4), made fast and robust.
 
-Per iteration, in scaled variables (rows / tolerance, forces / body weight):
-1. Economy SVD of the Jacobian of the free variables. Task step by damped least squares whose damping grows
-   smoothly only for singular values below a threshold (near singularities), capped to a trust region.
-2. Comfort direction: grad h projected on the null space of the undamped, rank-truncated row space.
-3. Bounds are never left: variables the step would push past a bound are saturated at it and the step is
-   solved again without them (the clamping loop), instead of shrinking the whole step.
-4. Line searches: the task step by backtracking on the constraint error; the comfort step length lambda by a
-   parabola through h along the direction, accepted only if h rises and the constraints stay within the
-   error they had (or within tolerance once converged).
+Per iteration, in scaled variables (rows / tolerance, forces / body weight, joints / half their range):
+
+1. Task step: economy SVD of the Jacobian of the free variables, damped least squares whose damping grows
+   smoothly only for singular values below a threshold (near singularities).
+2. Comfort step in the null space N = I - V_r^T V_r of the undamped, rank-truncated row space. The thesis
+   takes lambda N grad h with a scalar lambda from a line search; we give lambda a metric: both parts are
+   computed in the variables y = W^(1/2) x, W = diag(curvature of -h) + mu (comfort.py), so the comfort part
+   is a diagonal Newton step and the task part a weighted least-norm step that keeps joints near their
+   limits still (Chan & Dubey's joint-limit weighting). For large mu this is exactly the thesis step with
+   lambda = 1/mu. mu adapts like Levenberg-Marquardt from how well the model predicted the comfort change.
+3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
+   solved again without them (the clamping loop); the comfort part is shortened to stay inside.
+4. Acceptance: far from the constraints a step must lower the constraint error; near them (within
+   COMFORT_SLACK tolerances) it must lower the exact-penalty merit -h + nu sum |scaled error|, nu twice the
+   largest multiplier estimate, judged after a second-order correction that reuses the same SVD. A rejected
+   step is halved; when comfort keeps failing, mu grows and the step turns back into the thesis's
+   gradient step.
 """
 
 from __future__ import annotations
@@ -21,187 +29,206 @@ import numpy as np
 from .problem import Problem
 from .result import Result
 
+COMFORT_SLACK = 10.0  # how far (in tolerances) a comfort step may leave the constraints before the next task step
+
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """Iteration limits and step controls (rad for joint steps)."""
+    """Iteration limits and step controls; steps are in scaled variables (1 = half a joint's range)."""
 
-    max_iterations: int = 200
+    max_iterations: int = 100
     optimize_comfort: bool = True
-    max_joint_step: float = 0.4  # rad (or m, or body weights) per iteration for the task step
-    comfort_step: float = 0.05  # first comfort step length (largest joint change), rad
-    comfort_tolerance: float = 1e-4  # stop when h improves by less than this (relative) over 3 iterations
+    max_step: float = 0.5  # largest change of one scaled variable in one task step
+    max_comfort_step: float = 0.5  # same for the comfort part of a step
+    comfort_tolerance: float = 1e-3  # stop when the predicted comfort gain is below this fraction of |h|
     singular_threshold: float = 1e-2  # damping starts below this fraction of the largest singular value
     max_damping: float = 1e-2  # damping at a singularity, as a fraction of the largest singular value
     clamping_rounds: int = 6
 
 
-def _svd_step(jac: np.ndarray, err: np.ndarray, opts: SolverOptions):
-    """Damped least-squares step -J^+ err and the orthonormal row-space basis (undamped, rank-truncated)."""
-    if jac.shape[0] == 0 or jac.shape[1] == 0:
-        return np.zeros(jac.shape[1]), np.zeros((0, jac.shape[1]))
+@dataclass
+class _Step:
+    task: np.ndarray  # scaled task step (fixed variables included)
+    comfort: np.ndarray  # scaled comfort step
+    predicted_gain: float  # comfort gain the quadratic model predicts for the comfort step (>= 0)
+    free: np.ndarray  # variables the step moved freely
+    solve_correction: object  # err -> least-squares step over the free variables (same factorisation)
+    penalty: float  # weight of sum |scaled error| in the merit: twice the largest multiplier estimate
+
+    def correction(self, err: np.ndarray) -> np.ndarray:
+        """Second-order correction: the task step for a new error, reusing this step's SVD."""
+        out = np.zeros_like(self.task)
+        out[self.free] = self.solve_correction(err)
+        return out
+
+
+def _svd_task(jac: np.ndarray, err: np.ndarray, opts: SolverOptions):
+    """Damped least-squares step -J^+ err, the orthonormal row-space basis (undamped, rank-truncated) and
+    the solver err -> -J^+ err itself."""
+    n = jac.shape[1]
+    if jac.shape[0] == 0 or n == 0:
+        return np.zeros(n), np.zeros((0, n)), lambda e: np.zeros(n)
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
     s_max = s[0] if s.size else 0.0
-    if s_max <= 0.0:
-        return np.zeros(jac.shape[1]), np.zeros((0, jac.shape[1]))
+    if not s_max > 0.0:
+        return np.zeros(n), np.zeros((0, n)), lambda e: np.zeros(n)
     eps = opts.singular_threshold * s_max
     damp2 = np.where(s < eps, (opts.max_damping * s_max) ** 2 * (1.0 - (s / eps) ** 2), 0.0)
     inv = s / (s * s + damp2)
-    step = -vt.T @ (inv * (u.T @ err))
+
+    def solve_task(e: np.ndarray) -> np.ndarray:
+        return -vt.T @ (inv * (u.T @ e))
+
+    solve_task.multipliers = lambda g: -u @ (inv * (vt @ g))  # lambda with g + J^T lambda ~ 0
+
     rank = int(np.sum(s > 1e-9 * s_max))
-    return step, vt[:rank]
+    return solve_task(err), vt[:rank], solve_task
 
 
-def _direction(jac, err, grad, free, fixed_dy, opts):
-    """Task step and projected comfort direction over the free variables (zero elsewhere)."""
-    n = jac.shape[1]
-    err_eff = err + jac[:, ~free] @ fixed_dy[~free] if (~free).any() else err
-    step_f, basis = _svd_step(jac[:, free], err_eff, opts)
-    g_f = grad[free]
-    d_f = g_f - basis.T @ (basis @ g_f)
-    task = fixed_dy.copy()
-    task[free] = step_f
-    comfort = np.zeros(n)
-    comfort[free] = d_f
-    return task, comfort
+def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, opts, comfort_on) -> _Step:
+    """Task and comfort step (scaled variables) in the metric W = diag(curvature of -h) + mu, inside bounds.
 
-
-def _room(problem, x):
-    """Distance to the lower and upper bounds in scaled variables (<= 0 below, >= 0 above)."""
-    return (problem.lower - x) / problem.scale, (problem.upper - x) / problem.scale
-
-
-def _clamped_step(problem, x, jac, err, grad, opts):
-    """Task step and comfort direction (scaled variables) that keep x inside its bounds.
-
-    Variables sitting on a bound that comfort pushes outwards are held from the start; variables the task
-    step would push past a bound are saturated there and the step is solved again without them.
+    With y = W^(1/2) dx the step is the thesis's: y = -Jw^+ err - (I - Jw^+ Jw) W^(-1/2) grad f, Jw = J W^(-1/2),
+    the exact minimiser of the diagonal comfort model on the linearised constraints. The bound check is made
+    on the sum of both parts, so a joint that the task alone would push past its limit stays free when
+    comfort pulls it back; variables the sum pushes past a bound are saturated there and the step is solved
+    again without them.
     """
-    lo, hi = _room(problem, x)
-    at_lo, at_hi = lo >= -1e-12, hi <= 1e-12
-    free = (lo < hi) & ~(at_lo & (grad < 0)) & ~(at_hi & (grad > 0))
-    fixed_dy = np.zeros_like(x)
-    task = comfort = np.zeros_like(x)
+    lo = (problem.lower - x) / problem.scale
+    hi = (problem.upper - x) / problem.scale
+    free = (lo < hi) & ~((lo >= -1e-12) & (grad_f > 0)) & ~((hi <= 1e-12) & (grad_f < 0))
+    if comfort_on:
+        level = float(np.mean(curv_f[free])) if free.any() else 1.0
+        metric = curv_f + mu * max(level, 1e-12) + 1e-12
+    else:
+        metric = np.ones_like(x)
+    root = np.sqrt(metric)
+    fixed = np.zeros_like(x)
+    n = len(x)
+    task = np.zeros(n)
+    comfort = np.zeros(n)
     for _ in range(opts.clamping_rounds):
-        task, comfort = _direction(jac, err, grad, free, fixed_dy, opts)
-        biggest = np.max(np.abs(task[free]), initial=0.0)
-        if biggest > opts.max_joint_step:
-            task[free] *= opts.max_joint_step / biggest
-        below = free & (task < lo - 1e-12)
-        above = free & (task > hi + 1e-12)
+        err_eff = err + jac[:, ~free] @ fixed[~free] if (~free).any() else err
+        r_f = root[free]
+        y_task, basis, solve_task = _svd_task(jac[:, free] / r_f, err_eff, opts)
+        step_f = y_task / r_f
+        biggest = np.max(np.abs(step_f), initial=0.0)
+        if biggest > opts.max_step:
+            step_f *= opts.max_step / biggest
+        task = fixed.copy()
+        task[free] = step_f
+        comfort = np.zeros(n)
+        if comfort_on:
+            g_w = grad_f[free] / r_f
+            comfort[free] = -(g_w - basis.T @ (basis @ g_w)) / r_f
+            biggest = np.max(np.abs(comfort), initial=0.0)
+            if biggest > opts.max_comfort_step:
+                comfort *= opts.max_comfort_step / biggest
+        total = task + comfort
+        below = free & (total < lo - 1e-12)
+        above = free & (total > hi + 1e-12)
         if not (below.any() or above.any()):
             break
-        fixed_dy[below] = lo[below]
-        fixed_dy[above] = hi[above]
+        if _ == opts.clamping_rounds - 1:
+            # out of rounds: shorten the comfort part so that the sum stays inside the bounds
+            with np.errstate(divide="ignore", invalid="ignore"):
+                room = np.where(comfort > 0, (hi - task) / comfort, np.where(comfort < 0, (lo - task) / comfort, 1.0))
+            comfort *= float(np.clip(np.min(room, initial=1.0), 0.0, 1.0))
+            break
+        fixed[below], fixed[above] = lo[below], hi[above]
         free &= ~(below | above)
-    return np.nan_to_num(task), np.nan_to_num(comfort), free
+    task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
+    predicted = -(grad_f @ comfort + 0.5 * (curv_f * comfort) @ comfort) if comfort_on else 0.0
+    r_free = root[free]
 
+    def correction(e: np.ndarray) -> np.ndarray:
+        return solve_task(e) / r_free
 
-def _comfort_direction(problem, x, jac, grad, direction, free, opts):
-    """Unit comfort direction and the longest step before a bound; holds blocking variables and re-projects."""
-    for _ in range(3):
-        size = np.max(np.abs(direction), initial=0.0)
-        if not np.isfinite(size) or size <= 1e-12:
-            return None, 0.0
-        unit = direction / size
-        lo, hi = _room(problem, x)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            reach = np.where(unit > 0, hi / unit, np.where(unit < 0, lo / unit, np.inf))
-        reach = np.where(free, np.maximum(reach, 0.0), np.inf)
-        longest = float(np.min(reach, initial=np.inf))
-        if longest > 1e-9:
-            return unit, longest
-        free = free & (reach > 1e-9)
-        _, basis = _svd_step(jac[:, free], np.zeros(jac.shape[0]), opts)
-        direction = np.zeros_like(grad)
-        direction[free] = grad[free] - basis.T @ (basis @ grad[free])
-    return None, 0.0
-
-
-COMFORT_SLACK = 10.0  # how far (in tolerances) a comfort step may leave the constraints before the next task step
+    penalty = 2.0 * float(np.max(np.abs(solve_task.multipliers(grad_f[free] / r_free)), initial=0.0))
+    return _Step(task, comfort, max(float(predicted), 0.0), free, correction, penalty + 1e-9)
 
 
 class _Evaluator:
-    """Evaluates x once: state, scaled error, merit, comfort."""
+    """Evaluates x once: state, scaled error, merit (sum of squares), worst unweighted scaled error, f = -h."""
 
-    def __init__(self, problem: Problem) -> None:
+    def __init__(self, problem: Problem, comfort_on: bool) -> None:
         self.problem = problem
+        self.comfort_on = comfort_on
         self.unweight = 1.0 / problem.row_weight if problem.n_rows else np.zeros(0)
 
     def __call__(self, x: np.ndarray):
         state = self.problem.state(x)
         err = self.problem.scaled_error(state)
-        merit = float(err @ err)
         worst = float(np.max(np.abs(err) * self.unweight, initial=0.0))
-        return state, err, merit, worst
-
-    def comfort(self, state) -> float:
-        return self.problem.comfort.value(state)
+        f = -self.problem.comfort.value(state) if self.comfort_on else 0.0
+        return state, err, float(err @ err), worst, f
 
 
 def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions = SolverOptions()) -> Result:
     """Find x meeting the constraints and maximising comfort, warm-started from ``x0`` (any earlier pose)."""
     t0 = time.perf_counter()
     opts = options
-    evaluate = _Evaluator(problem)
-    x = problem.start(x0)
-    state, err, merit, worst = evaluate(x)
     comfort_on = opts.optimize_comfort
-    h = evaluate.comfort(state) if comfort_on else 0.0
-    lam = opts.comfort_step
-    quiet = 0  # consecutive comfort steps with a negligible gain
+    evaluate = _Evaluator(problem, comfort_on)
+    x = problem.start(x0)
+    state, err, merit, worst, f = evaluate(x)
+    mu = 1e-2
     stalls = 0
     iterations = 0
     for iterations in range(1, opts.max_iterations + 1):
         jac = problem.scaled_jacobian(state)
-        grad = problem.comfort.gradient(state) * problem.scale if comfort_on else np.zeros(problem.n_x)
-        task, direction, free = _clamped_step(problem, x, jac, err, grad, opts)
+        if comfort_on:
+            grad_h, curv = problem.comfort.derivatives(state)
+            grad_f, curv_f = -grad_h * problem.scale, curv * problem.scale**2
+        else:
+            grad_f, curv_f = np.zeros(problem.n_x), np.zeros(problem.n_x)
+        step = _step(problem, x, jac, err, grad_f, curv_f, mu, opts, comfort_on)
+        if worst <= 1.0 and step.predicted_gain <= opts.comfort_tolerance * max(f, 1e-3):
+            break
 
-        # 1. task step: backtrack on the constraint error
-        moved = False
-        if merit > 0.0:
+        # Far from the constraints only the task part is tried (its metric already keeps joints off their
+        # limits); near them task + comfort first, halved once, then the task part alone.
+        near = worst <= COMFORT_SLACK
+        attempts = [(True, 2), (False, 4)] if (near and step.predicted_gain > 0) else [(False, 5)]
+        accepted = use_comfort = False
+        alpha = 1.0
+        for use_comfort, tries in attempts:
+            direction = step.task + step.comfort if use_comfort else step.task
             alpha = 1.0
-            for _ in range(6):
-                x_try = np.clip(x + alpha * task * problem.scale, problem.lower, problem.upper)
-                s_try, e_try, m_try, w_try = evaluate(x_try)
-                if m_try < merit:
-                    x, state, err, merit, worst, moved = x_try, s_try, e_try, m_try, w_try, True
+            for _ in range(tries):
+                x_try = np.clip(x + alpha * direction * problem.scale, problem.lower, problem.upper)
+                s_try, e_try, m_try, w_try, f_try = evaluate(x_try)
+                if use_comfort and w_try > 1.0:
+                    # second-order correction: pull the comfort step back onto the constraints before judging it
+                    x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
+                    soc = evaluate(x_soc)
+                    if soc[2] < m_try:
+                        x_try, (s_try, e_try, m_try, w_try, f_try) = x_soc, soc
+                if not near:
+                    better = m_try < merit
+                else:
+                    penalty = step.penalty * (np.abs(e_try).sum() - np.abs(err).sum())
+                    better = w_try <= COMFORT_SLACK and f_try - f + penalty < 0.0
+                if np.isfinite(f_try) and better:
+                    accepted = True
                     break
                 alpha *= 0.5
-        if moved:
-            stalls = 0
-            if comfort_on:
-                h = evaluate.comfort(state)
-        elif worst > 1.0:
-            stalls += 1
-
-        # 2. comfort step along the projected gradient, length lam (largest change in scaled units). It may
-        #    leave the constraints by a little (COMFORT_SLACK tolerances); the next task step restores them.
-        unit, longest = (None, 0.0)
-        if comfort_on:
-            unit, longest = _comfort_direction(problem, x, jac, grad, direction, free, opts)
-        if unit is not None:
-            slope = float(grad @ unit)
-            x_try = np.clip(x + lam * unit * problem.scale, problem.lower, problem.upper)
-            s_try, e_try, m_try, w_try = evaluate(x_try)
-            h_try = evaluate.comfort(s_try)
-            curvature = (h_try - h - lam * slope) / lam**2
-            rises = np.isfinite(h_try) and h_try > h + 1e-4 * lam * slope
-            if rises and w_try <= max(COMFORT_SLACK, worst):
-                gain = h_try - h
-                x, state, err, merit, worst, h = x_try, s_try, e_try, m_try, w_try, h_try
-                lam = min(-slope / (2 * curvature), 3 * lam) if curvature < 0 else 3 * lam
-                quiet = quiet + 1 if gain <= opts.comfort_tolerance * max(abs(h), 1e-3) else 0
+            if accepted:
+                break
+        if near and step.predicted_gain > 0:
+            if accepted and use_comfort:
+                ratio = (f - f_try) / (alpha * step.predicted_gain)
+                mu = mu / 4 if (ratio > 0.75 and alpha == 1.0) else (mu * 4 if ratio < 0.25 else mu)
             else:
-                lam = min(-slope / (2 * curvature), lam / 2) if (curvature < 0 and not rises) else lam / 2
-                quiet += 1
-            lam = float(np.clip(lam, 1e-7, 0.5))
+                mu *= 4
+        if accepted:
+            x, state, err, merit, worst, f = x_try, s_try, e_try, m_try, w_try, f_try
+            stalls = 0
         else:
-            quiet += 1
-
-        comfort_settled = not comfort_on or quiet >= 3 or lam <= 1e-6
-        if worst <= 1.0 and comfort_settled:
-            break
-        if worst > 1.0 and stalls >= 4:
-            break
+            stalls += 1
+            if stalls >= 4 and (worst <= 1.0 or not comfort_on):
+                break
+            if stalls >= 8:
+                break
+        mu = float(np.clip(mu, 1e-8, 1e8))
     return Result.from_state(problem, state, iterations, time.perf_counter() - t0)
