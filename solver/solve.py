@@ -12,11 +12,11 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    lambda = 1/mu. mu adapts like Levenberg-Marquardt from how well the model predicted the comfort change.
 3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
    solved again without them (the clamping loop); the comfort part is shortened to stay inside.
-4. Acceptance: far from the constraints a step must lower the constraint error; near them (within
-   COMFORT_SLACK tolerances) it must lower the exact-penalty merit -h + nu sum |scaled error|, nu twice the
-   largest multiplier estimate, judged after a second-order correction that reuses the same SVD. A rejected
-   step is halved; when comfort keeps failing, mu grows and the step turns back into the thesis's
-   gradient step.
+4. Acceptance: a task step must lower the constraint error. Near the constraints (within COMFORT_SLACK
+   tolerances) task + comfort is tried first and must lower the exact-penalty merit -h + nu sum |scaled
+   error|, nu twice the largest multiplier estimate, judged after a second-order correction that reuses the
+   same SVD. A rejected step is halved, then the task part is tried alone; when comfort keeps failing, mu
+   grows and the comfort part turns back into the thesis's gradient step.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ class SolverOptions:
     comfort_tolerance: float = 1e-3  # stop when the predicted comfort gain is below this fraction of |h|
     singular_threshold: float = 1e-2  # damping starts below this fraction of the largest singular value
     max_damping: float = 1e-2  # damping at a singularity, as a fraction of the largest singular value
-    clamping_rounds: int = 6
+    clamping_rounds: int = 10
 
 
 @dataclass
@@ -85,7 +85,7 @@ def _svd_task(jac: np.ndarray, err: np.ndarray, opts: SolverOptions):
     return solve_task(err), vt[:rank], solve_task
 
 
-def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, opts, comfort_on) -> _Step:
+def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on) -> _Step:
     """Task and comfort step (scaled variables) in the metric W = diag(curvature of -h) + mu, inside bounds.
 
     With y = W^(1/2) dx the step is the thesis's: y = -Jw^+ err - (I - Jw^+ Jw) W^(-1/2) grad f, Jw = J W^(-1/2),
@@ -96,7 +96,9 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, opts, comfort_on) -
     """
     lo = (problem.lower - x) / problem.scale
     hi = (problem.upper - x) / problem.scale
-    free = (lo < hi) & ~((lo >= -1e-12) & (grad_f > 0)) & ~((hi <= 1e-12) & (grad_f < 0))
+    # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.
+    outward = jac.T @ err + grad_f  # descent of both pushes along -outward
+    free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
     if comfort_on:
         level = float(np.mean(curv_f[free])) if free.any() else 1.0
         metric = curv_f + mu * max(level, 1e-12) + 1e-12
@@ -111,12 +113,11 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, opts, comfort_on) -
         err_eff = err + jac[:, ~free] @ fixed[~free] if (~free).any() else err
         r_f = root[free]
         y_task, basis, solve_task = _svd_task(jac[:, free] / r_f, err_eff, opts)
-        step_f = y_task / r_f
-        biggest = np.max(np.abs(step_f), initial=0.0)
-        if biggest > opts.max_step:
-            step_f *= opts.max_step / biggest
         task = fixed.copy()
-        task[free] = step_f
+        task[free] = y_task / r_f
+        biggest = np.max(np.abs(task), initial=0.0)
+        if biggest > radius:  # trust region: shorten the whole task step, saturated variables included
+            task *= radius / biggest
         comfort = np.zeros(n)
         if comfort_on:
             g_w = grad_f[free] / r_f
@@ -173,6 +174,7 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
     x = problem.start(x0)
     state, err, merit, worst, f = evaluate(x)
     mu = 1e-2
+    radius = opts.max_step
     stalls = 0
     iterations = 0
     for iterations in range(1, opts.max_iterations + 1):
@@ -182,7 +184,7 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
             grad_f, curv_f = -grad_h * problem.scale, curv * problem.scale**2
         else:
             grad_f, curv_f = np.zeros(problem.n_x), np.zeros(problem.n_x)
-        step = _step(problem, x, jac, err, grad_f, curv_f, mu, opts, comfort_on)
+        step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on)
         if worst <= 1.0 and step.predicted_gain <= opts.comfort_tolerance * max(f, 1e-3):
             break
 
@@ -204,11 +206,11 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
                     soc = evaluate(x_soc)
                     if soc[2] < m_try:
                         x_try, (s_try, e_try, m_try, w_try, f_try) = x_soc, soc
-                if not near:
-                    better = m_try < merit
-                else:
+                if use_comfort:
                     penalty = step.penalty * (np.abs(e_try).sum() - np.abs(err).sum())
                     better = w_try <= COMFORT_SLACK and f_try - f + penalty < 0.0
+                else:
+                    better = m_try < merit
                 if np.isfinite(f_try) and better:
                     accepted = True
                     break
@@ -224,8 +226,10 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
         if accepted:
             x, state, err, merit, worst, f = x_try, s_try, e_try, m_try, w_try, f_try
             stalls = 0
+            radius = min(2 * radius, opts.max_step) if alpha == 1.0 else radius
         else:
             stalls += 1
+            radius = max(radius / 4, 1e-6)
             if stalls >= 4 and (worst <= 1.0 or not comfort_on):
                 break
             if stalls >= 8:

@@ -7,6 +7,7 @@ joint stays in its range; every locked axis of every target and loop is met; not
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -218,13 +219,47 @@ def reach_problem(model, target: np.ndarray, load_kg: float = 0.0, balance: bool
 # --------------------------------------------------------------------------------------------- solves
 
 
-def test_box_lift_preset():
+@pytest.fixture(scope="module")
+def box_lift_result():
     scenario = load_scenario(BOX_LIFT)
-    result = solve(scenario.problem, scenario.start, scenario.options)
+    return solve(scenario.problem, scenario.start, scenario.options)
+
+
+def test_box_lift_preset(box_lift_result):
+    result = box_lift_result
     assert result.converged, result.summary()
     assert not result.unmet
     assert len(result.problem.loads) == 2
     check_physics(result)
+
+
+def _broken(result, *, force_scale=1.0, cop_shift=None, joint=None):
+    contacts = []
+    for c in result.contacts:
+        c = {k: np.array(v, dtype=float) if k != "tcp" else v for k, v in c.items()}
+        c["force"] = c["force"] * force_scale
+        if cop_shift is not None:  # same wrench, expressed about a point off the sole
+            c["moment"] = c["moment"] + np.cross(c["point"] - (c["point"] + cop_shift), c["force"])
+            c["point"] = c["point"] + cop_shift
+        contacts.append(c)
+    x = result.x.copy()
+    if joint is not None:
+        model = result.problem.model
+        i = model.joint_index(joint)
+        x[i] = model.upper[i] + 0.05
+    return dataclasses.replace(result, x=x, contacts=contacts)
+
+
+def test_check_physics_catches_broken_results(box_lift_result):
+    """The checker itself: it must reject what it claims to check."""
+    with pytest.raises(AssertionError, match="total force"):
+        check_physics(_broken(box_lift_result, force_scale=0.95))
+    with pytest.raises(AssertionError, match="does not push"):
+        check_physics(_broken(box_lift_result, force_scale=-1.0))
+    with pytest.raises(AssertionError, match="outside the sole"):
+        check_physics(_broken(box_lift_result, cop_shift=np.array([0.2, 0.0, 0.0])))
+    with pytest.raises(AssertionError, match="knee_r_flexion.* outside"):
+        check_physics(_broken(box_lift_result, joint="knee_r_flexion"))
 
 
 def test_zero_pose_standing(male50):
