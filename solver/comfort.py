@@ -35,10 +35,13 @@ class ComfortWeights:
     contact: float = 0.01
 
 
+DEFAULT_COMFORT = ComfortWeights()
+
+
 class Comfort:
     """Value and gradient of h(x) for one model."""
 
-    def __init__(self, model: Model, weights: ComfortWeights = ComfortWeights()) -> None:
+    def __init__(self, model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> None:
         self.model = model
         self.weights = weights
         lo, hi, mid = model.lower, model.upper, model.neutral

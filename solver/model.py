@@ -274,7 +274,7 @@ class ModelBuilder:
         With all six values zero the root link sits at ``pelvis_position`` (m) with identity rotation.
         """
         parent = None
-        for name, axis in zip(EXTERIOR_JOINTS[:3], np.eye(3)):
+        for name, axis in zip(EXTERIOR_JOINTS[:3], np.eye(3), strict=True):
             parent = self.add_joint(name, parent, tuple(axis), prismatic=True, limits=(-10.0, 10.0), range_weight=0.0)
         parent = self.add_joint(
             "root_rz", parent, (0, 0, 1), pelvis_position, limits=(-4 * np.pi, 4 * np.pi), range_weight=0.0

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .comfort import Comfort, ComfortWeights
+from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, lock_operator
 from .contacts import Support, build_contacts
 from .errors import ManikinError
@@ -72,6 +72,69 @@ def joint_scale(model: Model) -> np.ndarray:
     return np.where(np.isfinite(half), np.clip(half, 0.02, 1.0), 1.0)
 
 
+MAX_DISTANCE = 1000.0  # m: targets and offsets farther than this from the origin are refused
+MAX_FORCE = 1e6  # N
+
+
+def _check_vector(what: str, value, size: int, limit: float) -> np.ndarray:
+    v = np.asarray(value, dtype=float)
+    if v.shape != (size,) or not np.isfinite(v).all():
+        raise ManikinError(f"{what}: expected {size} finite numbers, got {value!r}")
+    if np.abs(v).max(initial=0.0) > limit:
+        raise ManikinError(f"{what}: expected values within +-{limit:g}, got {value!r}")
+    return v
+
+
+def _check_rotation(what: str, value) -> None:
+    if value is None:
+        return
+    r = np.asarray(value, dtype=float)
+    ok = r.shape == (3, 3) and np.isfinite(r).all()
+    if not ok or not np.allclose(r.T @ r, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
+        raise ManikinError(f"{what}: expected a rotation matrix (orthonormal, det +1)")
+
+
+def _check_relaxation(what: str, lock, operator) -> None:
+    if operator is None:
+        lock_operator(lock)  # raises on unknown axes
+        if not lock:
+            raise ManikinError(f"{what}: lock must name at least one axis")
+        return
+    op = np.asarray(operator, dtype=float)
+    if op.ndim != 2 or op.shape[1] != 6 or op.shape[0] == 0 or not np.isfinite(op).all():
+        raise ManikinError(f"{what}: operator must be k x 6 finite numbers")
+
+
+def validate(model: Model, targets, loops, loads) -> None:
+    """Refuse bad specifications with a ManikinError that names the item and what was expected."""
+    for t in targets:
+        what = f"target {t.tcp}"
+        model.tcp(t.tcp)
+        _check_vector(f"{what} position", t.position, 3, MAX_DISTANCE)
+        _check_rotation(f"{what} rotation", t.rotation)
+        _check_relaxation(what, t.lock, t.operator)
+        if not (np.isfinite(t.weight) and t.weight > 0):
+            raise ManikinError(f"{what}: weight must be a positive number")
+        if not (np.isfinite(t.friction) and t.friction >= 0):
+            raise ManikinError(f"{what}: friction must be a non-negative number")
+        if t.sole is not None:
+            sole = np.asarray(t.sole, dtype=float)
+            if sole.ndim != 2 or sole.shape[1] != 2 or not np.isfinite(sole).all() or np.abs(sole).max() > 10:
+                raise ManikinError(f"{what}: sole must be a list of finite [x, y] corners (m)")
+    for lp in loops:
+        what = f"loop {lp.tcp}-{lp.other}"
+        model.tcp(lp.tcp)
+        model.tcp(lp.other)
+        _check_vector(f"{what} offset_position", lp.offset_position, 3, MAX_DISTANCE)
+        _check_rotation(f"{what} offset_rotation", lp.offset_rotation)
+        _check_relaxation(what, lp.lock, lp.operator)
+        if not (np.isfinite(lp.weight) and lp.weight > 0):
+            raise ManikinError(f"{what}: weight must be a positive number")
+    for ld in loads:
+        model.tcp(ld.tcp)
+        _check_vector(f"load at {ld.tcp} force", ld.force, 3, MAX_FORCE)
+
+
 class Problem:
     """Everything the solver needs, assembled from plain specifications."""
 
@@ -82,8 +145,9 @@ class Problem:
         loops: list[Loop] = (),
         loads: list[ExternalLoad] = (),
         balance: bool = True,
-        comfort_weights: ComfortWeights = ComfortWeights(),
+        comfort_weights: ComfortWeights = DEFAULT_COMFORT,
     ) -> None:
+        validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
         self.targets = [t for t in targets if t.enabled]
@@ -133,10 +197,10 @@ class Problem:
         self.lower = np.concatenate([model.lower, np.zeros(n_w)])
         self.upper = np.concatenate([model.upper, np.full(n_w, np.inf)])
         self.scale = np.concatenate([joint_scale(model), np.full(n_w, self.body_weight)])
-        self.row_tolerance = np.concatenate([c.tolerance() for c in self.constraints]) if self.constraints else np.zeros(0)
-        self.row_weight = (
-            np.concatenate([np.full(c.rows, c.weight) for c in self.constraints]) if self.constraints else np.zeros(0)
-        )
+        self.is_joint = np.arange(self.n_x) < n
+        rows = self.constraints
+        self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
+        self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
 
     def with_targets(self, targets: list[Target]) -> Problem:
@@ -193,6 +257,6 @@ class Problem:
         """Names of the constraints with some row outside its tolerance."""
         names = []
         for c in self.constraints:
-            if np.any(np.abs(c.error(state)) > c.tolerance() * (1 + 1e-9)):
+            if not np.all(np.abs(c.error(state)) <= c.tolerance() * (1 + 1e-9)):  # NaN counts as unmet
                 names.append(c.name)
         return names

@@ -55,7 +55,7 @@ class Result:
         return self.problem.state(self.x)
 
     def joint_values(self) -> dict[str, float]:
-        return dict(zip(self.problem.model.joint_names, map(float, self.theta)))
+        return dict(zip(self.problem.model.joint_names, map(float, self.theta), strict=True))
 
     def summary(self) -> str:
         """A few lines a person can read: status, each constraint's residual, contacts, comfort."""

@@ -19,7 +19,7 @@ from .comfort import ComfortWeights
 from .constraints import AXES
 from .errors import ManikinError, ScenarioError
 from .model import GRAVITY, Model
-from .problem import ExternalLoad, Loop, Problem, Target
+from .problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
 from .result import Result
 from .solve import SolverOptions
 from .spatial import matrix_to_quat, quat_to_matrix
@@ -37,6 +37,10 @@ class Scenario:
     options: SolverOptions
     start: np.ndarray
     frame: int = 1
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
 class _Reader:
@@ -82,12 +86,13 @@ class _Reader:
             raise self.fail(key, "a non-empty string", value)
         return value
 
-    def vector(self, key: str, size: int, default: Any = None) -> np.ndarray:
+    def vector(self, key: str, size: int, default: Any = None, limit: float = math.inf) -> np.ndarray:
         value = self.data.get(key, default)
-        ok = isinstance(value, list) and len(value) == size
-        ok = ok and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+        ok = isinstance(value, list) and len(value) == size and all(_is_number(v) for v in value)
         if not ok:
             raise self.fail(key, f"{size} finite numbers", value)
+        if any(abs(v) > limit for v in value):
+            raise self.fail(key, f"{size} numbers within +-{limit:g}", value)
         return np.asarray(value, dtype=float)
 
     def rotation(self, key: str) -> np.ndarray | None:
@@ -190,7 +195,7 @@ def load_scenario(path: str | Path) -> Scenario:
 def _read_manikin(t: _Reader, path: Path) -> Model:
     t.known({"preset", "file"})
     if ("preset" in t.data) == ("file" in t.data):
-        raise t.fail("preset", "exactly one of preset = \"male_50\" or file = \"body.toml\"")
+        raise t.fail("preset", 'exactly one of preset = "male_50" or file = "body.toml"')
     try:
         if "preset" in t.data:
             return load_body(preset=t.string("preset"))
@@ -201,18 +206,20 @@ def _read_manikin(t: _Reader, path: Path) -> Model:
 
 
 def _read_target(t: _Reader, model: Model) -> Target:
-    t.known({"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
-             "name"})
+    t.known(
+        {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled", "name"}
+    )
     sole = None
     if "sole" in t.data:
         value = t.data["sole"]
-        ok = isinstance(value, list) and len(value) >= 1 and all(isinstance(p, list) and len(p) == 2 for p in value)
-        sole = np.asarray(value, dtype=float) if ok else None
-        if sole is None or not np.isfinite(sole).all():
-            raise t.fail("sole", "a list of [x, y] corners in the TCP frame, m", value)
+        ok = isinstance(value, list) and len(value) >= 1
+        ok = ok and all(isinstance(p, list) and len(p) == 2 and all(_is_number(c) for c in p) for p in value)
+        if not ok:
+            raise t.fail("sole", "a list of [x, y] corners in the TCP frame, m (finite numbers)", value)
+        sole = np.asarray(value, dtype=float)
     return Target(
         tcp=t.tcp("tcp", model),
-        position=t.vector("position", 3),
+        position=t.vector("position", 3, limit=MAX_DISTANCE),
         rotation=t.rotation("rotation"),
         lock=t.lock("lock", AXES),
         operator=t.operator("operator"),
@@ -228,7 +235,10 @@ def _read_load(t: _Reader, model: Model) -> ExternalLoad:
     t.known({"tcp", "force", "mass"})
     if ("force" in t.data) == ("mass" in t.data):
         raise t.fail("force", "exactly one of force = [fx, fy, fz] (N) or mass = kg")
-    force = t.vector("force", 3) if "force" in t.data else t.number("mass", low=0.0) * GRAVITY
+    if "force" in t.data:
+        force = t.vector("force", 3, limit=MAX_FORCE)
+    else:
+        force = t.number("mass", low=0.0, high=MAX_FORCE / 9.81) * GRAVITY
     return ExternalLoad(t.tcp("tcp", model), force)
 
 
@@ -237,7 +247,7 @@ def _read_loop(t: _Reader, model: Model) -> Loop:
     return Loop(
         tcp=t.tcp("tcp", model),
         other=t.tcp("other", model),
-        offset_position=t.vector("offset_position", 3, [0.0, 0.0, 0.0]),
+        offset_position=t.vector("offset_position", 3, [0.0, 0.0, 0.0], limit=MAX_DISTANCE),
         offset_rotation=t.rotation("offset_rotation"),
         lock=t.lock("lock", ("x", "y", "z")),
         operator=t.operator("operator"),
@@ -294,11 +304,13 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
         )
         for i in range(model.n)
     ]
-    contacts = {c["tcp"]: dict(point=_vec(c["point"]), force=_vec(c["force"]), moment=_vec(c["moment"]))
-                for c in result.contacts}
+    contacts = {
+        c["tcp"]: dict(point=_vec(c["point"]), force=_vec(c["force"]), moment=_vec(c["moment"]))
+        for c in result.contacts
+    }
     loads = [
         dict(tcp=ld.tcp.name, point=_vec(p), force=_vec(ld.force))
-        for ld, p in zip(problem.loads, state.statics.load_points)
+        for ld, p in zip(problem.loads, state.statics.load_points, strict=True)
     ]
     return dict(
         frame=frame,

@@ -29,6 +29,9 @@ import numpy as np
 from .problem import Problem
 from .result import Result
 
+POLISH_ITERATIONS = 20  # iterations kept for restoring the constraints without comfort
+HOVER_LIMIT = 12  # comfort iterations just outside the constraints before the restoring phase takes over
+FRACTION_NEAR = 0.02  # scaled distance below which a joint may be saturated right at its limit
 COMFORT_SLACK = 10.0  # how far (in tolerances) a comfort step may leave the constraints before the next task step
 
 
@@ -41,9 +44,12 @@ class SolverOptions:
     max_step: float = 0.5  # largest change of one scaled variable in one task step
     max_comfort_step: float = 0.5  # same for the comfort part of a step
     comfort_tolerance: float = 1e-3  # stop when the predicted comfort gain is below this fraction of |h|
-    singular_threshold: float = 1e-2  # damping starts below this fraction of the largest singular value
-    max_damping: float = 1e-2  # damping at a singularity, as a fraction of the largest singular value
+    singular_threshold: float = 1e-3  # damping starts below this fraction of the largest singular value
+    max_damping: float = 1e-3  # damping at a singularity, as a fraction of the largest singular value
     clamping_rounds: int = 10
+
+
+DEFAULT_OPTIONS = SolverOptions()
 
 
 @dataclass
@@ -105,6 +111,8 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     else:
         metric = np.ones_like(x)
     root = np.sqrt(metric)
+    half_lo = np.where(problem.is_joint & (-lo > FRACTION_NEAR), 0.5, 1.0)
+    half_hi = np.where(problem.is_joint & (hi > FRACTION_NEAR), 0.5, 1.0)
     fixed = np.zeros_like(x)
     n = len(x)
     task = np.zeros(n)
@@ -136,7 +144,9 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
                 room = np.where(comfort > 0, (hi - task) / comfort, np.where(comfort < 0, (lo - task) / comfort, 1.0))
             comfort *= float(np.clip(np.min(room, initial=1.0), 0.0, 1.0))
             break
-        fixed[below], fixed[above] = lo[below], hi[above]
+        # Saturate: a joint stops halfway to its limit unless it is already close to it (fraction to the
+        # boundary, so the tan^2 comfort is not slammed to its wall); forces stop exactly at zero.
+        fixed[below], fixed[above] = lo[below] * half_lo[below], hi[above] * half_hi[above]
         free &= ~(below | above)
     task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
     predicted = -(grad_f @ comfort + 0.5 * (curv_f * comfort) @ comfort) if comfort_on else 0.0
@@ -165,19 +175,38 @@ class _Evaluator:
         return state, err, float(err @ err), worst, f
 
 
-def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions = SolverOptions()) -> Result:
-    """Find x meeting the constraints and maximising comfort, warm-started from ``x0`` (any earlier pose)."""
+def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions = DEFAULT_OPTIONS) -> Result:
+    """Find x meeting the constraints and maximising comfort, warm-started from ``x0`` (any earlier pose).
+
+    Comfort is optimised while the constraints are met; if they are not met by the end of that phase (or the
+    iterate keeps hovering just outside them), the last iterations restore them with comfort switched off.
+    """
     t0 = time.perf_counter()
     opts = options
-    comfort_on = opts.optimize_comfort
-    evaluate = _Evaluator(problem, comfort_on)
     x = problem.start(x0)
+    budget = opts.max_iterations
+    used = 0
+    if opts.optimize_comfort:
+        polish = min(POLISH_ITERATIONS, budget // 3)
+        x, worst, used = _iterate(problem, x, opts, True, budget - polish)
+    else:
+        worst = np.inf
+    if worst > 1.0 and used < budget:
+        x, worst, more = _iterate(problem, x, opts, False, budget - used)
+        used += more
+    return Result.from_state(problem, problem.state(x), used, time.perf_counter() - t0)
+
+
+def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: bool, budget: int):
+    """Up to ``budget`` iterations from x; returns (x, worst scaled error, iterations used)."""
+    evaluate = _Evaluator(problem, comfort_on)
     state, err, merit, worst, f = evaluate(x)
     mu = 1e-2
     radius = opts.max_step
-    stalls = 0
+    stalls = hovering = 0
     iterations = 0
-    for iterations in range(1, opts.max_iterations + 1):
+    while iterations < budget:
+        iterations += 1
         jac = problem.scaled_jacobian(state)
         if comfort_on:
             grad_h, curv = problem.comfort.derivatives(state)
@@ -186,6 +215,9 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
             grad_f, curv_f = np.zeros(problem.n_x), np.zeros(problem.n_x)
         step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on)
         if worst <= 1.0 and step.predicted_gain <= opts.comfort_tolerance * max(f, 1e-3):
+            break
+        hovering = hovering + 1 if 1.0 < worst <= COMFORT_SLACK else 0
+        if comfort_on and hovering > HOVER_LIMIT:
             break
 
         # Far from the constraints only the task part is tried (its metric already keeps joints off their
@@ -211,7 +243,7 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
                     better = w_try <= COMFORT_SLACK and f_try - f + penalty < 0.0
                 else:
                     better = m_try < merit
-                if np.isfinite(f_try) and better:
+                if np.isfinite(f_try) and np.isfinite(m_try) and better:
                     accepted = True
                     break
                 alpha *= 0.5
@@ -230,9 +262,7 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
         else:
             stalls += 1
             radius = max(radius / 4, 1e-6)
-            if stalls >= 4 and (worst <= 1.0 or not comfort_on):
-                break
-            if stalls >= 8:
+            if stalls >= 6:
                 break
         mu = float(np.clip(mu, 1e-8, 1e8))
-    return Result.from_state(problem, state, iterations, time.perf_counter() - t0)
+    return x, worst, iterations

@@ -292,7 +292,7 @@ def test_bad_input_exits_2_with_one_line(tmp_path, case):
 
 def test_scenario_in_another_directory_solves(tmp_path):
     scenario = tmp_path / "stand.toml"
-    scenario.write_text(FEET + HAND, encoding="utf-8")
+    scenario.write_text(FEET, encoding="utf-8")
     out = tmp_path / "deep" / "er" / "stand.json"
     proc = run_cli("solve", str(scenario), "-o", str(out))
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -303,7 +303,7 @@ def test_scenario_in_another_directory_solves(tmp_path):
 
 def test_solves_from_another_working_directory(tmp_path):
     """``preset = "male_50"`` is found from any working directory (relative scenario and output paths)."""
-    (tmp_path / "stand.toml").write_text(FEET + HAND, encoding="utf-8")
+    (tmp_path / "stand.toml").write_text(FEET, encoding="utf-8")
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
     proc = subprocess.run(

@@ -43,8 +43,8 @@ def test_tcp_frame_jacobian(seed):
         kin = model.forward(theta)
         r0, o0 = kin.tcp_frame(tcp)
         jac = kin.frame_jacobian(tcp.link, o0)
-        lin = finite_difference(lambda t: model.forward(t).tcp_frame(tcp)[1], theta)
-        ang = finite_difference(lambda t: log_so3(model.forward(t).tcp_frame(tcp)[0] @ r0.T), theta)
+        lin = finite_difference(lambda t, tcp=tcp: model.forward(t).tcp_frame(tcp)[1], theta)
+        ang = finite_difference(lambda t, tcp=tcp, r0=r0: log_so3(model.forward(t).tcp_frame(tcp)[0] @ r0.T), theta)
         np.testing.assert_allclose(jac[:3], lin, atol=1e-6)
         np.testing.assert_allclose(jac[3:], ang, atol=1e-6)
 
@@ -57,7 +57,7 @@ def test_constraint_jacobians(seed):
     x = state_x(problem, rng)
     for c in problem.constraints:
         analytic = c.jacobian(problem.state(x))
-        numeric = finite_difference(lambda xx: c.error(problem.state(xx)), x)
+        numeric = finite_difference(lambda xx, c=c: c.error(problem.state(xx)), x)
         scale = max(1.0, np.abs(numeric).max())
         np.testing.assert_allclose(analytic, numeric, atol=2e-6 * scale, err_msg=c.name)
 
@@ -112,5 +112,5 @@ def test_near_singular_pose_jacobians():
     problem = make_problem(model, rng)
     x = np.concatenate([np.zeros(model.n), np.full(problem.contacts.n_vars, 10.0)])
     for c in problem.constraints:
-        numeric = finite_difference(lambda xx: c.error(problem.state(xx)), x)
+        numeric = finite_difference(lambda xx, c=c: c.error(problem.state(xx)), x)
         np.testing.assert_allclose(c.jacobian(problem.state(x)), numeric, atol=2e-6 * max(1, np.abs(numeric).max()))

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -357,10 +357,25 @@ def test_without_balance(male50):
 def test_random_reachable_targets(male50, x, y, z):
     result = solve(reach_problem(male50, np.array([x, y, z])))
     _assert_finite_result(result)
+    event("converged" if result.converged else "not converged")  # shown by --hypothesis-show-statistics
     if result.converged:
         check_physics(result)
     else:
         assert result.unmet, "not converged, yet no unmet constraint named"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "target",
+    [(-0.15, -0.40, 1.05), (-0.15, -0.55, 0.75), (-0.15, -0.25, 1.35), (0.10, -0.40, 1.05)],
+    ids=["center", "low_far", "high_near", "across_body"],
+)
+def test_reachable_box_converges(male50, target):
+    """Fixed points of the property test's box: with sliding feet they are all reachable, so they must converge
+    (the property test alone would also pass if the solver never converged)."""
+    result = solve(reach_problem(male50, np.array(target)))
+    assert result.converged, result.summary()
+    check_physics(result)
 
 
 # --------------------------------------------------------------------------------------------- bad values

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ManikinError
 from ..model import Tcp
 from ..spatial import left_jacobian_inverse_so3, log_so3
 from ..state import State
@@ -28,7 +29,7 @@ def lock_operator(lock: list[str] | tuple[str, ...]) -> np.ndarray:
     """Selection matrix (k x 6) of the locked axes, in the order x y z rx ry rz."""
     unknown = [a for a in lock if a not in AXES]
     if unknown:
-        raise ValueError(f"unknown lock axis {unknown[0]!r}; expected some of {list(AXES)}")
+        raise ManikinError(f"unknown lock axis {unknown[0]!r}; expected some of {list(AXES)}")
     return np.eye(6)[[i for i, a in enumerate(AXES) if a in lock]]
 
 
