@@ -41,9 +41,9 @@ class SolverOptions:
 
     max_iterations: int = 100
     optimize_comfort: bool = True
-    max_step: float = 0.5  # largest change of one scaled variable in one task step
+    max_step: float = 1.0  # trust region: largest 2-norm of a task step in scaled variables
     max_comfort_step: float = 0.5  # same for the comfort part of a step
-    comfort_tolerance: float = 1e-3  # stop when the predicted comfort gain is below this fraction of |h|
+    comfort_tolerance: float = 1e-3  # stop when the predicted comfort gain is below this fraction of max(|h|, 1)
     singular_threshold: float = 1e-3  # damping starts below this fraction of the largest singular value
     max_damping: float = 1e-3  # damping at a singularity, as a fraction of the largest singular value
     clamping_rounds: int = 10
@@ -68,27 +68,61 @@ class _Step:
         return out
 
 
-def _svd_task(jac: np.ndarray, err: np.ndarray, opts: SolverOptions):
-    """Damped least-squares step -J^+ err, the orthonormal row-space basis (undamped, rank-truncated) and
-    the solver err -> -J^+ err itself."""
-    n = jac.shape[1]
-    if jac.shape[0] == 0 or n == 0:
-        return np.zeros(n), np.zeros((0, n)), lambda e: np.zeros(n)
-    u, s, vt = np.linalg.svd(jac, full_matrices=False)
-    s_max = s[0] if s.size else 0.0
-    if not s_max > 0.0:
-        return np.zeros(n), np.zeros((0, n)), lambda e: np.zeros(n)
-    eps = opts.singular_threshold * s_max
-    damp2 = np.where(s < eps, (opts.max_damping * s_max) ** 2 * (1.0 - (s / eps) ** 2), 0.0)
-    inv = s / (s * s + damp2)
+class _LeastSquares:
+    """Damped least squares on one Jacobian via its economy SVD: steps, row-space basis, multipliers.
 
-    def solve_task(e: np.ndarray) -> np.ndarray:
-        return -vt.T @ (inv * (u.T @ e))
+    Damping grows smoothly only for singular values below ``singular_threshold * s_max``; a trust region
+    adds Levenberg-Marquardt damping until the step fits, which shortens the poorly determined directions
+    first instead of shrinking the whole step.
+    """
 
-    solve_task.multipliers = lambda g: -u @ (inv * (vt @ g))  # lambda with g + J^T lambda ~ 0
+    def __init__(self, jac: np.ndarray, opts: SolverOptions) -> None:
+        self.n = jac.shape[1]
+        if jac.shape[0] == 0 or self.n == 0:
+            self.u, self.s, self.vt = np.zeros((jac.shape[0], 0)), np.zeros(0), np.zeros((0, self.n))
+        else:
+            self.u, self.s, self.vt = np.linalg.svd(jac, full_matrices=False)
+        s_max = self.s[0] if self.s.size else 0.0
+        eps = opts.singular_threshold * s_max
+        ramp = 1.0 - (self.s / max(eps, 1e-300)) ** 2
+        self.damp2 = np.where(self.s < eps, (opts.max_damping * s_max) ** 2 * ramp, 0.0)
+        self.s_max = s_max
+        keep = self.s > 1e-9 * s_max if s_max > 0 else np.zeros(len(self.s), dtype=bool)
+        self.basis = self.vt[keep]  # orthonormal basis of the row space (undamped, rank-truncated)
 
-    rank = int(np.sum(s > 1e-9 * s_max))
-    return solve_task(err), vt[:rank], solve_task
+    def _gain(self, extra2: float) -> np.ndarray:
+        denom = self.s * self.s + self.damp2 + extra2
+        return np.divide(self.s, denom, out=np.zeros_like(self.s), where=denom > 0)
+
+    def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
+        """-J^+ err with the built-in damping (plus ``extra2``, a squared LM damping)."""
+        return -self.vt.T @ (self._gain(extra2) * (self.u.T @ err))
+
+    def step_within(self, err: np.ndarray, col_scale: np.ndarray, radius: float) -> np.ndarray:
+        """The step, in variables ``col_scale * y``, with LM damping raised until its 2-norm <= radius."""
+        c = self.u.T @ err
+        a = self.vt.T * col_scale[:, None]  # step(extra) = -a @ (gain * c)
+        gram = a.T @ a
+
+        def norm(extra2: float) -> float:
+            d = self._gain(extra2) * c
+            return float(np.sqrt(max(d @ gram @ d, 0.0)))
+
+        if norm(0.0) <= radius or self.s_max <= 0:
+            return -a @ (self._gain(0.0) * c)
+        lo, hi = 0.0, self.s_max**2
+        while norm(hi) > radius and hi < 1e30:
+            hi *= 100.0
+        for _ in range(30):  # bisection on a log scale
+            mid = np.sqrt(max(lo, hi * 1e-12) * hi)
+            lo, hi = (mid, hi) if norm(mid) > radius else (lo, mid)
+            if hi / max(lo, 1e-300) < 1.5:
+                break
+        return -a @ (self._gain(hi) * c)
+
+    def multipliers(self, g: np.ndarray) -> np.ndarray:
+        """lambda with g + J^T lambda ~ 0 (least squares)."""
+        return -self.u @ (self._gain(0.0) * (self.vt @ g))
 
 
 def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on) -> _Step:
@@ -120,12 +154,10 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     for _ in range(opts.clamping_rounds):
         err_eff = err + jac[:, ~free] @ fixed[~free] if (~free).any() else err
         r_f = root[free]
-        y_task, basis, solve_task = _svd_task(jac[:, free] / r_f, err_eff, opts)
+        lsq = _LeastSquares(jac[:, free] / r_f, opts)
+        basis = lsq.basis
         task = fixed.copy()
-        task[free] = y_task / r_f
-        biggest = np.max(np.abs(task), initial=0.0)
-        if biggest > radius:  # trust region: shorten the whole task step, saturated variables included
-            task *= radius / biggest
+        task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)
         comfort = np.zeros(n)
         if comfort_on:
             g_w = grad_f[free] / r_f
@@ -153,9 +185,9 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     r_free = root[free]
 
     def correction(e: np.ndarray) -> np.ndarray:
-        return solve_task(e) / r_free
+        return lsq.step(e) / r_free
 
-    penalty = 2.0 * float(np.max(np.abs(solve_task.multipliers(grad_f[free] / r_free)), initial=0.0))
+    penalty = 2.0 * float(np.max(np.abs(lsq.multipliers(grad_f[free] / r_free)), initial=0.0))
     return _Step(task, comfort, max(float(predicted), 0.0), free, correction, penalty + 1e-9)
 
 
@@ -214,7 +246,7 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
         else:
             grad_f, curv_f = np.zeros(problem.n_x), np.zeros(problem.n_x)
         step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on)
-        if worst <= 1.0 and step.predicted_gain <= opts.comfort_tolerance * max(f, 1e-3):
+        if worst <= 1.0 and step.predicted_gain <= opts.comfort_tolerance * max(f, 1.0):
             break
         hovering = hovering + 1 if 1.0 < worst <= COMFORT_SLACK else 0
         if comfort_on and hovering > HOVER_LIMIT:
