@@ -94,6 +94,13 @@ class Model:
         """Body mass, kg."""
         return float(self.mass.sum())
 
+    def chain(self, link: int) -> np.ndarray:
+        """Indices of the joints that move ``link`` (its ancestors and itself), root first."""
+        cache = self.__dict__.setdefault("_chains", {})
+        if link not in cache:
+            cache[link] = np.nonzero(self.descendant[:, link])[0]
+        return cache[link]
+
     def joint_index(self, name: str) -> int:
         try:
             return self.joint_names.index(name)
@@ -165,19 +172,25 @@ class Kinematics:
         m = self.model.mass
         return (m @ self.com) / m.sum()
 
+    def chain_jacobian(self, link: int, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Joints that move ``link`` (indices) and the (6, k) Jacobian [d point; angular velocity] over them."""
+        idx = self.model.chain(link)
+        axis = self.axis[idx]
+        prismatic = self.model.prismatic[idx, None]
+        lin = np.where(prismatic, axis, cross(axis, point[None, :] - self.position[idx]))
+        ang = np.where(prismatic, 0.0, axis)
+        return idx, np.vstack([lin.T, ang.T])
+
     def point_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
         """(3, n): d(world point fixed to ``link``)/d theta."""
-        mask = self.model.descendant[:, link]
-        lever = point[None, :] - self.position
-        cols = np.where(self.model.prismatic[:, None], self.axis, cross(self.axis, lever))
-        return (cols * mask[:, None]).T
+        return self.frame_jacobian(link, point)[:3]
 
     def frame_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
         """(6, n) geometric Jacobian [linear velocity of ``point``; angular velocity] of a frame on ``link``."""
-        mask = self.model.descendant[:, link]
-        lin = self.point_jacobian(link, point)
-        ang = np.where(self.model.prismatic[:, None], 0.0, self.axis) * mask[:, None]
-        return np.vstack([lin, ang.T])
+        idx, jac = self.chain_jacobian(link, point)
+        full = np.zeros((6, self.model.n))
+        full[:, idx] = jac
+        return full
 
 
 class ModelBuilder:

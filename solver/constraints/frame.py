@@ -89,14 +89,18 @@ class FrameConstraint(Constraint):
         kin = state.kin
         r_t, _ = self.target_frame(state)
         r, o = kin.tcp_frame(self.tcp)
-        jac = kin.frame_jacobian(self.tcp.link, o)
-        if self.reference is not None:
-            jac = jac - kin.frame_jacobian(self.reference.link, o)
         e_r = log_so3(r_t.T @ r)
-        full = np.zeros((6, self.n_x))
-        full[:3, : kin.model.n] = r_t.T @ jac[:3]
-        full[3:, : kin.model.n] = left_jacobian_inverse_so3(e_r) @ (r_t.T @ jac[3:])
-        return self.operator @ full
+        to_target = np.zeros((6, 6))
+        to_target[:3, :3] = r_t.T
+        to_target[3:, 3:] = left_jacobian_inverse_so3(e_r) @ r_t.T
+        rows = self.operator @ to_target
+        full = np.zeros((self.rows, self.n_x))
+        idx, jac = kin.chain_jacobian(self.tcp.link, o)
+        full[:, idx] = rows @ jac
+        if self.reference is not None:
+            idx, jac = kin.chain_jacobian(self.reference.link, o)
+            full[:, idx] -= rows @ jac
+        return full
 
     def residuals(self, state: State) -> dict[str, float]:
         err = self.full_error(state)
