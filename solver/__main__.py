@@ -17,23 +17,35 @@ EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
 
 
 def _solve(args: argparse.Namespace) -> int:
+    from .motion import solve_frames
     from .scenario import load_scenario, result_to_dict
-    from .solve import solve
 
     scenario = load_scenario(args.scenario)
-    result = solve(scenario.problem, scenario.start, scenario.options)
+    frames, failed, last = [], [], None
+    solved = solve_frames(scenario.problem_at, scenario.frames, scenario.start, scenario.options, scenario.limits)
+    for frame, result in solved:
+        frames.append(result_to_dict(result, frame))
+        last = result
+        if not result.converged:
+            failed.append(frame)
+        if len(scenario.frames) > 1 and not args.quiet:
+            status = "ok" if result.converged else "NOT converged: " + ", ".join(result.unmet)
+            print(f"frame {frame}: {result.iterations} iterations, {result.time_s * 1e3:.1f} ms, {status}")
     if not args.quiet:
-        print(result.summary())
+        print(last.summary())
+        if len(frames) > 1:
+            missed = f"; not converged: {failed}" if failed else ""
+            print(f"{len(frames)} frames, {len(frames) - len(failed)} converged{missed}")
     if args.output:
         out = Path(args.output)
         out.parent.mkdir(parents=True, exist_ok=True)
-        payload = {"scenario": str(scenario.path), "frames": [result_to_dict(result, scenario.frame)]}
+        payload = {"scenario": str(scenario.path), "frames": frames}
         tmp = out.with_name(out.name + ".tmp")
         tmp.write_text(json.dumps(payload, indent=1), encoding="utf-8")
         tmp.replace(out)
         if not args.quiet:
             print(f"wrote {out}")
-    return EXIT_OK if result.converged else EXIT_NOT_CONVERGED
+    return EXIT_NOT_CONVERGED if failed else EXIT_OK
 
 
 def _bench(args: argparse.Namespace) -> int:

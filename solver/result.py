@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -27,6 +27,7 @@ class Result:
     comfort_parts: dict[str, float]
     contacts: list[dict]
     com: np.ndarray
+    notes: list[str] = field(default_factory=list)
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
@@ -63,6 +64,7 @@ class Result:
         lines = [f"{self.problem.model.name}: {status} in {self.iterations} iterations, {self.time_s * 1e3:.1f} ms"]
         if self.unmet:
             lines.append("  unmet: " + ", ".join(self.unmet))
+        lines.extend(f"  note: {note}" for note in self.notes)
         for name, value in self.residuals.items():
             unit = _unit(name)
             shown = np.rad2deg(value) if unit == "deg" else value * (1e3 if unit == "mm" else 1.0)

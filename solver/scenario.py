@@ -19,24 +19,52 @@ from .comfort import ComfortWeights
 from .constraints import AXES
 from .errors import ManikinError, ScenarioError
 from .model import GRAVITY, Model
+from .motion import Key, MotionLimits, Track, targets_at
 from .problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
 from .result import Result
-from .solve import SolverOptions
+from .solve import DEFAULT_OPTIONS, SolverOptions
 from .spatial import matrix_to_quat, quat_to_matrix
 
-SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "name", "description"}
+SECTIONS = {
+    "manikin",
+    "solver",
+    "comfort",
+    "start",
+    "targets",
+    "loads",
+    "loops",
+    "frame",
+    "motion",
+    "name",
+    "description",
+}
 
 
 @dataclass
 class Scenario:
-    """A parsed scenario: the model, the problem, solver options and the start pose."""
+    """A parsed scenario: the model, the problem (at the first frame), solver options, start pose, frames.
+
+    ``tracks`` hold the keyed targets of a motion; :meth:`problem_at` gives the problem at any frame.
+    """
 
     path: Path
     model: Model
     problem: Problem
     options: SolverOptions
     start: np.ndarray
-    frame: int = 1
+    frames: list[int]
+    tracks: list[Track]
+    limits: MotionLimits | None
+
+    @property
+    def frame(self) -> int:
+        return self.frames[0]
+
+    def problem_at(self, frame: int) -> Problem:
+        """The problem with every keyed target at its pose for ``frame``."""
+        if not self.tracks:
+            return self.problem
+        return self.problem.with_targets(targets_at(self.problem.all_targets, self.tracks, frame))
 
 
 def _is_number(v: Any) -> bool:
@@ -168,7 +196,7 @@ def load_scenario(path: str | Path) -> Scenario:
         raise solver_t.fail("reduction", "false: variable reduction is not available in this version", True)
     balance = solver_t.boolean("balance", True)
     options = SolverOptions(
-        max_iterations=int(solver_t.number("max_iterations", 200, 1, 100000)),
+        max_iterations=int(solver_t.number("max_iterations", DEFAULT_OPTIONS.max_iterations, 1, 100000)),
         optimize_comfort=solver_t.boolean("comfort", True),
     )
     comfort_t = root.table("comfort")
@@ -176,20 +204,41 @@ def load_scenario(path: str | Path) -> Scenario:
     weights = ComfortWeights(
         comfort_t.number("range", 1.0, 0.0), comfort_t.number("load", 1.0, 0.0), comfort_t.number("contact", 0.01, 0.0)
     )
-    targets = [_read_target(t, model) for t in root.table_list("targets")]
+    read = [_read_target(t, model) for t in root.table_list("targets")]
+    targets = [target for target, _ in read]
+    tracks = [Track(i, keys) for i, (_, keys) in enumerate(read) if keys]
     loads = [_read_load(t, model) for t in root.table_list("loads")]
     loops = [_read_loop(t, model) for t in root.table_list("loops")]
     if not targets and not loops:
         raise root.fail("targets", "at least one [[targets]] entry")
     if balance and not any(t.support and t.enabled for t in targets):
         raise root.fail("targets", "a target with support = true when [solver] balance = true")
+    frames, limits = _read_motion(root, tracks)
     try:
-        problem = Problem(model, targets, loops, loads, balance=balance, comfort_weights=weights)
+        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights)
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
-    frame = int(root.number("frame", 1, -1e9, 1e9))
-    return Scenario(path, model, problem, options, start, frame)
+    return Scenario(path, model, problem, options, start, frames, tracks, limits)
+
+
+def _read_motion(root: _Reader, tracks: list[Track]) -> tuple[list[int], MotionLimits | None]:
+    """Frames to solve and per-frame change limits: [motion] start/end/step, else the keys' span."""
+    motion = root.table("motion")
+    motion.known({"start", "end", "step", "max_joint_change", "max_root_shift", "bounded"})
+    keyed = [k.frame for track in tracks for k in track.keys]
+    first = int(root.number("frame", 1, -1e9, 1e9)) if not keyed else min(keyed)
+    start = int(motion.number("start", first, -1e9, 1e9))
+    end = int(motion.number("end", max(keyed) if keyed else start, start, 1e9))
+    step = int(motion.number("step", 1, 1, 1e6))
+    frames = list(range(start, end + 1, step))
+    if len(frames) > 100000:
+        raise motion.fail("end", "at most 100000 frames")
+    limits = MotionLimits(
+        motion.number("max_joint_change", MotionLimits.max_joint_change, 1e-6, 10.0),
+        motion.number("max_root_shift", MotionLimits.max_root_shift, 1e-6, 100.0),
+    )
+    return frames, limits if motion.boolean("bounded", True) else None
 
 
 def _read_manikin(t: _Reader, path: Path) -> Model:
@@ -205,9 +254,22 @@ def _read_manikin(t: _Reader, path: Path) -> Model:
         raise ScenarioError(f"{path}: manikin: {exc}") from None
 
 
-def _read_target(t: _Reader, model: Model) -> Target:
+def _read_target(t: _Reader, model: Model) -> tuple[Target, tuple[Key, ...]]:
     t.known(
-        {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled", "name"}
+        {
+            "tcp",
+            "position",
+            "rotation",
+            "lock",
+            "operator",
+            "weight",
+            "support",
+            "friction",
+            "sole",
+            "enabled",
+            "name",
+            "keys",
+        }
     )
     sole = None
     if "sole" in t.data:
@@ -217,10 +279,15 @@ def _read_target(t: _Reader, model: Model) -> Target:
         if not ok:
             raise t.fail("sole", "a list of [x, y] corners in the TCP frame, m (finite numbers)", value)
         sole = np.asarray(value, dtype=float)
-    return Target(
+    keys = _read_keys(t)
+    if keys and "position" not in t.data:
+        position, rotation = keys[0].position, keys[0].rotation
+    else:
+        position, rotation = t.vector("position", 3, limit=MAX_DISTANCE), t.rotation("rotation")
+    target = Target(
         tcp=t.tcp("tcp", model),
-        position=t.vector("position", 3, limit=MAX_DISTANCE),
-        rotation=t.rotation("rotation"),
+        position=position,
+        rotation=rotation,
         lock=t.lock("lock", AXES),
         operator=t.operator("operator"),
         weight=t.number("weight", 1.0, 1e-6),
@@ -229,6 +296,22 @@ def _read_target(t: _Reader, model: Model) -> Target:
         sole=sole,
         enabled=t.boolean("enabled", True),
     )
+    return target, keys
+
+
+def _read_keys(t: _Reader) -> tuple[Key, ...]:
+    """[[targets.keys]] frame = N, position = [...], rotation = [...] (optional), sorted by frame."""
+    keys = []
+    for k in t.table_list("keys"):
+        k.known({"frame", "position", "rotation"})
+        frame = k.number("frame", low=-1e9, high=1e9)
+        if frame != int(frame):
+            raise k.fail("frame", "a whole frame number", frame)
+        keys.append(Key(int(frame), k.vector("position", 3, limit=MAX_DISTANCE), k.rotation("rotation")))
+    frames = [k.frame for k in keys]
+    if len(set(frames)) != len(frames):
+        raise t.fail("keys", "distinct frame numbers", frames)
+    return tuple(sorted(keys, key=lambda k: k.frame))
 
 
 def _read_load(t: _Reader, model: Model) -> ExternalLoad:
@@ -304,6 +387,11 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
         )
         for i in range(model.n)
     ]
+    targets = {}
+    for c in problem.constraints:
+        if hasattr(c, "target_frame"):
+            rot, pos = c.target_frame(state)
+            targets[c.name] = dict(position=_vec(pos), rotation=_vec(matrix_to_quat(rot)))
     contacts = {
         c["tcp"]: dict(point=_vec(c["point"]), force=_vec(c["force"]), moment=_vec(c["moment"]))
         for c in result.contacts
@@ -318,6 +406,8 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
         iterations=result.iterations,
         time_s=result.time_s,
         unmet=list(result.unmet),
+        notes=list(result.notes),
+        targets=targets,
         residuals=result.residuals,
         comfort=result.comfort,
         comfort_terms=result.comfort_parts,

@@ -1,0 +1,118 @@
+"""Motions: targets keyed over frames, solved frame by frame, each warm-started from the previous one.
+
+A keyed target holds its first key before it and its last key after it; in between, positions are
+interpolated linearly and rotations by slerp. Between frames every joint may change by at most
+``max_joint_change`` rad (``max_root_shift`` m for the root translation), so the motion cannot jump; a
+frame that needs more does not converge and says that its target moved too far.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .problem import Problem, Target
+from .result import Result
+from .solve import DEFAULT_OPTIONS, SolverOptions, solve
+from .spatial import matrix_to_quat, quat_to_matrix, slerp
+
+
+@dataclass(frozen=True)
+class Key:
+    """A target pose at one frame: position (m) and optional rotation (3x3)."""
+
+    frame: int
+    position: np.ndarray
+    rotation: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Track:
+    """The keys of the target at index ``target`` in the scenario's target list, sorted by frame."""
+
+    target: int
+    keys: tuple[Key, ...]
+
+    def pose_at(self, frame: float) -> tuple[np.ndarray, np.ndarray | None]:
+        """Interpolated (position, rotation) at ``frame``."""
+        keys = self.keys
+        if frame <= keys[0].frame:
+            return keys[0].position, keys[0].rotation
+        if frame >= keys[-1].frame:
+            return keys[-1].position, keys[-1].rotation
+        i = int(np.searchsorted([k.frame for k in keys], frame, side="right")) - 1
+        a, b = keys[i], keys[i + 1]
+        t = (frame - a.frame) / (b.frame - a.frame)
+        position = (1.0 - t) * a.position + t * b.position
+        if a.rotation is None or b.rotation is None:
+            return position, a.rotation if b.rotation is None else b.rotation
+        q = slerp(matrix_to_quat(a.rotation), matrix_to_quat(b.rotation), t)
+        return position, quat_to_matrix(q)
+
+
+@dataclass(frozen=True)
+class MotionLimits:
+    """Largest change between consecutive frames."""
+
+    max_joint_change: float = 0.35  # rad per frame
+    max_root_shift: float = 0.10  # m per frame
+
+
+def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list[Target]:
+    """The target list with every keyed target moved to its pose at ``frame``."""
+    out = list(targets)
+    for track in tracks:
+        position, rotation = track.pose_at(frame)
+        out[track.target] = replace(out[track.target], position=position, rotation=rotation)
+    return out
+
+
+def bounded(problem: Problem, previous: np.ndarray, limits: MotionLimits) -> Problem:
+    """A shallow copy of ``problem`` whose joint bounds also keep each joint near ``previous``."""
+    n = problem.model.n
+    step = np.where(problem.model.prismatic, limits.max_root_shift, limits.max_joint_change)
+    narrowed = copy.copy(problem)
+    narrowed.lower = problem.lower.copy()
+    narrowed.upper = problem.upper.copy()
+    narrowed.lower[:n] = np.maximum(problem.lower[:n], previous[:n] - step)
+    narrowed.upper[:n] = np.minimum(problem.upper[:n], previous[:n] + step)
+    return narrowed
+
+
+def solve_frames(
+    problem_at: Callable[[int], Problem],
+    frames: list[int],
+    start: np.ndarray,
+    options: SolverOptions = DEFAULT_OPTIONS,
+    limits: MotionLimits | None = MotionLimits(),
+) -> Iterator[tuple[int, Result]]:
+    """Solve ``frames`` in order, each warm-started from the previous frame's solution.
+
+    The first frame starts from ``start``; later frames are held within ``limits`` of their predecessor.
+    Yields (frame, result) so that callers can report progress or stop early.
+    """
+    x = start
+    previous_theta = None
+    for frame in frames:
+        problem = problem_at(frame)
+        if limits is not None and previous_theta is not None:
+            problem = bounded(problem, previous_theta, limits)
+        result = solve(problem, x, options)
+        if not result.converged and previous_theta is not None:
+            n = problem.model.n
+            own = problem.model
+            at_step_bound = (np.isclose(result.theta, problem.lower[:n]) & (problem.lower[:n] > own.lower)) | (
+                np.isclose(result.theta, problem.upper[:n]) & (problem.upper[:n] < own.upper)
+            )
+            if at_step_bound.any():
+                names = [own.joint_names[i] for i in np.nonzero(at_step_bound)[0][:3]]
+                result.notes.append(
+                    f"frame {frame}: a target moved too far since the previous frame; joints held at the "
+                    f"per-frame change bound: {', '.join(names)}"
+                )
+        x = result.x
+        previous_theta = result.theta.copy()
+        yield frame, result
