@@ -235,7 +235,7 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
     state, err, merit, worst, f = evaluate(x)
     mu = 1e-2
     radius = opts.max_step
-    stalls = hovering = 0
+    stalls = hovering = quiet = 0  # quiet: feasible iterations in a row that gained negligible comfort
     iterations = 0
     while iterations < budget:
         iterations += 1
@@ -246,7 +246,8 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
         else:
             grad_f, curv_f = np.zeros(problem.n_x), np.zeros(problem.n_x)
         step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on)
-        if worst <= 1.0 and step.predicted_gain <= opts.comfort_tolerance * max(f, 1.0):
+        negligible = opts.comfort_tolerance * max(f, 1.0)
+        if worst <= 1.0 and (step.predicted_gain <= negligible or quiet >= 2):
             break
         hovering = hovering + 1 if 1.0 < worst <= COMFORT_SLACK else 0
         if comfort_on and hovering > HOVER_LIMIT:
@@ -288,6 +289,7 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
             else:
                 mu *= 4
         if accepted:
+            quiet = quiet + 1 if (w_try <= 1.0 and f - f_try < negligible) else 0
             x, state, err, merit, worst, f = x_try, s_try, e_try, m_try, w_try, f_try
             stalls = 0
             radius = min(2 * radius, opts.max_step) if alpha == 1.0 else radius

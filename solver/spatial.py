@@ -5,6 +5,8 @@ Conventions: rotation matrices act on column vectors; quaternions are (w, x, y, 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 _SMALL = 1e-8
@@ -35,19 +37,21 @@ def exp_so3(w: np.ndarray) -> np.ndarray:
 
 def log_so3(r: np.ndarray) -> np.ndarray:
     """Rotation vector (axis * angle, angle in [0, pi]) of the rotation matrix r."""
-    r = np.asarray(r, dtype=float)
-    cos_angle = np.clip((np.trace(r) - 1.0) * 0.5, -1.0, 1.0)
-    angle = float(np.arccos(cos_angle))
-    vee = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = np.asarray(r, dtype=float).tolist()
+    cos_angle = min(1.0, max(-1.0, (r00 + r11 + r22 - 1.0) * 0.5))
+    angle = math.acos(cos_angle)
+    vee = (r21 - r12, r02 - r20, r10 - r01)
     if angle < 1e-6:
-        return 0.5 * vee
-    if np.pi - angle > 1e-4:
-        return vee * (angle / (2.0 * np.sin(angle)))
+        return np.array(vee) * 0.5
+    if math.pi - angle > 1e-4:
+        k = angle / (2.0 * math.sin(angle))
+        return np.array(vee) * k
     # Near pi the antisymmetric part vanishes: take the axis from the symmetric part.
+    r = np.asarray(r, dtype=float)
     sym = 0.5 * (r + r.T) - cos_angle * np.eye(3)
     col = int(np.argmax(np.diag(sym)))
     axis = sym[:, col] / np.sqrt(max(sym[col, col], _SMALL))
-    if axis @ vee < 0.0:
+    if axis @ np.array(vee) < 0.0:
         axis = -axis
     return axis / np.linalg.norm(axis) * angle
 
