@@ -1,4 +1,5 @@
-"""Command line: ``python -m solver solve SCENARIO.toml [-o RESULT.json]``, ``bench``, ``presets``.
+"""Command line: ``python -m solver solve SCENARIO.toml [-o RESULT.json]``, ``ergo RESULT.json -o ERGO.json``,
+``bench``, ``presets``.
 
 Exit codes: 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input (one line
 on stderr naming the file, the key and what was expected).
@@ -48,6 +49,34 @@ def _solve(args: argparse.Namespace) -> int:
     return EXIT_NOT_CONVERGED if failed else EXIT_OK
 
 
+def _ergo(args: argparse.Namespace) -> int:
+    from .ergonomics import ErgoOptions, run
+
+    options = ErgoOptions(
+        load_mass=args.load_mass, activity=args.activity, shock=args.shock, coupling=args.coupling,
+        frequency=args.frequency, duration=args.duration, destination_control=args.destination_control,
+        travel=args.travel, origin=args.origin, destination=args.destination, manikin=args.manikin,
+    )  # fmt: skip
+    output = Path(args.output) if args.output else Path(args.result).with_name(Path(args.result).stem + "_ergo.json")
+    report = run(args.result, output, options, plots=not args.no_plots)
+    if not args.quiet:
+        frames = report["frames"]
+        shown = frames if len(frames) <= 10 else [frames[0], frames[-1]]
+        for f in shown:
+            c = f["joint_loads"]["l4_l5"].get("compression")
+            disc = "n/a" if c is None else f"{c:.0f} N"
+            print(f"frame {f['frame']}: RULA {f['rula']['score']}, REBA {f['reba']['score']}, "
+                  f"OWAS {f['owas'].get('code')}, L4/L5 {disc}, worksheet {f['worksheet']['overall']}")  # fmt: skip
+        if len(frames) > len(shown):
+            worst = max(frames, key=lambda f: f["reba"]["score"] or 0)
+            print(f"... {len(frames)} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}")
+        lift = report["niosh"]
+        if lift.get("LI") is not None:
+            print(f"NIOSH lift: RWL {lift['RWL']:.1f} kg, load {lift['load_kg']:.1f} kg, LI {lift['LI']:.2f}")
+        print("wrote " + ", ".join(report["written"]))
+    return EXIT_OK
+
+
 def _bench(args: argparse.Namespace) -> int:
     from .bench import run_benchmarks
 
@@ -72,6 +101,26 @@ def main(argv: list[str] | None = None) -> int:
     p_solve.add_argument("-o", "--output", help="result file (JSON)")
     p_solve.add_argument("-q", "--quiet", action="store_true", help="do not print the summary")
     p_solve.set_defaults(run=_solve)
+    p_ergo = sub.add_parser("ergo", help="ergonomic evaluation of a result JSON: JSON + CSV + PNG plots")
+    p_ergo.add_argument("result", help="result file (JSON) written by 'solve'")
+    p_ergo.add_argument("-o", "--output", help="report file (JSON); default RESULT_ergo.json")
+    p_ergo.add_argument("--load-mass", type=float, help="kg handled (default: the result's loads on the hands)")
+    p_ergo.add_argument("--frequency", type=float, default=1.0, help="NIOSH lifts per minute (default 1)")
+    p_ergo.add_argument("--duration", default="short", choices=["short", "moderate", "long"],
+                        help="NIOSH lifting duration: <= 1 h, 1-2 h, 2-8 h (default short)")  # fmt: skip
+    p_ergo.add_argument("--coupling", default="fair", choices=["good", "fair", "poor", "unacceptable"])
+    p_ergo.add_argument("--destination-control", action="store_true",
+                        help="NIOSH: significant control at the destination (use the lower RWL)")  # fmt: skip
+    p_ergo.add_argument("--travel", type=float, help="NIOSH vertical travel (m) for a one-frame result")
+    p_ergo.add_argument("--origin", type=int, help="NIOSH origin frame number (default: first)")
+    p_ergo.add_argument("--destination", type=int, help="NIOSH destination frame number (default: last)")
+    p_ergo.add_argument("--activity", default="intermittent", choices=["intermittent", "static", "repeated"],
+                        help="RULA/REBA muscle use (default intermittent)")  # fmt: skip
+    p_ergo.add_argument("--shock", action="store_true", help="sudden or jerky forces (RULA/REBA)")
+    p_ergo.add_argument("--manikin", help="preset or body TOML for strengths (default: the scenario's manikin)")
+    p_ergo.add_argument("--no-plots", action="store_true", help="do not write the PNG plots")
+    p_ergo.add_argument("-q", "--quiet", action="store_true", help="do not print the summary")
+    p_ergo.set_defaults(run=_ergo)
     p_bench = sub.add_parser("bench", help="time the preset scenarios and write docs/BENCHMARKS.md")
     p_bench.add_argument("-o", "--output", default="docs/BENCHMARKS.md")
     p_bench.add_argument("--repeats", type=int, default=30)

@@ -371,6 +371,7 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
             max=_limit(model.upper[i]),
             type="prismatic" if model.prismatic[i] else "revolute",
             link=model.link_names[i],
+            strength=[_limit(model.strength[i, 0]), _limit(model.strength[i, 1])],
             position=_vec(kin.position[i]),
             axis=_vec(kin.axis[i]),
         )

@@ -1,0 +1,125 @@
+"""Joint loads of one result frame: 3D moments, their axis component, percent of strength, L4/L5 compression.
+
+Moment at joint j (Delfs 2012, eq. 3.11), over everything acting on the links in the subtree of the link the
+joint moves (the joint's own link included):
+
+    M_j = sum_k (c_k - p_j) x m_k g  +  sum_contacts (q - p_j) x f + t  +  sum_loads (q - p_j) x f
+
+with c_k the link centres of mass, q the contact point / load point and t a contact's free moment; a contact or a
+load acts on the link of its TCP. ``axis_moment`` tau_j = a_j . M_j (for a prismatic joint a_j . F_j, N). The
+muscles must produce -tau_j, so ``percent_strength`` = |tau_j| / s_j * 100 with s_j the joint's capacity in the
+direction of -tau_j (the model's ``strength`` column 1 for positive, 0 for negative moments).
+
+L4/L5 disc compression (an ESTIMATE, Chaffin's single-equivalent-muscle model, Chaffin, Andersson & Martin,
+"Occupational Biomechanics", ch. 6): the extensor (or flexor) muscle force balances the sagittal moment at the
+L4/L5 disc with a 5 cm moment arm, F_m = |M_flex| / 0.05 m, and acts along the disc axis; compression =
+F_m + the subtree's external force component pressing along the disc axis. Intra-abdominal pressure, lateral
+bending and twisting moments and co-contraction are ignored (they are reported, not used). Limits: 3400 N
+(action limit) and 6400 N (maximum permissible limit) of the NIOSH Work Practices Guide (1981), as used by
+3DSSPP-style low-back analysis (shared/reference/published_data.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .frames import Frame
+
+MUSCLE_MOMENT_ARM = 0.05  # m, single equivalent extensor muscle about L4/L5 (Chaffin et al., see above)
+DISC_ACTION_LIMIT = 3400.0  # N, NIOSH 1981 action limit
+DISC_MAXIMUM_LIMIT = 6400.0  # N, NIOSH 1981 maximum permissible limit
+L4L5 = ("l4_rx", "l4_ry", "l4_rz")  # the joints at the L4/L5 disc (each vertebra's joints sit at its lower disc)
+
+
+def subtree_sums(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+    """(L, 3) force and (L, 3) moment about the world origin of everything acting on each link's subtree."""
+    points = [frame.link_com]
+    forces = [frame.link_mass[:, None] * frame.gravity[None, :]]
+    on = [np.arange(len(frame.link_names))]
+    free = np.zeros((len(frame.link_names), 3))
+    for tcp, point, force, moment in frame.contacts:
+        points.append(point[None, :])
+        forces.append(force[None, :])
+        on.append(np.array([frame.tcp_link[tcp]]))
+        free[frame.tcp_link[tcp]] += moment
+    for tcp, point, force in frame.loads:
+        points.append(point[None, :])
+        forces.append(force[None, :])
+        on.append(np.array([frame.tcp_link[tcp]]))
+    q, f, link = np.vstack(points), np.vstack(forces), np.concatenate(on)
+    acts = frame.below[:, link].astype(float)  # [j, k]: point force k acts inside the subtree of link j
+    sub_force = acts @ f
+    sub_moment = acts @ np.cross(q, f) + frame.below.astype(float) @ free
+    return sub_force, sub_moment
+
+
+def joint_moments(frame: Frame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(n, 3) moment about each joint (N*m, world), (n,) axis component and (n, 3) subtree force (N)."""
+    sub_force, sub_moment = subtree_sums(frame)
+    f = sub_force[frame.joint_link]
+    m = sub_moment[frame.joint_link] - np.cross(frame.joint_position, f)
+    tau = np.einsum("ni,ni->n", frame.joint_axis, m)
+    tau = np.where(frame.prismatic, np.einsum("ni,ni->n", frame.joint_axis, f), tau)
+    return m, tau, f
+
+
+def percent_of_strength(tau: np.ndarray, strength: np.ndarray) -> np.ndarray:
+    """|tau| / capacity in the direction of the muscle moment -tau, in percent; NaN where the capacity is unknown
+    or unlimited."""
+    capacity = np.where(tau < 0.0, strength[:, 1], strength[:, 0])
+    ok = np.isfinite(capacity) & (capacity > 0)
+    return np.where(ok, np.abs(tau) / np.where(ok, capacity, 1.0) * 100.0, np.nan)
+
+
+def disc_compression(flexion_moment: float, axial_force: float) -> float:
+    """Chaffin single-muscle L4/L5 compression (N): |M| / 0.05 m + the external force along the disc (N, >0
+    pressing). An estimate; see the module docstring."""
+    return abs(flexion_moment) / MUSCLE_MOMENT_ARM + axial_force
+
+
+def l4_l5(frame: Frame, moments: np.ndarray, sub_force: np.ndarray) -> dict:
+    """L4/L5 moment (world, and flexion / lateral / twist parts) and the disc-compression estimate."""
+    if not frame.has(*L4L5):
+        return dict(moment=None, compression=None, reason="the body has no L4/L5 joints (l4_rx, l4_ry, l4_rz)")
+    i_rx, i_ry, i_rz = (frame.index[n] for n in L4L5)
+    m = moments[i_rx]
+    flexion = float(frame.joint_axis[i_rx] @ m)  # > 0: the loads bend the trunk forward
+    lateral = float(frame.joint_axis[i_ry] @ m)
+    twist = float(frame.joint_axis[i_rz] @ m)
+    disc_axis = frame.joint_axis[i_rz]  # the L4 vertebra's long axis (its rz joint turns about it)
+    axial = float(-(sub_force[i_rx] @ disc_axis))  # weight of everything above, pressing down the disc axis
+    compression = disc_compression(flexion, axial)
+    level = "green" if compression < DISC_ACTION_LIMIT else "yellow" if compression <= DISC_MAXIMUM_LIMIT else "red"
+    return dict(
+        moment=[float(v) for v in m],
+        flexion_moment=flexion,
+        lateral_moment=lateral,
+        twist_moment=twist,
+        axial_force=axial,
+        muscle_force=abs(flexion) / MUSCLE_MOMENT_ARM,
+        compression=compression,
+        level=level,
+        limits=dict(action=DISC_ACTION_LIMIT, maximum=DISC_MAXIMUM_LIMIT),
+        model="estimate: single equivalent muscle, 5 cm moment arm (Chaffin et al.); limits NIOSH 1981",
+    )
+
+
+def _num(v: float) -> float | None:
+    return float(v) if math.isfinite(v) else None
+
+
+def joint_loads(frame: Frame, strength: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
+    """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``; also returns (tau, percent) arrays."""
+    moments, tau, sub_force = joint_moments(frame)
+    percent = percent_of_strength(tau, strength)
+    out: dict = {}
+    for i, name in enumerate(frame.joint_names):
+        out[name] = dict(
+            moment=[float(v) for v in moments[i]],
+            axis_moment=float(tau[i]),
+            percent_strength=_num(percent[i]),
+        )
+    out["l4_l5"] = l4_l5(frame, moments, sub_force)
+    return out, tau, percent

@@ -1,0 +1,149 @@
+"""The manikin behind a result: joint strengths and the standard working area (thesis §6.1.2) of its own body.
+
+A result file names its scenario (top-level ``scenario``); the scenario's ``[manikin]`` table names a preset or a
+body file, which :func:`solver.bodies.load_body` builds. Strengths come from the result itself when its joints
+carry ``strength`` ([negative, positive] capacity, N*m, null = unlimited), else from that model
+(:attr:`solver.model.Model.strength`, sources in :mod:`solver.bodies.anthropometry`).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..bodies import load_body
+from ..errors import ManikinError
+from ..model import Model
+from .frames import Frame
+
+
+@dataclass(frozen=True)
+class WorkingArea:
+    """Thesis §6.1.2 workspace box in the feet frame: x to the manikin's left, y forward, z up from the floor (m).
+
+    Bounds (Delfs 2012 §6.1.2, after its ref. [4]): upper at the shoulder (glenohumeral joint height), lower at the
+    knuckles with the arms relaxed at the sides, left/right at the elbows with both arms stretched out sideways,
+    back at the body's vertical line, front at the knuckles with the arms stretched forward. All from the
+    manikin's own zero pose (standing upright, arms hanging).
+    """
+
+    x_half: float
+    y_back: float
+    y_front: float
+    z_low: float
+    z_high: float
+
+    def outside_by(self, p: np.ndarray) -> float:
+        """Distance (m) of a feet-frame point outside the box; 0 inside."""
+        lo = np.array([-self.x_half, self.y_back, self.z_low])
+        hi = np.array([self.x_half, self.y_front, self.z_high])
+        return float(np.linalg.norm(np.maximum(lo - p, 0.0) + np.maximum(p - hi, 0.0)))
+
+    def as_dict(self) -> dict:
+        return dict(x=[-self.x_half, self.x_half], y=[self.y_back, self.y_front], z=[self.z_low, self.z_high])
+
+
+def feet_frame(tcp_position: dict, tcp_rotation: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """(origin, forward, left) of the feet frame: origin between the sole centres (on the floor), forward the mean
+    horizontal heading of the feet (a foot faces its TCP's -y, as in the zero pose), left = z x forward."""
+    if "foot_l" not in tcp_position or "foot_r" not in tcp_position:
+        return None
+    origin = 0.5 * (tcp_position["foot_l"] + tcp_position["foot_r"])
+    origin = np.array([origin[0], origin[1], 0.0])
+    heading = -(tcp_rotation["foot_l"][:, 1] + tcp_rotation["foot_r"][:, 1])
+    heading[2] = 0.0
+    norm = np.linalg.norm(heading)
+    forward = heading / norm if norm > 1e-9 else np.array([0.0, -1.0, 0.0])
+    left = np.cross([0.0, 0.0, 1.0], forward)
+    return origin, forward, left
+
+
+def to_feet(p: np.ndarray, frame: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    """World point -> feet frame (left, forward, up), m."""
+    origin, forward, left = frame
+    d = p - origin
+    return np.array([d @ left, d @ forward, p[2]])
+
+
+def working_area(model: Model) -> WorkingArea | None:
+    """The §6.1.2 box of ``model`` from its zero pose; None if it is not the human body."""
+    need = ("shoulder_r_flexion", "elbow_r_flexion", "wrist_r_flexion", "l5_rx")
+    if not all(n in model.joint_names for n in need) or not {"knuckles_r", "foot_l", "foot_r"} <= set(model.tcps):
+        return None
+    kin = model.forward(model.zero_pose())
+    pos = {n: kin.position[model.joint_index(n)] for n in need}
+    tcp_p, tcp_r = {}, {}
+    for name in ("knuckles_r", "foot_l", "foot_r"):
+        tcp_r[name], tcp_p[name] = kin.tcp_frame(model.tcps[name])
+    frame = feet_frame(tcp_p, tcp_r)
+    gh, elbow, wrist = (to_feet(pos[n], frame) for n in need[:3])
+    knuckles = to_feet(tcp_p["knuckles_r"], frame)
+    upper, fore, hand = (float(np.linalg.norm(a - b)) for a, b in ((elbow, gh), (wrist, elbow), (knuckles, wrist)))
+    return WorkingArea(
+        x_half=abs(gh[0]) + upper,
+        y_back=float(to_feet(pos["l5_rx"], frame)[1]),
+        y_front=float(gh[1]) + upper + fore + hand,
+        z_low=float(knuckles[2]),
+        z_high=float(gh[2]),
+    )
+
+
+def _scenario_manikin(scenario: str, result_dir: Path) -> Model:
+    path = Path(scenario)
+    candidates = [path] if path.is_absolute() else [path, result_dir / path]
+    found = next((c for c in candidates if c.is_file()), None)
+    if found is None:
+        raise ManikinError(f"scenario file {scenario!r} not found")
+    try:
+        table = tomllib.loads(found.read_text(encoding="utf-8")).get("manikin", {})
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ManikinError(f"cannot read {found}: {exc}") from None
+    if isinstance(table.get("preset"), str):
+        return load_body(preset=table["preset"])
+    if isinstance(table.get("file"), str):
+        body = Path(table["file"])
+        return load_body(file=body if body.is_absolute() else found.parent / body)
+    raise ManikinError(f"{found}: [manikin] names neither a preset nor a file")
+
+
+def resolve_model(manikin: str | None, scenario: str | None, result_dir: Path) -> tuple[Model | None, str]:
+    """The body behind a result: ``manikin`` (preset name or body TOML) if given, else the scenario's manikin.
+
+    Returns (model or None, a note saying where it came from or why there is none).
+    """
+    try:
+        if manikin:
+            if manikin.endswith(".toml"):
+                return load_body(file=manikin), f"body file {manikin}"
+            return load_body(preset=manikin), f"preset {manikin}"
+        if scenario:
+            return _scenario_manikin(scenario, result_dir), f"manikin of scenario {scenario}"
+    except ManikinError as exc:
+        return None, f"no manikin: {exc}"
+    return None, "no manikin: the result names no scenario and no --manikin was given"
+
+
+def strengths(frame: Frame, model: Model | None) -> tuple[np.ndarray, str]:
+    """(n, 2) capacity (negative, positive moments), N*m, NaN where unknown, and where it came from."""
+    n = len(frame.joint_names)
+    out = np.full((n, 2), np.nan)
+    if frame.joint_strength is not None:
+        for i, s in enumerate(frame.joint_strength):
+            if isinstance(s, list) and len(s) == 2:
+                out[i] = [math.inf if v is None else float(v) for v in s]
+        return out, "result file (joints' strength)"
+    if model is None:
+        return out, "unknown (no manikin)"
+    names = dict(zip(model.joint_names, model.strength, strict=True))
+    missing = 0
+    for i, name in enumerate(frame.joint_names):
+        if name in names:
+            out[i] = names[name]
+        else:
+            missing += 1
+    note = f"model {model.name}" + (f" ({missing} joints of the result not in the model)" if missing else "")
+    return out, note

@@ -1,0 +1,165 @@
+"""PNG plots of an ergonomics report (matplotlib, Agg backend): joint loads, RULA/REBA scores, back and arms.
+
+Over time (one point per frame) for a motion; bar charts for a single pose. Colours follow the worksheet:
+green / yellow / red bands with the thresholds of :mod:`.worksheet`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
+
+from .worksheet import STRENGTH_BANDS  # noqa: E402
+
+GREEN, YELLOW, RED = "#cfe8cf", "#fbeeb8", "#f6c9c4"
+LEVEL_COLOUR = {"green": "#3a9a3a", "yellow": "#d9a400", "red": "#c8372d", None: "#888888"}
+TOP_JOINTS = 8
+
+
+def _bands(ax, edges: list[float], horizontal: bool = True) -> None:
+    """Shade green / yellow / red between consecutive edges (value axis)."""
+    for lo, hi, colour in zip(edges[:-1], edges[1:], (GREEN, YELLOW, RED), strict=False):
+        (ax.axhspan if horizontal else ax.axvspan)(lo, hi, color=colour, zorder=0, lw=0)
+
+
+def _marker(x: list) -> str | None:
+    """Dots on short motions only; long ones read better as plain lines."""
+    return "o" if len(x) <= 30 else None
+
+
+def _worst_joints(frames: list[dict]) -> list[str]:
+    peak: dict[str, float] = {}
+    for f in frames:
+        for name, load in f["joint_loads"].items():
+            p = load.get("percent_strength")
+            if name != "l4_l5" and p is not None:
+                peak[name] = max(peak.get(name, 0.0), p)
+    return sorted(peak, key=peak.get, reverse=True)[:TOP_JOINTS]
+
+
+def plot_loads(report: dict, path: Path) -> Path:
+    frames = report["frames"]
+    x = [f["frame"] for f in frames]
+    joints = _worst_joints(frames)
+    comp = [f["joint_loads"]["l4_l5"].get("compression") for f in frames]
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [2.2, 1]})
+    g, y = STRENGTH_BANDS
+    top = max([y * 1.5] + [f["joint_loads"][j]["percent_strength"] or 0 for f in frames for j in joints]) * 1.1
+    if len(frames) == 1:
+        vals = [frames[0]["joint_loads"][j]["percent_strength"] for j in joints][::-1]
+        _bands(ax1, [0, g, y, top], horizontal=False)
+        ax1.barh(joints[::-1], vals, color="#4a6fa5", zorder=2)
+        for i, v in enumerate(vals):
+            ax1.text(v + top * 0.01, i, f"{v:.0f} %", va="center", fontsize=9, zorder=3)
+        ax1.set_xlim(0, top)
+        ax1.set_xlabel("percent of joint strength")
+    else:
+        _bands(ax1, [0, g, y, top])
+        for j in joints:
+            ax1.plot(x, [f["joint_loads"][j]["percent_strength"] for f in frames], marker=_marker(x), ms=3, label=j)
+        ax1.set_ylim(0, top)
+        ax1.set_xlabel("frame")
+        ax1.set_ylabel("percent of joint strength")
+        ax1.legend(fontsize=8, loc="upper left", ncol=2)
+    ax1.set_title(f"Most loaded joints (bands: {g:g} % / {y:g} %, project default)")
+    if all(c is None for c in comp):
+        ax2.text(0.5, 0.5, "no L4/L5 in this body", ha="center", va="center", transform=ax2.transAxes)
+        ax2.set_axis_off()
+    else:
+        c_top = max([7500.0] + [c for c in comp if c is not None]) * 1.1
+        _bands(ax2, [0, 3400, 6400, c_top])
+        if len(frames) == 1:
+            ax2.bar(["L4/L5"], [comp[0]], color="#4a6fa5", width=0.3, zorder=2)
+            ax2.set_xlim(-0.8, 0.8)
+            ax2.text(0, comp[0] + c_top * 0.01, f"{comp[0]:.0f} N", ha="center", va="bottom")
+        else:
+            ax2.plot(x, [c if c is not None else float("nan") for c in comp], color="#4a6fa5", marker=_marker(x), ms=3)
+            ax2.set_xlabel("frame")
+        ax2.set_ylim(0, c_top)
+        ax2.set_ylabel("compression, N (estimate)")
+        ax2.set_title("L4/L5 disc compression\n(NIOSH limits 3400 / 6400 N)")
+    return _save(fig, path)
+
+
+def plot_scores(report: dict, path: Path) -> Path:
+    frames = report["frames"]
+    x = [f["frame"] for f in frames]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    specs = (("rula", "RULA grand score", [0.5, 2.5, 4.5, 7.5], "1-2 acceptable, 3-4 investigate, 5+ change"),
+             ("reba", "REBA score", [0.5, 3.5, 7.5, 15.5], "1-3 negligible/low, 4-7 medium, 8+ high"))  # fmt: skip
+    for ax, (key, title, edges, legend) in zip(axes, specs, strict=True):
+        scores = [f[key]["score"] for f in frames]
+        ax.set_title(f"{title}\n({legend})", fontsize=10)
+        if all(s is None for s in scores):
+            ax.text(0.5, 0.5, frames[0][key].get("reason", "n/a"), ha="center", va="center", wrap=True,
+                    transform=ax.transAxes)  # fmt: skip
+            ax.set_axis_off()
+            continue
+        _bands(ax, edges)
+        if len(frames) == 1:
+            ax.bar([key.upper()], scores, color="#4a6fa5", width=0.3, zorder=2)
+            ax.set_xlim(-0.8, 0.8)
+            ax.text(0, scores[0] + 0.2, str(scores[0]), ha="center", va="bottom", fontsize=12)
+        else:
+            ax.step(x, [s if s is not None else float("nan") for s in scores], where="mid", color="#4a6fa5", lw=2)
+            ax.set_xlabel("frame")
+        ax.set_ylim(0.5, edges[-1])
+        ax.set_ylabel("score")
+    return _save(fig, path)
+
+
+def plot_back(report: dict, path: Path) -> Path:
+    frames = report["frames"]
+    x = [f["frame"] for f in frames]
+    items = [("back_bend", "trunk flexion", [0, 20, 60, 120]), ("neck", "neck flexion (to trunk)", [0, 25, 25, 90]),
+             ("shoulder_l", "upper arm elevation, left", [0, 20, 60, 180]),
+             ("shoulder_r", "upper arm elevation, right", [0, 20, 60, 180])]  # fmt: skip
+    fig, axes = plt.subplots(1, len(items), figsize=(13, 4.2))
+    for ax, (key, title, edges) in zip(axes, items, strict=True):
+        vals = [f["worksheet"][key]["value"] for f in frames]
+        ax.set_title(title, fontsize=10)
+        if all(v is None for v in vals):
+            ax.text(0.5, 0.5, "no human posture", ha="center", va="center", transform=ax.transAxes)
+            ax.set_axis_off()
+            continue
+        low = min([-10.0] + [v for v in vals if v is not None])
+        high = max([edges[-1]] + [v + 10 for v in vals if v is not None])
+        ax.axhspan(low, 0, color=RED, zorder=0, lw=0) if key in ("back_bend", "neck") else None
+        _bands(ax, edges[:-1] + [high])
+        if len(frames) == 1:
+            level = frames[0]["worksheet"][key]["level"]
+            ax.bar([""], vals, color=LEVEL_COLOUR[level], width=0.3, zorder=2)
+            ax.set_xlim(-0.8, 0.8)
+            ax.text(0, vals[0] + 2, f"{vals[0]:.0f}\u00b0", ha="center", va="bottom", fontsize=12)
+        else:
+            ax.plot(x, [v if v is not None else float("nan") for v in vals], color="#333333", marker=_marker(x), ms=3)
+            ax.set_xlabel("frame")
+        ax.set_ylim(low, high)
+        ax.set_ylabel("degrees")
+    fig.suptitle("Back, neck and shoulders (bands: ISO 11226 / EN 1005-4)", fontsize=11)
+    return _save(fig, path)
+
+
+def _save(fig, path: Path) -> Path:
+    for ax in fig.axes:
+        if ax.get_xlabel() == "frame":
+            ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def write_plots(report: dict, stem: Path) -> list[Path]:
+    """``<stem>_loads.png``, ``<stem>_scores.png``, ``<stem>_back.png``."""
+    return [
+        plot_loads(report, stem.with_name(stem.name + "_loads.png")),
+        plot_scores(report, stem.with_name(stem.name + "_scores.png")),
+        plot_back(report, stem.with_name(stem.name + "_back.png")),
+    ]

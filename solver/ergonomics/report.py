@@ -1,0 +1,151 @@
+"""The evaluation of a whole result file and its outputs: per-frame JSON and a CSV with one row per frame."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from . import niosh, postures
+from .frames import parse_frames
+from .loads import joint_loads
+from .manikin import resolve_model, strengths, working_area
+from .options import ErgoOptions
+from .owas import owas
+from .reba import reba
+from .rula import rula
+from .worksheet import worksheet
+
+SOURCES = {
+    "joint_loads": "Delfs 2012 eq. 3.11 (moments of gravity, contacts and loads over each joint's subtree)",
+    "strength": "solver/bodies/anthropometry.py: Anderson et al. 2007 (hip, knee, ankle); one trained subject "
+    "(rbdl data) for shoulder, elbow, wrist, lumbar flexion/extension; other joints estimates",
+    "l4_l5": "estimate: single equivalent muscle, 5 cm moment arm (Chaffin, Andersson & Martin, Occupational "
+    "Biomechanics); limits 3400 / 6400 N (NIOSH 1981)",
+    "rula": "McAtamney & Corlett 1993, Appl. Ergon. 24(2):91-99",
+    "reba": "Hignett & McAtamney 2000, Appl. Ergon. 31:201-205",
+    "owas": "Karhu, Kansi & Kuorinka 1977, Appl. Ergon. 8(4):199-201 (codes only)",
+    "niosh": "Waters et al. 1993; NIOSH Applications Manual for the Revised Lifting Equation, Pub. 94-110",
+    "worksheet": "Delfs 2012 §5.4 / fig. 5.2 (SES); thresholds ISO 11226, EN 1005-4, NIOSH 1981, project defaults",
+    "working_area": "Delfs 2012 §6.1.2 workspace box from the manikin's zero pose",
+}
+
+
+def clean(value):
+    """JSON-safe copy: numpy scalars to Python, non-finite floats to None."""
+    if isinstance(value, dict):
+        return {str(k): clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [clean(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def evaluate(data: dict, options: ErgoOptions, result_path: Path) -> dict:
+    """Everything for every frame of a parsed result file (see the README section of the ``ergo`` command)."""
+    frames = parse_frames(data, str(result_path))
+    scenario = data.get("scenario") if isinstance(data.get("scenario"), str) else None
+    model, model_note = resolve_model(options.manikin, scenario, result_path.parent)
+    area = working_area(model) if model is not None else None
+    lift = niosh.lift(frames, options)
+    d = lift["origin"]["D"] if "origin" in lift else 25.0
+    fm = lift["origin"]["FM"] if "origin" in lift else 1.0
+    strength_note = ""
+    out = []
+    for f in frames:
+        strength, strength_note = strengths(f, model)
+        loads, _, percent = joint_loads(f, strength)
+        posture = postures.measure(f)
+        load_kg = options.load_mass if options.load_mass is not None else niosh.hand_load_kg(f)
+        out.append(
+            dict(
+                frame=f.number,
+                converged=f.converged,
+                posture=posture if "reason" in posture else postures.rounded(posture),
+                joint_loads=loads,
+                rula=rula(posture, load_kg, options),
+                reba=reba(posture, load_kg, options),
+                owas=owas(f, posture, load_kg),
+                worksheet=worksheet(f, posture, percent, loads["l4_l5"], area),
+                niosh=niosh.at_frame(f, d, fm, options.coupling),
+            )
+        )
+    return clean(
+        dict(
+            result=str(result_path),
+            scenario=scenario,
+            manikin=model_note,
+            strength=strength_note,
+            working_area=area.as_dict() if area is not None else None,
+            options=asdict(options),
+            sources=SOURCES,
+            niosh=lift,
+            frames=out,
+        )
+    )
+
+
+def write_json(report: dict, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(report, indent=1, allow_nan=False), encoding="utf-8")
+    tmp.replace(path)
+
+
+def _get(d: dict | None, *keys):
+    for k in keys:
+        if not isinstance(d, dict):
+            return None
+        d = d.get(k)
+    return d
+
+
+def csv_rows(report: dict) -> tuple[list[str], list[list]]:
+    """Header and rows: one row per frame with scores, body angles, L4/L5, worksheet levels, NIOSH and the
+    percent of strength of every joint that has a strength."""
+    frames = report["frames"]
+    items = [k for k in (frames[0]["worksheet"] if frames else {}) if k != "overall"]
+    joints = [
+        j for j in (frames[0]["joint_loads"] if frames else {})
+        if j != "l4_l5" and any(f["joint_loads"][j]["percent_strength"] is not None for f in frames)
+    ]  # fmt: skip
+    angles = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
+    angles += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
+    header = ["frame", "converged", "rula", "reba", "reba_risk", "owas_code"]
+    header += ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in angles]
+    header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
+    header += [f"ws_{k}" for k in items] + ["ws_overall", "niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
+    header += [f"pct_{j}" for j in joints]
+    rows = []
+    for f in frames:
+        ws = f["worksheet"]
+        strength = ws.get("joint_strength", {})
+        row = [f["frame"], f["converged"], f["rula"]["score"], f["reba"]["score"], f["reba"].get("risk"),
+               f["owas"].get("code")]  # fmt: skip
+        row += [_get(f["posture"], *a) for a in angles]
+        l45 = f["joint_loads"]["l4_l5"]
+        row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
+        row += [ws[k]["level"] for k in items] + [ws["overall"]]
+        row += [_get(f["niosh"], k) for k in ("H", "V", "A", "RWL")]
+        row += [f["joint_loads"][j]["percent_strength"] for j in joints]
+        rows.append(row)
+    return header, rows
+
+
+def write_csv(report: dict, path: Path) -> None:
+    header, rows = csv_rows(report)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for row in rows:
+            w.writerow(["" if v is None else round(v, 4) if isinstance(v, float) else v for v in row])
