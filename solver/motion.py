@@ -70,15 +70,26 @@ def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list
     return out
 
 
-def bounded(problem: Problem, previous: np.ndarray, limits: MotionLimits) -> Problem:
-    """A shallow copy of ``problem`` whose joint bounds also keep each joint near ``previous``."""
-    n = problem.model.n
-    step = np.where(problem.model.prismatic, limits.max_root_shift, limits.max_joint_change)
+def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
+    """Largest per-frame change of each solver variable (inf for force variables)."""
+    model = problem.model
+    step = np.full(problem.n_x, np.inf)
+    step[: model.n] = np.where(model.prismatic, limits.max_root_shift, limits.max_joint_change)
+    if problem.reduction is None:
+        return step
+    weights = np.abs(problem.reduction.basis)
+    with np.errstate(divide="ignore"):
+        per_joint = np.where(weights > 0, step[:, None] / weights, np.inf)
+    return per_joint.min(axis=0)
+
+
+def bounded(problem: Problem, previous_x: np.ndarray, limits: MotionLimits) -> Problem:
+    """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``."""
+    step = variable_steps(problem, limits)
+    previous = problem.to_variables(previous_x)
     narrowed = copy.copy(problem)
-    narrowed.lower = problem.lower.copy()
-    narrowed.upper = problem.upper.copy()
-    narrowed.lower[:n] = np.maximum(problem.lower[:n], previous[:n] - step)
-    narrowed.upper[:n] = np.minimum(problem.upper[:n], previous[:n] + step)
+    narrowed.lower = np.maximum(problem.lower, previous - step)
+    narrowed.upper = np.minimum(problem.upper, previous + step)
     return narrowed
 
 
@@ -95,24 +106,22 @@ def solve_frames(
     Yields (frame, result) so that callers can report progress or stop early.
     """
     x = start
-    previous_theta = None
+    previous_x = None
     for frame in frames:
-        problem = problem_at(frame)
-        if limits is not None and previous_theta is not None:
-            problem = bounded(problem, previous_theta, limits)
+        full = problem_at(frame)
+        problem = full if (limits is None or previous_x is None) else bounded(full, previous_x, limits)
         result = solve(problem, x, options)
-        if not result.converged and previous_theta is not None:
-            n = problem.model.n
-            own = problem.model
-            at_step_bound = (np.isclose(result.theta, problem.lower[:n]) & (problem.lower[:n] > own.lower)) | (
-                np.isclose(result.theta, problem.upper[:n]) & (problem.upper[:n] < own.upper)
+        if not result.converged and problem is not full:
+            v = problem.to_variables(result.x)
+            held = (np.isclose(v, problem.lower) & (problem.lower > full.lower)) | (
+                np.isclose(v, problem.upper) & (problem.upper < full.upper)
             )
-            if at_step_bound.any():
-                names = [own.joint_names[i] for i in np.nonzero(at_step_bound)[0][:3]]
+            if held.any():
+                names = full.variable_names()
+                shown = ", ".join(names[i] for i in np.nonzero(held)[0][:3])
                 result.notes.append(
                     f"frame {frame}: a target moved too far since the previous frame; joints held at the "
-                    f"per-frame change bound: {', '.join(names)}"
+                    f"per-frame change bound: {shown}"
                 )
-        x = result.x
-        previous_theta = result.theta.copy()
+        x = previous_x = result.x
         yield frame, result

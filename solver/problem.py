@@ -16,6 +16,7 @@ from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, l
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
+from .reduction import build_reduction
 from .state import State
 from .statics import Load, StaticsLayout
 
@@ -146,6 +147,7 @@ class Problem:
         loads: list[ExternalLoad] = (),
         balance: bool = True,
         comfort_weights: ComfortWeights = DEFAULT_COMFORT,
+        reduction: tuple[str, ...] = (),
     ) -> None:
         validate(model, targets, loops, loads)
         self.model = model
@@ -194,10 +196,18 @@ class Problem:
             self.constraints.append(BalanceConstraint(self.n_x))
         self.comfort = Comfort(model, comfort_weights)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
-        self.lower = np.concatenate([model.lower, np.zeros(n_w)])
-        self.upper = np.concatenate([model.upper, np.full(n_w, np.inf)])
-        self.scale = np.concatenate([joint_scale(model), np.full(n_w, self.body_weight)])
-        self.is_joint = np.arange(self.n_x) < n
+        self.x_lower = np.concatenate([model.lower, np.zeros(n_w)])
+        self.x_upper = np.concatenate([model.upper, np.full(n_w, np.inf)])
+        x_scale = np.concatenate([joint_scale(model), np.full(n_w, self.body_weight)])
+        self.reduction_groups = tuple(reduction)
+        self.reduction = build_reduction(model, self.reduction_groups, self.x_lower, self.x_upper, x_scale)
+        # The solver's variables v: x itself, or beta with x = phi(beta) when reduced.
+        red = self.reduction
+        self.lower = self.x_lower.copy() if red is None else red.lower.copy()
+        self.upper = self.x_upper.copy() if red is None else red.upper.copy()
+        self.scale = x_scale if red is None else red.scale
+        self.is_joint = (np.arange(self.n_x) < n) if red is None else red.is_joint
+        self.n_var = len(self.lower)
         rows = self.constraints
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
         self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
@@ -205,7 +215,9 @@ class Problem:
 
     def with_targets(self, targets: list[Target]) -> Problem:
         """The same problem (loops, loads, balance, comfort) with other targets."""
-        return Problem(self.model, targets, self.loops, self.load_specs, self.balance, self.comfort.weights)
+        return Problem(
+            self.model, targets, self.loops, self.load_specs, self.balance, self.comfort.weights, self.reduction_groups
+        )
 
     @staticmethod
     def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
@@ -213,11 +225,30 @@ class Problem:
             return np.asarray(target.rotation, dtype=float)
         return zero_pose_kin.tcp_frame(zero_pose_kin.model.tcp(target.tcp))[0]
 
-    def state(self, x: np.ndarray) -> State:
+    def variable_names(self) -> list[str]:
+        """Names of the solver variables: joints (or reduction groups) then contact force weights."""
+        if self.reduction is not None:
+            return list(self.reduction.names)
+        return list(self.model.joint_names) + [f"force_{k}" for k in range(self.contacts.n_vars)]
+
+    def to_x(self, v: np.ndarray) -> np.ndarray:
+        """Full x = [joints, forces] of solver variables v."""
+        return v if self.reduction is None else self.reduction.phi(v)
+
+    def to_variables(self, x: np.ndarray) -> np.ndarray:
+        """Solver variables closest to a full x."""
+        return x if self.reduction is None else self.reduction.from_x(x)
+
+    def state(self, v: np.ndarray) -> State:
+        """Evaluation point for solver variables v."""
+        return self.state_of_x(self.to_x(v))
+
+    def state_of_x(self, x: np.ndarray) -> State:
+        """Evaluation point for a full x = [joints, forces]."""
         return State(x, self.model.n, self.layout)
 
     def start(self, x0: np.ndarray | None = None) -> np.ndarray:
-        """A valid starting x: ``x0`` (joint values alone, or joints + forces) clipped into bounds.
+        """Valid starting solver variables from ``x0`` (joint values alone, or joints + forces), in bounds.
 
         Missing or mismatched force values are replaced by an even share of body weight plus loads.
         """
@@ -231,7 +262,8 @@ class Problem:
         else:
             down = self.body_weight - sum(float(ld.force[2]) for ld in self.loads)
             w = self.contacts.even_weights(down)
-        return np.clip(np.concatenate([theta, w]), self.lower, self.upper)
+        x = np.clip(np.concatenate([theta, w]), self.x_lower, self.x_upper)
+        return np.clip(self.to_variables(x), self.lower, self.upper)
 
     def scaled_error(self, state: State) -> np.ndarray:
         """All constraint rows divided by their tolerance and multiplied by their weight."""
@@ -241,11 +273,21 @@ class Problem:
         return e * self.row_weight / self.row_tolerance
 
     def scaled_jacobian(self, state: State) -> np.ndarray:
-        """d scaled_error / d y, y = x / scale."""
+        """d scaled_error / d (v / scale)."""
         if not self.constraints:
-            return np.zeros((0, self.n_x))
+            return np.zeros((0, self.n_var))
         jac = np.vstack([c.jacobian(state) for c in self.constraints])
+        if self.reduction is not None:
+            jac = jac @ self.reduction.basis
         return jac * (self.row_weight / self.row_tolerance)[:, None] * self.scale[None, :]
+
+    def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """d h / d v and the diagonal curvature model of -h in the solver variables v."""
+        grad, curv = self.comfort.derivatives(state)
+        if self.reduction is None:
+            return grad, curv
+        basis = self.reduction.basis
+        return basis.T @ grad, (basis * basis).T @ curv
 
     def residuals(self, state: State) -> dict[str, float]:
         out: dict[str, float] = {}

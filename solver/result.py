@@ -53,7 +53,7 @@ class Result:
 
     @property
     def state(self) -> State:
-        return self.problem.state(self.x)
+        return self.problem.state_of_x(self.x)
 
     def joint_values(self) -> dict[str, float]:
         return dict(zip(self.problem.model.joint_names, map(float, self.theta), strict=True))

@@ -6,6 +6,7 @@ expected. Units: m, rad, N, kg; rotations are quaternions (w, x, y, z).
 
 from __future__ import annotations
 
+import json
 import math
 import tomllib
 from dataclasses import dataclass
@@ -21,6 +22,7 @@ from .errors import ManikinError, ScenarioError
 from .model import GRAVITY, Model
 from .motion import Key, MotionLimits, Track, targets_at
 from .problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
+from .reduction import GROUPS
 from .result import Result
 from .solve import DEFAULT_OPTIONS, SolverOptions
 from .spatial import matrix_to_quat, quat_to_matrix
@@ -192,8 +194,7 @@ def load_scenario(path: str | Path) -> Scenario:
     model = _read_manikin(root.table("manikin"), path)
     solver_t = root.table("solver")
     solver_t.known({"balance", "reduction", "max_iterations", "comfort"})
-    if solver_t.boolean("reduction", False):
-        raise solver_t.fail("reduction", "false: variable reduction is not available in this version", True)
+    reduction = _read_reduction(solver_t)
     balance = solver_t.boolean("balance", True)
     options = SolverOptions(
         max_iterations=int(solver_t.number("max_iterations", DEFAULT_OPTIONS.max_iterations, 1, 100000)),
@@ -215,11 +216,24 @@ def load_scenario(path: str | Path) -> Scenario:
         raise root.fail("targets", "a target with support = true when [solver] balance = true")
     frames, limits = _read_motion(root, tracks)
     try:
-        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights)
+        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction)
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
     return Scenario(path, model, problem, options, start, frames, tracks, limits)
+
+
+def _read_reduction(t: _Reader) -> tuple[str, ...]:
+    """[solver] reduction = true (all groups), false, or a list of groups."""
+    value = t.get("reduction", False)
+    if isinstance(value, bool):
+        return GROUPS if value else ()
+    if isinstance(value, list) and all(isinstance(g, str) for g in value):
+        if "shoulder" in value:
+            raise t.fail("reduction", "groups from " + ", ".join(GROUPS) + " (no shoulder rhythm yet)")
+        if all(g in GROUPS for g in value):
+            return tuple(value)
+    raise t.fail("reduction", "true, false or a list of groups from " + ", ".join(GROUPS), value)
 
 
 def _read_motion(root: _Reader, tracks: list[Track]) -> tuple[list[int], MotionLimits | None]:
@@ -346,7 +360,7 @@ def _read_start(t: _Reader, model: Model, problem: Problem) -> np.ndarray:
         if name not in model.joint_names:
             raise joints.fail(name, "a joint name of the manikin (unknown joint)")
         theta[model.joint_index(name)] = joints.number(name)
-    return problem.start(theta)
+    return problem.to_x(problem.start(theta))
 
 
 def _vec(v: np.ndarray) -> list[float]:
@@ -420,3 +434,108 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
         contacts=contacts,
         loads=loads,
     )
+
+
+def scenario_to_dict(
+    problem: Problem,
+    manikin: dict,
+    options: SolverOptions = DEFAULT_OPTIONS,
+    start: np.ndarray | None = None,
+    name: str | None = None,
+) -> dict:
+    """A scenario as the TOML tables :func:`load_scenario` reads: ``manikin`` is {"preset": ...} or {"file": ...}.
+
+    ``start`` (joint values, or joints + forces) becomes [start.joints] for its non-zero joints.
+    """
+    model = problem.model
+    data: dict[str, Any] = {"name": name} if name else {}
+    data["manikin"] = dict(manikin)
+    data["solver"] = dict(balance=problem.balance, max_iterations=options.max_iterations, comfort=options.optimize_comfort)
+    w = problem.comfort.weights
+    data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
+    if start is not None:
+        joints = {n: float(v) for n, v in zip(model.joint_names, start[: model.n], strict=True) if abs(v) > 1e-12}
+        if joints:
+            data["start"] = {"joints": joints}
+    data["targets"] = [_target_table(t) for t in problem.all_targets]
+    data["loads"] = [dict(tcp=ld.tcp, force=_vec(ld.force)) for ld in problem.load_specs]
+    data["loops"] = [_loop_table(lp) for lp in problem.loops]
+    return {k: v for k, v in data.items() if v != []}
+
+
+def _relaxation(table: dict, lock: tuple[str, ...], operator: np.ndarray | None) -> None:
+    if operator is None:
+        table["lock"] = list(lock)
+    else:
+        table["operator"] = [_vec(row) for row in np.asarray(operator, dtype=float)]
+
+
+def _target_table(t: Target) -> dict:
+    table: dict[str, Any] = dict(tcp=t.tcp, position=_vec(t.position))
+    if t.rotation is not None:
+        table["rotation"] = _vec(matrix_to_quat(np.asarray(t.rotation, dtype=float)))
+    _relaxation(table, t.lock, t.operator)
+    table.update(weight=float(t.weight), support=bool(t.support), friction=float(t.friction), enabled=bool(t.enabled))
+    if t.sole is not None:
+        table["sole"] = [_vec(p) for p in np.asarray(t.sole, dtype=float)]
+    return table
+
+
+def _loop_table(lp: Loop) -> dict:
+    table: dict[str, Any] = dict(tcp=lp.tcp, other=lp.other, offset_position=_vec(lp.offset_position))
+    if lp.offset_rotation is not None:
+        table["offset_rotation"] = _vec(matrix_to_quat(np.asarray(lp.offset_rotation, dtype=float)))
+    _relaxation(table, lp.lock, lp.operator)
+    table["weight"] = float(lp.weight)
+    return table
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float):
+        if not math.isfinite(value):
+            raise ScenarioError(f"cannot write the non-finite number {value!r} to a scenario")
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)  # a JSON string is a valid TOML basic string
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    raise ScenarioError(f"cannot write {type(value).__name__} values to a scenario")
+
+
+def _toml_table(lines: list[str], header: str, table: dict) -> None:
+    """``header`` ("[a.b]" or "[[a]]") with its plain keys, then its sub-tables as [a.b.c]."""
+    plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
+    if plain or not any(isinstance(v, dict) for v in table.values()):
+        lines.append(header)
+        lines.extend(f"{_toml_key(k)} = {_toml_value(v)}" for k, v in plain.items())
+        lines.append("")
+    name = header.strip("[]")
+    for k, v in table.items():
+        if isinstance(v, dict):
+            _toml_table(lines, f"[{name}.{_toml_key(k)}]", v)
+
+
+def _toml_key(key: str) -> str:
+    return key if key.replace("_", "").replace("-", "").isalnum() and key.isascii() else json.dumps(key)
+
+
+def _is_table_array(value: Any) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) for v in value)
+
+
+def dumps_scenario(data: dict) -> str:
+    """TOML text of a scenario dict (from :func:`scenario_to_dict`); ``load_scenario`` reads it back."""
+    lines = [
+        f"{_toml_key(k)} = {_toml_value(v)}" for k, v in data.items() if not isinstance(v, dict) and not _is_table_array(v)
+    ]
+    if lines:
+        lines.append("")
+    for key, value in data.items():
+        if isinstance(value, dict):
+            _toml_table(lines, f"[{_toml_key(key)}]", value)
+        elif _is_table_array(value):
+            for item in value:
+                _toml_table(lines, f"[[{_toml_key(key)}]]", item)
+    return "\n".join(lines).rstrip() + "\n"

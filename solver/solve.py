@@ -241,10 +241,10 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
         iterations += 1
         jac = problem.scaled_jacobian(state)
         if comfort_on:
-            grad_h, curv = problem.comfort.derivatives(state)
+            grad_h, curv = problem.comfort_derivatives(state)
             grad_f, curv_f = -grad_h * problem.scale, curv * problem.scale**2
         else:
-            grad_f, curv_f = np.zeros(problem.n_x), np.zeros(problem.n_x)
+            grad_f, curv_f = np.zeros(problem.n_var), np.zeros(problem.n_var)
         step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on)
         negligible = opts.comfort_tolerance * max(f, 1.0)
         if worst <= 1.0 and (step.predicted_gain <= negligible or quiet >= 2):
