@@ -78,9 +78,14 @@ def _ergo(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from .bench import run_benchmarks
+    if args.random:
+        from .bench.random_targets import run_random_benchmark
 
-    run_benchmarks(Path(args.output), repeats=args.repeats)
+        run_random_benchmark(Path(args.output), trials=args.trials, processes=args.processes)
+    else:
+        from .bench import run_benchmarks
+
+        run_benchmarks(Path(args.output), repeats=args.repeats)
     return EXIT_OK
 
 
@@ -123,7 +128,10 @@ def main(argv: list[str] | None = None) -> int:
     p_ergo.set_defaults(run=_ergo)
     p_bench = sub.add_parser("bench", help="time the preset scenarios and write docs/BENCHMARKS.md")
     p_bench.add_argument("-o", "--output", default="docs/BENCHMARKS.md")
-    p_bench.add_argument("--repeats", type=int, default=30)
+    p_bench.add_argument("--repeats", type=int, default=30, help="solves per preset scenario")
+    p_bench.add_argument("--random", action="store_true", help="the thesis's randomized-target benchmark instead")
+    p_bench.add_argument("--trials", type=int, default=1000, help="random trials per level (with --random)")
+    p_bench.add_argument("--processes", type=int, default=None, help="parallel processes (default: all cores)")
     p_bench.set_defaults(run=_bench)
     p_presets = sub.add_parser("presets", help="list the manikin and scenario presets")
     p_presets.set_defaults(run=_presets)

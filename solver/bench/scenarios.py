@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .bodies import PRESETS_DIR
-from .problem import Problem
-from .scenario import load_scenario
-from .solve import solve
+from ..bodies import PRESETS_DIR
+from ..problem import Problem
+from ..scenario import load_scenario
+from ..solve import solve
 
 SCENARIOS = ("box_lift", "box_lift_high", "snake_pose_a", "snake_pose_b")
 WARM_SCENARIO = "box_lift"
@@ -35,7 +35,7 @@ def machine() -> str:
     except OSError:
         pass
     return (
-        f"{cpu}, {os.cpu_count()} cores (benchmark pinned to one), Python {platform.python_version()}, "
+        f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
         f"NumPy {np.__version__}, {platform.system()} {platform.release()}"
     )
 
@@ -100,7 +100,7 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
         "## Solver (issue 2)",
         "",
         f"Written by `python -m solver bench` on {datetime.date.today().isoformat()}.",
-        f"Machine: {machine()}.",
+        f"Machine: {machine()}; the benchmark process is pinned to one core.",
         "",
         "Targets: box lift from the zero pose <= 50 ms median on one core; warm re-solve after a 5 cm target",
         "move <= 5 ms. Times include comfort optimisation until it settles.",
