@@ -1,22 +1,50 @@
-"""The Blender layer of Manikin (bpy only: scene <-> solver translation, operators, panels, handlers, batch).
+"""The Blender layer of Manikin (bpy only: scene <-> solver translation, operators, panels, handlers).
 
-The add-on's operators and panels are built in a later issue; until then the extension registers nothing.
+Modules: ``rig`` and ``body_mesh`` (how a solver model maps onto bones and a visible body, plain NumPy),
+``armature`` (building the rig, writing and reading poses), ``targets`` (the empties a user moves),
+``scene_io`` (empties -> solver Problem, Result -> pose), ``props``, ``operators``, ``io_operators``,
+``panels`` (UI), ``live`` (re-solve on change) and ``overlay`` (viewport drawing); ``build`` packages the
+extension and ``snapshot`` renders a picture headless. This file imports nothing at module level, so
+``python -m blender_manikin.build`` runs without bpy.
 """
 
-classes: tuple = ()
+from __future__ import annotations
+
+from types import ModuleType
+
+
+def _modules() -> tuple[ModuleType, ...]:
+    from . import io_operators, live, operators, overlay, panels, props
+
+    return props, operators, io_operators, panels, live, overlay
 
 
 def register() -> None:
-    """Register the add-on's classes with Blender."""
+    """Register properties, operators, panels, the live-mode handler and the viewport overlay."""
     import bpy
 
-    for cls in classes:
+    props, operators, io_operators, panels, live, overlay = _modules()
+    props.register()
+    for cls in operators.classes + io_operators.classes + panels.classes:
         bpy.utils.register_class(cls)
+    for menu, draw in panels.MENUS:
+        getattr(bpy.types, menu).append(draw)
+    live.register()
+    overlay.register()
 
 
 def unregister() -> None:
-    """Unregister everything :func:`register` added."""
+    """Remove everything :func:`register` added, in reverse order."""
     import bpy
 
-    for cls in reversed(classes):
+    from . import armature
+
+    props, operators, io_operators, panels, live, overlay = _modules()
+    overlay.unregister()
+    live.unregister()
+    for menu, draw in panels.MENUS:
+        getattr(bpy.types, menu).remove(draw)
+    for cls in reversed(operators.classes + io_operators.classes + panels.classes):
         bpy.utils.unregister_class(cls)
+    props.unregister()
+    armature.clear_caches()

@@ -81,6 +81,30 @@ class ContactSet:
         return out
 
 
+def support_polygon(points: np.ndarray) -> np.ndarray:
+    """Convex hull of contact points projected on the floor (world x-y), counter-clockwise, (k, 2) m.
+
+    Andrew's monotone chain; collinear points are dropped. Fewer than three distinct points come back as given.
+    """
+    pts = np.unique(np.asarray(points, dtype=float).reshape(-1, 3)[:, :2].round(12), axis=0)
+    if len(pts) < 3:
+        return pts
+
+    def half(seq: np.ndarray) -> list[np.ndarray]:
+        out: list[np.ndarray] = []
+        for p in seq:
+            while len(out) >= 2:
+                a, b = out[-1] - out[-2], p - out[-2]
+                if a[0] * b[1] - a[1] * b[0] > 0:
+                    break
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = half(pts), half(pts[::-1])
+    return np.array(lower[:-1] + upper[:-1])
+
+
 def build_contacts(model: Model, supports: list[Support]) -> ContactSet:
     """Flatten ``supports`` into corners and cone-edge force variables."""
     links, locals_, owners, var_corner, directions = [], [], [], [], []

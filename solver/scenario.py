@@ -450,7 +450,11 @@ def scenario_to_dict(
     model = problem.model
     data: dict[str, Any] = {"name": name} if name else {}
     data["manikin"] = dict(manikin)
-    data["solver"] = dict(balance=problem.balance, max_iterations=options.max_iterations, comfort=options.optimize_comfort)
+    data["solver"] = dict(
+        balance=problem.balance, max_iterations=options.max_iterations, comfort=options.optimize_comfort
+    )
+    if problem.reduction_groups:
+        data["solver"]["reduction"] = list(problem.reduction_groups)
     w = problem.comfort.weights
     data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
     if start is not None:
@@ -528,7 +532,9 @@ def _is_table_array(value: Any) -> bool:
 def dumps_scenario(data: dict) -> str:
     """TOML text of a scenario dict (from :func:`scenario_to_dict`); ``load_scenario`` reads it back."""
     lines = [
-        f"{_toml_key(k)} = {_toml_value(v)}" for k, v in data.items() if not isinstance(v, dict) and not _is_table_array(v)
+        f"{_toml_key(k)} = {_toml_value(v)}"
+        for k, v in data.items()
+        if not isinstance(v, dict) and not _is_table_array(v)
     ]
     if lines:
         lines.append("")

@@ -1,0 +1,194 @@
+"""The manikin in the scene: building the armature, body and TCP empties, and writing/reading its pose (bpy).
+
+Custom properties on the armature object, so scripts and warm starts find them: ``manikin_preset`` (preset
+name, or "" for a body file), ``manikin_body_file`` (path or ""), ``manikin_x`` (the last solution: joint
+values then contact-edge weights), ``manikin_result`` (JSON summary of the last solve, for the sidebar and the
+overlay) and, while live mode cannot solve, ``manikin_error``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import bpy
+import numpy as np
+from mathutils import Matrix
+
+from ..solver.bodies import load_body
+from ..solver.model import Model
+from .body_mesh import build_body_mesh
+from .rig import RigLayout
+
+PRESET_KEY = "manikin_preset"
+FILE_KEY = "manikin_body_file"
+X_KEY = "manikin_x"
+RESULT_KEY = "manikin_result"
+ERROR_KEY = "manikin_error"  # the last live solve's error, for the sidebar
+TCP_PREFIX = "tcp."
+
+_models: dict[tuple, Model] = {}
+_layouts: dict[int, RigLayout] = {}
+
+
+def clear_caches() -> None:
+    """Forget cached models and layouts (on unregister, or after a body file changed)."""
+    _models.clear()
+    _layouts.clear()
+
+
+def load_model(preset: str = "", file: str = "") -> Model:
+    """The solver model of a preset or body file, built once per file version; raises ManikinError."""
+    key = (preset, file, Path(file).stat().st_mtime if file and Path(file).is_file() else 0.0)
+    if key not in _models:
+        _models[key] = load_body(preset=preset) if preset else load_body(file=bpy.path.abspath(file))
+    return _models[key]
+
+
+def layout_of(model: Model) -> RigLayout:
+    if id(model) not in _layouts:
+        _layouts[id(model)] = RigLayout(model)
+    return _layouts[id(model)]
+
+
+def is_manikin(obj: bpy.types.Object | None) -> bool:
+    return obj is not None and obj.type == "ARMATURE" and (PRESET_KEY in obj or FILE_KEY in obj)
+
+
+def model_of(arm: bpy.types.Object) -> Model:
+    return load_model(arm.get(PRESET_KEY, ""), arm.get(FILE_KEY, ""))
+
+
+def _matrix(m: np.ndarray) -> Matrix:
+    return Matrix([list(map(float, row)) for row in m])
+
+
+def create_manikin(
+    context: bpy.types.Context, model: Model, preset: str, file: str, at_cursor: bool = True
+) -> bpy.types.Object:
+    """Armature (one bone per joint group), body mesh and ``tcp.<name>`` empties in a new collection, standing
+    on the floor below the 3D cursor (or at the world origin)."""
+    layout = layout_of(model)
+    name = preset or Path(file).stem
+    collection = bpy.data.collections.new(name)
+    context.scene.collection.children.link(collection)
+    data = bpy.data.armatures.new(name)
+    data.display_type = "STICK"
+    arm = bpy.data.objects.new(name, data)
+    arm.show_in_front = True
+    cursor = context.scene.cursor.location if at_cursor else (0.0, 0.0, 0.0)
+    arm.matrix_world = Matrix.Translation((cursor[0], cursor[1], 0.0))  # on the floor; read back at once
+    arm[PRESET_KEY] = preset
+    arm[FILE_KEY] = file
+    collection.objects.link(arm)
+    _build_bones(context, arm, layout)
+    for bone in layout.bones:
+        pb = arm.pose.bones[bone.name]
+        pb.rotation_mode = bone.rotation_mode
+        pb.lock_location = bone.lock_location
+        pb.lock_rotation = bone.lock_rotation if bone.exact else (False, False, False)
+        pb.lock_scale = (True, True, True)
+    _build_body(arm, layout, collection, name)
+    for tcp in model.tcps:
+        _add_tcp_empty(arm, layout, tcp, collection)
+    write_pose(arm, model.zero_pose())
+    return arm
+
+
+def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigLayout) -> None:
+    for obj in context.view_layer.objects.selected:
+        obj.select_set(False)
+    context.view_layer.objects.active = arm
+    arm.select_set(True)
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        edit = arm.data.edit_bones
+        made = []
+        for bone in layout.bones:
+            eb = edit.new(bone.name)
+            eb.head = tuple(bone.head)
+            eb.tail = tuple(bone.head + np.array([0.0, bone.length, 0.0]))
+            eb.matrix = _matrix(bone.matrix())  # keeps the length, sets direction and roll
+            eb.use_deform = True
+            if bone.parent >= 0:
+                eb.parent = made[bone.parent]
+            made.append(eb)
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+
+
+def _build_body(arm: bpy.types.Object, layout: RigLayout, collection: bpy.types.Collection, name: str) -> None:
+    body = build_body_mesh(layout)
+    mesh = bpy.data.meshes.new(f"{name}.body")
+    mesh.from_pydata(body.vertices.tolist(), [], body.faces)
+    mesh.shade_smooth()
+    material = bpy.data.materials.get("manikin.skin") or bpy.data.materials.new("manikin.skin")
+    material.diffuse_color = (0.8, 0.62, 0.5, 1.0)
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new(f"{name}.body", mesh)
+    obj.parent = arm
+    obj.hide_select = True  # clicks go to the bones and empties, not the skin
+    collection.objects.link(obj)
+    for b, bone in enumerate(layout.bones):
+        idx = np.nonzero(body.vertex_bone == b)[0]
+        if len(idx):
+            obj.vertex_groups.new(name=bone.name).add(idx.tolist(), 1.0, "REPLACE")
+    obj.modifiers.new("Armature", "ARMATURE").object = arm
+
+
+def _add_tcp_empty(arm: bpy.types.Object, layout: RigLayout, tcp: str, collection: bpy.types.Collection) -> None:
+    b, offset = layout.tcp_in_bone(tcp)
+    bone = layout.bones[b]
+    empty = bpy.data.objects.new(TCP_PREFIX + tcp, None)
+    empty.empty_display_type = "PLAIN_AXES"
+    empty.empty_display_size = 0.04
+    empty.parent = arm
+    empty.parent_type = "BONE"
+    empty.parent_bone = bone.name
+    # A bone child sits at the bone's tail: undo that shift, then place the TCP in the bone frame.
+    to_tail = np.eye(4)
+    to_tail[1, 3] = -bone.length
+    empty.matrix_parent_inverse = Matrix.Identity(4)
+    empty.matrix_basis = _matrix(to_tail @ offset)
+    empty.lock_location = empty.lock_rotation = empty.lock_scale = (True, True, True)
+    empty["manikin_tcp"] = tcp
+    collection.objects.link(empty)
+
+
+def write_pose(arm: bpy.types.Object, x: np.ndarray) -> None:
+    """Pose the armature with joint values ``x[:n]`` and remember ``x`` (with forces) for warm starts."""
+    model = model_of(arm)
+    layout = layout_of(model)
+    theta = np.asarray(x[: model.n], dtype=float)
+    loc, euler = layout.channel_values(theta)
+    basis = None if all(b.exact for b in layout.bones) else layout.basis_matrices(model.forward(theta))
+    bones = arm.pose.bones
+    for b, bone in enumerate(layout.bones):
+        pb = bones[bone.name]
+        if bone.exact:
+            pb.location = loc[b]
+            pb.rotation_euler = euler[b]
+        else:
+            pb.matrix_basis = _matrix(basis[b])
+    arm[X_KEY] = [float(v) for v in x]
+
+
+def read_x(arm: bpy.types.Object) -> np.ndarray:
+    """The current pose as solver variables: joint values read from the bone channels, forces remembered."""
+    model = model_of(arm)
+    layout = layout_of(model)
+    stored = np.asarray(arm.get(X_KEY, []), dtype=float)
+    fallback = stored[: model.n] if len(stored) >= model.n else model.zero_pose()
+    bones = arm.pose.bones
+    loc = np.array([tuple(bones[b.name].location) for b in layout.bones])
+    euler = np.array([tuple(bones[b.name].rotation_euler) for b in layout.bones])
+    theta = layout.theta_from_channels(loc, euler, fallback)
+    return np.concatenate([theta, stored[model.n :]]) if len(stored) > model.n else theta
+
+
+def tcp_world_frame(arm: bpy.types.Object, x: np.ndarray, tcp: str) -> Matrix:
+    """World matrix of a TCP for the solver variables ``x`` (armature object transform included)."""
+    model = model_of(arm)
+    rot, pos = model.forward(np.asarray(x[: model.n], dtype=float)).tcp_frame(model.tcp(tcp))
+    local = np.eye(4)
+    local[:3, :3], local[:3, 3] = rot, pos
+    return arm.matrix_world @ _matrix(local)

@@ -1,0 +1,146 @@
+"""Scenario files: the scene's targets, loops, loads and settings to and from the solver's scenario TOML.
+
+Import reads with :func:`solver.scenario.load_scenario` (all validation lives there) and builds the empties;
+export reads the scene into a Problem exactly as Solve does and writes it with ``dumps_scenario``. Keyed
+motions import at their first frame; general operator rows and custom soles have no UI and are reported.
+"""
+
+from pathlib import Path
+
+import bpy
+import numpy as np
+from bpy.props import BoolProperty, StringProperty
+from bpy_extras.io_utils import ExportHelper, ImportHelper
+from mathutils import Matrix
+
+from ..solver import ManikinError
+from ..solver.bodies import MANIKINS_DIR
+from ..solver.model import Model
+from ..solver.scenario import dumps_scenario, load_scenario, scenario_to_dict
+from . import armature, scene_io, targets
+
+
+def body_source(model: Model) -> dict:
+    """{"preset": name} for a shipped preset, else {"file": path} of the body TOML."""
+    file = Path(model.info.get("file", ""))
+    if file.parent == MANIKINS_DIR and file.suffix == ".toml":
+        return {"preset": file.stem}
+    return {"file": str(file)}
+
+
+def _rig_source(arm: bpy.types.Object) -> dict:
+    preset = arm.get(armature.PRESET_KEY, "")
+    return {"preset": preset} if preset else {"file": bpy.path.abspath(arm.get(armature.FILE_KEY, ""))}
+
+
+def _world(arm: bpy.types.Object, rot: np.ndarray, pos: np.ndarray) -> Matrix:
+    local = np.eye(4)
+    local[:3, :3], local[:3, 3] = rot, pos
+    return arm.matrix_world @ Matrix(local.tolist())
+
+
+class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
+    """Load a scenario TOML: targets, loops, loads, settings and start pose (onto the active manikin if it has the
+    same body, else onto a new one)"""
+
+    bl_idname = "manikin.import_scenario"
+    bl_label = "Import Scenario"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".toml"
+    filter_glob: StringProperty(default="*.toml", options={"HIDDEN"})
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return context.mode == "OBJECT"
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        try:
+            sc = load_scenario(self.filepath)
+            source = body_source(sc.model)
+            arm = scene_io.rig_of(context.active_object)
+            if arm is None or _rig_source(arm) != source:
+                model = armature.load_model(source.get("preset", ""), source.get("file", ""))
+                preset, file = source.get("preset", ""), source.get("file", "")
+                arm = armature.create_manikin(context, model, preset, file, at_cursor=False)  # scenario = world
+            self._apply(arm, sc)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        for ob in context.view_layer.objects.selected:
+            ob.select_set(False)
+        arm.select_set(True)
+        context.view_layer.objects.active = arm
+        self.report({"INFO"}, f"Imported {Path(self.filepath).name} onto {arm.name}")
+        return {"FINISHED"}
+
+    def _apply(self, arm: bpy.types.Object, sc) -> None:
+        for ob in scene_io.members(arm):
+            bpy.data.objects.remove(ob, do_unlink=True)
+        problem, settings = sc.problem, arm.manikin
+        settings.balance = problem.balance
+        settings.reduction = bool(problem.reduction_groups)
+        settings.comfort = sc.options.optimize_comfort
+        settings.max_iterations = sc.options.max_iterations
+        w = problem.comfort.weights
+        settings.comfort_range, settings.comfort_load, settings.comfort_contact = w.range, w.load, w.contact
+        armature.write_pose(arm, sc.model.zero_pose())
+        zero = sc.model.forward(sc.model.zero_pose())
+        for t in problem.all_targets:
+            ob = targets.add_target(arm, t.tcp, t.lock, t.support, t.friction)
+            rot = t.rotation if t.rotation is not None else zero.tcp_frame(sc.model.tcp(t.tcp))[0]
+            ob.matrix_world = _world(arm, rot, t.position)
+            ob.manikin_target.weight, ob.manikin_target.enabled = t.weight, t.enabled
+            self._warn_unsupported(f"target {t.tcp}", t.operator, t.sole)
+        for lp in problem.loops:
+            ob = targets.add_loop(arm, lp.tcp, lp.other, lp.lock)
+            rot = np.eye(3) if lp.offset_rotation is None else lp.offset_rotation
+            local = np.eye(4)
+            local[:3, :3], local[:3, 3] = rot, lp.offset_position
+            if ob.parent is not None:
+                ob.matrix_basis = Matrix(local.tolist())
+            ob.manikin_target.weight = lp.weight
+            self._warn_unsupported(f"loop {lp.tcp}-{lp.other}", lp.operator, None)
+        arm_rot = np.array(arm.matrix_world.to_3x3())
+        for ld in problem.load_specs:
+            ob = targets.add_load(arm, ld.tcp, 0.0)
+            ob.manikin_target.force = tuple(float(v) for v in arm_rot @ np.asarray(ld.force))
+        armature.write_pose(arm, sc.start)
+
+    def _warn_unsupported(self, what: str, operator, sole) -> None:
+        if operator is not None:
+            self.report({"WARNING"}, f"{what}: operator rows have no Blender UI; all axes locked instead")
+        if sole is not None:
+            self.report({"WARNING"}, f"{what}: custom sole ignored (the TCP's own sole is used)")
+
+
+class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
+    """Write the active manikin's targets, loops, loads, settings (and pose) as a scenario TOML for the CLI"""
+
+    bl_idname = "manikin.export_scenario"
+    bl_label = "Export Scenario"
+
+    filename_ext = ".toml"
+    filter_glob: StringProperty(default="*.toml", options={"HIDDEN"})
+    include_pose: BoolProperty(name="Include pose", default=True, description="Write the current pose as [start]")
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return scene_io.rig_of(context.active_object) is not None
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        arm = scene_io.rig_of(context.active_object)
+        context.evaluated_depsgraph_get()
+        try:
+            sp = scene_io.read_problem(arm)
+            start = sp.x0 if self.include_pose else None
+            text = dumps_scenario(scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name))
+            Path(self.filepath).write_text(text, encoding="utf-8")
+        except (ManikinError, OSError) as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Wrote {self.filepath}")
+        return {"FINISHED"}
+
+
+classes = (MANIKIN_OT_import_scenario, MANIKIN_OT_export_scenario)

@@ -1,0 +1,98 @@
+"""Live mode: moving a target, loop or load empty re-solves its manikin (when the manikin's Live is on).
+
+The ``depsgraph_update_post`` handler only notes which manikins have a moved empty and arms a timer; the timer
+solves at most once per ``INTERVAL`` (however many updates a drag produces), warm-started from the current
+pose with the manikin's live iteration limit. Writing the pose triggers further depsgraph updates; two things
+keep that from looping: a re-entrancy guard while the timer writes, and each manikin's last solved inputs
+(target frames, loop offsets, forces, settings) - a re-solve happens only when the inputs differ, which a pose
+write never causes (loop and load empties ride on the TCPs, but their offsets stay the same).
+"""
+
+from __future__ import annotations
+
+import bpy
+from bpy.app.handlers import persistent
+
+from ..solver import ManikinError, solve
+from . import scene_io
+from .armature import ERROR_KEY, is_manikin
+
+INTERVAL = 1.0 / 30.0  # s, at most one solve per manikin per interval
+
+_busy = False  # re-entrancy guard: True while the timer solves and writes
+_pending: set[str] = set()  # names of manikin armatures with moved empties
+_last_inputs: dict[str, scene_io.Inputs] = {}  # armature name -> the inputs last solved
+
+
+def _live_rig(obj: bpy.types.Object) -> bpy.types.Object | None:
+    rig = scene_io.rig_of(obj)
+    return rig if rig is not None and rig.manikin.live else None
+
+
+def request(arm: bpy.types.Object) -> None:
+    """Ask for a re-solve of ``arm`` (e.g. when Live is switched on)."""
+    _pending.add(arm.name)
+    _last_inputs.pop(arm.name, None)
+    if not bpy.app.timers.is_registered(solve_pending):
+        bpy.app.timers.register(solve_pending, first_interval=INTERVAL)
+
+
+@persistent
+def on_depsgraph_update(scene: bpy.types.Scene, depsgraph: bpy.types.Depsgraph) -> None:
+    """Note manikins whose empties (or settings) changed; arm the timer. Never writes data itself."""
+    if _busy:
+        return
+    for update in depsgraph.updates:
+        obj = update.id.original if isinstance(update.id, bpy.types.Object) else None
+        if obj is None:
+            continue
+        rig = _live_rig(obj)
+        if rig is not None:  # our own pose writes land here too; the input signature filters them out
+            _pending.add(rig.name)
+    if _pending and not bpy.app.timers.is_registered(solve_pending):
+        bpy.app.timers.register(solve_pending, first_interval=INTERVAL)
+
+
+def solve_pending() -> None:
+    """Timer: re-solve every noted manikin whose inputs changed since its last solve."""
+    global _busy
+    names = sorted(_pending)
+    _pending.clear()
+    _busy = True
+    try:
+        for name in names:
+            arm = bpy.data.objects.get(name)
+            if arm is None or not is_manikin(arm) or not arm.manikin.live:
+                continue
+            _solve(arm)
+    finally:
+        _busy = False
+    return None
+
+
+def _solve(arm: bpy.types.Object) -> None:
+    try:
+        sp = scene_io.read_problem(arm, live=True)
+    except ManikinError as exc:
+        if arm.get(ERROR_KEY) != str(exc):  # shown in the sidebar; written once, not on every update
+            arm[ERROR_KEY] = str(exc)
+        return
+    if sp.inputs.same_as(_last_inputs.get(arm.name)):
+        return
+    _last_inputs[arm.name] = sp.inputs
+    result = solve(sp.problem, sp.x0, sp.options)
+    scene_io.write_result(arm, result)
+
+
+def register() -> None:
+    if on_depsgraph_update not in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.append(on_depsgraph_update)
+
+
+def unregister() -> None:
+    while on_depsgraph_update in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.remove(on_depsgraph_update)
+    if bpy.app.timers.is_registered(solve_pending):
+        bpy.app.timers.unregister(solve_pending)
+    _pending.clear()
+    _last_inputs.clear()

@@ -1,0 +1,191 @@
+"""Operators: add a manikin, its targets, loops and loads; solve; reset. Errors reach the user via report()."""
+
+import bpy
+from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringProperty
+
+from ..solver import ManikinError, solve
+from ..solver.bodies import list_presets
+from . import armature, scene_io, targets
+from .props import AXES
+
+_LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
+
+
+def _preset_items() -> list[tuple[str, str, str]]:
+    names = list_presets() or ["male_50"]
+    return [(n, n.replace("_", " ").title(), f"The {n} preset from presets/manikins") for n in names]
+
+
+def _active_rig(context: bpy.types.Context) -> bpy.types.Object | None:
+    return scene_io.rig_of(context.active_object)
+
+
+def _select_only(context: bpy.types.Context, ob: bpy.types.Object) -> None:
+    for other in context.view_layer.objects.selected:
+        other.select_set(False)
+    if ob.name in context.view_layer.objects:
+        ob.select_set(True)
+        context.view_layer.objects.active = ob
+
+
+class _RigOperator(bpy.types.Operator):
+    """Base: needs a manikin (the active armature, or the active target/TCP empty's armature)."""
+
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        if _active_rig(context) is None:
+            cls.poll_message_set("Select a manikin, or one of its targets")
+            return False
+        return context.mode in {"OBJECT", "POSE"}
+
+
+class MANIKIN_OT_add_manikin(bpy.types.Operator):
+    """Add a manikin: an armature with the solver's joints, a body, TCP empties and both feet on the floor"""
+
+    bl_idname = "manikin.add_manikin"
+    bl_label = "Add Manikin"
+    bl_options = {"REGISTER", "UNDO"}
+
+    preset: EnumProperty(name="Preset", items=_preset_items())
+    filepath: StringProperty(name="Body file", subtype="FILE_PATH", description="A body TOML file (overrides preset)")
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return context.mode == "OBJECT"
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        preset, file = ("", self.filepath) if self.filepath else (self.preset, "")
+        try:
+            model = armature.load_model(preset, file)
+            arm = armature.create_manikin(context, model, preset, file)
+            targets.add_default_supports(arm)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        _select_only(context, arm)
+        self.report({"INFO"}, f"Added {arm.name}: {model.n} joints, {len(arm.data.bones)} bones")
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_add_target(_RigOperator):
+    """Add a target empty for a TCP where the TCP is now (or snap its existing target back to it)"""
+
+    bl_idname = "manikin.add_target"
+    bl_label = "Add Target"
+
+    tcp: StringProperty(name="TCP", default="hand_r", description="TCP name, e.g. hand_r, foot_l, head")
+    lock: BoolVectorProperty(name="Locked axes", size=6, default=(True,) * 6, description=_LOCK_DESCRIPTION)
+    support: bpy.props.BoolProperty(name="Support", description="Contact forces act at this target")
+
+    def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        ob = context.active_object  # a selected TCP empty (or target) says which TCP
+        if ob is not None and "manikin_tcp" in ob:
+            self.tcp = ob["manikin_tcp"]
+        elif ob is not None and ob.manikin_target.role == "TARGET":
+            self.tcp = ob.manikin_target.tcp
+        return self.execute(context)
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        arm = _active_rig(context)
+        lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
+        try:
+            ob = targets.add_target(arm, self.tcp, lock=lock, support=self.support)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        _select_only(context, ob)
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_add_loop(_RigOperator):
+    """Hold a TCP at its current offset from another TCP (e.g. two hands on one box)"""
+
+    bl_idname = "manikin.add_loop"
+    bl_label = "Add Loop"
+
+    tcp: StringProperty(name="TCP", default="hand_l")
+    other: StringProperty(name="Other TCP", default="hand_r")
+    lock: BoolVectorProperty(
+        name="Locked axes", size=6, default=(True, True, True, False, False, False), description=_LOCK_DESCRIPTION
+    )
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
+        try:
+            ob = targets.add_loop(_active_rig(context), self.tcp, self.other, lock=lock)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        _select_only(context, ob)
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_add_load(_RigOperator):
+    """Hang a carried mass at a TCP (its weight acts there, straight down)"""
+
+    bl_idname = "manikin.add_load"
+    bl_label = "Add Load"
+
+    tcp: StringProperty(name="TCP", default="hand_r")
+    mass: FloatProperty(name="Mass", default=5.0, min=0.0, soft_max=50.0, unit="MASS", description="kg")
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        try:
+            ob = targets.add_load(_active_rig(context), self.tcp, self.mass)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        _select_only(context, ob)
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_solve_pose(_RigOperator):
+    """Solve the manikin's pose for its targets, loops and loads, starting from the current pose"""
+
+    bl_idname = "manikin.solve_pose"
+    bl_label = "Solve Pose"
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        arm = _active_rig(context)
+        context.evaluated_depsgraph_get()  # brings the empties' world matrices up to date
+        try:
+            sp = scene_io.read_problem(arm)
+            result = solve(sp.problem, sp.x0, sp.options)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        scene_io.write_result(arm, result)
+        if result.converged:
+            self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms)")
+        else:
+            self.report({"WARNING"}, "Not converged; unmet: " + ", ".join(result.unmet))
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_reset_pose(_RigOperator):
+    """Put the manikin back in the zero pose (standing upright, arms hanging)"""
+
+    bl_idname = "manikin.reset_pose"
+    bl_label = "Reset Pose"
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        arm = _active_rig(context)
+        try:
+            armature.write_pose(arm, armature.model_of(arm).zero_pose())
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        arm.pop(armature.RESULT_KEY, None)
+        return {"FINISHED"}
+
+
+classes = (
+    MANIKIN_OT_add_manikin,
+    MANIKIN_OT_add_target,
+    MANIKIN_OT_add_loop,
+    MANIKIN_OT_add_load,
+    MANIKIN_OT_solve_pose,
+    MANIKIN_OT_reset_pose,
+)

@@ -1,0 +1,168 @@
+"""The "Manikin" tab of the 3D view's sidebar, and the Add > Manikin menu entry."""
+
+import math
+
+import bpy
+
+from . import scene_io
+from .props import AXES
+
+_UNITS = {
+    ".position": ("mm", 1e3),
+    ".rotation": ("deg", 180.0 / math.pi),
+    ".force": ("N", 1.0),
+    ".moment": ("N m", 1.0),
+}
+
+
+def _shown(name: str, value: float) -> str:
+    for suffix, (unit, scale) in _UNITS.items():
+        if name.endswith(suffix):
+            return f"{value * scale:.2f} {unit}"
+    return f"{value:.3g}"
+
+
+def draw_add_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
+    self.layout.operator_menu_enum("manikin.add_manikin", "preset", text="Manikin", icon="ARMATURE_DATA")
+
+
+def draw_import_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
+    self.layout.operator("manikin.import_scenario", text="Manikin Scenario (.toml)")
+
+
+def draw_export_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
+    self.layout.operator("manikin.export_scenario", text="Manikin Scenario (.toml)")
+
+
+MENUS = (("VIEW3D_MT_add", draw_add_menu), ("TOPBAR_MT_file_import", draw_import_menu),
+         ("TOPBAR_MT_file_export", draw_export_menu))  # fmt: skip
+
+
+class _SidebarPanel(bpy.types.Panel):
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Manikin"
+
+
+class MANIKIN_PT_main(_SidebarPanel):
+    bl_idname = "MANIKIN_PT_main"
+    bl_label = "Manikin"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout = self.layout
+        arm = scene_io.rig_of(context.active_object)
+        layout.operator_menu_enum("manikin.add_manikin", "preset", text="Add Manikin", icon="ARMATURE_DATA")
+        if arm is None:
+            layout.label(text="Select a manikin or one of its targets", icon="INFO")
+            return
+        layout.label(text=f"{arm.name} ({arm.get('manikin_preset') or arm.get('manikin_body_file')})")
+        row = layout.row(align=True)
+        row.scale_y = 1.4
+        row.operator("manikin.solve_pose", icon="PLAY")
+        row.prop(arm.manikin, "live", toggle=True, icon="REC")
+        row = layout.row(align=True)
+        row.operator("manikin.reset_pose", icon="LOOP_BACK")
+        row.prop(arm.manikin, "show_overlay", toggle=True, icon="OVERLAY")
+        col = layout.column(align=True)
+        col.operator("manikin.add_target", icon="EMPTY_ARROWS")
+        col.operator("manikin.add_loop", icon="LINKED")
+        col.operator("manikin.add_load", icon="CUBE")
+        row = layout.row(align=True)
+        row.operator("manikin.import_scenario", icon="IMPORT")
+        row.operator("manikin.export_scenario", icon="EXPORT")
+        if arm.get("manikin_error"):  # from live mode, which has no report()
+            layout.label(text=arm["manikin_error"], icon="ERROR")
+
+
+class MANIKIN_PT_target(_SidebarPanel):
+    bl_label = "Target"
+    bl_parent_id = "MANIKIN_PT_main"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        ob = context.active_object
+        return ob is not None and ob.manikin_target.role != "NONE"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        s = context.active_object.manikin_target
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(s, "role")
+        layout.prop(s, "rig")
+        layout.prop(s, "tcp")
+        if s.role == "LOOP":
+            layout.prop(s, "other")
+        if s.role == "LOAD":
+            layout.prop(s, "force")
+            layout.label(text=f"= {-s.force[2] / 9.81:.2f} kg carried")
+        else:
+            row = layout.row(align=True, heading="Lock")
+            for i, axis in enumerate(AXES):
+                row.prop(s, "lock", index=i, text=axis, toggle=True)
+            layout.prop(s, "weight")
+        if s.role == "TARGET":
+            layout.prop(s, "support")
+            sub = layout.row()
+            sub.active = s.support
+            sub.prop(s, "friction")
+        layout.prop(s, "enabled")
+
+
+class MANIKIN_PT_result(_SidebarPanel):
+    bl_label = "Result"
+    bl_parent_id = "MANIKIN_PT_main"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        arm = scene_io.rig_of(context.active_object)
+        return arm is not None and scene_io.last_result(arm) is not None
+
+    def draw(self, context: bpy.types.Context) -> None:
+        data = scene_io.last_result(scene_io.rig_of(context.active_object))
+        layout = self.layout
+        ok = data["converged"]
+        layout.label(
+            text=f"{'Converged' if ok else 'NOT converged'}: {data['iterations']} it, {data['time_ms']:.0f} ms",
+            icon="CHECKMARK" if ok else "ERROR",
+        )
+        for name in data["unmet"]:
+            layout.label(text=f"unmet: {name}", icon="X")
+        box = layout.box()
+        box.label(text="Residuals")
+        for name, value in data["residuals"].items():
+            row = box.row()
+            row.label(text=name)
+            row.label(text=_shown(name, value))
+        parts = ", ".join(f"{k} {v:.3f}" for k, v in data["comfort_parts"].items())
+        layout.label(text=f"Comfort {data['comfort']:.3f} ({parts})")
+        box = layout.box()
+        box.label(text="Most loaded joints (% of strength)")
+        for name, tau, percent in data["joint_loads"]:
+            row = box.row()
+            row.label(text=name)
+            row.label(text=f"{abs(tau):.1f} N m, {percent:.0f}%")
+        for c in data["contacts"]:
+            layout.label(text=f"{c['tcp']}: {c['force'][2]:.0f} N up")
+
+
+class MANIKIN_PT_settings(_SidebarPanel):
+    bl_label = "Solver Settings"
+    bl_parent_id = "MANIKIN_PT_main"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return scene_io.rig_of(context.active_object) is not None
+
+    def draw(self, context: bpy.types.Context) -> None:
+        settings = scene_io.rig_of(context.active_object).manikin
+        layout = self.layout
+        layout.use_property_split = True
+        for name in ("balance", "comfort", "reduction", "max_iterations", "live_iterations"):
+            layout.prop(settings, name)
+        col = layout.column(heading="Comfort weights", align=True)
+        for name in ("comfort_range", "comfort_load", "comfort_contact"):
+            col.prop(settings, name)
+
+
+classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_result, MANIKIN_PT_settings)

@@ -1,0 +1,145 @@
+"""Settings stored in the scene: ``Object.manikin`` on a manikin armature, ``Object.manikin_target`` on empties.
+
+A target empty (``target.<tcp>``) holds a TCP on its world frame; a loop empty (``loop.<tcp>``, parented to
+``tcp.<other>``) holds a TCP on another TCP's frame composed with the empty's offset; a load empty
+(``load.<tcp>``, parented to ``tcp.<tcp>``) hangs a force at a TCP. All three share one PropertyGroup whose
+``role`` says which it is.
+"""
+
+import bpy
+from bpy.props import (
+    BoolProperty,
+    BoolVectorProperty,
+    EnumProperty,
+    FloatProperty,
+    FloatVectorProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
+
+AXES = ("x", "y", "z", "rx", "ry", "rz")
+ROLES = (
+    ("NONE", "None", "Not a manikin target"),
+    ("TARGET", "Target", "Hold the TCP on this empty's frame"),
+    ("LOOP", "Loop", "Hold the TCP on another TCP's frame composed with this empty's offset from it"),
+    ("LOAD", "Load", "A force (e.g. a carried mass) acting at the TCP"),
+)
+
+
+def _resolve_live(rig: bpy.types.Object | None) -> None:
+    """A setting changed: re-solve if the manikin is live (property edits do not reach the depsgraph handler)."""
+    if rig is not None and rig.type == "ARMATURE" and rig.manikin.live:
+        from . import live  # lazily: live imports the solver
+
+        live.request(rig)
+
+
+def _target_changed(self, context: bpy.types.Context) -> None:
+    _resolve_live(self.rig)
+
+
+def _rig_changed(self, context: bpy.types.Context) -> None:
+    _resolve_live(self.id_data)
+
+
+def _is_manikin(_self, obj: bpy.types.Object) -> bool:
+    return obj.type == "ARMATURE" and ("manikin_preset" in obj or "manikin_body_file" in obj)
+
+
+class MANIKIN_PG_target(bpy.types.PropertyGroup):
+    """What an empty asks of the manikin."""
+
+    role: EnumProperty(name="Role", items=ROLES, default="NONE", update=_target_changed)
+    rig: PointerProperty(
+        name="Manikin", type=bpy.types.Object, poll=_is_manikin, description="The armature", update=_target_changed
+    )
+    tcp: StringProperty(
+        name="TCP", description="Name of the manikin's TCP this empty acts on, e.g. hand_r", update=_target_changed
+    )
+    other: StringProperty(
+        name="Other TCP", description="Loop: the TCP whose frame the TCP is held to", update=_target_changed
+    )
+    lock: BoolVectorProperty(
+        name="Locked axes",
+        size=6,
+        default=(True,) * 6,
+        description="Constrained axes of the target frame: x y z (position) and rx ry rz (rotation vector)",
+        update=_target_changed,
+    )
+    support: BoolProperty(
+        name="Support", description="Contact forces act here (pushing along the target's z)", update=_target_changed
+    )
+    friction: FloatProperty(
+        name="Friction", default=0.6, min=0.0, max=10.0, description="Friction coefficient", update=_target_changed
+    )
+    weight: FloatProperty(
+        name="Weight", default=1.0, min=1e-6, soft_max=100.0, description="Relative weight", update=_target_changed
+    )
+    enabled: BoolProperty(name="Enabled", default=True, update=_target_changed)
+    force: FloatVectorProperty(
+        name="Force",
+        size=3,
+        subtype="XYZ",
+        default=(0.0, 0.0, -49.05),
+        description="Load: force in N, world frame",
+        update=_target_changed,
+    )
+
+    def locked_axes(self) -> tuple[str, ...]:
+        return tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
+
+
+class MANIKIN_PG_rig(bpy.types.PropertyGroup):
+    """Solver settings of one manikin (on its armature object)."""
+
+    balance: BoolProperty(
+        name="Balance", default=True, description="Static balance with unknown contact forces", update=_rig_changed
+    )
+    comfort: BoolProperty(
+        name="Comfort", default=True, description="Maximise comfort in the constraints' null space", update=_rig_changed
+    )
+    reduction: BoolProperty(
+        name="Variable reduction",
+        description="Move the lumbar, thoracic and cervical spine and each hand's grasp as coupled groups",
+        update=_rig_changed,
+    )
+    max_iterations: IntProperty(name="Max iterations", default=100, min=1, max=100000, update=_rig_changed)
+    live_iterations: IntProperty(
+        name="Live iterations", default=30, min=1, max=1000, description="Iteration limit of each live re-solve"
+    )
+    comfort_range: FloatProperty(
+        name="Range", default=1.0, min=0.0, description="Weight: joints near limits", update=_rig_changed
+    )
+    comfort_load: FloatProperty(
+        name="Load", default=1.0, min=0.0, description="Weight: joint moments / strength", update=_rig_changed
+    )
+    comfort_contact: FloatProperty(
+        name="Contact", default=0.01, min=0.0, description="Weight: even contact forces", update=_rig_changed
+    )
+    live: BoolProperty(
+        name="Live",
+        default=False,
+        description="Re-solve whenever a target, loop or load of this manikin moves",
+        update=_rig_changed,
+    )
+    show_overlay: BoolProperty(
+        name="Overlay", default=True, description="Draw center of mass, support polygon and contact forces"
+    )
+
+
+classes = (MANIKIN_PG_target, MANIKIN_PG_rig)
+
+
+def register() -> None:
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Object.manikin_target = PointerProperty(type=MANIKIN_PG_target)
+    bpy.types.Object.manikin = PointerProperty(type=MANIKIN_PG_rig)
+
+
+def unregister() -> None:
+    del bpy.types.Object.manikin
+    del bpy.types.Object.manikin_target
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

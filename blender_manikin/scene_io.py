@@ -1,0 +1,191 @@
+"""Scene <-> solver: the empties of a manikin into a solver Problem, a Result back into the armature (bpy).
+
+Everything is expressed in the armature object's space, so a manikin may stand anywhere on the floor and face
+any direction; the armature must stay upright and unscaled (gravity is its -z).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+from mathutils import Matrix
+
+from ..solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
+from ..solver.contacts import support_polygon
+from ..solver.ergonomics.loads import percent_of_strength
+from ..solver.reduction import GROUPS
+from .armature import ERROR_KEY, RESULT_KEY, TCP_PREFIX, is_manikin, model_of, read_x, write_pose
+
+TOP_LOADS = 5
+
+
+def rig_of(obj: bpy.types.Object | None) -> bpy.types.Object | None:
+    """The manikin armature an object belongs to: itself, a target's manikin, or a TCP empty's parent."""
+    if obj is None:
+        return None
+    if is_manikin(obj):
+        return obj
+    settings = getattr(obj, "manikin_target", None)
+    if settings is not None and settings.role != "NONE" and is_manikin(settings.rig):
+        return settings.rig
+    if "manikin_tcp" in obj and is_manikin(obj.parent):
+        return obj.parent
+    return None
+
+
+def members(arm: bpy.types.Object) -> list[bpy.types.Object]:
+    """Target, loop and load empties of ``arm`` that are in some scene, sorted by name."""
+    found = [
+        ob
+        for ob in bpy.data.objects
+        if ob.manikin_target.role != "NONE" and ob.manikin_target.rig == arm and ob.users_scene
+    ]
+    return sorted(found, key=lambda ob: ob.name)
+
+
+def _frame(m: Matrix) -> tuple[np.ndarray, np.ndarray]:
+    """(rotation 3x3, position) of a matrix, scale removed."""
+    loc, quat, _scale = m.decompose()
+    return np.array(quat.to_matrix()), np.array(loc)
+
+
+def _check_upright(arm: bpy.types.Object) -> None:
+    rot = np.array(arm.matrix_world.to_3x3())
+    if not np.allclose(rot[:, 2], (0.0, 0.0, 1.0), atol=1e-6) or not np.allclose(rot.T @ rot, np.eye(3), atol=1e-6):
+        raise ManikinError(f"{arm.name}: the armature must stay upright and unscaled (turn it about z only)")
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """What a problem was read from: names and flags, and the numbers (frames, offsets, forces) in armature space."""
+
+    labels: str
+    numbers: np.ndarray
+
+    def same_as(self, other: Inputs | None, tolerance: float = 1e-5) -> bool:
+        """Equal up to single-precision noise (Blender stores matrices as 32-bit floats)."""
+        return (
+            other is not None
+            and self.labels == other.labels
+            and self.numbers.shape == other.numbers.shape
+            and bool(np.allclose(self.numbers, other.numbers, rtol=0.0, atol=tolerance))
+        )
+
+
+@dataclass
+class SceneProblem:
+    """A problem read from the scene, its warm start (full x: joints, forces if they fit) and options, and the
+    inputs it came from."""
+
+    problem: Problem
+    x0: np.ndarray
+    options: SolverOptions
+    inputs: Inputs
+
+
+def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
+    """The targets, loops and loads of ``arm`` as a solver Problem; raises ManikinError naming the empty."""
+    _check_upright(arm)
+    model = model_of(arm)
+    settings = arm.manikin
+    to_local = arm.matrix_world.inverted()
+    arm_rot = np.array(arm.matrix_world.to_3x3())
+    x0 = read_x(arm)
+    kin0 = model.forward(x0[: model.n])
+    targets, loops, loads, labels, numbers = [], [], [], [], []
+    for ob in members(arm):
+        s = ob.manikin_target
+        for name in (s.tcp, s.other) if s.role == "LOOP" else (s.tcp,):
+            if name not in model.tcps:
+                raise ManikinError(f"{ob.name}: unknown TCP {name!r} (known: {', '.join(sorted(model.tcps))})")
+        rot, pos = _frame(to_local @ ob.matrix_world)
+        if s.role == "TARGET":
+            targets.append(
+                Target(s.tcp, pos, rot, s.locked_axes(), None, s.weight, s.support, s.friction, None, s.enabled)
+            )
+            given = (pos, rot)
+        elif s.role == "LOOP" and s.enabled:
+            other_rot, other_pos = kin0.tcp_frame(model.tcp(s.other))
+            given = (other_rot.T @ (pos - other_pos), other_rot.T @ rot)  # the offset, unchanged by posing
+            loops.append(Loop(s.tcp, s.other, *given, s.locked_axes(), None, s.weight))
+        elif s.role == "LOAD" and s.enabled:
+            given = (arm_rot.T @ np.array(s.force),)
+            loads.append(ExternalLoad(s.tcp, *given))
+        else:
+            continue
+        labels.append((ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight))
+        numbers.extend(np.ravel(v) for v in given)
+    if not targets and not loops:
+        raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
+    weights = ComfortWeights(settings.comfort_range, settings.comfort_load, settings.comfort_contact)
+    try:
+        groups = GROUPS if settings.reduction else ()
+        problem = Problem(model, targets, loops, loads, settings.balance, weights, groups)
+    except ManikinError as exc:
+        raise ManikinError(f"{arm.name}: {exc}") from None
+    options = SolverOptions(
+        max_iterations=settings.live_iterations if live else settings.max_iterations,
+        optimize_comfort=settings.comfort,
+    )
+    labels.append((settings.balance, settings.comfort, settings.reduction, weights, options))
+    inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
+    warm = x0 if len(x0) == problem.n_x else x0[: model.n]  # remembered forces only fit the same supports
+    return SceneProblem(problem, warm, options, inputs)
+
+
+def summarize(result: Result) -> dict:
+    """What the sidebar and the overlay show, armature space, JSON-ready."""
+    state = result.state
+    problem = result.problem
+    model = problem.model
+    tau = state.statics.axis_loads()
+    percent = percent_of_strength(tau, model.strength)
+    rank = np.where(np.isfinite(percent) & ~model.prismatic, percent, -1.0)
+    top = np.argsort(-rank, kind="stable")[:TOP_LOADS]
+    corners = problem.contacts.corner_points(state.kin) if problem.contacts.n_vars else np.zeros((0, 3))
+    return dict(
+        converged=bool(result.converged),
+        iterations=int(result.iterations),
+        time_ms=1e3 * float(result.time_s),
+        unmet=list(result.unmet),
+        residuals={k: float(v) for k, v in result.residuals.items()},
+        comfort=float(result.comfort),
+        comfort_parts={k: float(v) for k, v in result.comfort_parts.items()},
+        com=[float(v) for v in result.com],
+        contacts=[
+            dict(tcp=c["tcp"], point=[float(v) for v in c["point"]], force=[float(v) for v in c["force"]])
+            for c in result.contacts
+        ],
+        support_polygon=support_polygon(corners).tolist() if len(corners) else [],
+        loads=[dict(tcp=ld.tcp.name, force=[float(v) for v in ld.force]) for ld in problem.loads],
+        joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
+    )
+
+
+def write_result(arm: bpy.types.Object, result: Result) -> None:
+    """Pose the armature with the result and keep its summary for the sidebar and the overlay."""
+    write_pose(arm, result.x)
+    arm[RESULT_KEY] = json.dumps(summarize(result))
+    if ERROR_KEY in arm:
+        del arm[ERROR_KEY]
+
+
+def last_result(arm: bpy.types.Object) -> dict | None:
+    text = arm.get(RESULT_KEY)
+    if not text:
+        return None
+    try:
+        return json.loads(text)
+    except (TypeError, ValueError):
+        return None
+
+
+def tcp_empty(arm: bpy.types.Object, tcp: str) -> bpy.types.Object | None:
+    """The ``tcp.<name>`` empty of ``arm`` (found by its TCP property, so renamed copies still work)."""
+    for child in arm.children:
+        if child.get("manikin_tcp") == tcp:
+            return child
+    return bpy.data.objects.get(TCP_PREFIX + tcp)

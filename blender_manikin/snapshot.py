@@ -1,0 +1,99 @@
+"""A picture of a posed manikin, rendered headless (Cycles on the CPU), from the built extension as a user has it:
+
+    python -m blender_manikin.snapshot [-o out/manikin.png] [--scenario presets/scenarios/box_lift.toml]
+                                       [--size 640] [--samples 16]
+
+builds the zip, installs it into a throwaway user directory, imports the scenario (default: the box lift) onto a
+new manikin, solves it and renders the body, the floor and the targets' places. Run from the repository root.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from .build import ROOT, build, install
+
+DEFAULT_SCENARIO = ROOT / "presets" / "scenarios" / "box_lift.toml"
+
+
+def _stage(bpy, size: int, samples: int) -> None:
+    """Floor, sun, camera (front-left, looking at the hips), Cycles on the CPU."""
+    scene = bpy.context.scene
+    for ob in list(scene.objects):
+        if ob.type in {"MESH", "LIGHT", "CAMERA"} and not ob.name.endswith(".body"):
+            bpy.data.objects.remove(ob, do_unlink=True)
+    bpy.ops.mesh.primitive_plane_add(size=4.0)
+    floor = bpy.context.active_object
+    floor.data.materials.append(bpy.data.materials.new("floor"))
+    floor.data.materials[0].diffuse_color = (0.35, 0.37, 0.4, 1.0)
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 3.0
+    sun.rotation_euler = (0.7, 0.2, -0.6)
+    scene.collection.objects.link(sun)
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    camera.location = (2.0, -2.7, 1.4)
+    scene.collection.objects.link(camera)
+    aim = camera.constraints.new("TRACK_TO")
+    aim.target = bpy.data.objects.new("aim", None)
+    aim.target.location = (0.0, -0.15, 0.8)
+    scene.collection.objects.link(aim.target)
+    scene.camera = camera
+    scene.world = scene.world or bpy.data.worlds.new("world")
+    background = scene.world.node_tree.nodes.get("Background") if scene.world.node_tree else None
+    if background is not None:
+        background.inputs["Color"].default_value = (0.75, 0.8, 0.85, 1.0)
+    camera.data.lens = 60.0
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.image_settings.file_format = "PNG"
+
+
+def _materials(bpy) -> None:
+    """Principled materials from the viewport colors, so the render matches the viewport."""
+    for material in bpy.data.materials:
+        if material.node_tree is None:  # Blender < 5 creates materials without nodes
+            material.use_nodes = True
+        bsdf = material.node_tree.nodes.get("Principled BSDF")
+        if bsdf is not None:
+            bsdf.inputs["Base Color"].default_value = material.diffuse_color
+
+
+def snapshot(output: Path, scenario: Path = DEFAULT_SCENARIO, size: int = 640, samples: int = 16) -> Path:
+    """Render the solved scenario to ``output`` (PNG); returns its path. Imports bpy (a fresh process only)."""
+    zip_path = build(Path(tempfile.mkdtemp(prefix="manikin-dist-")))
+    os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp(prefix="manikin-user-")
+    import bpy
+
+    install(zip_path)
+    _stage(bpy, size, samples)
+    bpy.ops.manikin.import_scenario(filepath=str(scenario))
+    bpy.ops.manikin.solve_pose()
+    _materials(bpy)
+    output = output.resolve()
+    output.parent.mkdir(parents=True, exist_ok=True)
+    bpy.context.scene.render.filepath = str(output)
+    bpy.ops.render.render(write_still=True)
+    return output
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m blender_manikin.snapshot", description=__doc__.splitlines()[0])
+    parser.add_argument("-o", "--output", type=Path, default=ROOT / "out" / "manikin.png")
+    parser.add_argument("--scenario", type=Path, default=DEFAULT_SCENARIO)
+    parser.add_argument("--size", type=int, default=640, help="image width and height, pixels")
+    parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel")
+    args = parser.parse_args(argv)
+    print(snapshot(args.output, args.scenario, args.size, args.samples))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
