@@ -56,6 +56,8 @@ class Model:
     info: dict = field(default_factory=dict)  # body description (sex, stature, mass, sources)
     descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
     _jumps: tuple = field(init=False)
+    _order: np.ndarray = field(init=False)
+    _rank: np.ndarray = field(init=False)
     _axis_skew: np.ndarray = field(init=False)
     _axis_skew2: np.ndarray = field(init=False)
     _plain_origins: bool = field(init=False)
@@ -69,14 +71,24 @@ class Model:
                 desc[j, k] = True
                 j = int(self.parent[j])
         object.__setattr__(self, "descendant", desc)
-        # Pointer-jumping schedule: in each round, link i composes with its current ancestor pointer.
-        anc = self.parent.copy()
+        # Pointer-jumping schedule over the links sorted by depth: in each round every link whose ancestor
+        # pointer is still inside the tree composes with it; those links form a suffix of the sorted order,
+        # so each round updates one contiguous slice.
+        depth = np.zeros(n, dtype=int)
+        for k in range(n):
+            depth[k] = 0 if self.parent[k] < 0 else depth[self.parent[k]] + 1
+        order = np.argsort(depth, kind="stable")
+        rank = np.argsort(order)
+        anc = np.array([rank[self.parent[o]] if self.parent[o] >= 0 else -1 for o in order], dtype=int)
         jumps = []
         while np.any(anc >= 0):
-            idx = np.nonzero(anc >= 0)[0]
-            jumps.append((idx, anc[idx].copy()))
-            anc[idx] = np.where(anc[anc[idx]] >= 0, anc[anc[idx]], -1)
+            start = int(np.argmax(anc >= 0))
+            jumps.append((start, anc[start:].copy()))
+            tail = anc[start:]
+            anc[start:] = np.where(anc[tail] >= 0, anc[tail], -1)
         object.__setattr__(self, "_jumps", tuple(jumps))
+        object.__setattr__(self, "_order", order)
+        object.__setattr__(self, "_rank", rank)
         k = skew(self.axis)
         object.__setattr__(self, "_axis_skew", k)
         object.__setattr__(self, "_axis_skew2", k @ k)
@@ -140,10 +152,11 @@ class Model:
         else:
             local[:, :3, :3] = self.origin_rotation @ spin
             local[:, :3, 3] = self.origin_position + np.einsum("nij,nj->ni", self.origin_rotation, slide)
-        # Pointer jumping: each round composes every link with its current ancestor (in place is safe:
-        # the right-hand side gathers copies first).
-        for idx, anc in self._jumps:
-            local[idx] = local[anc] @ local[idx]
+        # Pointer jumping in depth order (in place is safe: the right-hand side gathers copies first).
+        local = local[self._order]
+        for start, anc in self._jumps:
+            local[start:] = local[anc] @ local[start:]
+        local = local[self._rank]
         rot = local[:, :3, :3]
         pos = local[:, :3, 3]
         world_axis = np.einsum("nij,nj->ni", rot, self.axis)
