@@ -106,16 +106,20 @@ def _check_relaxation(what: str, lock, operator) -> None:
         raise ManikinError(f"{what}: operator must be k x 6 finite numbers")
 
 
+def _check_frame(what: str, position, rotation, lock, operator, weight: float) -> None:
+    _check_vector(f"{what} position", position, 3, MAX_DISTANCE)
+    _check_rotation(f"{what} rotation", rotation)
+    _check_relaxation(what, lock, operator)
+    if not (np.isfinite(weight) and weight > 0):
+        raise ManikinError(f"{what}: weight must be a positive number")
+
+
 def validate(model: Model, targets, loops, loads) -> None:
     """Refuse bad specifications with a ManikinError that names the item and what was expected."""
     for t in targets:
         what = f"target {t.tcp}"
         model.tcp(t.tcp)
-        _check_vector(f"{what} position", t.position, 3, MAX_DISTANCE)
-        _check_rotation(f"{what} rotation", t.rotation)
-        _check_relaxation(what, t.lock, t.operator)
-        if not (np.isfinite(t.weight) and t.weight > 0):
-            raise ManikinError(f"{what}: weight must be a positive number")
+        _check_frame(what, t.position, t.rotation, t.lock, t.operator, t.weight)
         if not (np.isfinite(t.friction) and t.friction >= 0):
             raise ManikinError(f"{what}: friction must be a non-negative number")
         if t.sole is not None:
@@ -126,11 +130,7 @@ def validate(model: Model, targets, loops, loads) -> None:
         what = f"loop {lp.tcp}-{lp.other}"
         model.tcp(lp.tcp)
         model.tcp(lp.other)
-        _check_vector(f"{what} offset_position", lp.offset_position, 3, MAX_DISTANCE)
-        _check_rotation(f"{what} offset_rotation", lp.offset_rotation)
-        _check_relaxation(what, lp.lock, lp.operator)
-        if not (np.isfinite(lp.weight) and lp.weight > 0):
-            raise ManikinError(f"{what}: weight must be a positive number")
+        _check_frame(what, lp.offset_position, lp.offset_rotation, lp.lock, lp.operator, lp.weight)
     for ld in loads:
         model.tcp(ld.tcp)
         _check_vector(f"load at {ld.tcp} force", ld.force, 3, MAX_FORCE)

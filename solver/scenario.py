@@ -18,7 +18,7 @@ import numpy as np
 from .bodies import load_body
 from .comfort import ComfortWeights
 from .constraints import AXES
-from .errors import ManikinError, ScenarioError
+from .errors import ManikinError, ScenarioError, read_text
 from .model import GRAVITY, Model
 from .motion import Key, MotionLimits, Track, targets_at
 from .problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
@@ -172,12 +172,7 @@ class _Reader:
 
 def read_toml(path: Path) -> dict:
     """Parse a TOML file, turning every failure into a one-line ScenarioError."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc})") from None
+    text = read_text(path, ScenarioError)
     if not text.strip():
         raise ScenarioError(f"{path}: the file is empty; expected a scenario with [manikin] and [[targets]]")
     try:

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ManikinError
+from ..errors import ManikinError, read_text
 
 GRAVITY_DEFAULT = (0.0, 0.0, -9.81)
 
@@ -28,12 +28,7 @@ class ErgonomicsInputError(ManikinError):
 def read_result(path: str | Path) -> dict:
     """Parse a result JSON file; every failure becomes one :class:`ErgonomicsInputError` line."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ErgonomicsInputError(f"{path}: file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ErgonomicsInputError(f"{path}: cannot read ({exc})") from None
+    text = read_text(path, ErgonomicsInputError)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
