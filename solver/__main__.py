@@ -1,5 +1,5 @@
 """Command line: ``python -m solver solve SCENARIO.toml [-o RESULT.json]``, ``ergo RESULT.json -o ERGO.json``,
-``bench``, ``presets``.
+``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``.
 
 Exit codes: 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input (one line
 on stderr naming the file, the key and what was expected).
@@ -78,14 +78,31 @@ def _ergo(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    if args.random:
+    if args.random or args.peers:
         from .bench.random_targets import run_random_benchmark
 
-        run_random_benchmark(Path(args.output), trials=args.trials, processes=args.processes)
+        run_random_benchmark(
+            Path(args.output), trials=args.trials, processes=args.processes, peers=args.peers,
+            peer_trials=args.peer_trials,
+        )  # fmt: skip
     else:
         from .bench import run_benchmarks
 
         run_benchmarks(Path(args.output), repeats=args.repeats)
+    return EXIT_OK
+
+
+def _urdf(args: argparse.Namespace) -> int:
+    from .bodies import load_body
+    from .urdf import model_to_urdf, write_urdf
+
+    if (args.preset is None) == (args.file is None):
+        raise ManikinError("urdf needs a manikin preset name or --file BODY.toml (one of them)")
+    model = load_body(preset=args.preset, file=args.file)
+    if args.output:
+        print(f"wrote {write_urdf(model, args.output)} ({model.n} joints, {len(model.tcps)} TCP frames)")
+    else:
+        sys.stdout.write(model_to_urdf(model))
     return EXIT_OK
 
 
@@ -132,7 +149,16 @@ def main(argv: list[str] | None = None) -> int:
     p_bench.add_argument("--random", action="store_true", help="the thesis's randomized-target benchmark instead")
     p_bench.add_argument("--trials", type=int, default=1000, help="random trials per level (with --random)")
     p_bench.add_argument("--processes", type=int, default=None, help="parallel processes (default: all cores)")
+    p_bench.add_argument("--peers", action="store_true",
+                         help="--random plus peers (scipy SLSQP, placo if installed) on the same trials")  # fmt: skip
+    p_bench.add_argument("--peer-trials", type=int, default=None,
+                         help="trials per level for the peers (default: --trials; SLSQP is slow)")  # fmt: skip
     p_bench.set_defaults(run=_bench)
+    p_urdf = sub.add_parser("urdf", help="export a manikin to URDF (joints, limits, masses, TCP frames)")
+    p_urdf.add_argument("preset", nargs="?", help="manikin preset (see 'presets')")
+    p_urdf.add_argument("--file", help="body TOML instead of a preset")
+    p_urdf.add_argument("-o", "--output", help="URDF file to write (default: standard output)")
+    p_urdf.set_defaults(run=_urdf)
     p_presets = sub.add_parser("presets", help="list the manikin and scenario presets")
     p_presets.set_defaults(run=_presets)
     args = parser.parse_args(argv)

@@ -4,17 +4,21 @@ Hand targets (position and orientation, all six axes) are drawn in the industria
 the manikin's own anthropometry; the hands do not cross; each hand's orientation deviates from its neutral
 orientation (fingers forward, palm facing the body's midline) by at most Max Dev. The feet (sole centers)
 stay on the floor and may slide and turn. Success is judged only by the constraint function (converged).
+
+With ``peers=True`` the first ``peer_trials`` trials of every level are also solved by the peers of
+``peers.py`` (scipy's SLSQP on the same NLP, placo's KinematicsSolver on the URDF export), judged by the same
+constraint function, and the report gets a "Peers, same trials" section.
 """
 
 from __future__ import annotations
 
 import datetime
 import json
+import multiprocessing
 import os
 import sys
 import time
 from dataclasses import dataclass
-from multiprocessing import Pool
 from pathlib import Path
 
 import numpy as np
@@ -23,8 +27,9 @@ from ..bodies import load_body
 from ..model import Model
 from ..problem import Problem, Target
 from ..reduction import GROUPS
-from ..solve import solve
+from ..solve import SolverOptions, solve
 from ..spatial import exp_so3
+from .peers import PeerResult, placo_available, placo_peer, slsqp_peer
 from .scenarios import machine, write_section
 
 LEVELS = (np.pi / 8, np.pi / 4, np.pi / 3, np.pi / 2, 2 * np.pi / 3, np.pi)
@@ -61,6 +66,14 @@ THESIS = {  # Delfs 2012 tables 6.1-6.3: (successes of 1000, max t s, average t 
     ],
 }
 PRESET = "male_50"
+PEERS = {  # name: what it solves (all on the physics, no reduction problem: 160 joints + 32 force weights)
+    "SLSQP": "scipy.optimize.minimize(method='SLSQP'): maximise comfort h subject to our scaled constraint rows = 0 "
+    "and our bounds (joint ranges, forces >= 0), our exact gradients and Jacobians, from our start",
+    "placo": "placo KinematicsSolver on the URDF export: feet soft tasks (z, roll, pitch; weight 100), CoM inside "
+    "the soles' convex hull (hard), hands soft frame tasks; no comfort, no forces (found afterwards by NNLS)",
+}
+NO_COMFORT = "physics + reduction, comfort off"  # ours on the peers' trials, meeting the constraints only (like placo)
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 @dataclass(frozen=True)
@@ -124,32 +137,80 @@ def _init_worker() -> None:
 
 
 def run_trial(job: tuple[str, int, int]) -> dict:
-    """One solve: (config name, level index, seed) -> outcome, with targets and residuals if it failed."""
+    """One solve: (config or peer name, level index, seed) -> outcome, with targets and residuals if it failed.
+
+    ``comfort`` is h at the returned pose (our comfort function), for every setting and peer alike.
+    """
     config, level, seed = job
     model = _MODEL if _MODEL is not None else load_body(preset=PRESET)
-    balance, groups = CONFIGS[config]
     targets = draw_targets(model, workspace_box(model), LEVELS[level], seed)
-    problem = trial_problem(model, targets, balance, groups)
-    t0 = time.perf_counter()
-    result = solve(problem)
-    elapsed = time.perf_counter() - t0
-    out = dict(
-        config=config, level=level, seed=seed, converged=result.converged, time_s=elapsed, iterations=result.iterations
-    )
-    if not result.converged:
-        out["unmet"] = result.unmet
-        out["residuals"] = result.residuals
+    if config in PEERS:
+        problem = trial_problem(model, targets, True, ())
+        peer: PeerResult = slsqp_peer(problem) if config == "SLSQP" else placo_peer(problem)
+        out = dict(config=config, level=level, seed=seed, converged=bool(peer.converged), time_s=peer.time_s,
+                   iterations=peer.iterations, comfort=peer.comfort)  # fmt: skip
+        if not peer.converged:
+            out.update(unmet=list(peer.unmet), worst_scaled_error=peer.worst, message=peer.message)
+    else:
+        balance, groups = CONFIGS["physics + reduction" if config == NO_COMFORT else config]
+        options = SolverOptions(optimize_comfort=config != NO_COMFORT)
+        problem = trial_problem(model, targets, balance, groups)
+        t0 = time.perf_counter()
+        result = solve(problem, options=options)
+        elapsed = time.perf_counter() - t0
+        out = dict(config=config, level=level, seed=seed, converged=result.converged, time_s=elapsed,
+                   iterations=result.iterations, comfort=result.comfort)  # fmt: skip
+        if not result.converged:
+            out["unmet"] = result.unmet
+            out["residuals"] = result.residuals
+    if not out["converged"]:
         out["targets"] = {s: dict(position=p.tolist(), rotation=r.tolist()) for s, (p, r) in targets.items()}
     return out
 
 
-def run_random_benchmark(output: Path, trials: int = 1000, processes: int | None = None, seed: int = 2012) -> str:
-    """Run every (config, level, trial), in parallel across cores; write tables, a plot and the failures."""
+def _pool(processes: int):
+    """Worker processes started fresh ("spawn") with single-threaded BLAS, so one process is one core.
+
+    Forked workers inherit the parent's already loaded BLAS with its thread count (2 here): two workers on two
+    cores then run four BLAS threads, which made small dense solves (SLSQP's above all) several times slower.
+    """
+    saved = {k: os.environ.get(k) for k in BLAS_THREADS}
+    os.environ.update({k: "1" for k in BLAS_THREADS})
+    try:
+        return multiprocessing.get_context("spawn").Pool(processes, initializer=_init_worker)
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def run_random_benchmark(
+    output: Path,
+    trials: int = 1000,
+    processes: int | None = None,
+    seed: int = 2012,
+    peers: bool = False,
+    peer_trials: int | None = None,
+) -> str:
+    """Run every (config, level, trial), in parallel across cores; write tables, a plot and the failures.
+
+    With ``peers``, the peers also solve the first ``peer_trials`` (default: all) trials of every level.
+    """
     jobs = [(c, lv, seed + 100_000 * lv + i) for c in CONFIGS for lv in range(len(LEVELS)) for i in range(trials)]
+    peer_trials = trials if peer_trials is None else max(0, min(peer_trials, trials))
+    peer_names = []
+    if peers:
+        peer_names = ["SLSQP"] + (["placo"] if placo_available() else [])
+        # the slow peer first, so that no core waits on a long SLSQP solve at the end
+        peer_jobs = [(p, lv, seed + 100_000 * lv + i) for p in [*peer_names, NO_COMFORT] for lv in range(len(LEVELS))
+                     for i in range(peer_trials)]  # fmt: skip
+        jobs = peer_jobs[: len(LEVELS) * peer_trials] + jobs + peer_jobs[len(LEVELS) * peer_trials :]
     processes = processes or os.cpu_count() or 1
     outcomes = []
-    with Pool(processes, initializer=_init_worker) as pool:
-        for k, outcome in enumerate(pool.imap_unordered(run_trial, jobs, chunksize=4), 1):
+    with _pool(processes) as pool:
+        for k, outcome in enumerate(pool.imap_unordered(run_trial, jobs, chunksize=1), 1):
             outcomes.append(outcome)
             if k % 20 == 0 or k == len(jobs):
                 bar = "#" * int(40 * k / len(jobs))
@@ -157,6 +218,8 @@ def run_random_benchmark(output: Path, trials: int = 1000, processes: int | None
     print(file=sys.stderr)
     output = Path(output)
     text = _report(outcomes, trials, processes)
+    if peers:
+        text += "\n\n" + _peer_report(outcomes, peer_trials, peer_names)
     write_section(output, "random-bench", text)
     failures = [o for o in outcomes if not o["converged"]]
     fail_path = output.parent / "random_failures.json"
@@ -176,7 +239,8 @@ def _report(outcomes: list[dict], trials: int, processes: int) -> str:
         "## Randomized targets (issue 3, thesis §6.1.2)",
         "",
         f"Written by `python -m solver bench --random --trials {trials}` on {datetime.date.today().isoformat()}; "
-        f"{trials} trials per level, the same seeds for every setting, {processes} processes (one solve per core).",
+        f"{trials} trials per level, the same seeds for every setting, {processes} processes (one solve per core, "
+        "single-threaded BLAS).",
         f"Machine: {machine()}. Manikin {PRESET}; hand targets with all six axes locked, feet sliding on the floor.",
         "Success = the constraint function met (converged). Times in seconds. Our reduction groups the spine",
         "regions and the fingers; the thesis's also coupled each shoulder by the Hogfors rhythm (not yet here).",
@@ -199,6 +263,111 @@ def _report(outcomes: list[dict], trials: int, processes: int) -> str:
         lines.append("")
     lines.append("Failures (seed, targets, residuals): `docs/random_failures.json`; plot: `docs/random_benchmark.png`.")
     return "\n".join(lines)
+
+
+OURS_FOR_PEERS = ("physics + reduction", "physics, no reduction", NO_COMFORT)
+
+
+def _ratio(num: np.ndarray, den: np.ndarray) -> str:
+    """Ratio of averages, and of medians in parentheses."""
+    if not (len(num) and len(den)) or den.mean() <= 0 or np.median(den) <= 0:
+        return "-"
+    return f"{num.mean() / den.mean():.1f} ({np.median(num) / np.median(den):.1f})"
+
+
+def _peer_report(outcomes: list[dict], peer_trials: int, peer_names: list[str]) -> str:
+    """The "Peers, same trials" section: success, time and comfort per level, ours beside each peer."""
+    seeds = {lv: {o["seed"] for o in outcomes if o["config"] in peer_names and o["level"] == lv} for lv in range(6)}
+    same = [o for o in outcomes if o["seed"] in seeds[o["level"]]]
+    columns = list(OURS_FOR_PEERS) + peer_names
+    short = {c: f"ours, {c}" for c in OURS_FOR_PEERS}
+    heads = [short.get(c, c) for c in columns]
+    lines = [
+        "### Peers, same trials",
+        "",
+        f"The first {peer_trials} trials of every level (the same seeds as above) solved again by two peers; success "
+        "is judged by our constraint function alone (every constraint row within its tolerance: 1 mm, 0.2 deg, 1 N, "
+        "0.1 N m). The peers get fewer trials than our settings because SLSQP on 192 variables takes seconds per "
+        "trial. Times are each solver's own solving time on one core (single-threaded BLAS).",
+        "",
+        "- **ours**: the unified solver as in the tables above: targets and static balance met with the contact "
+        "forces as unknowns, comfort maximised in the constraints' null space; *comfort off*: the same solver "
+        "meeting the constraints only (`SolverOptions(optimize_comfort=False)`), the like-for-like setting for placo.",
+        f"- **SLSQP**: the same nonlinear program: {PEERS['SLSQP']}; variables scaled as ours, at most 500 iterations.",
+    ]
+    if "placo" in peer_names:
+        lines.append(
+            f"- **placo** ({_placo_version()}): {PEERS['placo']}. placo has no unknown contact forces: balance is "
+            "the CoM over the support polygon (the soles' hull, refreshed before every QP; the soles' x, y are held "
+            "by a weight-1 task at where they stood, so they slide slowly), which with gravity alone is what our "
+            "balance with pushing, friction-bounded forces amounts to. Hard foot tasks made placo's QP infeasible "
+            "within a few steps, hence soft ones. The QP steps (full steps, regularisation 1e-2, joint limits on) "
+            "stop when placo's own task errors are below half our tolerances, or after 100 steps (our solver's "
+            "limit too); no comfort is optimised, so its poses are feasible ones, not comfortable ones."
+        )
+    else:
+        lines.append(
+            "- **placo**: not installed, so not run "
+            "(`pip install --no-deps -r requirements-bench.txt`, see the README)."
+        )
+    lines += ["", "Success:", "", "| Max Dev | trials | " + " | ".join(heads) + " |"]
+    lines.append("|---|---:|" + "---:|" * len(heads))
+    total = {c: [0, 0] for c in columns}
+    for lv, name in enumerate(LEVEL_NAMES):
+        cells = []
+        for c in columns:
+            ok, n, _ = _stats(same, c, lv)
+            total[c][0] += ok
+            total[c][1] += n
+            cells.append(f"{ok}/{n}")
+        lines.append(f"| {name} | {len(seeds[lv])} | " + " | ".join(cells) + " |")
+    lines.append("| all | " + f"{sum(len(v) for v in seeds.values())} | " + " | ".join(
+        f"{total[c][0]}/{total[c][1]}" for c in columns) + " |")  # fmt: skip
+    pairs = [(p, o) for p in peer_names for o in (OURS_FOR_PEERS[:2] if p == "SLSQP" else OURS_FOR_PEERS[::2])]
+    tag = {OURS_FOR_PEERS[0]: "p+r", OURS_FOR_PEERS[1]: "p", OURS_FOR_PEERS[2]: "p+r, comfort off"}
+    ratio_heads = [f"{p} / ours {tag[o]}" for p, o in pairs]
+    lines += [
+        "",
+        "Time, s: average / median over all these trials (failures included), and the ratio of a peer's average time "
+        "to ours (of the medians in parentheses; p+r = physics + reduction, p = physics, no reduction):",
+        "",
+        "| Max Dev | " + " | ".join(heads) + " | " + " | ".join(ratio_heads) + " |",
+        "|---|" + "---:|" * (len(heads) + len(ratio_heads)),
+    ]
+    for lv in [*range(len(LEVELS)), None]:
+        times = {}
+        for c in columns:
+            sel = [o for o in same if o["config"] == c and (lv is None or o["level"] == lv)]
+            times[c] = np.array([o["time_s"] for o in sel])
+        cells = [f"{t.mean():.3f} / {np.median(t):.3f}" if len(t) else "-" for t in times.values()]
+        ratios = [_ratio(times[p], times[o]) for p, o in pairs]
+        lines.append(f"| {'all' if lv is None else LEVEL_NAMES[lv]} | " + " | ".join(cells + ratios) + " |")
+    lines += [
+        "",
+        "Comfort h at the solution (larger is better; 0 = every joint at its neutral value, no load): median over "
+        "the trials that every solver met:",
+        "",
+        "| Max Dev | trials all met | " + " | ".join(heads) + " |",
+        "|---|---:|" + "---:|" * len(heads),
+    ]
+    for lv, name in enumerate(LEVEL_NAMES):
+        met = [s for s in seeds[lv] if all(
+            any(o["seed"] == s and o["config"] == c and o["converged"] for o in same) for c in columns)]  # fmt: skip
+        cells = []
+        for c in columns:
+            h = [o["comfort"] for o in same if o["config"] == c and o["seed"] in met]
+            cells.append(f"{np.median(h):.2f}" if h else "-")
+        lines.append(f"| {name} | {len(met)} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _placo_version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return f"placo {version('placo')}"
+    except Exception:  # noqa: BLE001 - only a label
+        return "placo"
 
 
 def _plot(outcomes: list[dict], path: Path) -> None:
