@@ -12,7 +12,8 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    lambda = 1/mu. mu adapts like Levenberg-Marquardt from how well the model predicted the comfort change.
 3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
    solved again without them (the clamping loop); the comfort part is shortened to stay inside.
-4. Acceptance: a task step must lower the constraint error. Near the constraints (within COMFORT_SLACK
+4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may ride
+   along if the error still falls and comfort does not get worse than predicted. Near the constraints (within COMFORT_SLACK
    tolerances) task + comfort is tried first and must lower the exact-penalty merit -h + nu sum |scaled
    error|, nu twice the largest multiplier estimate, judged after a second-order correction that reuses the
    same SVD. A rejected step is halved, then the task part is tried alone; when comfort keeps failing, mu
@@ -256,7 +257,10 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
         # Far from the constraints only the task part is tried (its metric already keeps joints off their
         # limits); near them task + comfort first, halved once, then the task part alone.
         near = worst <= COMFORT_SLACK
-        attempts = [(True, 2), (False, 4)] if (near and step.predicted_gain > 0) else [(False, 5)]
+        if step.predicted_gain > 0:
+            attempts = [(True, 2), (False, 4)] if near else [(True, 1), (False, 5)]
+        else:
+            attempts = [(False, 5)]
         accepted = use_comfort = False
         alpha = 1.0
         for use_comfort, tries in attempts:
@@ -265,13 +269,15 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
             for _ in range(tries):
                 x_try = np.clip(x + alpha * direction * problem.scale, problem.lower, problem.upper)
                 s_try, e_try, m_try, w_try, f_try = evaluate(x_try)
-                if use_comfort and w_try > 1.0:
+                if use_comfort and near and w_try > 1.0:
                     # second-order correction: pull the comfort step back onto the constraints before judging it
                     x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
                     soc = evaluate(x_soc)
                     if soc[2] < m_try:
                         x_try, (s_try, e_try, m_try, w_try, f_try) = x_soc, soc
-                if use_comfort:
+                if use_comfort and not near:  # far from the constraints comfort rides along a task step
+                    better = m_try < merit and f_try < f + step.predicted_gain
+                elif use_comfort:
                     penalty = step.penalty * (np.abs(e_try).sum() - np.abs(err).sum())
                     better = w_try <= COMFORT_SLACK and f_try - f + penalty < 0.0
                 else:
