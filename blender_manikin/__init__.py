@@ -3,9 +3,11 @@
 Modules: ``rig`` and ``body_mesh`` (how a solver model maps onto bones and a visible body, plain NumPy),
 ``armature`` (building the rig, writing and reading poses), ``targets`` (the empties a user moves),
 ``scene_io`` (empties -> solver Problem, Result -> pose), ``props``, ``operators``, ``io_operators``,
-``panels`` (UI), ``live`` (re-solve on change) and ``overlay`` (viewport drawing); ``build`` packages the
-extension and ``snapshot`` renders a picture headless. This file imports nothing at module level, so
-``python -m blender_manikin.build`` runs without bpy.
+``panels`` (UI), ``live`` (re-solve on change) and ``overlay`` (viewport drawing); motions: ``keyframes`` (bulk
+F-curves), ``bake`` and ``motion_operators`` (Bake Motion), ``motion_io`` (keyed targets <-> scenario keys),
+``exports``, ``picture``, ``motion_report`` and ``job`` (the headless pipeline behind ``batch.py`` and ``demo``);
+``build`` packages the extension, ``snapshot`` renders a picture headless and ``bench`` times a bake. This file
+imports nothing at module level, so ``python -m blender_manikin.build`` runs without bpy.
 """
 
 from __future__ import annotations
@@ -14,18 +16,18 @@ from types import ModuleType
 
 
 def _modules() -> tuple[ModuleType, ...]:
-    from . import io_operators, live, operators, overlay, panels, props
+    from . import io_operators, live, motion_operators, operators, overlay, panels, props
 
-    return props, operators, io_operators, panels, live, overlay
+    return props, operators, io_operators, motion_operators, panels, live, overlay
 
 
 def register() -> None:
     """Register properties, operators, panels, the live-mode handler and the viewport overlay."""
     import bpy
 
-    props, operators, io_operators, panels, live, overlay = _modules()
+    props, operators, io_operators, motion_operators, panels, live, overlay = _modules()
     props.register()
-    for cls in operators.classes + io_operators.classes + panels.classes:
+    for cls in operators.classes + io_operators.classes + motion_operators.classes + panels.classes:
         bpy.utils.register_class(cls)
     for menu, draw in panels.MENUS:
         getattr(bpy.types, menu).append(draw)
@@ -39,12 +41,12 @@ def unregister() -> None:
 
     from . import armature
 
-    props, operators, io_operators, panels, live, overlay = _modules()
+    props, operators, io_operators, motion_operators, panels, live, overlay = _modules()
     overlay.unregister()
     live.unregister()
     for menu, draw in panels.MENUS:
         getattr(bpy.types, menu).remove(draw)
-    for cls in reversed(operators.classes + io_operators.classes + panels.classes):
+    for cls in reversed(operators.classes + io_operators.classes + motion_operators.classes + panels.classes):
         bpy.utils.unregister_class(cls)
     props.unregister()
     armature.clear_caches()

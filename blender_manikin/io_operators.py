@@ -1,8 +1,9 @@
 """Scenario files: the scene's targets, loops, loads and settings to and from the solver's scenario TOML.
 
 Import reads with :func:`solver.scenario.load_scenario` (all validation lives there) and builds the empties;
-export reads the scene into a Problem exactly as Solve does and writes it with ``dumps_scenario``. Keyed
-motions import at their first frame; general operator rows and custom soles have no UI and are reported.
+export reads the scene into a Problem exactly as Solve does and writes it with ``dumps_scenario``. Keyed targets
+become keyed empties and back (``motion_io``); general operator rows and custom soles have no UI and are
+reported.
 """
 
 from pathlib import Path
@@ -17,7 +18,7 @@ from ..solver import ManikinError
 from ..solver.bodies import MANIKINS_DIR
 from ..solver.model import Model
 from ..solver.scenario import dumps_scenario, load_scenario, scenario_to_dict
-from . import armature, scene_io, targets
+from . import armature, motion_io, scene_io, targets
 
 
 def body_source(model: Model) -> dict:
@@ -63,7 +64,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
                 model = armature.load_model(source.get("preset", ""), source.get("file", ""))
                 preset, file = source.get("preset", ""), source.get("file", "")
                 arm = armature.create_manikin(context, model, preset, file, at_cursor=False)  # scenario = world
-            self._apply(arm, sc)
+            keyed = self._apply(context.scene, arm, sc)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -71,10 +72,11 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             ob.select_set(False)
         arm.select_set(True)
         context.view_layer.objects.active = arm
-        self.report({"INFO"}, f"Imported {Path(self.filepath).name} onto {arm.name}")
+        motion = f"; {keyed} keyed targets, frames {sc.frames[0]}-{sc.frames[-1]}" if keyed else ""
+        self.report({"INFO"}, f"Imported {Path(self.filepath).name} onto {arm.name}{motion}")
         return {"FINISHED"}
 
-    def _apply(self, arm: bpy.types.Object, sc) -> None:
+    def _apply(self, scene: bpy.types.Scene, arm: bpy.types.Object, sc) -> int:
         for ob in scene_io.members(arm):
             bpy.data.objects.remove(ob, do_unlink=True)
         problem, settings = sc.problem, arm.manikin
@@ -86,8 +88,10 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         settings.comfort_range, settings.comfort_load, settings.comfort_contact = w.range, w.load, w.contact
         armature.write_pose(arm, sc.model.zero_pose())
         zero = sc.model.forward(sc.model.zero_pose())
+        empties = []
         for t in problem.all_targets:
             ob = targets.add_target(arm, t.tcp, t.lock, t.support, t.friction)
+            empties.append(ob)
             rot = t.rotation if t.rotation is not None else zero.tcp_frame(sc.model.tcp(t.tcp))[0]
             ob.matrix_world = _world(arm, rot, t.position)
             ob.manikin_target.weight, ob.manikin_target.enabled = t.weight, t.enabled
@@ -106,6 +110,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             ob = targets.add_load(arm, ld.tcp, 0.0)
             ob.manikin_target.force = tuple(float(v) for v in arm_rot @ np.asarray(ld.force))
         armature.write_pose(arm, sc.start)
+        return motion_io.import_motion(scene, arm, sc, empties)
 
     def _warn_unsupported(self, what: str, operator, sole) -> None:
         if operator is not None:
@@ -134,8 +139,9 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
         try:
             sp = scene_io.read_problem(arm)
             start = sp.x0 if self.include_pose else None
-            text = dumps_scenario(scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name))
-            Path(self.filepath).write_text(text, encoding="utf-8")
+            data = scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name)
+            motion_io.export_motion(data, context.scene, arm)
+            Path(self.filepath).write_text(dumps_scenario(data), encoding="utf-8")
         except (ManikinError, OSError) as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}

@@ -7,6 +7,7 @@ import bpy
 from . import scene_io
 from .props import AXES
 
+SHOWN_FAILURES = 6  # frames listed in the Motion panel
 _UNITS = {
     ".position": ("mm", 1e3),
     ".rotation": ("deg", 180.0 / math.pi),
@@ -165,4 +166,46 @@ class MANIKIN_PT_settings(_SidebarPanel):
             col.prop(settings, name)
 
 
-classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_result, MANIKIN_PT_settings)
+class MANIKIN_PT_motion(_SidebarPanel):
+    bl_label = "Motion"
+    bl_parent_id = "MANIKIN_PT_main"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return scene_io.rig_of(context.active_object) is not None
+
+    def draw(self, context: bpy.types.Context) -> None:
+        from .motion_operators import last_bake  # lazily: it imports the solver
+
+        arm = scene_io.rig_of(context.active_object)
+        layout = self.layout
+        row = layout.row(align=True)
+        row.prop(context.scene, "frame_start", text="Start")
+        row.prop(context.scene, "frame_end", text="End")
+        row = layout.row()
+        row.scale_y = 1.3
+        row.operator("manikin.bake_motion", icon="RENDER_ANIMATION")
+        col = layout.column(align=True)
+        col.prop(arm.manikin, "bound_motion")
+        sub = col.column(align=True)
+        sub.active = arm.manikin.bound_motion
+        sub.prop(arm.manikin, "max_joint_change")
+        sub.prop(arm.manikin, "max_root_shift")
+        bake = last_bake(arm)
+        if bake is None:
+            return
+        failed = bake["not_converged"]
+        span = f"{bake['frame_start']}-{bake['frame_end']}"
+        if not failed:
+            layout.label(text=f"Baked {span}: all {bake['solved']} frames converged", icon="CHECKMARK")
+            return
+        layout.label(text=f"Baked {span}: {len(failed)} frames not converged", icon="ERROR")
+        box = layout.box()
+        for record in failed[:SHOWN_FAILURES]:
+            why = record["notes"][0] if record["notes"] else "unmet: " + ", ".join(record["unmet"])
+            box.label(text=f"{record['frame']}: {why}")
+        if len(failed) > SHOWN_FAILURES:
+            box.label(text=f"... and {len(failed) - SHOWN_FAILURES} more")
+
+
+classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_result, MANIKIN_PT_motion, MANIKIN_PT_settings)

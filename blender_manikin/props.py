@@ -126,6 +126,27 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     show_overlay: BoolProperty(
         name="Overlay", default=True, description="Draw center of mass, support polygon and contact forces"
     )
+    bound_motion: BoolProperty(
+        name="Bound per-frame change",
+        default=True,
+        description="Bake Motion: keep every joint near its value in the previous frame (no jumps)",
+    )
+    max_joint_change: FloatProperty(
+        name="Max joint change",
+        default=0.35,
+        min=1e-6,
+        max=10.0,
+        subtype="ANGLE",
+        description="Bake Motion: largest change of a joint between consecutive frames",
+    )
+    max_root_shift: FloatProperty(
+        name="Max root shift",
+        default=0.10,
+        min=1e-6,
+        max=100.0,
+        unit="LENGTH",
+        description="Bake Motion: largest shift of the pelvis between consecutive frames",
+    )
 
 
 classes = (MANIKIN_PG_target, MANIKIN_PG_rig)

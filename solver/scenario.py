@@ -504,9 +504,10 @@ def _toml_value(value: Any) -> str:
 
 
 def _toml_table(lines: list[str], header: str, table: dict) -> None:
-    """``header`` ("[a.b]" or "[[a]]") with its plain keys, then its sub-tables as [a.b.c]."""
-    plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
-    if plain or not any(isinstance(v, dict) for v in table.values()):
+    """``header`` ("[a.b]" or "[[a]]") with its plain keys, then its sub-tables as [a.b.c] and its arrays of
+    tables as [[a.c]] (e.g. a target's ``[[targets.keys]]``, which attach to the ``[[targets]]`` just written)."""
+    plain = {k: v for k, v in table.items() if not isinstance(v, dict) and not _is_table_array(v)}
+    if plain or header.startswith("[[") or not any(isinstance(v, dict) for v in table.values()):
         lines.append(header)
         lines.extend(f"{_toml_key(k)} = {_toml_value(v)}" for k, v in plain.items())
         lines.append("")
@@ -514,6 +515,9 @@ def _toml_table(lines: list[str], header: str, table: dict) -> None:
     for k, v in table.items():
         if isinstance(v, dict):
             _toml_table(lines, f"[{name}.{_toml_key(k)}]", v)
+        elif _is_table_array(v):
+            for item in v:
+                _toml_table(lines, f"[[{name}.{_toml_key(k)}]]", item)
 
 
 def _toml_key(key: str) -> str:

@@ -12,12 +12,12 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    lambda = 1/mu. mu adapts like Levenberg-Marquardt from how well the model predicted the comfort change.
 3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
    solved again without them (the clamping loop); the comfort part is shortened to stay inside.
-4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may ride
-   along if the error still falls and comfort does not get worse than predicted. Near the constraints (within COMFORT_SLACK
-   tolerances) task + comfort is tried first and must lower the exact-penalty merit -h + nu sum |scaled
-   error|, nu twice the largest multiplier estimate, judged after a second-order correction that reuses the
-   same SVD. A rejected step is halved, then the task part is tried alone; when comfort keeps failing, mu
-   grows and the comfort part turns back into the thesis's gradient step.
+4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may
+   ride along if the error still falls and comfort does not get worse than predicted. Near the constraints
+   (within COMFORT_SLACK tolerances) task + comfort is tried first and must lower the exact-penalty merit
+   -h + nu sum |scaled error|, nu twice the largest multiplier estimate, judged after a second-order
+   correction that reuses the same SVD. A rejected step is halved, then the task part is tried alone; when
+   comfort keeps failing, mu grows and the comfort part turns back into the thesis's gradient step.
 """
 
 from __future__ import annotations

@@ -216,7 +216,7 @@ seen["reduced_result"] = json.loads(lifter["manikin_result"])
 # Disable: nothing of the add-on may stay registered.
 ours = [
     c
-    for m in ("props", "operators", "io_operators", "panels")
+    for m in ("props", "operators", "io_operators", "motion_operators", "panels")
     for c in sys.modules[f"{module}.blender_manikin.{m}"].classes
 ]
 

@@ -198,7 +198,7 @@ def test_overlay_geometry(session: dict) -> None:
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
     there = session["registered"]  # before disabling, all of it was there
-    assert len(there["classes"]) == 14 and len(there["types"]) == 12  # PropertyGroups are not in bpy.types' dir
+    assert len(there["classes"]) == 16 and len(there["types"]) == 14  # PropertyGroups are not in bpy.types' dir
     assert there["object_props"] == ["manikin", "manikin_target"]
     assert len(there["handlers"]) == 1 and there["timers"] and len(there["menus"]) == 3 and there["enabled"]
     left = session["left"]

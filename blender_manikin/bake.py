@@ -1,0 +1,195 @@
+"""Baking a motion (bpy): the animated targets solved frame by frame, the joint values keyed in bulk.
+
+For each frame the scene is set to it (so keyed, constrained or parented target empties are where the user
+animated them), the scene is read into a solver problem exactly as Solve Pose reads it, and
+:func:`solver.motion.solve_frames` solves it warm-started from the previous frame within the per-frame change
+bound (a frame that would need a jump does not converge and its notes say which target moved too far). The
+solutions are buffered; :meth:`Baker.write` keys every joint's bone channel at once, so a cancelled bake leaves
+the scene as it was. :class:`Baker` works in steps so a modal operator can show progress and listen for Esc.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass, field
+
+import bpy
+import numpy as np
+
+from ..solver import ManikinError, Problem, Result
+from ..solver.motion import MotionLimits, solve_frames
+from ..solver.scenario import result_to_dict
+from ..solver.spatial import matrix_to_quat
+from . import keyframes, scene_io
+from .armature import layout_of, model_of, read_x, write_pose
+
+BAKE_KEY = "manikin_bake"  # JSON on the armature: the last bake's range and the frames that did not converge
+
+
+@dataclass
+class FrameRecord:
+    """How one frame went: solver time, and wall time including reading the scene."""
+
+    frame: int
+    converged: bool
+    iterations: int
+    time_s: float
+    wall_s: float
+    unmet: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    residuals: dict[str, float] = field(default_factory=dict)
+
+
+def limits_of(arm: bpy.types.Object) -> MotionLimits | None:
+    """The manikin's per-frame change bound (None when switched off)."""
+    s = arm.manikin
+    return MotionLimits(s.max_joint_change, s.max_root_shift) if s.bound_motion else None
+
+
+class Baker:
+    """Solves ``frame_start..frame_end`` for ``arm`` in steps, then writes the keys (or cancels: nothing written).
+
+    ``keep_results`` keeps each frame's full result dictionary (the result-file format) for reports.
+    """
+
+    def __init__(
+        self,
+        scene: bpy.types.Scene,
+        arm: bpy.types.Object,
+        frame_start: int,
+        frame_end: int,
+        keep_results: bool = False,
+    ) -> None:
+        if frame_end < frame_start:
+            raise ManikinError(f"frame range {frame_start}..{frame_end} is empty (end before start)")
+        self.scene, self.arm, self.keep_results = scene, arm, keep_results
+        self.frames = list(range(frame_start, frame_end + 1))
+        self.model = model_of(arm)
+        self.original = (scene.frame_current, scene.frame_subframe)
+        self.original_x = read_x(arm)
+        scene.frame_set(frame_start)
+        try:
+            first = scene_io.read_problem(arm)  # raises ManikinError naming the empty at fault
+        except ManikinError:
+            scene.frame_set(self.original[0], subframe=self.original[1])
+            raise
+        self.n_x = first.problem.n_x
+        self._first: Problem | None = first.problem
+        self.thetas = np.zeros((len(self.frames), self.model.n))
+        self.records: list[FrameRecord] = []
+        self.results: list[dict] = []
+        self.shown: Result | None = None  # the result at the frame the scene returns to, if baked (sidebar)
+        self.last_x = first.x0  # the latest solution (joints, forces), to show progress
+        self._solving: Iterator[tuple[int, Result]] = solve_frames(
+            self._problem_at, self.frames, first.x0, first.options, limits_of(arm)
+        )
+
+    @property
+    def done(self) -> int:
+        return len(self.records)
+
+    @property
+    def finished(self) -> bool:
+        return self.done == len(self.frames)
+
+    def _problem_at(self, frame: int) -> Problem:
+        if self._first is not None:  # the first frame was read (and the scene set) in __init__
+            problem, self._first = self._first, None
+            return problem
+        self.scene.frame_set(frame)
+        problem = scene_io.read_problem(self.arm).problem
+        if problem.n_x != self.n_x:
+            raise ManikinError(f"frame {frame}: the supports changed during the range; bake the parts separately")
+        return problem
+
+    def step(self, budget_s: float = 0.0) -> bool:
+        """Solve frames for about ``budget_s`` seconds (at least one); True when every frame is solved."""
+        t_end = time.perf_counter() + budget_s
+        while not self.finished:
+            t0 = time.perf_counter()
+            frame, result = next(self._solving)
+            i = self.done
+            self.thetas[i] = result.theta
+            self.records.append(
+                FrameRecord(
+                    frame,
+                    bool(result.converged),
+                    int(result.iterations),
+                    float(result.time_s),
+                    time.perf_counter() - t0,
+                    list(result.unmet),
+                    list(result.notes),
+                    {k: float(v) for k, v in result.residuals.items()},
+                )
+            )
+            if self.keep_results:
+                self.results.append(result_to_dict(result, frame))
+            if frame == self.original[0]:
+                self.shown = result
+            self.last_x = result.x
+            if time.perf_counter() >= t_end:
+                break
+        return self.finished
+
+    def run(self) -> None:
+        """Solve every remaining frame."""
+        while not self.step(1.0):
+            pass
+
+    def not_converged(self) -> list[int]:
+        return [r.frame for r in self.records if not r.converged]
+
+    def write(self) -> float:
+        """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone), store the report
+        on the armature and return the scene to its frame. Returns the seconds spent keying."""
+        t0 = time.perf_counter()
+        arm, layout = self.arm, layout_of(self.model)
+        frames = np.array([r.frame for r in self.records], dtype=float)
+        thetas = self.thetas[: len(frames)]
+        quats = self._quaternion_bones(thetas)
+        for b, bone in enumerate(layout.bones):
+            base = f'pose.bones["{bpy.utils.escape_identifier(bone.name)}"]'
+            for c in bone.channels:
+                fc = keyframes.fcurve(arm, f"{base}.{c.prop}", c.index, bone.name)
+                keyframes.replace_keys(fc, frames, c.sign * thetas[:, c.joint])
+            if b in quats:
+                for k in range(4):
+                    fc = keyframes.fcurve(arm, f"{base}.rotation_quaternion", k, bone.name)
+                    keyframes.replace_keys(fc, frames, quats[b][:, k])
+        seconds = time.perf_counter() - t0
+        arm[BAKE_KEY] = json.dumps(self.summary())
+        self.scene.frame_set(self.original[0], subframe=self.original[1])
+        if self.shown is not None:  # the pose there is the keyed one; the sidebar shows its result
+            scene_io.write_result(arm, self.shown)
+        return seconds
+
+    def _quaternion_bones(self, thetas: np.ndarray) -> dict[int, np.ndarray]:
+        """(frames, 4) quaternions of the bones whose joints are not one Euler channel each (body files only)."""
+        layout = layout_of(self.model)
+        inexact = [b for b, bone in enumerate(layout.bones) if not bone.exact]
+        out = {b: np.zeros((len(thetas), 4)) for b in inexact}
+        for f, theta in enumerate(thetas if inexact else ()):
+            basis = layout.basis_matrices(self.model.forward(theta))
+            for b in inexact:
+                out[b][f] = matrix_to_quat(basis[b][:3, :3])
+        return out
+
+    def summary(self) -> dict:
+        """What the sidebar and scripts read back from ``arm["manikin_bake"]``."""
+        failed = [asdict(r) for r in self.records if not r.converged]
+        for r in failed:
+            r.pop("residuals")
+        return dict(
+            frame_start=self.frames[0],
+            frame_end=self.frames[-1],
+            solved=self.done,
+            not_converged=failed,
+            solve_s=sum(r.wall_s for r in self.records),
+        )
+
+    def cancel(self) -> None:
+        """Leave everything as it was before the bake (nothing has been keyed yet)."""
+        self.scene.frame_set(self.original[0], subframe=self.original[1])
+        write_pose(self.arm, self.original_x)

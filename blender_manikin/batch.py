@@ -1,0 +1,142 @@
+"""Bake a manikin motion headlessly and write the .blend, exports, a report and a picture.
+
+    blender --background [scene.blend] --python blender_manikin/batch.py -- ARGS
+    python blender_manikin/batch.py ARGS                       (with the bpy module: pip install bpy)
+
+ARGS: --scenario S.toml (a new manikin with keyed target empties) and/or --blend FILE.blend (or the .blend Blender
+opened), --manikin NAME (when the scene has several), --frames START END (default: the scenario's motion or the
+scene's range), --out OUT.blend, --export OUT.fbx|OUT.bvh|OUT.glb|OUT.gltf (repeatable), --report REPORT.json,
+--result RESULT.json (the format of python -m solver solve), --picture KEY_POSES.png, -q.
+
+Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input (one line
+on stderr). Run as a script, this file loads the extension it belongs to from its own location (a checkout or
+an installed extension) under the package name ``manikin`` and registers it, unless Blender already has that
+copy enabled.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+ROOT = Path(__file__).resolve().parents[1]  # the extension root: blender_manifest.toml, __init__.py, solver/, ...
+PACKAGE = "manikin"
+EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
+
+
+class BadInput(Exception):
+    """A user error: reported as one line, exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # argparse would print usage and exit; we want one line and code 2
+        raise BadInput(message)
+
+
+def parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="batch.py", description=__doc__.splitlines()[0])
+    p.add_argument("--scenario", type=Path, help="scenario TOML: creates the manikin and its (keyed) targets")
+    p.add_argument("--blend", type=Path, help="open this .blend first (its manikin and animated targets)")
+    p.add_argument("--manikin", help="the armature to bake when the scene has several manikins")
+    p.add_argument("--frames", type=int, nargs=2, metavar=("START", "END"), help="frame range (inclusive)")
+    p.add_argument("--out", type=Path, help="save the baked scene as this .blend")
+    p.add_argument("--export", type=Path, action="append", default=[], help="FBX, BVH or glTF file (repeatable)")
+    p.add_argument("--report", type=Path, help="JSON report: per frame convergence, times, residuals, ergonomics")
+    p.add_argument("--result", type=Path, help="result JSON as written by python -m solver solve")
+    p.add_argument("--picture", type=Path, help="PNG of key poses (small Cycles renders side by side)")
+    p.add_argument("-q", "--quiet", action="store_true", help="print errors only")
+    return p
+
+
+def parse(argv: list[str]) -> argparse.Namespace:
+    """Parsed arguments; BadInput with one line for anything wrong."""
+    args = parser().parse_args(argv)
+    if args.out is not None and args.out.suffix.lower() != ".blend":
+        raise BadInput(f"--out {args.out}: expected a .blend file")
+    if args.picture is not None and args.picture.suffix.lower() != ".png":
+        raise BadInput(f"--picture {args.picture}: expected a .png file")
+    return args
+
+
+def script_args(argv: list[str]) -> list[str]:
+    """This script's arguments: after ``--`` (Blender's convention), else everything after the script name."""
+    if "--" in argv:
+        return argv[argv.index("--") + 1 :]
+    return [] if Path(argv[0]).stem.lower().startswith("blender") else argv[1:]
+
+
+def load_extension() -> ModuleType:
+    """The extension package at ROOT, registered: an enabled add-on of that folder, else imported as ``manikin``.
+
+    Another enabled copy of Manikin (a different folder) is disabled for this session, so its classes do not
+    clash with ours.
+    """
+    import bpy
+
+    addon_utils = importlib.import_module("addon_utils")  # on the path once bpy is imported
+
+    init = ROOT / "__init__.py"
+    for name in list(bpy.context.preferences.addons.keys()):
+        module = sys.modules.get(name)
+        if module is None or not hasattr(module, "blender_manikin"):
+            continue
+        if Path(getattr(module, "__file__", "") or "").resolve() == init:
+            return module
+        addon_utils.disable(name)
+    module = sys.modules.get(PACKAGE)
+    if module is None or Path(getattr(module, "__file__", "") or "").resolve() != init:
+        spec = importlib.util.spec_from_file_location(PACKAGE, init, submodule_search_locations=[str(ROOT)])
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[PACKAGE] = module
+        spec.loader.exec_module(module)
+    if not hasattr(bpy.types, "MANIKIN_OT_bake_motion"):
+        module.register()
+    return module
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run with this script's arguments (default: from sys.argv); the exit code."""
+    try:
+        args = parse(script_args(sys.argv) if argv is None else argv)
+    except BadInput as exc:
+        print(f"error: {_one_line(exc)} (see --help)", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    try:
+        extension = load_extension()
+    except ImportError as exc:
+        print(f"error: cannot load Blender ({_one_line(exc)}); pip install -r requirements.txt", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    job = importlib.import_module(f"{extension.__name__}.blender_manikin.job")
+    errors = importlib.import_module(f"{extension.__name__}.solver.errors")
+    try:
+        return job.run(
+            job.Job(
+                scenario=args.scenario,
+                blend=args.blend,
+                manikin=args.manikin,
+                frames=tuple(args.frames) if args.frames else None,
+                out=args.out,
+                exports=args.export,
+                report=args.report,
+                result=args.result,
+                picture=args.picture,
+                quiet=args.quiet,
+            )
+        )
+    except (errors.ManikinError, OSError) as exc:
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":
+    if sys.path and Path(sys.path[0]).resolve() == Path(__file__).resolve().parent:
+        sys.path.pop(0)  # run as a script: our own folder on the path would shadow nothing useful, only confuse
+    sys.exit(main())

@@ -1,0 +1,155 @@
+"""The Bake Motion operator: solve a frame range and key the manikin, with progress, Esc to cancel, and undo.
+
+Invoked from the UI it runs modally on a timer, solving frames in small time slices so the status bar and the
+progress cursor update and Esc stops it (nothing is keyed then). Run from a script, in background mode or
+with ``EXEC_DEFAULT`` it bakes in one go. Either way frames that did not converge are reported and stored on the
+armature (``arm["manikin_bake"]``).
+"""
+
+from __future__ import annotations
+
+import json
+
+import bpy
+from bpy.props import IntProperty
+
+from ..solver import ManikinError
+from . import scene_io
+from .armature import write_pose
+from .bake import BAKE_KEY, Baker
+
+SLICE_S = 0.05  # s of solving per timer tick: keeps the UI responsive to Esc
+VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE"}
+SHOWN_FAILURES = 8  # frames listed in the report line
+
+
+def last_bake(arm: bpy.types.Object) -> dict | None:
+    """The summary the last bake stored on ``arm``, or None."""
+    try:
+        return json.loads(arm.get(BAKE_KEY, ""))
+    except (TypeError, ValueError):
+        return None
+
+
+class MANIKIN_OT_bake_motion(bpy.types.Operator):
+    """Solve every frame of a range for the animated targets (warm-started, without jumps) and key the manikin"""
+
+    bl_idname = "manikin.bake_motion"
+    bl_label = "Bake Motion"
+    bl_options = {"REGISTER", "UNDO"}
+
+    frame_start: IntProperty(name="Start", description="First frame (default: the scene's start)")
+    frame_end: IntProperty(name="End", description="Last frame (default: the scene's end)")
+
+    _baker: Baker | None = None
+    _timer = None
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        if scene_io.rig_of(context.active_object) is None:
+            cls.poll_message_set("Select a manikin, or one of its targets")
+            return False
+        return context.mode in {"OBJECT", "POSE"}
+
+    def _start(self, context: bpy.types.Context) -> bool:
+        scene = context.scene
+        for name, default in (("frame_start", scene.frame_start), ("frame_end", scene.frame_end)):
+            if not self.properties.is_property_set(name):
+                setattr(self, name, default)
+        arm = scene_io.rig_of(context.active_object)
+        if arm.manikin.live:  # the baked action drives the pose from now on
+            arm.manikin.live = False
+            self.report({"INFO"}, "Live switched off for the bake")
+        try:
+            self._baker = Baker(scene, arm, self.frame_start, self.frame_end)
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return False
+        context.window_manager.progress_begin(0, len(self._baker.frames))
+        return True
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        if not self._start(context):
+            return {"CANCELLED"}
+        try:
+            while not self._baker.step(SLICE_S):
+                context.window_manager.progress_update(self._baker.done)
+        except ManikinError as exc:
+            return self._cancel(context, str(exc))
+        return self._finish(context)
+
+    def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        if not self._start(context):
+            return {"CANCELLED"}
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.001, window=context.window)
+        wm.modal_handler_add(self)
+        self._status(context)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        if event.type == "ESC":
+            return self._cancel(context, f"Bake cancelled at frame {self._current()}; nothing keyed")
+        if event.type in VIEW_EVENTS:
+            return {"PASS_THROUGH"}  # the view may turn and zoom while the bake runs
+        if event.type != "TIMER":
+            return {"RUNNING_MODAL"}  # but the scene must not change under it
+        try:
+            finished = self._baker.step(SLICE_S)
+        except ManikinError as exc:
+            return self._cancel(context, str(exc))
+        context.window_manager.progress_update(self._baker.done)
+        if finished:
+            return self._finish(context)
+        write_pose(self._baker.arm, self._baker.last_x)  # the manikin follows the bake on screen
+        self._status(context)
+        return {"RUNNING_MODAL"}
+
+    def _current(self) -> int:
+        baker = self._baker
+        return baker.records[-1].frame if baker.records else baker.frames[0]
+
+    def _status(self, context: bpy.types.Context) -> None:
+        baker = self._baker
+        if context.workspace is not None:
+            failed = len(baker.not_converged())
+            note = f", {failed} not converged" if failed else ""
+            context.workspace.status_text_set(
+                f"Baking motion: frame {self._current()} ({baker.done}/{len(baker.frames)}{note}). Esc to cancel"
+            )
+
+    def _cleanup(self, context: bpy.types.Context) -> None:
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+        wm.progress_end()
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+
+    def _cancel(self, context: bpy.types.Context, message: str) -> set[str]:
+        self._baker.cancel()
+        self._cleanup(context)
+        self.report({"WARNING"} if message.startswith("Bake cancelled") else {"ERROR"}, message)
+        return {"CANCELLED"}
+
+    def _finish(self, context: bpy.types.Context) -> set[str]:
+        baker = self._baker
+        baker.write()
+        self._cleanup(context)
+        failed = baker.not_converged()
+        n = len(baker.frames)
+        if not failed:
+            self.report({"INFO"}, f"Baked {n} frames ({baker.frames[0]}-{baker.frames[-1]}), all converged")
+            return {"FINISHED"}
+        shown = ", ".join(map(str, failed[:SHOWN_FAILURES])) + (", ..." if len(failed) > SHOWN_FAILURES else "")
+        self.report({"WARNING"}, f"Baked {n} frames; {len(failed)} did not converge: {shown}")
+        notes = [note for record in baker.records for note in record.notes]
+        for note in notes[:SHOWN_FAILURES]:  # "a target moved too far since the previous frame ..."
+            self.report({"WARNING"}, note)
+        return {"FINISHED"}
+
+
+classes = (MANIKIN_OT_bake_motion,)

@@ -1,0 +1,232 @@
+"""A picture of key poses of a baked motion (bpy + matplotlib): small Cycles CPU renders side by side.
+
+Every pose is rendered by the same orthographic camera, a three-quarter view from the manikin's front right
+framed on the body over all shown frames, so the poses compare at one scale. A load carried by both hands is
+drawn as a box between the palms. The tiles are put side by side with a caption each by matplotlib. The staging
+(floor, lights, camera, box) is removed again and the render settings restored.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import bpy
+import numpy as np
+from mathutils import Matrix, Vector
+
+from .scene_io import members, tcp_empty
+
+VIEW = Vector((-1.35, -1.0, 0.4)).normalized()  # from the body towards the camera: front right, a little above
+BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
+MARGIN = 1.12
+SKY = (0.85, 0.88, 0.92)
+_DATA = {"MESH": "meshes", "LIGHT": "lights", "CAMERA": "cameras"}  # bpy.data collections by ID type
+
+
+def _material(name: str, color: tuple[float, float, float]) -> bpy.types.Material:
+    material = bpy.data.materials.new(name)
+    material.diffuse_color = (*color, 1.0)
+    return material
+
+
+def _principled() -> None:
+    """Our materials (body, floor, box) as matte Principled surfaces of their viewport colors: the render
+    matches the viewport, and a rough surface needs fewer samples."""
+    for material in bpy.data.materials:
+        if not material.name.startswith(("manikin.", "picture.")):
+            continue  # the user's own materials stay as they are
+        if material.node_tree is None:  # Blender < 5 creates materials without nodes
+            material.use_nodes = True
+        bsdf = material.node_tree.nodes.get("Principled BSDF")
+        if bsdf is not None:
+            bsdf.inputs["Base Color"].default_value = material.diffuse_color
+            bsdf.inputs["Roughness"].default_value = 0.9
+
+
+class _Stage:
+    """Floor, lights, camera and box in a collection of their own; :meth:`remove` takes them away again."""
+
+    def __init__(self, scene: bpy.types.Scene, arm: bpy.types.Object) -> None:
+        self.scene, self.arm = scene, arm
+        self.collection = bpy.data.collections.new("manikin.picture")
+        scene.collection.children.link(self.collection)
+        self.objects: list[bpy.types.Object] = []
+        floor_mesh = bpy.data.meshes.new("picture.floor")
+        s = 40.0
+        floor_mesh.from_pydata([(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)], [], [(0, 1, 2, 3)])
+        floor_mesh.materials.append(_material("picture.floor", (0.5, 0.52, 0.55)))
+        self._add("picture.floor", floor_mesh)
+        sun = self._add("picture.sun", bpy.data.lights.new("picture.sun", "SUN"))
+        sun.data.energy, sun.data.angle = 4.5, 0.1
+        sun.rotation_euler = (0.6, 0.0, -0.9)
+        self.camera = self._add("picture.camera", bpy.data.cameras.new("picture.camera"))
+        self.camera.data.type = "ORTHO"
+        self.box = None
+        loads = {ob.manikin_target.tcp for ob in members(arm) if ob.manikin_target.role == "LOAD"}
+        if {"hand_l", "hand_r"} <= loads:
+            box_mesh = bpy.data.meshes.new("picture.box")
+            corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+            faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+            box_mesh.from_pydata(corners, [], faces)
+            box_mesh.materials.append(_material("picture.box", (0.62, 0.42, 0.22)))
+            self.box = self._add("picture.box", box_mesh)
+
+    def _add(self, name: str, data: bpy.types.ID) -> bpy.types.Object:
+        ob = bpy.data.objects.new(name, data)
+        self.collection.objects.link(ob)
+        self.objects.append(ob)
+        return ob
+
+    def place_box(self) -> None:
+        """Between the palms, as wide as they are apart, upright."""
+        hands = [tcp_empty(self.arm, t) for t in ("hand_l", "hand_r")]
+        if self.box is None or None in hands:
+            return
+        a, b = (h.matrix_world.translation for h in hands)
+        across = (a - b).normalized()
+        up = Vector((0.0, 0.0, 1.0))
+        depth = up.cross(across).normalized()
+        up = across.cross(depth)
+        rotation = Matrix((across, depth, up)).transposed().to_4x4()
+        scale = Matrix.Diagonal(((a - b).length, BOX_DEPTH, BOX_HEIGHT, 1.0))
+        self.box.matrix_world = Matrix.Translation((a + b) / 2) @ rotation @ scale
+
+    def frame_camera(self, points: np.ndarray, size: tuple[int, int]) -> None:
+        """Orthographic camera along VIEW that holds every point (world) with a margin in a ``size`` (w, h) image."""
+        forward = -VIEW
+        right = forward.cross(Vector((0.0, 0.0, 1.0))).normalized()
+        up = right.cross(forward)
+        basis = np.array([right, up, forward])
+        local = points @ basis.T
+        low, high = local.min(axis=0), local.max(axis=0)
+        center = Vector(((low + high) / 2) @ basis)
+        width, height = (high - low)[:2] * MARGIN
+        w, h = size
+        self.camera.data.ortho_scale = float(max(width, height * w / h) if w >= h else max(height, width * h / w))
+        rotation = Matrix((right, up, -forward)).transposed().to_4x4()  # a camera looks along its -z, y up
+        self.camera.matrix_world = Matrix.Translation(center - forward * 10.0) @ rotation
+        self.camera.data.clip_end = 50.0
+
+    def remove(self) -> None:
+        for ob in self.objects:
+            data = ob.data
+            bpy.data.objects.remove(ob, do_unlink=True)
+            if data is not None and data.users == 0:
+                getattr(bpy.data, _DATA[data.id_type]).remove(data)
+        bpy.data.collections.remove(self.collection)
+
+
+def _body_points(arm: bpy.types.Object) -> np.ndarray:
+    """World positions of the bone heads and tails: the body's extent."""
+    ends = [arm.matrix_world @ p for pb in arm.pose.bones for p in (pb.head, pb.tail)]
+    return np.array([tuple(p) for p in ends])
+
+
+def _render_settings(
+    scene: bpy.types.Scene, size: tuple[int, int], samples: int
+) -> tuple[list[tuple], bpy.types.World]:
+    """Cycles on the CPU at ``size`` with few bounces and a dim sky; (what to restore, the picture's world)."""
+    world = bpy.data.worlds.new("picture.world")
+    world.color = SKY
+    if world.node_tree is not None and "Background" in world.node_tree.nodes:  # dim sky light: less noise
+        world.node_tree.nodes["Background"].inputs["Color"].default_value = (*SKY, 1.0)
+        world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.45
+    render = scene.render
+    saved = [(render, "engine", render.engine)]
+    render.engine = "CYCLES"  # before touching scene.cycles
+    cycles = scene.cycles
+    wanted = [
+        (cycles, "device", "CPU"),
+        (cycles, "samples", samples),
+        (cycles, "use_denoising", False),  # OpenImageDenoise costs more than the render here
+        (cycles, "filter_width", 2.0),  # a softer pixel filter hides some of the few samples' grain
+        (cycles, "max_bounces", 3),
+        (cycles, "diffuse_bounces", 2),
+        (cycles, "glossy_bounces", 1),
+        (cycles, "transmission_bounces", 0),
+        (cycles, "volume_bounces", 0),
+        (cycles, "transparent_max_bounces", 0),
+        (render, "resolution_x", size[0]),
+        (render, "resolution_y", size[1]),
+        (render, "resolution_percentage", 100),
+        (render, "film_transparent", False),
+        (render, "filepath", render.filepath),
+        (render.image_settings, "file_format", "PNG"),
+        (scene, "camera", scene.camera),
+        (scene, "world", world),
+    ]
+    for owner, name, value in wanted:
+        saved.append((owner, name, getattr(owner, name)))
+        setattr(owner, name, value)
+    return saved, world
+
+
+def _restore(saved: list[tuple], world: bpy.types.World) -> None:
+    for owner, name, value in reversed(saved):
+        setattr(owner, name, value)
+    if world.users == 0:
+        bpy.data.worlds.remove(world)
+
+
+def render_key_poses(
+    arm: bpy.types.Object,
+    frames: list[int],
+    output: str | Path,
+    captions: dict[int, str] | None = None,
+    title: str = "",
+    size: tuple[int, int] = (300, 400),
+    samples: int = 16,
+) -> Path:
+    """Render ``frames`` of the armature's animation side by side into ``output`` (PNG); returns its path."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.image
+    import matplotlib.pyplot as plt
+
+    scene = bpy.context.scene
+    current = scene.frame_current
+    stage = _Stage(scene, arm)
+    saved = _render_settings(scene, size, samples)
+    tiles = []
+    try:
+        points = []
+        for frame in frames:
+            scene.frame_set(frame)
+            points.append(_body_points(arm))
+        stage.frame_camera(np.concatenate(points), size)
+        scene.camera = stage.camera
+        _principled()
+        with tempfile.TemporaryDirectory(prefix="manikin-picture-") as tmp:
+            for frame in frames:
+                scene.frame_set(frame)
+                stage.place_box()
+                scene.render.filepath = str(Path(tmp) / f"{frame}.png")
+                bpy.ops.render.render(write_still=True)
+                tiles.append(matplotlib.image.imread(scene.render.filepath))
+    finally:
+        _restore(*saved)
+        stage.remove()
+        scene.frame_set(current)
+    output = Path(output).resolve()
+    output.parent.mkdir(parents=True, exist_ok=True)
+    lines = max((c.count("\n") + 1 for c in (captions or {}).values()), default=0)
+    width, height = size
+    tile_in = 2.8  # inches per tile
+    fig_h = tile_in * height / width + 0.5 + 0.17 * lines
+    fig, axes = plt.subplots(1, len(tiles), figsize=(tile_in * len(tiles), fig_h), dpi=130, squeeze=False)
+    for ax, frame, tile in zip(axes[0], frames, tiles, strict=True):
+        ax.imshow(tile)
+        ax.set_axis_off()
+        ax.set_title(f"frame {frame}", fontsize=10, fontweight="bold", pad=3)
+        if captions and frame in captions:
+            ax.text(0.5, -0.015, captions[frame], transform=ax.transAxes, ha="center", va="top", fontsize=7.5,
+                    linespacing=1.35)  # fmt: skip
+    bottom = (0.08 + 0.17 * lines) / fig_h
+    fig.subplots_adjust(left=0.005, right=0.995, wspace=0.03, top=1 - 0.42 / fig_h, bottom=bottom)
+    if title:
+        fig.suptitle(title, fontsize=11, y=1 - 0.05 / fig_h, va="top")
+    fig.savefig(output)
+    plt.close(fig)
+    return output

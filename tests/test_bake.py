@@ -1,0 +1,198 @@
+"""Bake Motion as a user meets it (tests/bake_session.py in a subprocess, the built zip installed): keyed targets
+from a scenario and back, keys equal to the solver's joint values, keys outside the range untouched, undo, cancel,
+and exports (BVH, glTF) that re-import to the same motion.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from blender_manikin.build import build
+from blender_manikin.rig import RigLayout
+from solver import Problem
+from solver.bodies import load_body
+from solver.motion import solve_frames
+from solver.scenario import load_scenario
+from solver.spatial import log_so3
+
+ROOT = Path(__file__).resolve().parents[1]
+MOTION = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
+pytestmark = pytest.mark.skipif(importlib.util.find_spec("bpy") is None, reason="bpy (Blender as a module) missing")
+MM = 1e-3
+FLOAT32 = 2e-5  # Blender keeps keys and matrices in single precision
+ROUND_TRIP_M = 1e-4  # exported and re-imported bone heads: 0.1 mm
+ROUND_TRIP_DEG = 0.05  # exported and re-imported bone rotations (change since frame 1)
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory) -> dict:
+    work = tmp_path_factory.mktemp("bake")
+    zip_path = build(work / "dist")
+    (work / "user").mkdir()
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "user"))
+    done = subprocess.run(
+        [sys.executable, str(ROOT / "tests" / "bake_session.py"), str(zip_path), str(work / "seen.json"), str(work)],
+        env=env, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    seen = json.loads((work / "seen.json").read_text(encoding="utf-8"))
+    seen.update(work=str(work), log=done.stdout + done.stderr)
+    return seen
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_body(preset="male_50")
+
+
+def _thetas(curves: dict, layout: RigLayout, frames: list[int], n: int) -> np.ndarray:
+    """Joint values read from the keys of each bone channel at ``frames`` (one key per frame expected)."""
+    out = np.full((len(frames), n), np.nan)
+    for bone in layout.bones:
+        for c in bone.channels:
+            keys = {k[0]: k[1] for k in curves[f'pose.bones["{bone.name}"].{c.prop}[{c.index}]']}
+            for i, frame in enumerate(frames):
+                out[i, c.joint] = c.sign * keys[float(frame)]
+    return out
+
+
+def test_import_keys_the_hand_targets(session: dict) -> None:
+    assert session["import"] == ["FINISHED"] and session["range"] == [1, 60]
+    sc = load_scenario(MOTION)
+    for tcp in ("hand_l", "hand_r"):
+        curves = session["target_curves"][f"target.{tcp}"]
+        assert [k[0] for k in curves["location[0]"]] == [1.0, 30.0, 60.0]
+        assert {k[2] for c in curves.values() for k in c} == {"LINEAR"}
+        track = next(t for t in sc.tracks if sc.problem.all_targets[t.target].tcp == tcp)
+        for frame, positions in session["target_at"].items():
+            np.testing.assert_allclose(positions[tcp], track.pose_at(int(frame))[0], atol=FLOAT32)
+    assert set(session["target_curves"]["target.foot_l"]) == set()  # the feet are not keyed
+
+
+def test_export_writes_the_keys_back(session: dict) -> None:
+    assert session["export"] == ["FINISHED"]
+    original, exported = load_scenario(MOTION), load_scenario(Path(session["work"]) / "exported_motion.toml")
+    assert exported.frames == original.frames and exported.limits == original.limits
+    tracks = {exported.problem.all_targets[t.target].tcp: t for t in exported.tracks}
+    assert sorted(tracks) == ["hand_l", "hand_r"]
+    for track in original.tracks:
+        again = tracks[original.problem.all_targets[track.target].tcp]
+        assert [k.frame for k in again.keys] == [k.frame for k in track.keys]
+        for a, b in zip(track.keys, again.keys, strict=True):
+            np.testing.assert_allclose(b.position, a.position, atol=FLOAT32)
+            np.testing.assert_allclose(b.rotation, a.rotation, atol=1e-5)
+
+
+def test_bake_keys_every_joint_and_leaves_keys_outside_the_range(session: dict, model) -> None:
+    assert session["bake"] == ["FINISHED"] and session["bake_flags"] == ["REGISTER", "UNDO"]
+    summary = session["bake_summary"]
+    assert (summary["frame_start"], summary["frame_end"], summary["solved"]) == (2, 9, 8)
+    assert summary["not_converged"] == [] and session["frame_after"] == 1
+    assert session["panel"] == ["Baked 2-9: all 8 frames converged"]  # the Motion panel of the sidebar
+    layout = RigLayout(model)
+    channels = {f'pose.bones["{b.name}"].{c.prop}[{c.index}]' for b in layout.bones for c in b.channels}
+    assert set(session["baked"]) == channels and len(channels) == model.n  # one F-curve per joint
+    for path, keys in session["baked"].items():
+        inside = [k for k in keys if 2 <= k[0] <= 9]
+        assert [k[0] for k in inside] == list(range(2, 10)) and {k[2] for k in inside} == {"LINEAR"}, path
+    hand = session["baked"]['pose.bones["pelvis"].location[0]']
+    before = session["before"]['pose.bones["pelvis"].location[0]']
+    assert [k for k in hand if not 2 <= k[0] <= 9] == [before[0], before[2]]  # frames 0 and 12, Bezier kept
+    assert before[0][2] == "BEZIER" and before[1][:2] == [5.0, pytest.approx(0.05)]
+    assert next(k[1] for k in hand if k[0] == 5.0) != pytest.approx(0.05)  # the key inside was replaced
+
+
+def test_baked_keys_are_the_solver_joint_values(session: dict, model) -> None:
+    """An independent solve of the same frames (targets in the scene's order) gives the keyed joint values."""
+    sc = load_scenario(MOTION)
+    loads = sorted(sc.problem.load_specs, key=lambda ld: ld.tcp)
+
+    def problem_at(frame: int) -> Problem:
+        targets = sorted(sc.problem_at(frame).all_targets, key=lambda t: t.tcp)
+        return Problem(model, targets, [], loads, True, sc.problem.comfort.weights)
+
+    frames = list(range(2, 10))
+    solved = solve_frames(problem_at, frames, np.array(session["x_at_2"]), sc.options, sc.limits)
+    expected = np.array([r.theta for _, r in solved])
+    keyed = _thetas(session["baked"], RigLayout(model), frames, model.n)
+    assert np.abs(keyed - expected).max() < 1e-4  # rad (m for the root slides)
+
+
+def test_baked_motion_meets_the_targets_without_jumps(session: dict, model) -> None:
+    sc = load_scenario(MOTION)
+    frames = list(range(2, 10))
+    keyed = _thetas(session["baked"], RigLayout(model), frames, model.n)
+    for frame, theta in zip(frames, keyed, strict=True):
+        kin = model.forward(theta)
+        for target in sc.problem_at(frame).targets:
+            _, position = kin.tcp_frame(model.tcp(target.tcp))
+            if target.support:
+                assert abs(position[2]) < MM  # feet on the floor
+            else:
+                assert np.linalg.norm(position - target.position) < MM, (frame, target.tcp)
+    step = np.where(model.prismatic, sc.limits.max_root_shift, sc.limits.max_joint_change)
+    assert np.all(np.abs(np.diff(keyed, axis=0)) <= step + FLOAT32)
+
+
+def test_undo_and_cancel_leave_the_keys_as_they_were(session: dict) -> None:
+    assert session["undone"] == session["before"]
+    assert session["modal_events"] == [["RUNNING_MODAL"], ["PASS_THROUGH"], ["RUNNING_MODAL"], ["CANCELLED"]]
+    assert session["cancel_done"] >= 1 and session["cancelled"] == session["before"]  # Esc: nothing keyed
+    assert session["cancel_frame"] == 4 and session["modal_reports"][0][0] == "WARNING"
+    assert session["modal_reports"][0][1].startswith("Bake cancelled at frame")
+
+
+def test_modal_bake_runs_to_the_end(session: dict) -> None:
+    ticks = session["modal_ticks"]
+    assert ticks[-1] == ["FINISHED"] and all(t == ["RUNNING_MODAL"] for t in ticks[:-1])
+    assert session["modal_reports"][-1] == ["INFO", "Baked 8 frames (2-9), all converged"]
+    assert session["modal_keys"] == session["baked"]  # the same keys as the one-go bake
+
+
+def test_rebaked_keys_equal_the_baker_values(session: dict, model) -> None:
+    assert all(session["converged"]) and session["finite"]
+    keyed = _thetas(session["rebaked"], RigLayout(model), session["frames"], model.n)
+    np.testing.assert_allclose(keyed, np.array(session["thetas"]), atol=FLOAT32)
+
+
+def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.degrees(np.linalg.norm(log_so3(a.T @ b))))
+
+
+@pytest.mark.parametrize("fmt", ["bvh", "gltf"])
+def test_exports_round_trip(session: dict, model, fmt: str) -> None:
+    """Re-imported BVH / glTF: every bone head within 0.1 mm and every bone's rotation since frame 1 within
+    0.05 deg of the baked armature's at every frame; the TCPs carried by the re-imported bones within 0.1 mm."""
+    assert all(size > 1000 for size in session["exported"].values())
+    original, imported = session["original"], session[fmt]
+    layout = RigLayout(model)
+    first = {name: np.array(m) for name, m in original["1"].items()}
+    first_imported = {name: np.array(m) for name, m in imported["1"].items()}
+    for frame, bones in original.items():
+        again = {name: np.array(m) for name, m in imported[frame].items()}
+        assert set(again) == set(bones)
+        for name, m in bones.items():
+            m = np.array(m)
+            assert np.linalg.norm(again[name][:3, 3] - m[:3, 3]) < ROUND_TRIP_M, (fmt, frame, name)
+            turned = m[:3, :3] @ first[name][:3, :3].T
+            turned_again = again[name][:3, :3] @ first_imported[name][:3, :3].T
+            assert _angle_deg(turned, turned_again) < ROUND_TRIP_DEG, (fmt, frame, name)
+        for tcp, position in session["tcps"][frame].items():
+            bone = layout.bones[layout.tcp_in_bone(tcp)[0]].name
+            start = np.append(session["tcps"]["1"][tcp], 1.0)
+            carried = again[bone] @ np.linalg.solve(first_imported[bone], start)
+            assert np.linalg.norm(carried[:3] - position) < ROUND_TRIP_M, (fmt, frame, tcp)
+    if fmt == "gltf":
+        assert session["gltf_mesh"]  # the skinned body went along
+
+
+def test_no_traceback(session: dict) -> None:
+    assert "Traceback" not in session["log"]
