@@ -83,8 +83,6 @@ def _row(label: str, done: list[dict]) -> tuple:
 
 def run(output: Path, runs: int = 3) -> str:
     """Bake ``runs`` times per setting and write the bake-bench section of ``output``; the section's text."""
-    if hasattr(os, "sched_setaffinity"):
-        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     from .batch import load_extension
 
     ext = load_extension()
@@ -140,6 +138,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs" / "BENCHMARKS.md")
     parser.add_argument("--runs", type=int, default=3, help="bakes per setting")
     args = parser.parse_args(argv)
+    sys.path.insert(0, str(ROOT))
+    importlib.import_module("solver.bench").one_core("blender_manikin.bench")  # one core, one BLAS thread
     with tempfile.TemporaryDirectory(prefix="manikin-bench-user-") as user:
         os.environ.setdefault("BLENDER_USER_RESOURCES", user)
         run(args.output, args.runs)

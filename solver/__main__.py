@@ -86,8 +86,9 @@ def _bench(args: argparse.Namespace) -> int:
             peer_trials=args.peer_trials,
         )  # fmt: skip
     else:
-        from .bench import run_benchmarks
+        from .bench import one_core, run_benchmarks
 
+        one_core("solver")
         run_benchmarks(Path(args.output), repeats=args.repeats)
     return EXIT_OK
 

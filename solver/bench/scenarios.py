@@ -66,8 +66,6 @@ def write_section(output: Path, key: str, text: str) -> None:
 
 def run_benchmarks(output: Path, repeats: int = 30) -> str:
     """Time every preset scenario (cold, from its start pose) and warm re-solves; write a Markdown report."""
-    if hasattr(os, "sched_setaffinity"):
-        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     rows = []
     for name in SCENARIOS:
         sc = load_scenario(PRESETS_DIR / "scenarios" / f"{name}.toml")
