@@ -15,6 +15,7 @@ import numpy as np
 from mathutils import Matrix
 
 from ..solver.bodies import load_body
+from ..solver.ergonomics.worksheet import STRENGTH_BANDS
 from ..solver.model import Model
 from .body_mesh import build_body_mesh
 from .rig import RigLayout
@@ -170,6 +171,33 @@ def write_pose(arm: bpy.types.Object, x: np.ndarray) -> None:
         else:
             pb.matrix_basis = _matrix(basis[b])
     arm[X_KEY] = [float(v) for v in x]
+
+
+def color_bones_by_load(arm: bpy.types.Object, joint_percent: dict[str, float]) -> None:
+    """Colour every pose bone by the highest percent of strength among its joints (the worksheet's bands)."""
+    model = model_of(arm)
+    for bone in layout_of(model).bones:
+        pb = arm.pose.bones.get(bone.name)
+        if pb is None or not hasattr(pb, "color"):  # bone colours exist from Blender 4.0 on
+            continue
+        percents = [joint_percent.get(model.joint_names[j]) for j in bone.joints]
+        percents = [p for p in percents if p is not None]
+        if not percents:
+            pb.color.palette = "DEFAULT"
+            continue
+        pb.color.palette = "CUSTOM"
+        rgb = load_color(max(percents))
+        pb.color.custom.normal = rgb
+        pb.color.custom.select = tuple(min(1.0, c + 0.3) for c in rgb)
+        pb.color.custom.active = tuple(min(1.0, c + 0.5) for c in rgb)
+
+
+def load_color(percent: float) -> tuple[float, float, float]:
+    """Green up to STRENGTH_BANDS[0] % of strength, yellow up to STRENGTH_BANDS[1] %, red above."""
+    green, yellow = STRENGTH_BANDS
+    if percent <= green:
+        return (0.2, 0.75, 0.3)
+    return (0.95, 0.8, 0.15) if percent <= yellow else (0.9, 0.2, 0.15)
 
 
 def read_x(arm: bpy.types.Object) -> np.ndarray:

@@ -136,6 +136,16 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=_shown(name, value))
         parts = ", ".join(f"{k} {v:.3f}" for k, v in data["comfort_parts"].items())
         layout.label(text=f"Comfort {data['comfort']:.3f} ({parts})")
+        sc = data.get("scores")
+        if sc:
+            box = layout.box()
+            box.label(text="Ergonomics (this pose)")
+            box.label(text=f"RULA {sc['rula']}  REBA {sc['reba']}  OWAS {sc['owas']}")
+            if sc.get("compression") is not None:
+                box.label(text=f"L4/L5 compression {sc['compression']:.0f} N (limits 3400 / 6400 N)")
+            if sc.get("worksheet"):
+                icon = {"red": "ERROR", "yellow": "INFO", "green": "CHECKMARK"}[sc["worksheet"]]
+                box.label(text=f"Worksheet worst level: {sc['worksheet']}", icon=icon)
         box = layout.box()
         box.label(text="Most loaded joints (% of strength)")
         for name, tau, percent in data["joint_loads"]:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from pathlib import Path
 
 import bpy
 import numpy as np
@@ -15,9 +16,21 @@ from mathutils import Matrix
 
 from ..solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
 from ..solver.contacts import support_polygon
+from ..solver.ergonomics import ErgoOptions
 from ..solver.ergonomics.loads import percent_of_strength
+from ..solver.ergonomics.report import evaluate
 from ..solver.reduction import GROUPS
-from .armature import ERROR_KEY, RESULT_KEY, TCP_PREFIX, is_manikin, model_of, read_x, write_pose
+from ..solver.scenario import result_to_dict
+from .armature import (
+    ERROR_KEY,
+    RESULT_KEY,
+    TCP_PREFIX,
+    color_bones_by_load,
+    is_manikin,
+    model_of,
+    read_x,
+    write_pose,
+)
 
 TOP_LOADS = 5
 
@@ -162,13 +175,34 @@ def summarize(result: Result) -> dict:
         support_polygon=support_polygon(corners).tolist() if len(corners) else [],
         loads=[dict(tcp=ld.tcp.name, force=[float(v) for v in ld.force]) for ld in problem.loads],
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
+        joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
+        scores=scores(result),
+    )
+
+
+def scores(result: Result) -> dict | None:
+    """RULA, REBA, OWAS, L4/L5 compression and the worksheet's worst level of this pose (solver.ergonomics)."""
+    try:
+        frame = evaluate({"frames": [result_to_dict(result, 1)]}, ErgoOptions(), Path("."))["frames"][0]
+    except (ManikinError, KeyError, ValueError):
+        return None
+    levels = [item.get("level") for item in frame["worksheet"].values() if isinstance(item, dict)]
+    worst = next((lv for lv in ("red", "yellow", "green") if lv in levels), None)
+    return dict(
+        rula=frame["rula"].get("score"),
+        reba=frame["reba"].get("score"),
+        owas=frame["owas"].get("code"),
+        compression=frame["joint_loads"]["l4_l5"].get("compression"),
+        worksheet=worst,
     )
 
 
 def write_result(arm: bpy.types.Object, result: Result) -> None:
     """Pose the armature with the result and keep its summary for the sidebar and the overlay."""
     write_pose(arm, result.x)
-    arm[RESULT_KEY] = json.dumps(summarize(result))
+    summary = summarize(result)
+    color_bones_by_load(arm, summary["joint_percent"])
+    arm[RESULT_KEY] = json.dumps(summary)
     if ERROR_KEY in arm:
         del arm[ERROR_KEY]
 

@@ -86,6 +86,7 @@ seen["after"] = pose_of(arm)
 seen["undo_flag"] = "UNDO" in bpy.types.MANIKIN_OT_solve_pose.bl_options
 seen["target"] = mat(bpy.data.objects["target.hand_r"].matrix_world)
 seen["result"] = json.loads(arm["manikin_result"])
+seen["bone_colors"] = {pb.name: [pb.color.palette, list(pb.color.custom.normal)] for pb in arm.pose.bones}
 seen["overlay"] = {k: len(v) for k, v in overlay._geometry(arm, seen["result"]).items()}
 
 # The sidebar draws (checked against a recording layout: properties, operators and icons must exist).

@@ -87,6 +87,14 @@ def test_solve_meets_the_moved_hand_target(session: dict) -> None:
     target = np.array(session["target"])[:3, 3]
     np.testing.assert_allclose(target, before + [0.0, -0.3, 0.0], atol=1e-6)
     assert session["solve"] == ["FINISHED"] and session["result"]["converged"]
+    scores = session["result"]["scores"]  # the sidebar's ergonomics of this pose (issue 6)
+    assert isinstance(scores["rula"], int) and isinstance(scores["reba"], int) and scores["compression"] > 0
+    colors = session["bone_colors"]  # bones coloured by load percent
+    assert any(palette == "CUSTOM" for palette, _ in colors.values())
+    name, _, worst = session["result"]["joint_loads"][0]
+    expected = (0.2, 0.75, 0.3) if worst <= 30 else ((0.95, 0.8, 0.15) if worst <= 60 else (0.9, 0.2, 0.15))
+    custom = [rgb for palette, rgb in colors.values() if palette == "CUSTOM"]
+    assert any(np.allclose(rgb, expected, atol=0.01) for rgb in custom)  # colours are stored with 8 bits
     hand = _frames(session["after"], "tcps")["hand_r"]
     assert np.linalg.norm(hand[:3, 3] - target) < MM
 
@@ -239,3 +247,4 @@ def test_turned_manikin_away_from_the_origin(session: dict) -> None:
         assert abs(tcps[foot][2, 3]) < MM
     assert [ld["tcp"] for ld in turned["result"]["loads"]] == ["hand_l"]
     np.testing.assert_allclose(turned["result"]["loads"][0]["force"], [0.0, 0.0, -2.0 * 9.81], atol=1e-4)
+
