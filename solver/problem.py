@@ -7,6 +7,7 @@ newtons compare and "converged" means max |scaled error| <= 1.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -156,7 +157,7 @@ class Problem:
         self.loops = list(loops)
         self.load_specs = list(loads)
         self.balance = balance
-        zero = model.forward(model.zero_pose())
+        zero = self._zero_kin = model.forward(model.zero_pose())
         supports = []
         if balance:
             for t in self.targets:
@@ -169,14 +170,7 @@ class Problem:
         self.layout = StaticsLayout(model, self.contacts, self.loads)
         n, n_w = model.n, self.contacts.n_vars
         self.n_x = n + n_w
-        self.constraints: list[Constraint] = []
-        for t in self.targets:
-            op = t.operator if t.operator is not None else lock_operator(t.lock)
-            self.constraints.append(
-                FrameConstraint(
-                    t.tcp, model.tcp(t.tcp), self._rotation_of(t, zero), t.position, op, self.n_x, weight=t.weight
-                )
-            )
+        self.constraints: list[Constraint] = [self._target_constraint(t, zero) for t in self.targets]
         for lp in self.loops:
             op = lp.operator if lp.operator is not None else lock_operator(lp.lock)
             rot = np.eye(3) if lp.offset_rotation is None else lp.offset_rotation
@@ -208,16 +202,56 @@ class Problem:
         self.scale = x_scale if red is None else red.scale
         self.is_joint = (np.arange(self.n_x) < n) if red is None else red.is_joint
         self.n_var = len(self.lower)
+        self._set_rows()
+
+    def with_targets(self, targets: list[Target]) -> Problem:
+        """The same problem (loops, loads, balance, comfort) with other targets.
+
+        When the supports are the same (a motion moving its hands), everything but the target constraints is
+        shared with this problem instead of being built again.
+        """
+        targets = list(targets)
+        if not self._same_supports(targets):
+            return Problem(
+                self.model,
+                targets,
+                self.loops,
+                self.load_specs,
+                self.balance,
+                self.comfort.weights,
+                self.reduction_groups,
+            )
+        validate(self.model, targets, (), ())
+        moved = copy.copy(self)
+        moved.all_targets = targets
+        moved.targets = [t for t in targets if t.enabled]
+        zero = self._zero_kin
+        frames = [self._target_constraint(t, zero) for t in moved.targets]
+        moved.constraints = frames + self.constraints[len(self.targets) :]
+        moved._set_rows()
+        moved.lower, moved.upper = self.lower.copy(), self.upper.copy()
+        return moved
+
+    def _same_supports(self, targets: list[Target]) -> bool:
+        def key(t: Target) -> tuple:
+            rot = None if t.rotation is None else np.asarray(t.rotation).tobytes()
+            sole = None if t.sole is None else np.asarray(t.sole).tobytes()
+            return (t.tcp, rot, t.friction, sole)
+
+        mine = [key(t) for t in self.targets if t.support] if self.balance else []
+        theirs = [key(t) for t in targets if t.enabled and t.support] if self.balance else []
+        return mine == theirs
+
+    def _target_constraint(self, t: Target, zero_pose_kin) -> FrameConstraint:
+        op = t.operator if t.operator is not None else lock_operator(t.lock)
+        rot = self._rotation_of(t, zero_pose_kin)
+        return FrameConstraint(t.tcp, self.model.tcp(t.tcp), rot, t.position, op, self.n_x, weight=t.weight)
+
+    def _set_rows(self) -> None:
         rows = self.constraints
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
         self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
-
-    def with_targets(self, targets: list[Target]) -> Problem:
-        """The same problem (loops, loads, balance, comfort) with other targets."""
-        return Problem(
-            self.model, targets, self.loops, self.load_specs, self.balance, self.comfort.weights, self.reduction_groups
-        )
 
     @staticmethod
     def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
