@@ -57,3 +57,26 @@ def finite_difference(fun, x: np.ndarray, eps: float = 1e-6) -> np.ndarray:
         dx[i] = eps
         cols.append((np.asarray(fun(x + dx)) - np.asarray(fun(x - dx))) / (2 * eps))
     return np.array(cols).T
+
+
+def run_blender_session(work: Path, script: str) -> dict:
+    """Build the extension zip into ``work``, run ``tests/<script>`` on it in a fresh process with a throwaway
+    Blender user directory (bpy never enters the pytest process) and return what the script recorded."""
+    import json
+    import os
+    import subprocess
+
+    from blender_manikin.build import build
+
+    root = Path(__file__).resolve().parents[1]
+    zip_path = build(work / "dist")
+    (work / "user").mkdir()
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "user"))
+    done = subprocess.run(
+        [sys.executable, str(root / "tests" / script), str(zip_path), str(work / "seen.json"), str(work)],
+        env=env, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    seen = json.loads((work / "seen.json").read_text(encoding="utf-8"))
+    seen.update(zip=str(zip_path), work=str(work), log=done.stdout + done.stderr)
+    return seen

@@ -6,16 +6,12 @@ and exports (BVH, glTF) that re-import to the same motion.
 from __future__ import annotations
 
 import importlib.util
-import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import run_blender_session
 
-from blender_manikin.build import build
 from blender_manikin.rig import RigLayout
 from solver import Problem
 from solver.bodies import load_body
@@ -34,18 +30,7 @@ ROUND_TRIP_DEG = 0.05  # exported and re-imported bone rotations (change since f
 
 @pytest.fixture(scope="module")
 def session(tmp_path_factory) -> dict:
-    work = tmp_path_factory.mktemp("bake")
-    zip_path = build(work / "dist")
-    (work / "user").mkdir()
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "user"))
-    done = subprocess.run(
-        [sys.executable, str(ROOT / "tests" / "bake_session.py"), str(zip_path), str(work / "seen.json"), str(work)],
-        env=env, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    seen = json.loads((work / "seen.json").read_text(encoding="utf-8"))
-    seen.update(work=str(work), log=done.stdout + done.stderr)
-    return seen
+    return run_blender_session(tmp_path_factory.mktemp("bake"), "bake_session.py")
 
 
 @pytest.fixture(scope="module")

@@ -6,8 +6,6 @@ The assertions recompute everything from the solver: poses by forward kinematics
 from __future__ import annotations
 
 import importlib.util
-import json
-import os
 import subprocess
 import sys
 import zipfile
@@ -15,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import run_blender_session
 
-from blender_manikin.build import build
 from blender_manikin.rig import RigLayout
 from solver import Problem
 from solver.bodies import load_body
@@ -36,19 +34,7 @@ def model():
 
 @pytest.fixture(scope="module")
 def session(tmp_path_factory) -> dict:
-    work = tmp_path_factory.mktemp("blender")
-    zip_path = build(work / "dist")
-    (work / "user").mkdir()
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "user"))
-    script = ROOT / "tests" / "blender_session.py"
-    done = subprocess.run(
-        [sys.executable, str(script), str(zip_path), str(work / "seen.json"), str(work)],
-        env=env, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    seen = json.loads((work / "seen.json").read_text(encoding="utf-8"))
-    seen.update(zip=str(zip_path), work=str(work), log=done.stdout + done.stderr)
-    return seen
+    return run_blender_session(tmp_path_factory.mktemp("blender"), "blender_session.py")
 
 
 def _frames(pose: dict, key: str) -> dict[str, np.ndarray]:
