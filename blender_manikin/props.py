@@ -18,7 +18,9 @@ from bpy.props import (
     StringProperty,
 )
 
-AXES = ("x", "y", "z", "rx", "ry", "rz")
+from ..solver.constraints import AXES
+from ..solver.motion import MotionLimits
+
 ROLES = (
     ("NONE", "None", "Not a manikin target"),
     ("TARGET", "Target", "Hold the TCP on this empty's frame"),
@@ -133,7 +135,7 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     )
     max_joint_change: FloatProperty(
         name="Max joint change",
-        default=0.35,
+        default=MotionLimits.max_joint_change,
         min=1e-6,
         max=10.0,
         subtype="ANGLE",
@@ -141,7 +143,7 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     )
     max_root_shift: FloatProperty(
         name="Max root shift",
-        default=0.10,
+        default=MotionLimits.max_root_shift,
         min=1e-6,
         max=100.0,
         unit="LENGTH",

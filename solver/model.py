@@ -194,10 +194,6 @@ class Kinematics:
         ang = np.where(prismatic, 0.0, axis)
         return idx, np.vstack([lin.T, ang.T])
 
-    def point_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
-        """(3, n): d(world point fixed to ``link``)/d theta."""
-        return self.frame_jacobian(link, point)[:3]
-
     def frame_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
         """(6, n) geometric Jacobian [linear velocity of ``point``; angular velocity] of a frame on ``link``."""
         idx, jac = self.chain_jacobian(link, point)

@@ -511,13 +511,17 @@ def _toml_table(lines: list[str], header: str, table: dict) -> None:
         lines.append(header)
         lines.extend(f"{_toml_key(k)} = {_toml_value(v)}" for k, v in plain.items())
         lines.append("")
-    name = header.strip("[]")
+    _toml_children(lines, header.strip("[]") + ".", table)
+
+
+def _toml_children(lines: list[str], prefix: str, table: dict) -> None:
+    """The sub-tables ([prefix.k]) and arrays of tables ([[prefix.k]]) of ``table``."""
     for k, v in table.items():
         if isinstance(v, dict):
-            _toml_table(lines, f"[{name}.{_toml_key(k)}]", v)
+            _toml_table(lines, f"[{prefix}{_toml_key(k)}]", v)
         elif _is_table_array(v):
             for item in v:
-                _toml_table(lines, f"[[{name}.{_toml_key(k)}]]", item)
+                _toml_table(lines, f"[[{prefix}{_toml_key(k)}]]", item)
 
 
 def _toml_key(key: str) -> str:
@@ -537,10 +541,5 @@ def dumps_scenario(data: dict) -> str:
     ]
     if lines:
         lines.append("")
-    for key, value in data.items():
-        if isinstance(value, dict):
-            _toml_table(lines, f"[{_toml_key(key)}]", value)
-        elif _is_table_array(value):
-            for item in value:
-                _toml_table(lines, f"[[{_toml_key(key)}]]", item)
+    _toml_children(lines, "", data)
     return "\n".join(lines).rstrip() + "\n"

@@ -108,14 +108,6 @@ def matrix_to_quat(r: np.ndarray) -> np.ndarray:
     return q if q[0] >= 0.0 else -q
 
 
-def axis_angle_matrices(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """Stack of rotation matrices about unit axes (n, 3) by angles (n,), rad (Rodrigues, vectorised)."""
-    k = skew(axes)
-    s = np.sin(angles)[:, None, None]
-    c = np.cos(angles)[:, None, None]
-    return np.eye(3)[None] + s * k + (1.0 - c) * (k @ k)
-
-
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (..., 3) arrays (broadcasting); much cheaper than np.cross for small stacks."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]

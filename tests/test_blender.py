@@ -233,4 +233,3 @@ def test_turned_manikin_away_from_the_origin(session: dict) -> None:
         assert abs(tcps[foot][2, 3]) < MM
     assert [ld["tcp"] for ld in turned["result"]["loads"]] == ["hand_l"]
     np.testing.assert_allclose(turned["result"]["loads"][0]["force"], [0.0, 0.0, -2.0 * 9.81], atol=1e-4)
-
