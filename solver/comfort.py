@@ -105,11 +105,10 @@ class Comfort:
             tau = state.statics.axis_loads()
             scale = self._strain_scale(tau)
             coef = 2.0 * self.load_weight * tau * scale * scale
-            d_theta, d_w = state.statics.axis_load_jacobian()
-            d_tau = np.hstack([d_theta, d_w])
-            grad -= wts.load * (coef @ d_tau)
             rows = 2.0 * wts.load * self.load_weight * scale * scale
-            curv += rows @ (d_tau * d_tau)
+            lin, sq = state.statics.axis_load_contractions(coef, rows)
+            grad -= wts.load * lin
+            curv += sq
         if len(state.w):
             grad[n:] -= wts.contact * 2.0 * state.w / self.body_weight**2
             curv[n:] += wts.contact * 2.0 / self.body_weight**2

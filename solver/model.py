@@ -9,6 +9,7 @@ ceil(log2(depth)) batched compositions every link holds its world transform.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -106,13 +107,6 @@ class Model:
         """Body mass, kg."""
         return float(self.mass.sum())
 
-    def chain(self, link: int) -> np.ndarray:
-        """Indices of the joints that move ``link`` (its ancestors and itself), root first."""
-        cache = self.__dict__.setdefault("_chains", {})
-        if link not in cache:
-            cache[link] = np.nonzero(self.descendant[:, link])[0]
-        return cache[link]
-
     def joint_index(self, name: str) -> int:
         try:
             return self.joint_names.index(name)
@@ -185,21 +179,28 @@ class Kinematics:
         m = self.model.mass
         return (m @ self.com) / m.sum()
 
-    def chain_jacobian(self, link: int, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Joints that move ``link`` (indices) and the (6, k) Jacobian [d point; angular velocity] over them."""
-        idx = self.model.chain(link)
-        axis = self.axis[idx]
-        prismatic = self.model.prismatic[idx, None]
-        lin = np.where(prismatic, axis, cross(axis, point[None, :] - self.position[idx]))
-        ang = np.where(prismatic, 0.0, axis)
-        return idx, np.vstack([lin.T, ang.T])
+    @cached_property
+    def twist_basis(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per joint, for a unit joint rate: angular velocity (n, 3) rad/s and velocity of the point at the
+        world origin moving with the joint's link (n, 3) m/s. A point q then moves with spin x q + origin."""
+        prismatic = self.model.prismatic[:, None]
+        spin = np.where(prismatic, 0.0, self.axis)
+        origin = np.where(prismatic, self.axis, cross(self.position, self.axis))
+        return spin, origin
+
+    def jacobian_rows(self, link: int, point: np.ndarray, rows_lin: np.ndarray, rows_ang: np.ndarray) -> np.ndarray:
+        """(k, n) = rows_lin @ (d point / d theta) + rows_ang @ (angular velocity / d theta) for a point on ``link``;
+        columns of joints that do not move ``link`` are zero. ``rows_lin``, ``rows_ang``: (k, 3)."""
+        spin, origin = self.twist_basis
+        # velocity of the point: spin x point + origin = -[point]x spin + origin
+        through_spin = rows_ang - rows_lin @ skew(point)
+        out = through_spin @ spin.T + rows_lin @ origin.T
+        return out * self.model.descendant[:, link]
 
     def frame_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
         """(6, n) geometric Jacobian [linear velocity of ``point``; angular velocity] of a frame on ``link``."""
-        idx, jac = self.chain_jacobian(link, point)
-        full = np.zeros((6, self.model.n))
-        full[:, idx] = jac
-        return full
+        eye, zero = np.eye(3), np.zeros((3, 3))
+        return self.jacobian_rows(link, point, np.vstack([eye, zero]), np.vstack([zero, eye]))
 
 
 class ModelBuilder:

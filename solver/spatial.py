@@ -15,6 +15,9 @@ _SMALL = 1e-8
 def skew(v: np.ndarray) -> np.ndarray:
     """Cross-product matrix [v]x of a 3-vector (or a stack of them, shape (..., 3) -> (..., 3, 3))."""
     v = np.asarray(v, dtype=float)
+    if v.shape == (3,):
+        x, y, z = v.tolist()
+        return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1] = -v[..., 2]
     out[..., 0, 2] = v[..., 1]
@@ -62,14 +65,23 @@ def left_jacobian_inverse_so3(w: np.ndarray) -> np.ndarray:
     If r = log(R) and R is perturbed on the left, R' = exp([d]) R, then dr = J_l^-1(r) d exactly to first
     order. Used for the exact Jacobian of the rotation error (not only the small-error identity).
     """
-    w = np.asarray(w, dtype=float)
-    angle = float(np.linalg.norm(w))
-    k = skew(w)
+    x, y, z = np.asarray(w, dtype=float).tolist()
+    angle2 = x * x + y * y + z * z
+    angle = math.sqrt(angle2)
     if angle < 1e-5:
-        return np.eye(3) - 0.5 * k + (1.0 / 12.0) * k @ k
-    half = 0.5 * angle
-    coef = (1.0 - half * np.cos(half) / np.sin(half)) / angle**2
-    return np.eye(3) - 0.5 * k + coef * k @ k
+        coef = 1.0 / 12.0
+    else:
+        half = 0.5 * angle
+        coef = (1.0 - half * math.cos(half) / math.sin(half)) / angle2
+    # I - K/2 + coef K^2 with K = [w]x and K^2 = w w^T - |w|^2 I
+    d = 1.0 - coef * angle2
+    return np.array(
+        [
+            [d + coef * x * x, 0.5 * z + coef * x * y, -0.5 * y + coef * x * z],
+            [-0.5 * z + coef * x * y, d + coef * y * y, 0.5 * x + coef * y * z],
+            [0.5 * y + coef * x * z, -0.5 * x + coef * y * z, d + coef * z * z],
+        ]
+    )
 
 
 def quat_to_matrix(q: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ is what makes these formulas exact. Units: N, N*m, m.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -56,6 +57,10 @@ class StaticsLayout:
         rev = ~model.prismatic
         self.ancestor_or_self_rev = desc.T * rev[None, :]  # [i, j]: j is i or an ancestor, j revolute
         self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
+        self.ancestor_or_self_rev_t = np.ascontiguousarray(self.ancestor_or_self_rev.T)
+        self.strict_descendant_t = np.ascontiguousarray(self.strict_descendant.T)
+        # [i, e]: contact edge variable e pushes on the subtree of joint i
+        self.edge_acts = self.subtree_points[:, self.corner_slice][:, contacts.var_corner]
 
     def evaluate(self, kin: Kinematics, w: np.ndarray) -> Statics:
         return Statics(self, kin, w)
@@ -74,17 +79,21 @@ class Statics:
             "lij,lj->li", kin.rotation[layout.load_link], layout.load_local
         )
         self.load_points = load_points
-        points = np.vstack([kin.com, self.corner_points, load_points])
-        forces = np.vstack([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
-        moments = cross(points, forces)
-        outer = (points[:, :, None] * forces[:, None, :]).reshape(-1, 9)
-        sums = layout.subtree_points @ np.hstack([forces, moments, outer])
-        self.total_force = forces.sum(axis=0)
+        self._points = np.vstack([kin.com, self.corner_points, load_points])
+        self._forces = np.vstack([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
+        moments = cross(self._points, self._forces)
+        sums = layout.subtree_points @ np.hstack([self._forces, moments])
+        self.total_force = self._forces.sum(axis=0)
         self.total_moment = moments.sum(axis=0)  # about the world origin
         self.sub_force = sums[:, 0:3]
         self.sub_moment = sums[:, 3:6]
-        self.sub_outer = sums[:, 6:15].reshape(-1, 3, 3)
         self._g = None
+
+    @cached_property
+    def sub_outer(self) -> np.ndarray:
+        """(n, 3, 3) subtree sums of q_k F_k^T (point times force), N*m; only the derivatives need it."""
+        outer = (self._points[:, :, None] * self._forces[:, None, :]).reshape(-1, 9)
+        return (self.layout.subtree_points @ outer).reshape(-1, 3, 3)
 
     def joint_moments(self) -> np.ndarray:
         """(n, 3) moment of each joint's subtree loads about the joint position, N*m (world)."""
@@ -128,15 +137,39 @@ class Statics:
     def axis_load_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
         """d axis_loads / d theta (n, n) and / d w (n, n_w), exact; rows of prismatic joints are left 0."""
         layout = self.layout
-        a, p = self.kin.axis, self.kin.position
+        a = self.kin.axis
         g = self.moment_derivatives()
         d_theta = layout.ancestor_or_self_rev * (g @ a.T) + layout.strict_descendant * (a @ g.T)
-        contacts = layout.contacts
-        dirs = contacts.var_direction
-        q = self.corner_points[contacts.var_corner]
-        acts = layout.subtree_points[:, layout.corner_slice][:, contacts.var_corner]
-        d_w = acts * (a @ cross(q, dirs).T - cross(a, p) @ dirs.T)
+        d_w = self._axis_load_force_jacobian()
         prism = layout.model.prismatic
         d_theta[prism] = 0.0
         d_w[prism] = 0.0
         return d_theta, d_w
+
+    def _axis_load_force_jacobian(self) -> np.ndarray:
+        """d axis_loads / d w (n, n_w), prismatic rows included."""
+        a, p = self.kin.axis, self.kin.position
+        contacts = self.layout.contacts
+        dirs = contacts.var_direction
+        q = self.corner_points[contacts.var_corner]
+        return self.layout.edge_acts * (a @ cross(q, dirs).T - cross(a, p) @ dirs.T)
+
+    def axis_load_contractions(self, coef: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(coef @ J, weight @ (J * J)), both (n_x,), for J = d axis_loads / d x of :meth:`axis_load_jacobian`.
+
+        Never forms the dense (n, n) block: with A = ancestor-or-self (revolute) and D = strict descendant,
+        J_ij = A_ij g_i.a_j + D_ij a_i.g_j, and A, D are disjoint, so both sums are (n, n) @ (n, 12) products.
+        """
+        layout = self.layout
+        n = layout.model.n
+        rev = ~layout.model.prismatic
+        coef, weight = coef * rev, weight * rev
+        a, g = self.kin.axis, self.moment_derivatives()
+        aa = (a[:, :, None] * a[:, None, :]).reshape(n, 9)
+        gg = (g[:, :, None] * g[:, None, :]).reshape(n, 9)
+        from_ancestors = layout.ancestor_or_self_rev_t @ np.hstack([coef[:, None] * g, weight[:, None] * gg])
+        from_descendants = layout.strict_descendant_t @ np.hstack([coef[:, None] * a, weight[:, None] * aa])
+        lin_theta = np.einsum("ni,ni->n", from_ancestors[:, :3], a) + np.einsum("ni,ni->n", from_descendants[:, :3], g)
+        sq_theta = np.einsum("ni,ni->n", from_ancestors[:, 3:], aa) + np.einsum("ni,ni->n", from_descendants[:, 3:], gg)
+        d_w = self._axis_load_force_jacobian()
+        return np.concatenate([lin_theta, coef @ d_w]), np.concatenate([sq_theta, weight @ (d_w * d_w)])

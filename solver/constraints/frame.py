@@ -90,16 +90,14 @@ class FrameConstraint(Constraint):
         r_t, _ = self.target_frame(state)
         r, o = kin.tcp_frame(self.tcp)
         e_r = log_so3(r_t.T @ r)
-        to_target = np.zeros((6, 6))
-        to_target[:3, :3] = r_t.T
-        to_target[3:, 3:] = left_jacobian_inverse_so3(e_r) @ r_t.T
-        rows = self.operator @ to_target
+        op = self.operator
+        rows_lin = op[:, :3] @ r_t.T
+        rows_ang = op[:, 3:] @ (left_jacobian_inverse_so3(e_r) @ r_t.T)
         full = np.zeros((self.rows, self.n_x))
-        idx, jac = kin.chain_jacobian(self.tcp.link, o)
-        full[:, idx] = rows @ jac
+        n = kin.model.n
+        full[:, :n] = kin.jacobian_rows(self.tcp.link, o, rows_lin, rows_ang)
         if self.reference is not None:
-            idx, jac = kin.chain_jacobian(self.reference.link, o)
-            full[:, idx] -= rows @ jac
+            full[:, :n] -= kin.jacobian_rows(self.reference.link, o, rows_lin, rows_ang)
         return full
 
     def residuals(self, state: State) -> dict[str, float]:
