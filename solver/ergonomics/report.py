@@ -28,7 +28,8 @@ SOURCES = {
     "Biomechanics); limits 3400 / 6400 N (NIOSH 1981)",
     "rula": "McAtamney & Corlett 1993, Appl. Ergon. 24(2):91-99",
     "reba": "Hignett & McAtamney 2000, Appl. Ergon. 31:201-205",
-    "owas": "Karhu, Kansi & Kuorinka 1977, Appl. Ergon. 8(4):199-201 (codes only)",
+    "owas": "Karhu, Kansi & Kuorinka 1977, Appl. Ergon. 8(4):199-201; action categories transcribed from "
+    "github.com/rs9000/ergonomics (disputed cells flagged)",
     "niosh": "Waters et al. 1993; NIOSH Applications Manual for the Revised Lifting Equation, Pub. 94-110",
     "worksheet": "Delfs 2012 §5.4 / fig. 5.2 (SES); thresholds ISO 11226, EN 1005-4, NIOSH 1981, project defaults",
     "working_area": "Delfs 2012 §6.1.2 workspace box from the manikin's zero pose",
@@ -120,7 +121,7 @@ def csv_rows(report: dict) -> tuple[list[str], list[list]]:
     ]  # fmt: skip
     angles = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
     angles += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
-    header = ["frame", "converged", "rula", "reba", "reba_risk", "owas_code"]
+    header = ["frame", "converged", "rula", "reba", "reba_risk", "owas_code", "owas_category"]
     header += ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in angles]
     header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
     header += [f"ws_{k}" for k in items] + ["ws_overall", "niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
@@ -130,7 +131,7 @@ def csv_rows(report: dict) -> tuple[list[str], list[list]]:
         ws = f["worksheet"]
         strength = ws.get("joint_strength", {})
         row = [f["frame"], f["converged"], f["rula"]["score"], f["reba"]["score"], f["reba"].get("risk"),
-               f["owas"].get("code")]  # fmt: skip
+               f["owas"].get("code"), f["owas"].get("action_category")]  # fmt: skip
         row += [_get(f["posture"], *a) for a in angles]
         l45 = f["joint_loads"]["l4_l5"]
         row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
