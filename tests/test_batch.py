@@ -50,7 +50,8 @@ def test_batch_writes_every_output(tmp_path: Path) -> None:
     assert [f["frame"] for f in report["frames"]] == list(range(1, 7))
     for frame in report["frames"]:
         assert frame["converged"] and frame["iterations"] >= 0 and 0 < frame["time_s"] <= frame["wall_s"]
-        assert frame["residuals"]["top.position"] < 1e-3 and frame["residuals"]["balance.force"] < 1.0  # m, N
+        # each locked axis within 1 mm (so the 3-axis norm within sqrt(3) mm); force balance within 1 N
+        assert frame["residuals"]["top.position"] < 3**0.5 * 1e-3 and frame["residuals"]["balance.force"] < 1.0
         assert set(frame["ergonomics"]) >= {"rula", "reba", "owas", "worksheet", "niosh", "joint_loads", "posture"}
     assert len(read_result(out / "result.json")["frames"]) == 6  # python -m solver ergo reads it
     import matplotlib.image
