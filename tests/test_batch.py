@@ -108,3 +108,24 @@ def test_batch_runs_from_an_installed_extension(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     report = json.loads((tmp_path / "report.json").read_text(encoding="utf-8"))
     assert report["converged"] and len(report["frames"]) == 3
+
+
+def test_batch_as_blender_runs_it_on_an_open_blend(tmp_path: Path) -> None:
+    """``blender --background scene.blend --python batch.py -- ARGS``, emulated with the bpy module: the .blend is
+    opened first, sys.argv is Blender's, and the script runs as __main__; it bakes the open file's manikin."""
+    done = run(["--scenario", SNAKE, "--frames", 1, 2, "--out", "scene.blend"], tmp_path)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    blend = tmp_path / "scene.blend"
+    argv = ["blender", "--background", str(blend), "--python", str(BATCH), "--", "--frames", "1", "4",
+            "--report", "again.json"]  # fmt: skip
+    emulate = (
+        f"import bpy, runpy, sys; bpy.ops.wm.open_mainfile(filepath={str(blend)!r}); sys.argv = {argv!r}\n"
+        f"runpy.run_path({str(BATCH)!r}, run_name='__main__')"
+    )
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
+    done = subprocess.run([sys.executable, "-c", emulate], cwd=tmp_path, env=env, capture_output=True, text=True,
+                          timeout=600)  # fmt: skip
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    report = json.loads((tmp_path / "again.json").read_text(encoding="utf-8"))
+    assert report["converged"] and [f["frame"] for f in report["frames"]] == [1, 2, 3, 4]
+    assert report["source"]["blend"] is None and report["source"]["scenario"] is None
