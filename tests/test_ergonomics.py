@@ -219,6 +219,20 @@ def test_rula_published_worked_examples() -> None:
     assert (score_a, score_b, rula.grand_score(score_a + 1, score_b + 1)) == (5, 6, 7)
 
 
+def test_reba_published_solved_exercise() -> None:
+    """"Metodo REBA Ejemplos Reales", example 1 (https://es.scribd.com/document/587736423): neck 1, trunk 2
+    (about 20 deg flexion), legs 2 (both feet down, knees 30-60 deg), load over 10 kg (+2), upper arm 2 (about
+    20 deg, abducted), lower arm 1, wrist 1 -> final score 4, medium risk (table A 3 + 2 = 5, table B 1, C 4)."""
+    p = human_posture(trunk=15, neck=10, elevation=15, elbow=80, knee=45)
+    for side in ("l", "r"):
+        p[side]["upper_arm_abduction"] = 30.0
+    out = reba.reba(p, 12.0, ErgoOptions(coupling="good"))
+    assert (out["neck"], out["trunk"], out["legs"], out["load"], out["score_a"]) == (1, 2, 2, 2, 5)
+    right = out["right"]
+    assert (right["upper_arm"], right["lower_arm"], right["wrist"], right["score_b"]) == (2, 1, 1, 1)
+    assert (out["score"], out["risk"]) == (4, "medium")
+
+
 def test_owas_action_categories() -> None:
     """The OWAS table: four categories, never lower for a heavier load, and the cells every compared copy of the
     published table shares (straight back standing = 1, squatting = 2, bent back with both arms up and a heavy load
