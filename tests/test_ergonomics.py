@@ -220,7 +220,7 @@ def test_rula_published_worked_examples() -> None:
 
 
 def test_reba_published_solved_exercise() -> None:
-    """"Metodo REBA Ejemplos Reales", example 1 (https://es.scribd.com/document/587736423): neck 1, trunk 2
+    """ "Metodo REBA Ejemplos Reales", example 1 (https://es.scribd.com/document/587736423): neck 1, trunk 2
     (about 20 deg flexion), legs 2 (both feet down, knees 30-60 deg), load over 10 kg (+2), upper arm 2 (about
     20 deg, abducted), lower arm 1, wrist 1 -> final score 4, medium risk (table A 3 + 2 = 5, table B 1, C 4)."""
     p = human_posture(trunk=15, neck=10, elevation=15, elbow=80, knee=45)
