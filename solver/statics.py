@@ -57,8 +57,6 @@ class StaticsLayout:
         rev = ~model.prismatic
         self.ancestor_or_self_rev = desc.T * rev[None, :]  # [i, j]: j is i or an ancestor, j revolute
         self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
-        self.ancestor_or_self_rev_t = np.ascontiguousarray(self.ancestor_or_self_rev.T)
-        self.strict_descendant_t = np.ascontiguousarray(self.strict_descendant.T)
         # [i, e]: contact edge variable e pushes on the subtree of joint i
         self.edge_acts = self.subtree_points[:, self.corner_slice][:, contacts.var_corner]
 
@@ -167,8 +165,8 @@ class Statics:
         a, g = self.kin.axis, self.moment_derivatives()
         aa = (a[:, :, None] * a[:, None, :]).reshape(n, 9)
         gg = (g[:, :, None] * g[:, None, :]).reshape(n, 9)
-        from_ancestors = layout.ancestor_or_self_rev_t @ np.hstack([coef[:, None] * g, weight[:, None] * gg])
-        from_descendants = layout.strict_descendant_t @ np.hstack([coef[:, None] * a, weight[:, None] * aa])
+        from_ancestors = layout.ancestor_or_self_rev.T @ np.hstack([coef[:, None] * g, weight[:, None] * gg])
+        from_descendants = layout.strict_descendant.T @ np.hstack([coef[:, None] * a, weight[:, None] * aa])
         lin_theta = np.einsum("ni,ni->n", from_ancestors[:, :3], a) + np.einsum("ni,ni->n", from_descendants[:, :3], g)
         sq_theta = np.einsum("ni,ni->n", from_ancestors[:, 3:], aa) + np.einsum("ni,ni->n", from_descendants[:, 3:], gg)
         d_w = self._axis_load_force_jacobian()

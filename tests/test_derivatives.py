@@ -91,6 +91,12 @@ def test_axis_load_jacobian(seed):
     interior = ~model.prismatic
     np.testing.assert_allclose(d_theta[interior], numeric[interior, :n], atol=1e-5)
     np.testing.assert_allclose(d_w[interior], numeric[interior, n:], atol=1e-5)
+    # the solver's contractions (no dense n x n block) equal the same products of the dense Jacobian
+    jac = np.hstack([d_theta, d_w])
+    coef, weight = rng.normal(size=n), rng.random(n)
+    lin, sq = problem.state(x).statics.axis_load_contractions(coef, weight)
+    np.testing.assert_allclose(lin, coef @ jac, rtol=1e-10, atol=1e-10 * np.abs(jac).max())
+    np.testing.assert_allclose(sq, weight @ (jac * jac), rtol=1e-10, atol=1e-10 * (jac * jac).max())
 
 
 @pytest.mark.parametrize("seed", range(4))
