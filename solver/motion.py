@@ -77,7 +77,7 @@ def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
     step[: model.n] = np.where(model.prismatic, limits.max_root_shift, limits.max_joint_change)
     if problem.reduction is None:
         return step
-    weights = np.abs(problem.reduction.basis)
+    weights = problem.reduction.slope  # |dx/dbeta|, its largest over the bounds for the shoulder rhythm
     with np.errstate(divide="ignore"):
         per_joint = np.where(weights > 0, step[:, None] / weights, np.inf)
     return per_joint.min(axis=0)

@@ -274,8 +274,23 @@ class Problem:
         return x if self.reduction is None else self.reduction.from_x(x)
 
     def state(self, v: np.ndarray) -> State:
-        """Evaluation point for solver variables v."""
-        return self.state_of_x(self.to_x(v))
+        """Evaluation point for solver variables v (kept on the state when dphi/dbeta depends on them)."""
+        state = self.state_of_x(self.to_x(v))
+        if self.reduction is not None and not self.reduction.linear:
+            state.variables = np.array(v, dtype=float)
+        return state
+
+    def reduction_jacobian(self, state: State) -> np.ndarray:
+        """dphi/dbeta (n_x, n_var) at ``state``; cached on a state of a nonlinear reduction."""
+        red = self.reduction
+        if red.linear:
+            return red.basis
+        cached = state.__dict__.get("reduction_jacobian")
+        if cached is None:
+            v = getattr(state, "variables", None)
+            cached = red.jacobian(red.from_x(state.x) if v is None else v)
+            state.reduction_jacobian = cached
+        return cached
 
     def state_of_x(self, x: np.ndarray) -> State:
         """Evaluation point for a full x = [joints, forces]."""
@@ -311,8 +326,9 @@ class Problem:
         if not self.constraints:
             return np.zeros((0, self.n_var))
         jac = np.vstack([c.jacobian(state) for c in self.constraints])
-        if self.reduction is not None:
-            jac = jac @ self.reduction.basis
+        red = self.reduction
+        if red is not None:
+            jac = jac @ (red.basis if red.linear else self.reduction_jacobian(state))
         return jac * (self.row_weight / self.row_tolerance)[:, None] * self.scale[None, :]
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
@@ -320,8 +336,11 @@ class Problem:
         grad, curv = self.comfort.derivatives(state)
         if self.reduction is None:
             return grad, curv
-        basis = self.reduction.basis
-        return basis.T @ grad, (basis * basis).T @ curv
+        red = self.reduction
+        if red.linear:
+            return red.basis.T @ grad, red.basis_sq.T @ curv
+        dphi = self.reduction_jacobian(state)
+        return dphi.T @ grad, (dphi * dphi).T @ curv
 
     def residuals(self, state: State) -> dict[str, float]:
         out: dict[str, float] = {}

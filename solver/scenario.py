@@ -219,15 +219,12 @@ def load_scenario(path: str | Path) -> Scenario:
 
 
 def _read_reduction(t: _Reader) -> tuple[str, ...]:
-    """[solver] reduction = true (all groups), false, or a list of groups."""
+    """[solver] reduction = true (all groups, the shoulder rhythm included), false, or a list of groups."""
     value = t.get("reduction", False)
     if isinstance(value, bool):
         return GROUPS if value else ()
-    if isinstance(value, list) and all(isinstance(g, str) for g in value):
-        if "shoulder" in value:
-            raise t.fail("reduction", "groups from " + ", ".join(GROUPS) + " (no shoulder rhythm yet)")
-        if all(g in GROUPS for g in value):
-            return tuple(value)
+    if isinstance(value, list) and all(isinstance(g, str) for g in value) and all(g in GROUPS for g in value):
+        return tuple(value)
     raise t.fail("reduction", "true, false or a list of groups from " + ", ".join(GROUPS), value)
 
 
