@@ -19,7 +19,7 @@ from ..solver.contacts import support_polygon
 from ..solver.ergonomics import ErgoOptions
 from ..solver.ergonomics.loads import percent_of_strength
 from ..solver.ergonomics.report import evaluate
-from ..solver.reduction import GROUPS
+from ..solver.reduction import DEFAULT_GROUPS
 from ..solver.scenario import result_to_dict
 from .armature import (
     ERROR_KEY,
@@ -135,7 +135,7 @@ def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
     weights = ComfortWeights(settings.comfort_range, settings.comfort_load, settings.comfort_contact)
     try:
-        groups = GROUPS if settings.reduction else ()
+        groups = DEFAULT_GROUPS if settings.reduction else ()
         problem = Problem(model, targets, loops, loads, settings.balance, weights, groups)
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None

@@ -21,6 +21,9 @@ from .model import Model
 from .shoulder_rhythm import LOWER, UPPER, ShoulderRhythm, build_rhythm
 
 GROUPS = ("lumbar", "thoracic", "cervical", "grasp", "shoulder")
+# What `reduction = true` means: every group except the shoulder rhythm, which is opt-in by name because its
+# 2-variable shoulders (elevation <= 60 deg, no free humeral rotation) lose much reach (docs/BENCHMARKS.md).
+DEFAULT_GROUPS = ("lumbar", "thoracic", "cervical", "grasp")
 _REGION = {"lumbar": r"l[1-5]", "thoracic": r"t(1[0-2]|[1-9])", "cervical": r"c[1-7]"}
 _FINGER_FLEXION = re.compile(r"(thumb|index|middle|ring|little)_([lr])_(mcp_flexion|pip|dip|mcp|ip|cmc_flexion)$")
 _FINGER_OTHER = re.compile(r"(thumb|index|middle|ring|little)_([lr])_")

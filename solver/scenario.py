@@ -22,7 +22,7 @@ from .errors import ManikinError, ScenarioError, read_text
 from .model import GRAVITY, Model
 from .motion import Key, MotionLimits, Track, targets_at
 from .problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
-from .reduction import GROUPS
+from .reduction import DEFAULT_GROUPS, GROUPS
 from .result import Result
 from .solve import DEFAULT_OPTIONS, SolverOptions
 from .spatial import matrix_to_quat, quat_to_matrix
@@ -219,10 +219,10 @@ def load_scenario(path: str | Path) -> Scenario:
 
 
 def _read_reduction(t: _Reader) -> tuple[str, ...]:
-    """[solver] reduction = true (all groups, the shoulder rhythm included), false, or a list of groups."""
+    """[solver] reduction = true (every group but the opt-in shoulder rhythm), false, or a list of groups."""
     value = t.get("reduction", False)
     if isinstance(value, bool):
-        return GROUPS if value else ()
+        return DEFAULT_GROUPS if value else ()
     if isinstance(value, list) and all(isinstance(g, str) for g in value) and all(g in GROUPS for g in value):
         return tuple(value)
     raise t.fail("reduction", "true, false or a list of groups from " + ", ".join(GROUPS), value)

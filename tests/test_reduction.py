@@ -14,7 +14,7 @@ from solver.bodies import load_body
 from solver.errors import ScenarioError
 from solver.motion import MotionLimits, variable_steps
 from solver.problem import Problem, Target
-from solver.reduction import GROUPS
+from solver.reduction import DEFAULT_GROUPS, GROUPS
 from solver.scenario import load_scenario
 from solver.shoulder_rhythm import JOINTS, LOWER, REST, UPPER, bone_angles_deg, build_rhythm, rhythm_angles
 from solver.solve import solve
@@ -247,7 +247,7 @@ def test_motion_steps_bound_the_shoulder_joints(male50):
 
 def test_scenario_switch(tmp_path):
     text = (ROOT / "presets/scenarios/box_lift.toml").read_text()
-    cases = (("true", GROUPS), ('["lumbar", "grasp"]', ("lumbar", "grasp")), ('["shoulder"]', ("shoulder",)),
+    cases = (("true", DEFAULT_GROUPS), ('["lumbar", "grasp"]', ("lumbar", "grasp")), ('["shoulder"]', ("shoulder",)),
              ("false", ()))  # fmt: skip
     for value, expected in cases:
         path = tmp_path / "s.toml"
