@@ -285,12 +285,10 @@ class Problem:
         red = self.reduction
         if red.linear:
             return red.basis
-        cached = state.__dict__.get("reduction_jacobian")
-        if cached is None:
-            v = getattr(state, "variables", None)
-            cached = red.jacobian(red.from_x(state.x) if v is None else v)
-            state.reduction_jacobian = cached
-        return cached
+        if state.reduction_jacobian is None:
+            v = state.variables
+            state.reduction_jacobian = red.jacobian(red.from_x(state.x) if v is None else v)
+        return state.reduction_jacobian
 
     def state_of_x(self, x: np.ndarray) -> State:
         """Evaluation point for a full x = [joints, forces]."""
@@ -326,9 +324,8 @@ class Problem:
         if not self.constraints:
             return np.zeros((0, self.n_var))
         jac = np.vstack([c.jacobian(state) for c in self.constraints])
-        red = self.reduction
-        if red is not None:
-            jac = jac @ (red.basis if red.linear else self.reduction_jacobian(state))
+        if self.reduction is not None:
+            jac = jac @ self.reduction_jacobian(state)
         return jac * (self.row_weight / self.row_tolerance)[:, None] * self.scale[None, :]
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:

@@ -23,6 +23,8 @@ class State:
         self.n_joints = n_joints
         self.n_x = len(x)
         self._layout = layout
+        self.variables: np.ndarray | None = None  # the solver variables beta, when x = phi(beta) is nonlinear
+        self.reduction_jacobian: np.ndarray | None = None  # dphi/dbeta there, once computed
 
     @cached_property
     def kin(self) -> Kinematics:

@@ -225,7 +225,8 @@ def run_random_benchmark(
     write_section(output, "random-bench", text)
     failures = [o for o in outcomes if not o["converged"]]
     fail_path = output.parent / "random_failures.json"
-    fail_path.write_text(json.dumps(failures, indent=1), encoding="utf-8")
+    # one failure per line: thousands of them stay a few MB and diff line by line
+    fail_path.write_text("[\n" + ",\n".join(json.dumps(f) for f in failures) + "\n]\n", encoding="utf-8")
     _plot(outcomes, output.parent / "random_benchmark.png")
     print(f"wrote {output}, {fail_path}, {output.parent / 'random_benchmark.png'}")
     return text
