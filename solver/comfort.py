@@ -51,29 +51,35 @@ class Comfort:
         self.span_down = np.where(finite, np.maximum(mid - lo, 1e-9), 1.0)
         strength = np.where(np.isfinite(model.strength) & (model.strength > 0), model.strength, np.inf)
         self.inv_strength = 1.0 / strength  # (n, 2): for negative and positive muscle moments
+        self._inv_negative = self.inv_strength[:, 0].copy()
+        self._inv_positive = self.inv_strength[:, 1].copy()
         self.load_weight = np.where(model.prismatic, 0.0, model.range_weight)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
 
-    def _range_terms(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """tan^2(u) per joint, its first and second derivative; past |u| = U_MAX continued linearly (C1)."""
+    def _range_terms(self, theta: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
+        """tan^2(u) per joint and (with ``derivatives``) its first and second derivative (per rad or m);
+        past |u| = U_MAX continued linearly (C1)."""
         d = theta - self.model.neutral
         span = np.where(d >= 0.0, self.span_up, self.span_down)
         u = 0.5 * np.pi * d / span
-        du = 0.5 * np.pi / span
         t = np.tan(np.clip(u, -U_MAX, U_MAX))
-        slope = 2.0 * t * (1.0 + t * t)
+        t2 = t * t
+        slope = 2.0 * t * (1.0 + t2)
         beyond = np.abs(u) - U_MAX
-        value = t * t + np.where(beyond > 0.0, np.abs(slope) * beyond, 0.0)
-        curvature = 2.0 * (1.0 + t * t) * (1.0 + 3.0 * t * t) * du * du
+        value = t2 + np.where(beyond > 0.0, np.abs(slope) * beyond, 0.0)
+        if not derivatives:
+            return (value,)
+        du = 0.5 * np.pi / span
+        curvature = 2.0 * (1.0 + t2) * (1.0 + 3.0 * t * t) * du * du
         return value, slope * du, curvature
 
     def _strain_scale(self, tau: np.ndarray) -> np.ndarray:
         # The muscles must produce -tau: positive capacity when tau < 0.
-        return np.where(tau < 0.0, self.inv_strength[:, 1], self.inv_strength[:, 0])
+        return np.where(tau < 0.0, self._inv_positive, self._inv_negative)
 
     def parts(self, state: State) -> dict[str, float]:
         """The three (unweighted) terms, each >= 0, for reports."""
-        rng, _, _ = self._range_terms(state.theta)
+        (rng,) = self._range_terms(state.theta, derivatives=False)
         out = {"range": float(self.range_weight @ rng), "load": 0.0, "contact": 0.0}
         if self.weights.load:
             tau = state.statics.axis_loads()

@@ -185,8 +185,13 @@ class Kinematics:
         world origin moving with the joint's link (n, 3) m/s. A point q then moves with spin x q + origin."""
         prismatic = self.model.prismatic[:, None]
         spin = np.where(prismatic, 0.0, self.axis)
-        origin = np.where(prismatic, self.axis, cross(self.position, self.axis))
+        origin = np.where(prismatic, self.axis, self.origin_velocity)
         return spin, origin
+
+    @cached_property
+    def origin_velocity(self) -> np.ndarray:
+        """(n, 3) p x a: velocity (m/s) of the point at the world origin turning with each revolute joint."""
+        return cross(self.position, self.axis)
 
     def jacobian_rows(self, link: int, point: np.ndarray, rows_lin: np.ndarray, rows_ang: np.ndarray) -> np.ndarray:
         """(k, n) = rows_lin @ (d point / d theta) + rows_ang @ (angular velocity / d theta) for a point on ``link``;

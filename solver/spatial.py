@@ -120,11 +120,16 @@ def matrix_to_quat(r: np.ndarray) -> np.ndarray:
     return q if q[0] >= 0.0 else -q
 
 
+_NEXT = np.array([1, 2, 0])  # component i+1 (mod 3) of a 3-vector
+_AFTER_NEXT = np.array([2, 0, 1])  # component i+2 (mod 3)
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of (..., 3) arrays (broadcasting); much cheaper than np.cross for small stacks."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    """Row-wise cross product of (..., 3) arrays (broadcasting); much cheaper than np.cross for small stacks.
+
+    Component i is a[i+1] b[i+2] - a[i+2] b[i+1] (indices mod 3), all three at once.
+    """
+    return a.take(_NEXT, axis=-1) * b.take(_AFTER_NEXT, axis=-1) - a.take(_AFTER_NEXT, axis=-1) * b.take(_NEXT, axis=-1)
 
 
 def slerp(q0: np.ndarray, q1: np.ndarray, t: float) -> np.ndarray:

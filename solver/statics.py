@@ -25,6 +25,14 @@ from .contacts import ContactSet
 from .model import GRAVITY, Kinematics, Model, Tcp
 from .spatial import cross
 
+_ROW = np.repeat(np.arange(3), 3)  # i of the row-major (i, j) pairs of a 3x3 matrix
+_COL = np.tile(np.arange(3), 3)  # j
+
+
+def _outer_rows(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """(m, 9) row-major outer products u_k v_k^T of (m, 3) rows."""
+    return u.take(_ROW, axis=1) * v.take(_COL, axis=1)
+
 
 @dataclass(frozen=True)
 class Load:
@@ -59,6 +67,8 @@ class StaticsLayout:
         self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
         # [i, e]: contact edge variable e pushes on the subtree of joint i
         self.edge_acts = self.subtree_points[:, self.corner_slice][:, contacts.var_corner]
+        self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
+        self.has_prismatic = bool(model.prismatic.any())
 
     def evaluate(self, kin: Kinematics, w: np.ndarray) -> Statics:
         return Statics(self, kin, w)
@@ -73,14 +83,17 @@ class Statics:
         self.w = w
         contacts = layout.contacts
         self.corner_points = contacts.corner_points(kin)
-        load_points = kin.position[layout.load_link] + np.einsum(
-            "lij,lj->li", kin.rotation[layout.load_link], layout.load_local
-        )
+        if len(layout.load_link):
+            load_points = kin.position[layout.load_link] + np.einsum(
+                "lij,lj->li", kin.rotation[layout.load_link], layout.load_local
+            )
+        else:
+            load_points = layout.load_local  # (0, 3)
         self.load_points = load_points
-        self._points = np.vstack([kin.com, self.corner_points, load_points])
-        self._forces = np.vstack([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
+        self._points = np.concatenate([kin.com, self.corner_points, load_points])
+        self._forces = np.concatenate([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
         moments = cross(self._points, self._forces)
-        sums = layout.subtree_points @ np.hstack([self._forces, moments])
+        sums = layout.subtree_points @ np.concatenate([self._forces, moments], axis=1)
         self.total_force = self._forces.sum(axis=0)
         self.total_moment = moments.sum(axis=0)  # about the world origin
         self.sub_force = sums[:, 0:3]
@@ -90,8 +103,7 @@ class Statics:
     @cached_property
     def sub_outer(self) -> np.ndarray:
         """(n, 3, 3) subtree sums of q_k F_k^T (point times force), N*m; only the derivatives need it."""
-        outer = (self._points[:, :, None] * self._forces[:, None, :]).reshape(-1, 9)
-        return (self.layout.subtree_points @ outer).reshape(-1, 3, 3)
+        return (self.layout.subtree_points @ _outer_rows(self._points, self._forces)).reshape(-1, 3, 3)
 
     def joint_moments(self) -> np.ndarray:
         """(n, 3) moment of each joint's subtree loads about the joint position, N*m (world)."""
@@ -115,7 +127,10 @@ class Statics:
                 - p * a_dot_f[:, None]
                 - a * (trace - np.einsum("ni,ni->n", p, sf))[:, None]
             )
-            self._g = np.where(self.layout.model.prismatic[:, None], cross(a, sf), w_rev)
+            if self.layout.has_prismatic:
+                prism = self.layout.model.prismatic
+                w_rev[prism] = cross(a[prism], sf[prism])
+            self._g = w_rev
         return self._g
 
     def balance_error(self) -> np.ndarray:
@@ -124,13 +139,16 @@ class Statics:
 
     def balance_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
         """d balance_error / d theta (6, n) and / d w (6, n_w)."""
-        n = self.layout.model.n
-        d_theta = np.vstack([np.zeros((3, n)), self.moment_derivatives().T])
-        contacts = self.layout.contacts
-        dirs = contacts.var_direction
-        q = self.corner_points[contacts.var_corner]
-        d_w = np.vstack([dirs.T, cross(q, dirs).T])
+        d_theta = np.zeros((6, self.layout.model.n))
+        d_theta[3:] = self.moment_derivatives().T
+        d_w = np.concatenate([self.layout.contacts.var_direction.T, self.edge_moment_arms.T])
         return d_theta, d_w
+
+    @cached_property
+    def edge_moment_arms(self) -> np.ndarray:
+        """(n_w, 3) q x d per contact edge variable: moment about the world origin per unit weight, m."""
+        contacts = self.layout.contacts
+        return cross(self.corner_points[contacts.var_corner], contacts.var_direction)
 
     def axis_load_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
         """d axis_loads / d theta (n, n) and / d w (n, n_w), exact; rows of prismatic joints are left 0."""
@@ -146,11 +164,11 @@ class Statics:
 
     def _axis_load_force_jacobian(self) -> np.ndarray:
         """d axis_loads / d w (n, n_w), prismatic rows included."""
-        a, p = self.kin.axis, self.kin.position
-        contacts = self.layout.contacts
-        dirs = contacts.var_direction
-        q = self.corner_points[contacts.var_corner]
-        return self.layout.edge_acts * (a @ cross(q, dirs).T - cross(a, p) @ dirs.T)
+        # a . (q x d) - (a x p) . d, with a x p = -(p x a), the joint's origin velocity
+        kin = self.kin
+        return self.layout.edge_acts * (
+            kin.axis @ self.edge_moment_arms.T + kin.origin_velocity @ self.layout.contacts.var_direction.T
+        )
 
     def axis_load_contractions(self, coef: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(coef @ J, weight @ (J * J)), both (n_x,), for J = d axis_loads / d x of :meth:`axis_load_jacobian`.
@@ -159,14 +177,11 @@ class Statics:
         J_ij = A_ij g_i.a_j + D_ij a_i.g_j, and A, D are disjoint, so both sums are (n, n) @ (n, 12) products.
         """
         layout = self.layout
-        n = layout.model.n
-        rev = ~layout.model.prismatic
-        coef, weight = coef * rev, weight * rev
+        coef, weight = coef * layout.revolute, weight * layout.revolute
         a, g = self.kin.axis, self.moment_derivatives()
-        aa = (a[:, :, None] * a[:, None, :]).reshape(n, 9)
-        gg = (g[:, :, None] * g[:, None, :]).reshape(n, 9)
-        from_ancestors = layout.ancestor_or_self_rev.T @ np.hstack([coef[:, None] * g, weight[:, None] * gg])
-        from_descendants = layout.strict_descendant.T @ np.hstack([coef[:, None] * a, weight[:, None] * aa])
+        aa, gg = _outer_rows(a, a), _outer_rows(g, g)
+        from_ancestors = layout.ancestor_or_self_rev.T @ np.concatenate([coef[:, None] * g, weight[:, None] * gg], 1)
+        from_descendants = layout.strict_descendant.T @ np.concatenate([coef[:, None] * a, weight[:, None] * aa], 1)
         lin_theta = np.einsum("ni,ni->n", from_ancestors[:, :3], a) + np.einsum("ni,ni->n", from_descendants[:, :3], g)
         sq_theta = np.einsum("ni,ni->n", from_ancestors[:, 3:], aa) + np.einsum("ni,ni->n", from_descendants[:, 3:], gg)
         d_w = self._axis_load_force_jacobian()

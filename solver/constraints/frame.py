@@ -61,6 +61,8 @@ class FrameConstraint(Constraint):
         base_tol = np.array([position_tolerance] * 3 + [rotation_tolerance] * 3)
         self._tolerance = np.abs(self.operator) @ base_tol
         self._is_selection = bool(np.all((self.operator == 0) | (self.operator == 1)))
+        # a fixed target's linear Jacobian rows do not depend on the state
+        self._fixed_rows_lin = None if reference is not None else self.operator[:, :3] @ self.target_rotation.T
 
     @property
     def rows(self) -> int:
@@ -76,23 +78,29 @@ class FrameConstraint(Constraint):
         r_ref, p_ref = state.kin.tcp_frame(self.reference)
         return r_ref @ self.target_rotation, p_ref + r_ref @ self.target_position
 
+    def _evaluate(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(target rotation, TCP position m, the 6 unrelaxed components), computed once per state."""
+        cached = state.constraint_cache.get(self)
+        if cached is None:
+            r_t, o_t = self.target_frame(state)
+            r, o = state.kin.tcp_frame(self.tcp)
+            cached = (r_t, o, np.concatenate([r_t.T @ (o - o_t), log_so3(r_t.T @ r)]))
+            state.constraint_cache[self] = cached
+        return cached
+
     def full_error(self, state: State) -> np.ndarray:
         """The 6 unrelaxed components [e_p (m), e_r (rad)]."""
-        r_t, o_t = self.target_frame(state)
-        r, o = state.kin.tcp_frame(self.tcp)
-        return np.concatenate([r_t.T @ (o - o_t), log_so3(r_t.T @ r)])
+        return self._evaluate(state)[2]
 
     def error(self, state: State) -> np.ndarray:
         return self.operator @ self.full_error(state)
 
     def jacobian(self, state: State) -> np.ndarray:
         kin = state.kin
-        r_t, _ = self.target_frame(state)
-        r, o = kin.tcp_frame(self.tcp)
-        e_r = log_so3(r_t.T @ r)
+        r_t, o, full_error = self._evaluate(state)
         op = self.operator
-        rows_lin = op[:, :3] @ r_t.T
-        rows_ang = op[:, 3:] @ (left_jacobian_inverse_so3(e_r) @ r_t.T)
+        rows_lin = op[:, :3] @ r_t.T if self._fixed_rows_lin is None else self._fixed_rows_lin
+        rows_ang = op[:, 3:] @ (left_jacobian_inverse_so3(full_error[3:]) @ r_t.T)
         full = np.zeros((self.rows, self.n_x))
         n = kin.model.n
         full[:, :n] = kin.jacobian_rows(self.tcp.link, o, rows_lin, rows_ang)
