@@ -59,9 +59,7 @@ class Model:
     _jumps: tuple = field(init=False)
     _order: np.ndarray = field(init=False)
     _rank: np.ndarray = field(init=False)
-    _axis_skew: np.ndarray = field(init=False)
-    _axis_skew2: np.ndarray = field(init=False)
-    _plain_origins: bool = field(init=False)
+    _fk: _ForwardTables = field(init=False)
 
     def __post_init__(self) -> None:
         n = len(self.joint_names)
@@ -90,10 +88,7 @@ class Model:
         object.__setattr__(self, "_jumps", tuple(jumps))
         object.__setattr__(self, "_order", order)
         object.__setattr__(self, "_rank", rank)
-        k = skew(self.axis)
-        object.__setattr__(self, "_axis_skew", k)
-        object.__setattr__(self, "_axis_skew2", k @ k)
-        object.__setattr__(self, "_plain_origins", bool(np.allclose(self.origin_rotation, np.eye(3))))
+        object.__setattr__(self, "_fk", _ForwardTables.build(self, order))
         self.prismatic.setflags(write=False)
         self.descendant.setflags(write=False)
 
@@ -133,21 +128,22 @@ class Model:
     def forward(self, theta: np.ndarray) -> Kinematics:
         """World frames of all links for joint values ``theta`` (rad / m)."""
         theta = np.asarray(theta, dtype=float)
+        fk = self._fk
         n = len(theta)
-        rev_angles = np.where(self.prismatic, 0.0, theta)
-        sin, cos = np.sin(rev_angles)[:, None, None], np.cos(rev_angles)[:, None, None]
+        angle = theta[self._order]  # the local transforms are built in depth order, as the jumps need them
+        rev_angles = np.where(fk.prismatic, 0.0, angle)
+        sin, cos = np.sin(rev_angles)[:, None], np.cos(rev_angles)[:, None]
         local = np.zeros((n, 4, 4))
         local[:, 3, 3] = 1.0
-        spin = np.eye(3) + sin * self._axis_skew + (1.0 - cos) * self._axis_skew2
-        slide = np.where(self.prismatic, theta, 0.0)[:, None] * self.axis
-        if self._plain_origins:
+        spin = (fk.eye + sin * fk.axis_skew + (1.0 - cos) * fk.axis_skew2).reshape(n, 3, 3)
+        slide = np.where(fk.prismatic, angle, 0.0)[:, None] * fk.axis
+        if fk.origin_rotation is None:
             local[:, :3, :3] = spin
-            local[:, :3, 3] = self.origin_position + slide
+            local[:, :3, 3] = fk.origin_position + slide
         else:
-            local[:, :3, :3] = self.origin_rotation @ spin
-            local[:, :3, 3] = self.origin_position + np.einsum("nij,nj->ni", self.origin_rotation, slide)
+            local[:, :3, :3] = fk.origin_rotation @ spin
+            local[:, :3, 3] = fk.origin_position + np.einsum("nij,nj->ni", fk.origin_rotation, slide)
         # Pointer jumping in depth order (in place is safe: the right-hand side gathers copies first).
-        local = local[self._order]
         for start, anc in self._jumps:
             local[start:] = local[anc] @ local[start:]
         local = local[self._rank]
@@ -156,6 +152,33 @@ class Model:
         world_axis = np.einsum("nij,nj->ni", rot, self.axis)
         world_com = pos + np.einsum("nij,nj->ni", rot, self.com)
         return Kinematics(self, theta, rot, pos, world_axis, world_com)
+
+
+@dataclass(frozen=True, eq=False)
+class _ForwardTables:
+    """Per-link constants of :meth:`Model.forward`, in depth order (the model's ``_order``)."""
+
+    prismatic: np.ndarray  # (n,) bool
+    eye: np.ndarray  # (9,) the identity, row-major
+    axis_skew: np.ndarray  # (n, 9) [axis]x, row-major
+    axis_skew2: np.ndarray  # (n, 9) [axis]x^2
+    axis: np.ndarray  # (n, 3) joint axis in the link frame
+    origin_position: np.ndarray  # (n, 3) m, in the parent frame
+    origin_rotation: np.ndarray | None  # (n, 3, 3); None when every origin rotation is the identity
+
+    @staticmethod
+    def build(model: Model, order: np.ndarray) -> _ForwardTables:
+        k = skew(model.axis)
+        plain = bool(np.allclose(model.origin_rotation, np.eye(3)))
+        return _ForwardTables(
+            prismatic=model.prismatic[order],
+            eye=np.eye(3).ravel(),
+            axis_skew=k[order].reshape(-1, 9),
+            axis_skew2=(k @ k)[order].reshape(-1, 9),
+            axis=model.axis[order],
+            origin_position=model.origin_position[order],
+            origin_rotation=None if plain else model.origin_rotation[order],
+        )
 
 
 @dataclass(frozen=True, eq=False)

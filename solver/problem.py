@@ -252,6 +252,7 @@ class Problem:
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
         self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
+        self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
 
     @staticmethod
     def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
@@ -323,10 +324,10 @@ class Problem:
         """d scaled_error / d (v / scale)."""
         if not self.constraints:
             return np.zeros((0, self.n_var))
-        jac = np.vstack([c.jacobian(state) for c in self.constraints])
+        jac = np.concatenate([c.jacobian(state) for c in self.constraints])
         if self.reduction is not None:
             jac = jac @ self.reduction_jacobian(state)
-        return jac * (self.row_weight / self.row_tolerance)[:, None] * self.scale[None, :]
+        return jac * self._row_scale * self.scale
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """d h / d v and the diagonal curvature model of -h in the solver variables v."""
