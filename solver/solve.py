@@ -224,7 +224,7 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     half_hi = np.where(problem.is_joint & (hi > FRACTION_NEAR), 0.5, 1.0)
     fixed = np.zeros_like(x)
     n = len(x)
-    compact = memory.compact(curv_f + 1e-12) if (comfort_on and memory is not None) else None
+    compact = memory.compact(curv_f + 1e-12) if memory is not None else None  # memory is None without comfort
     task = np.zeros(n)
     comfort = np.zeros(n)
     for _ in range(opts.clamping_rounds):
@@ -355,6 +355,8 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
         alpha = 1.0
         for use_comfort, tries in attempts:
             direction = step.task + step.comfort if use_comfort else step.task
+            # d merit / d alpha at 0 on the linear model, for the task part's backtracking
+            slope = 0.0 if use_comfort else 2.0 * float(err @ (jac @ direction))
             alpha = 1.0
             for _ in range(tries):
                 x_try = np.clip(x + alpha * direction * problem.scale, problem.lower, problem.upper)
@@ -378,7 +380,6 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
                 if use_comfort or not np.isfinite(m_try):
                     alpha *= 0.5
                 else:  # minimum of the quadratic through merit(0), its slope and merit(alpha), safeguarded
-                    slope = 2.0 * float(err @ (jac @ direction))
                     bend = (m_try - merit - alpha * slope) / alpha**2
                     guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
                     alpha = float(np.clip(guess, 0.1 * alpha, 0.5 * alpha))
