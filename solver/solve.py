@@ -163,21 +163,25 @@ class _CurvatureMemory:
         self.size = size
         self.steps: list[np.ndarray] = []
         self.changes: list[np.ndarray] = []
+        self._pairs: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None  # what b0 does not change
 
     def add(self, step: np.ndarray, change: np.ndarray) -> None:
         if float(step @ change) > 1e-10 * float(step @ step) and np.all(np.isfinite(change)):
             self.steps = [*self.steps, step][-self.size :]
             self.changes = [*self.changes, change][-self.size :]
+            self._pairs = None
 
     def compact(self, b0: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         """(U (n, 2k), M (2k, 2k)) with B = diag(b0) - U M^-1 U^T; None while the memory is empty."""
         if not self.steps:
             return None
-        s, y = np.array(self.steps).T, np.array(self.changes).T
+        if self._pairs is None:
+            s, y = np.array(self.steps).T, np.array(self.changes).T
+            s_y = s.T @ y
+            self._pairs = (s, y, np.tril(s_y, -1), -np.diag(np.diag(s_y)))
+        s, y, lower, minus_diagonal = self._pairs
         b0_s = b0[:, None] * s
-        s_y = s.T @ y
-        lower = np.tril(s_y, -1)
-        middle = np.block([[s.T @ b0_s, lower], [lower.T, -np.diag(np.diag(s_y))]])
+        middle = np.block([[s.T @ b0_s, lower], [lower.T, minus_diagonal]])
         return np.hstack([b0_s, y]), middle
 
 
@@ -207,14 +211,15 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     the exact minimiser of the diagonal comfort model on the linearised constraints. The bound check is made
     on the sum of both parts, so a joint that the task alone would push past its limit stays free when
     comfort pulls it back; variables the sum pushes past a bound are saturated there and the step is solved
-    again without them.
+    again without them. Without comfort (``comfort_on`` false) the metric is the curvature alone if one is
+    given, else the identity.
     """
     lo = (problem.lower - x) / problem.scale
     hi = (problem.upper - x) / problem.scale
     # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.
     outward = jac.T @ err + grad_f  # descent of both pushes along -outward
     free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
-    if comfort_on:
+    if comfort_on or curv_f.any():
         level = float(np.mean(curv_f[free])) if free.any() else 1.0
         metric = curv_f + mu * max(level, 1e-12) + 1e-12
     else:
@@ -257,7 +262,8 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
         # boundary, so the tan^2 comfort is not slammed to its wall); forces stop exactly at zero.
         fixed[below], fixed[above] = lo[below] * half_lo[below], hi[above] * half_hi[above]
         free &= ~(below | above)
-    task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
+    if not (np.isfinite(task).all() and np.isfinite(comfort).all()):
+        task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
     predicted = -(grad_f @ comfort + 0.5 * (curv_f * comfort) @ comfort) if comfort_on else 0.0
     if compact is not None:  # the quasi-Newton part of comfort @ B @ comfort / 2
         u_c = compact[0].T @ comfort
@@ -308,13 +314,19 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
     else:
         worst = np.inf
     if worst > 1.0 and used < budget:
-        x, worst, more = _iterate(problem, x, opts, False, budget - used)
+        x, worst, more = _iterate(problem, x, opts, False, budget - used, keep_off_limits=opts.optimize_comfort)
         used += more
     return Result.from_state(problem, problem.state(x), used, time.perf_counter() - t0)
 
 
-def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: bool, budget: int):
-    """Up to ``budget`` iterations from x; returns (x, worst scaled error, iterations used)."""
+def _iterate(
+    problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: bool, budget: int, keep_off_limits: bool = False
+):
+    """Up to ``budget`` iterations from x; returns (x, worst scaled error, iterations used).
+
+    Without comfort, ``keep_off_limits`` still steps in the comfort's curvature metric (no comfort part), so
+    restoring the constraints after the comfort phase does not drive joints onto their limits.
+    """
     evaluate = _Evaluator(problem, comfort_on)
     state, err, merit, worst, f = evaluate(x)
     mu = INITIAL_MU
@@ -333,6 +345,8 @@ def _iterate(problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: b
             if previous is not None and previous[0] is not x and worst <= COMFORT_SLACK:
                 x_old, jac_old, grad_old, lam = previous
                 memory.add((x - x_old) / problem.scale, grad_f - grad_old + (jac - jac_old).T @ lam)
+        elif keep_off_limits:
+            grad_f, curv_f = np.zeros(problem.n_var), problem.comfort_derivatives(state)[1] * problem.scale**2
         else:
             grad_f, curv_f = np.zeros(problem.n_var), np.zeros(problem.n_var)
         step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on, memory)

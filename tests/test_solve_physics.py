@@ -17,11 +17,12 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
+from solver.bench import random_targets
 from solver.bodies import load_body
 from solver.errors import ManikinError
 from solver.problem import ExternalLoad, Loop, Problem, Target
 from solver.scenario import load_scenario
-from solver.solve import solve
+from solver.solve import DEFAULT_OPTIONS, _iterate, solve
 
 REPO = Path(__file__).resolve().parents[1]
 BOX_LIFT = REPO / "presets" / "scenarios" / "box_lift.toml"
@@ -426,3 +427,18 @@ def test_thin_svd_matches_numpy(rank):
     assert np.allclose(u * s @ vt, jac, rtol=0.0, atol=1e-6 * big)
     projector, projector0 = vt[keep].T @ vt[keep], vt0[keep].T @ vt0[keep]
     assert np.allclose(projector, projector0, atol=1e-5)
+
+
+@pytest.mark.parametrize("level, seed", [(1, 107), (3, 307)])
+def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, seed):
+    """The restoring phase steps in the comfort's curvature metric: constraints met, joints far from limits."""
+    box = random_targets.workspace_box(male50)
+    targets = random_targets.draw_targets(male50, box, random_targets.LEVELS[level], seed)
+    problem = random_targets.trial_problem(male50, targets, True, ())
+    worst_range = {}
+    for keep in (False, True):
+        x, worst, _ = _iterate(problem, problem.start(), DEFAULT_OPTIONS, False, 40, keep_off_limits=keep)
+        assert worst <= 1.0
+        theta = problem.state(x).theta
+        worst_range[keep] = float(np.max(problem.comfort.range_weight * problem.comfort._range_terms(theta, False)[0]))
+    assert worst_range[True] < 0.1 * worst_range[False], worst_range
