@@ -291,6 +291,11 @@ class Problem:
             state.reduction_jacobian = red.jacobian(red.from_x(state.x) if v is None else v)
         return state.reduction_jacobian
 
+    def joint_change(self, state: State, dv: np.ndarray) -> np.ndarray:
+        """(n,) change of every model joint (rad or m), to first order, for a change ``dv`` of the solver variables."""
+        dx = dv if self.reduction is None else self.reduction_jacobian(state) @ dv
+        return dx[: self.model.n]
+
     def state_of_x(self, x: np.ndarray) -> State:
         """Evaluation point for a full x = [joints, forces]."""
         return State(x, self.model.n, self.layout)

@@ -16,7 +16,10 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
 3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
    solved again without them (the clamping loop); the comfort part is shortened to stay inside.
 4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may
-   ride along if the error still falls and comfort does not get worse than predicted. Near the constraints
+   ride along if the error still falls and comfort does not get worse than predicted. Far away a step is
+   first shortened so that no joint turns more than MAX_TURN (the clamping of joint changes in Buss & Kim's
+   selectively damped least squares): the linear model holds about that far, and the iterate stays in the
+   basin of a comfortable pose. Near the constraints
    (within COMFORT_SLACK tolerances) task + comfort is tried first and must lower the exact-penalty merit
    -h + nu sum |scaled error|, nu twice the largest multiplier estimate, judged after a second-order
    correction that reuses the same SVD. A rejected step is halved, then the task part is tried alone (its
@@ -39,6 +42,8 @@ HOVER_LIMIT = 12  # comfort iterations just outside the constraints before the r
 FRACTION_NEAR = 0.02  # scaled distance below which a joint may be saturated right at its limit
 INITIAL_MU = 0.1  # comfort metric damping at the start (x mean curvature); measured: fewer rejected comfort steps
 COMFORT_SLACK = 10.0  # how far (in tolerances) a comfort step may leave the constraints before the next task step
+MAX_TURN = 0.3  # rad: largest joint rotation of a step far from the constraints; measured: 0.25..0.4 better than none
+MAX_SLIDE = 0.3  # m: the same for a prismatic joint
 MEMORY = 6  # curvature pairs kept by the quasi-Newton comfort model; measured: 3 and 12 no better
 
 
@@ -301,7 +306,8 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
     """Find x meeting the constraints and maximising comfort, warm-started from ``x0`` (any earlier pose).
 
     Comfort is optimised while the constraints are met; if they are not met by the end of that phase (or the
-    iterate keeps hovering just outside them), the last iterations restore them with comfort switched off.
+    iterate keeps hovering just outside them), the last iterations restore them with comfort switched off
+    (but still in its curvature metric, which keeps joints off their limits).
     """
     t0 = time.perf_counter()
     opts = options
@@ -334,6 +340,7 @@ def _iterate(
     stalls = hovering = quiet = 0  # quiet: feasible iterations in a row that gained negligible comfort
     iterations = 0
     memory = _CurvatureMemory(MEMORY) if comfort_on else None
+    move_limit = np.where(problem.model.prismatic, MAX_SLIDE, MAX_TURN)
     previous = None  # (x, jac, grad_f, multipliers) of the previous iteration
     while iterations < budget:
         iterations += 1
@@ -369,6 +376,9 @@ def _iterate(
         alpha = 1.0
         for use_comfort, tries in attempts:
             direction = step.task + step.comfort if use_comfort else step.task
+            if not near:  # far away, a joint turns at most MAX_TURN per step: the linear model holds about that far
+                move = np.abs(problem.joint_change(state, direction * problem.scale)) / move_limit
+                direction = direction / max(float(np.max(move, initial=0.0)), 1.0)
             # d merit / d alpha at 0 on the linear model, for the task part's backtracking
             slope = 0.0 if use_comfort else 2.0 * float(err @ (jac @ direction))
             alpha = 1.0

@@ -97,6 +97,10 @@ def test_reduced_jacobian_and_gradient_match_finite_differences(male50):
         np.testing.assert_allclose(curv, (dphi * dphi).T @ curv_x)
         # a state built from x alone (no variables on it) gets the same Jacobian through the fit
         np.testing.assert_allclose(p.scaled_jacobian(p.state_of_x(state.x)), p.scaled_jacobian(state), atol=1e-6)
+        # the joint change the solver limits far from the constraints is d phi / d beta applied to the step
+        dv = 1e-6 * rng.normal(size=p.n_var)
+        exact = p.to_x(v + dv)[: male50.n] - p.to_x(v)[: male50.n]
+        np.testing.assert_allclose(p.joint_change(state, dv), exact, atol=1e-9)
 
 
 def test_reduced_solve_meets_targets_and_couples_the_spine(male50):
