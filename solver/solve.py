@@ -16,7 +16,8 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
 3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
    solved again without them (the clamping loop); the comfort part is shortened to stay inside.
 4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may
-   ride along if the error still falls and comfort does not get worse than predicted. Far away a step is
+   ride along if the error still falls and comfort ends no worse than the model predicts for the task part
+   alone. Far away a step is
    first shortened so that no joint turns more than MAX_TURN (the clamping of joint changes in Buss & Kim's
    selectively damped least squares): the linear model holds about that far, and the iterate stays in the
    basin of a comfortable pose. Near the constraints
@@ -373,6 +374,8 @@ def _iterate(
         else:
             attempts = [(False, 5)]
         accepted = use_comfort = False
+        # f's predicted rise from the task part alone (diagonal model): the ride-along need not undo it
+        task_change = max(float(grad_f @ step.task + 0.5 * (curv_f * step.task) @ step.task), 0.0)
         alpha = 1.0
         for use_comfort, tries in attempts:
             direction = step.task + step.comfort if use_comfort else step.task
@@ -392,7 +395,7 @@ def _iterate(
                     if soc[2] < m_try:
                         x_try, (s_try, e_try, m_try, w_try, f_try) = x_soc, soc
                 if use_comfort and not near:  # far from the constraints comfort rides along a task step
-                    better = m_try < merit and f_try < f + step.predicted_gain
+                    better = m_try < merit and f_try < f + task_change + step.predicted_gain
                 elif use_comfort:
                     penalty = step.penalty * (np.abs(e_try).sum() - np.abs(err).sum())
                     better = w_try <= COMFORT_SLACK and f_try - f + penalty < 0.0
