@@ -30,6 +30,7 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -118,12 +119,13 @@ class _LeastSquares:
         eps = opts.singular_threshold * s_max
         ramp = 1.0 - (self.s / max(eps, 1e-300)) ** 2
         self.damp2 = np.where(self.s < eps, (opts.max_damping * s_max) ** 2 * ramp, 0.0)
+        self._denominator = self.s * self.s + self.damp2  # of the gain, before any extra damping
         self.s_max = s_max
         keep = self.s > 1e-9 * s_max if s_max > 0 else np.zeros(len(self.s), dtype=bool)
         self.basis = self.vt[keep]  # orthonormal basis of the row space (undamped, rank-truncated)
 
     def _gain(self, extra2: float) -> np.ndarray:
-        denom = self.s * self.s + self.damp2 + extra2
+        denom = self._denominator + extra2
         return np.divide(self.s, denom, out=np.zeros_like(self.s), where=denom > 0)
 
     def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
@@ -138,7 +140,7 @@ class _LeastSquares:
 
         def norm(extra2: float) -> float:
             d = self._gain(extra2) * c
-            return float(np.sqrt(max(d @ gram @ d, 0.0)))
+            return math.sqrt(max(float(d @ gram @ d), 0.0))
 
         if norm(0.0) <= radius or self.s_max <= 0:
             return -a @ (self._gain(0.0) * c)
