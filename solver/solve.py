@@ -17,15 +17,14 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    solved again without them (the clamping loop); the comfort part is shortened to stay inside.
 4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may
    ride along if the error still falls and comfort ends no worse than the model predicts for the task part
-   alone. Far away a step is
-   first shortened so that no joint turns more than MAX_TURN (the clamping of joint changes in Buss & Kim's
-   selectively damped least squares): the linear model holds about that far, and the iterate stays in the
-   basin of a comfortable pose. Near the constraints
-   (within COMFORT_SLACK tolerances) task + comfort is tried first and must lower the exact-penalty merit
-   -h + nu sum |scaled error|, nu twice the largest multiplier estimate, judged after a second-order
-   correction that reuses the same SVD. A rejected step is halved, then the task part is tried alone (its
-   step length from a safeguarded quadratic fit of the error); when comfort keeps failing, mu grows and the
-   comfort part turns back into the thesis's gradient step.
+   alone. Far away a step is first shortened so that no joint turns more than MAX_TURN (as Buss & Kim's
+   selectively damped least squares clamps joint changes): the linear model holds about that far, and the
+   iterate stays in the basin of a comfortable pose. Near the constraints (within COMFORT_SLACK tolerances)
+   task + comfort is tried first and must lower the exact-penalty merit -h + nu sum |scaled error|, nu twice
+   the largest multiplier estimate, judged after a second-order correction that reuses the same SVD. A
+   rejected step is halved, then the task part is tried alone (its step length from a safeguarded quadratic
+   fit of the error); when comfort keeps failing, mu grows and the comfort part turns back into the thesis's
+   gradient step.
 """
 
 from __future__ import annotations
