@@ -284,6 +284,19 @@ def test_one_hand_reach(male50, load_kg):
         assert total_z == pytest.approx((male50.total_mass + load_kg) * 9.81, abs=FORCE_TOL)
 
 
+def test_unreachable_target_stops_early_with_the_best_compromise(male50):
+    """A hand target 3 m up: the error stops falling long before the iteration limit; the solver says so."""
+    far = np.array([0.0, -0.3, 3.0])
+    result = solve(reach_problem(male50, far))
+    assert not result.converged and "hand_r" in result.unmet
+    assert result.iterations < DEFAULT_OPTIONS.max_iterations
+    kin = male50.forward(result.theta)
+    reach = np.linalg.norm(_tcp_frame(male50, kin, "hand_r")[1] - far)
+    start = np.linalg.norm(_tcp_frame(male50, male50.forward(male50.zero_pose()), "hand_r")[1] - far)
+    assert reach < start - 0.5  # reached up towards it (a least-squares compromise with the other rows)
+    assert all(np.isfinite(v) for v in result.residuals.values())
+
+
 def test_loop_hand_to_hand(male50):
     """hand_l held 0.3 m along hand_r's x axis while hand_r reaches forward."""
     loop = Loop("hand_l", "hand_r", offset_position=np.array([0.3, 0.0, 0.0]), lock=("x", "y", "z"))
