@@ -121,12 +121,15 @@ class _LeastSquares:
         ramp = 1.0 - (self.s / max(eps, 1e-300)) ** 2
         self.damp2 = np.where(self.s < eps, (opts.max_damping * s_max) ** 2 * ramp, 0.0)
         self._denominator = self.s * self.s + self.damp2  # of the gain, before any extra damping
+        self._positive = bool(np.all(self._denominator > 0.0))
         self.s_max = s_max
         keep = self.s > 1e-9 * s_max if s_max > 0 else np.zeros(len(self.s), dtype=bool)
         self.basis = self.vt[keep]  # orthonormal basis of the row space (undamped, rank-truncated)
 
     def _gain(self, extra2: float) -> np.ndarray:
         denom = self._denominator + extra2
+        if self._positive and extra2 >= 0.0:
+            return self.s / denom
         return np.divide(self.s, denom, out=np.zeros_like(self.s), where=denom > 0)
 
     def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
