@@ -8,6 +8,7 @@ joint stays in its range; every locked axis of every target and loop is met; not
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import math
 from pathlib import Path
 
@@ -455,3 +456,26 @@ def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, 
         theta = problem.state(x).theta
         worst_range[keep] = float(np.max(problem.comfort.range_weight * problem.comfort._range_terms(theta, False)[0]))
     assert worst_range[True] < 0.1 * worst_range[False], worst_range
+
+
+def test_far_steps_turn_no_joint_more_than_the_limit(monkeypatch):
+    """Far from the constraints (cold box lift from the zero pose) every accepted step stays within MAX_TURN."""
+    solve_module = importlib.import_module("solver.solve")
+    scenario = load_scenario(BOX_LIFT)
+    problem = scenario.problem
+    seen = []
+    original = solve_module._step
+
+    def recording(problem_, x, jac, err, *args):
+        seen.append((x.copy(), float(np.max(np.abs(err) / problem_.row_weight))))
+        return original(problem_, x, jac, err, *args)
+
+    monkeypatch.setattr(solve_module, "_step", recording)
+    result = solve(problem, scenario.start, scenario.options)
+    assert result.converged
+    n = problem.model.n
+    slack = solve_module.COMFORT_SLACK
+    far_steps = [(a, b) for (a, worst), (b, _) in zip(seen[:-1], seen[1:], strict=True) if worst > slack]
+    assert len(far_steps) >= 5
+    for before, after in far_steps:
+        assert np.max(np.abs(after[:n] - before[:n])) <= solve_module.MAX_TURN + 1e-9
