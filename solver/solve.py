@@ -383,8 +383,9 @@ def _iterate(
         else:
             attempts = [(False, 5)]
         accepted = use_comfort = False
-        # f's predicted rise from the task part alone (diagonal model): the ride-along need not undo it
-        task_change = max(float(grad_f @ step.task + 0.5 * (curv_f * step.task) @ step.task), 0.0)
+        task_change = 0.0  # f's predicted rise from the task part alone (diagonal model): a ride-along need not undo it
+        if not near and step.predicted_gain > 0:
+            task_change = max(float(grad_f @ step.task + 0.5 * (curv_f * step.task) @ step.task), 0.0)
         alpha = 1.0
         for use_comfort, tries in attempts:
             direction = step.task + step.comfort if use_comfort else step.task
