@@ -15,6 +15,7 @@ import numpy as np
 
 from .errors import ModelError
 from .spatial import cross, skew
+from .tree import TreeSums
 
 GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2, world frame
 EXTERIOR_JOINTS = ("root_tx", "root_ty", "root_tz", "root_rz", "root_rx", "root_ry")
@@ -56,6 +57,7 @@ class Model:
     tcps: dict[str, Tcp]
     info: dict = field(default_factory=dict)  # body description (sex, stature, mass, sources)
     descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
+    subtree_sums: TreeSums = field(init=False)  # O(n) sums over every link's subtree
     _jumps: tuple = field(init=False)
     _order: np.ndarray = field(init=False)
     _rank: np.ndarray = field(init=False)
@@ -70,6 +72,7 @@ class Model:
                 desc[j, k] = True
                 j = int(self.parent[j])
         object.__setattr__(self, "descendant", desc)
+        object.__setattr__(self, "subtree_sums", TreeSums(self.parent))
         # Pointer-jumping schedule over the links sorted by depth: in each round every link whose ancestor
         # pointer is still inside the tree composes with it; those links form a suffix of the sorted order,
         # so each round updates one contiguous slice.

@@ -43,21 +43,17 @@ class Load:
 
 
 class StaticsLayout:
-    """What stays fixed for one problem: which link every point force acts on, as subtree incidence."""
+    """What stays fixed for one problem: which link every point force acts on, and the tree's incidence."""
 
     def __init__(self, model: Model, contacts: ContactSet, loads: list[Load]) -> None:
         self.model = model
         self.contacts = contacts
         self.loads = list(loads)
         n = model.n
-        point_links = np.concatenate(
-            [np.arange(n), contacts.corner_link, np.array([ld.tcp.link for ld in loads], dtype=int)]
-        )
+        extra_links = np.concatenate([contacts.corner_link, np.array([ld.tcp.link for ld in loads], dtype=int)])
+        # [i, k] = 1 if extra point k (sole corners, then loads) acts on link i; link COMs are points 0..n-1
+        self.extra_on_link = (np.arange(n)[:, None] == extra_links[None, :]).astype(float)
         desc = model.descendant.astype(float)
-        # subtree[i, k] = 1 if point k acts on a link in the subtree of joint i
-        self.subtree_points = desc[:, point_links]
-        n_c = len(contacts.corner_link)
-        self.corner_slice = slice(n, n + n_c)
         self.load_local = np.array([ld.tcp.position for ld in loads]).reshape(-1, 3)
         self.load_link = np.array([ld.tcp.link for ld in loads], dtype=int)
         self.load_force = np.array([ld.force for ld in loads], dtype=float).reshape(-1, 3)
@@ -66,9 +62,16 @@ class StaticsLayout:
         self.ancestor_or_self_rev = desc.T * rev[None, :]  # [i, j]: j is i or an ancestor, j revolute
         self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
         # [i, e]: contact edge variable e pushes on the subtree of joint i
-        self.edge_acts = self.subtree_points[:, self.corner_slice][:, contacts.var_corner]
+        self.edge_acts = desc[:, contacts.corner_link[contacts.var_corner]]
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
         self.has_prismatic = bool(model.prismatic.any())
+
+    def subtree_sums(self, values: np.ndarray) -> np.ndarray:
+        """(n, k): per joint, the sum of per-point ``values`` (link COMs, sole corners, loads; (points, k))
+        over the points acting on its subtree."""
+        n = self.model.n
+        per_link = values[:n] + self.extra_on_link @ values[n:] if len(values) > n else values
+        return self.model.subtree_sums.subtree(per_link)
 
     def evaluate(self, kin: Kinematics, w: np.ndarray) -> Statics:
         return Statics(self, kin, w)
@@ -93,7 +96,7 @@ class Statics:
         self._points = np.concatenate([kin.com, self.corner_points, load_points])
         self._forces = np.concatenate([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
         moments = cross(self._points, self._forces)
-        sums = layout.subtree_points @ np.concatenate([self._forces, moments], axis=1)
+        sums = layout.subtree_sums(np.concatenate([self._forces, moments], axis=1))
         self.total_force = self._forces.sum(axis=0)
         self.total_moment = moments.sum(axis=0)  # about the world origin
         self.sub_force = sums[:, 0:3]
@@ -103,7 +106,7 @@ class Statics:
     @cached_property
     def sub_outer(self) -> np.ndarray:
         """(n, 3, 3) subtree sums of q_k F_k^T (point times force), N*m; only the derivatives need it."""
-        return (self.layout.subtree_points @ _outer_rows(self._points, self._forces)).reshape(-1, 3, 3)
+        return self.layout.subtree_sums(_outer_rows(self._points, self._forces)).reshape(-1, 3, 3)
 
     def joint_moments(self) -> np.ndarray:
         """(n, 3) moment of each joint's subtree loads about the joint position, N*m (world)."""
@@ -180,7 +183,9 @@ class Statics:
         coef, weight = coef * layout.revolute, weight * layout.revolute
         a, g = self.kin.axis, self.moment_derivatives()
         aa, gg = _outer_rows(a, a), _outer_rows(g, g)
-        from_ancestors = layout.ancestor_or_self_rev.T @ np.concatenate([coef[:, None] * g, weight[:, None] * gg], 1)
+        # A^T X sums X over each joint's subtree (times its revolute flag)
+        from_ancestors = layout.model.subtree_sums.subtree(np.concatenate([coef[:, None] * g, weight[:, None] * gg], 1))
+        from_ancestors *= layout.revolute[:, None]
         from_descendants = layout.strict_descendant.T @ np.concatenate([coef[:, None] * a, weight[:, None] * aa], 1)
         lin_theta = np.einsum("ni,ni->n", from_ancestors[:, :3], a) + np.einsum("ni,ni->n", from_descendants[:, :3], g)
         sq_theta = np.einsum("ni,ni->n", from_ancestors[:, 3:], aa) + np.einsum("ni,ni->n", from_descendants[:, 3:], gg)
