@@ -73,13 +73,20 @@ class Comfort:
         curvature = 2.0 * (1.0 + t2) * (1.0 + 3.0 * t * t) * du * du
         return value, slope * du, curvature
 
+    def _range_of(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`_range_terms` with derivatives at ``state``, computed once per state (value and step share it)."""
+        cached = state.cache.get(self)
+        if cached is None:
+            cached = state.cache[self] = self._range_terms(state.theta)
+        return cached
+
     def _strain_scale(self, tau: np.ndarray) -> np.ndarray:
         # The muscles must produce -tau: positive capacity when tau < 0.
         return np.where(tau < 0.0, self._inv_positive, self._inv_negative)
 
     def parts(self, state: State) -> dict[str, float]:
         """The three (unweighted) terms, each >= 0, for reports."""
-        (rng,) = self._range_terms(state.theta, derivatives=False)
+        rng = self._range_of(state)[0]
         out = {"range": float(self.range_weight @ rng), "load": 0.0, "contact": 0.0}
         if self.weights.load:
             tau = state.statics.axis_loads()
@@ -104,7 +111,7 @@ class Comfort:
         n, wts = self.model.n, self.weights
         grad = np.zeros(state.n_x)
         curv = np.zeros(state.n_x)
-        _, d_rng, dd_rng = self._range_terms(state.theta)
+        _, d_rng, dd_rng = self._range_of(state)
         grad[:n] -= wts.range * self.range_weight * d_rng
         curv[:n] += wts.range * self.range_weight * dd_rng
         if wts.load:

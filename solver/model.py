@@ -148,7 +148,7 @@ class Model:
             local[:, :3, 3] = fk.origin_position + np.einsum("nij,nj->ni", fk.origin_rotation, slide)
         # Pointer jumping in depth order (in place is safe: the right-hand side gathers copies first).
         for start, anc in self._jumps:
-            local[start:] = local[anc] @ local[start:]
+            local[start:] = local.take(anc, axis=0) @ local[start:]
         local = local[self._rank]
         rot = local[:, :3, :3]
         pos = local[:, :3, 3]

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
-from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, lock_operator
+from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
@@ -227,7 +227,10 @@ class Problem:
         moved.targets = [t for t in targets if t.enabled]
         zero = self._zero_kin
         frames = [self._target_constraint(t, zero) for t in moved.targets]
-        moved.constraints = frames + self.constraints[len(self.targets) :]
+        # the loops are copied: a frame constraint is evaluated in one group, and this problem keeps its own
+        moved.constraints = frames + [
+            copy.copy(c) if isinstance(c, FrameConstraint) else c for c in self.constraints[len(self.targets) :]
+        ]
         moved._set_rows()
         moved.lower, moved.upper = self.lower.copy(), self.upper.copy()
         return moved
@@ -249,6 +252,7 @@ class Problem:
 
     def _set_rows(self) -> None:
         rows = self.constraints
+        FrameGroup([c for c in rows if isinstance(c, FrameConstraint)])
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
         self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)

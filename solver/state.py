@@ -25,7 +25,7 @@ class State:
         self._layout = layout
         self.variables: np.ndarray | None = None  # the solver variables beta, when x = phi(beta) is nonlinear
         self.reduction_jacobian: np.ndarray | None = None  # dphi/dbeta there, once computed
-        self.constraint_cache: dict = {}  # per-constraint intermediates shared by its error and Jacobian
+        self.cache: dict = {}  # per-object intermediates (constraints, comfort) shared by values and derivatives
 
     @cached_property
     def kin(self) -> Kinematics:

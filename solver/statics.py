@@ -102,6 +102,7 @@ class Statics:
         self.sub_force = sums[:, 0:3]
         self.sub_moment = sums[:, 3:6]
         self._g = None
+        self._axis_loads: np.ndarray | None = None
 
     @cached_property
     def sub_outer(self) -> np.ndarray:
@@ -114,10 +115,12 @@ class Statics:
 
     def axis_loads(self) -> np.ndarray:
         """(n,) component of the joint moment about the joint axis, N*m (axial force in N if prismatic)."""
-        kin = self.kin
-        torque = np.einsum("ni,ni->n", kin.axis, self.joint_moments())
-        force = np.einsum("ni,ni->n", kin.axis, self.sub_force)
-        return np.where(self.layout.model.prismatic, force, torque)
+        if self._axis_loads is None:
+            kin = self.kin
+            torque = np.einsum("ni,ni->n", kin.axis, self.joint_moments())
+            force = np.einsum("ni,ni->n", kin.axis, self.sub_force)
+            self._axis_loads = np.where(self.layout.model.prismatic, force, torque)
+        return self._axis_loads
 
     def moment_derivatives(self) -> np.ndarray:
         """(n, 3) G_j = d(total moment)/d theta_j, N*m per rad (per m if prismatic)."""

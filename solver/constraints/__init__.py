@@ -2,6 +2,6 @@
 
 from .balance import BalanceConstraint
 from .base import Constraint
-from .frame import AXES, FrameConstraint, lock_operator
+from .frame import AXES, FrameConstraint, FrameGroup, lock_operator
 
-__all__ = ["AXES", "BalanceConstraint", "Constraint", "FrameConstraint", "lock_operator"]
+__all__ = ["AXES", "BalanceConstraint", "Constraint", "FrameConstraint", "FrameGroup", "lock_operator"]

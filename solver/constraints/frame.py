@@ -8,6 +8,9 @@ it slides and turns. Any linear operator L (k x 6) may replace the lock: the err
 The Jacobian is exact: d e_r = J_l^-1(e_r) R_T^T (omega - omega_ref) (inverse left Jacobian of SO(3)), and
 d e_p = R_T^T (v - v_ref(o)), where v_ref(o) is the velocity of the point o carried rigidly by the reference
 TCP's link (zero for a fixed target).
+
+A problem's frame constraints are evaluated together by a :class:`FrameGroup`: one batched NumPy pass for
+all TCPs (errors) and one for all rows (Jacobian), shared through the state's cache.
 """
 
 from __future__ import annotations
@@ -15,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ManikinError
-from ..model import Tcp
-from ..spatial import left_jacobian_inverse_so3, log_so3
+from ..model import Model, Tcp
+from ..spatial import cross, left_jacobian_inverse_so3, log_so3
 from ..state import State
 from .base import Constraint
 
@@ -61,8 +64,9 @@ class FrameConstraint(Constraint):
         base_tol = np.array([position_tolerance] * 3 + [rotation_tolerance] * 3)
         self._tolerance = np.abs(self.operator) @ base_tol
         self._is_selection = bool(np.all((self.operator == 0) | (self.operator == 1)))
-        # a fixed target's linear Jacobian rows do not depend on the state
-        self._fixed_rows_lin = None if reference is not None else self.operator[:, :3] @ self.target_rotation.T
+        self._group: FrameGroup | None = None
+        self._slot = 0  # index in the group
+        self._rows = slice(0, self.rows)  # rows in the group's stacked error and Jacobian
 
     @property
     def rows(self) -> int:
@@ -71,6 +75,13 @@ class FrameConstraint(Constraint):
     def tolerance(self) -> np.ndarray:
         return self._tolerance
 
+    @property
+    def group(self) -> FrameGroup:
+        """The batch this constraint is evaluated in (a batch of its own until a problem groups it)."""
+        if self._group is None:
+            FrameGroup([self])
+        return self._group
+
     def target_frame(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """World (rotation, position) of the target for this state."""
         if self.reference is None:
@@ -78,35 +89,15 @@ class FrameConstraint(Constraint):
         r_ref, p_ref = state.kin.tcp_frame(self.reference)
         return r_ref @ self.target_rotation, p_ref + r_ref @ self.target_position
 
-    def _evaluate(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(target rotation, TCP position m, the 6 unrelaxed components), computed once per state."""
-        cached = state.constraint_cache.get(self)
-        if cached is None:
-            r_t, o_t = self.target_frame(state)
-            r, o = state.kin.tcp_frame(self.tcp)
-            cached = (r_t, o, np.concatenate([r_t.T @ (o - o_t), log_so3(r_t.T @ r)]))
-            state.constraint_cache[self] = cached
-        return cached
-
     def full_error(self, state: State) -> np.ndarray:
         """The 6 unrelaxed components [e_p (m), e_r (rad)]."""
-        return self._evaluate(state)[2]
+        return self.group.evaluate(state).full[self._slot]
 
     def error(self, state: State) -> np.ndarray:
-        return self.operator @ self.full_error(state)
+        return self.group.evaluate(state).errors[self._rows]
 
     def jacobian(self, state: State) -> np.ndarray:
-        kin = state.kin
-        r_t, o, full_error = self._evaluate(state)
-        op = self.operator
-        rows_lin = op[:, :3] @ r_t.T if self._fixed_rows_lin is None else self._fixed_rows_lin
-        rows_ang = op[:, 3:] @ (left_jacobian_inverse_so3(full_error[3:]) @ r_t.T)
-        full = np.zeros((self.rows, self.n_x))
-        n = kin.model.n
-        full[:, :n] = kin.jacobian_rows(self.tcp.link, o, rows_lin, rows_ang)
-        if self.reference is not None:
-            full[:, :n] -= kin.jacobian_rows(self.reference.link, o, rows_lin, rows_ang)
-        return full
+        return self.group.jacobian(state)[self._rows]
 
     def residuals(self, state: State) -> dict[str, float]:
         err = self.full_error(state)
@@ -118,4 +109,107 @@ class FrameConstraint(Constraint):
             out[f"{self.name}.position"] = float(np.linalg.norm(err[:3][locked[:3]]))
         if locked[3:].any():
             out[f"{self.name}.rotation"] = float(np.linalg.norm(err[3:][locked[3:]]))
+        return out
+
+
+class _FrameValues:
+    """One state's evaluation of a group: target rotations (C, 3, 3), TCP positions (C, 3) m, the unrelaxed
+    errors (C, 6) and the relaxed rows of all members stacked (R,)."""
+
+    __slots__ = ("target_rotation", "position", "full", "errors", "jacobian")
+
+    def __init__(self, target_rotation, position, full, errors) -> None:
+        self.target_rotation = target_rotation
+        self.position = position
+        self.full = full
+        self.errors = errors
+        self.jacobian: np.ndarray | None = None
+
+
+class FrameGroup:
+    """Frame constraints evaluated together; each member reads its rows from the batch.
+
+    Grouping re-assigns the members (a constraint belongs to one group: the last that took it).
+    """
+
+    def __init__(self, members: list[FrameConstraint]) -> None:
+        self.members = list(members)
+        sizes = [c.rows for c in self.members]
+        offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        for i, c in enumerate(self.members):
+            c._group, c._slot, c._rows = self, i, slice(int(offsets[i]), int(offsets[i + 1]))
+        self.n_x = self.members[0].n_x if self.members else 0
+        self.link = np.array([c.tcp.link for c in self.members], dtype=int)
+        self.tcp_rotation = np.array([c.tcp.rotation for c in self.members]).reshape(-1, 3, 3)
+        self.tcp_position = np.array([c.tcp.position for c in self.members]).reshape(-1, 3)
+        self.target_rotation = np.array([c.target_rotation for c in self.members]).reshape(-1, 3, 3)
+        self.target_position = np.array([c.target_position for c in self.members]).reshape(-1, 3)
+        self.loops = np.array([i for i, c in enumerate(self.members) if c.reference is not None], dtype=int)
+        self.reference_link = np.array([self.members[i].reference.link for i in self.loops], dtype=int)
+        self.reference_rotation = np.array([self.members[i].reference.rotation for i in self.loops]).reshape(-1, 3, 3)
+        self.reference_position = np.array([self.members[i].reference.position for i in self.loops]).reshape(-1, 3)
+        # per stacked row: its member, its operator row, and the joints that move it (minus the reference's)
+        self.row_member = np.repeat(np.arange(len(self.members)), sizes)
+        self.operator = np.concatenate([c.operator for c in self.members]) if self.members else np.zeros((0, 6))
+        self.operator_lin = self.operator[:, None, :3]  # (R, 1, 3)
+        self.operator_ang = self.operator[:, None, 3:]
+        self._row_mask: np.ndarray | None = None
+
+    def _mask(self, model: Model) -> np.ndarray:
+        """(R, n): 1 where a joint moves a row's TCP, minus 1 where it moves the reference TCP (loops)."""
+        if self._row_mask is None:
+            desc = model.descendant.astype(float)
+            mask = desc[:, self.link[self.row_member]].T
+            for c in self.members:
+                if c.reference is not None:
+                    mask[c._rows] -= desc[:, c.reference.link]
+            self._row_mask = mask
+        return self._row_mask
+
+    def evaluate(self, state: State) -> _FrameValues:
+        """All members' errors at ``state``, computed once per state."""
+        values = state.cache.get(self)
+        if values is not None:
+            return values
+        kin = state.kin
+        link_rot = kin.rotation[self.link]
+        rot = link_rot @ self.tcp_rotation
+        pos = kin.position[self.link] + (link_rot @ self.tcp_position[:, :, None])[:, :, 0]
+        r_t, o_t = self.target_rotation, self.target_position
+        if len(self.loops):
+            r_t, o_t = r_t.copy(), o_t.copy()
+            ref_rot = kin.rotation[self.reference_link]
+            r_ref = ref_rot @ self.reference_rotation
+            p_ref = kin.position[self.reference_link] + (ref_rot @ self.reference_position[:, :, None])[:, :, 0]
+            r_t[self.loops] = r_ref @ self.target_rotation[self.loops]
+            o_t[self.loops] = p_ref + (r_ref @ self.target_position[self.loops][:, :, None])[:, :, 0]
+        r_t_inv = r_t.transpose(0, 2, 1)
+        full = np.empty((len(self.members), 6))
+        full[:, :3] = (r_t_inv @ (pos - o_t)[:, :, None])[:, :, 0]
+        relative = r_t_inv @ rot
+        for i in range(len(self.members)):
+            full[i, 3:] = log_so3(relative[i])
+        errors = (self.operator * full[self.row_member]).sum(axis=1)
+        values = state.cache[self] = _FrameValues(r_t, pos, full, errors)
+        return values
+
+    def jacobian(self, state: State) -> np.ndarray:
+        """(R, n_x): the stacked rows' d error / d x at ``state``, computed once per state."""
+        values = self.evaluate(state)
+        if values.jacobian is not None:
+            return values.jacobian
+        kin = state.kin
+        r_t_inv = values.target_rotation.transpose(0, 2, 1)
+        # rows of the rotation part: L_ang J_l^-1(e_r) R_T^T; of the position part: L_lin R_T^T
+        ang_map = np.array([left_jacobian_inverse_so3(e) for e in values.full[:, 3:]]) @ r_t_inv
+        member = self.row_member
+        rows_lin = (self.operator_lin @ r_t_inv[member])[:, 0, :]
+        rows_ang = (self.operator_ang @ ang_map[member])[:, 0, :]
+        # velocity of the TCP point p: spin x p + origin, so a row l.v + m.omega = (m - l x p).spin + l.origin
+        spin, origin = kin.twist_basis
+        through_spin = rows_ang - cross(rows_lin, values.position[member])
+        out = np.zeros((len(member), self.n_x))
+        n = kin.model.n
+        out[:, :n] = (through_spin @ spin.T + rows_lin @ origin.T) * self._mask(kin.model)
+        values.jacobian = out
         return out
