@@ -14,7 +14,9 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    model of the Lagrangian's curvature (the joint coupling of the load term and the curvature of the
    constraints, which the diagonal misses), applied in the null space by a Woodbury identity of rank 2 x memory.
 3. Bounds are never left: variables the task step pushes past a bound are saturated there and the step is
-   solved again without them (the clamping loop); the comfort part is shortened to stay inside.
+   solved again without them (the clamping loop); the comfort part is shortened to stay inside. Contact edge
+   weights (>= 0) carry a log barrier's curvature in the metric, so lightly loaded edges move little and
+   rarely need that re-solve (as the tan^2 curvature does for joints near their limits).
 4. Acceptance: a task step must lower the constraint error; far from the constraints the comfort part may
    ride along if the error still falls and comfort ends no worse than the model predicts for the task part
    alone. Far away a step is first shortened so that no joint turns more than MAX_TURN (as Buss & Kim's
@@ -47,6 +49,12 @@ MAX_TURN = 0.3  # rad: largest joint rotation of a step far from the constraints
 MAX_SLIDE = 0.3  # m: the same for a prismatic joint
 STAGNATION_WINDOW = 10  # iterations over which the error must fall by STAGNATION_GAIN while far from the constraints
 STAGNATION_GAIN = 0.02  # measured on 300 random trials: no success lost, failures stop after ~55 instead of 100
+# Contact edge weights w >= 0 get FORCE_BARRIER / (w / body weight)^2 in the step's metric (scaled variables, where a
+# joint's entry is about 1..10), like joints near their limits. Measured on 240 random trials: clamping re-solves per
+# step 2.6 -> 1.8, iterations -4 %, evaluations -12 %, comfort better (geometric mean of |h| -10 %); 0.01 / 0.03 / 0.1
+# / 0.3 / 1 and a multiple of the mean curvature did less. The floor keeps an edge at zero free to take load again.
+FORCE_BARRIER = 0.05
+FORCE_FLOOR = 0.01
 MEMORY = 6  # curvature pairs kept by the quasi-Newton comfort model; measured: 3 and 12 no better
 
 
@@ -234,6 +242,10 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     if comfort_on or curv_f.any():
         level = float(np.mean(curv_f[free])) if free.any() else 1.0
         metric = curv_f + mu * max(level, 1e-12) + 1e-12
+        force = ~problem.is_joint
+        if force.any():  # a log barrier's curvature keeps lightly loaded contact edges from being driven negative
+            share = np.maximum(x[force] / problem.scale[force], FORCE_FLOOR)  # edge weight / body weight
+            metric[force] += FORCE_BARRIER / (share * share)
     else:
         metric = np.ones_like(x)
     root = np.sqrt(metric)
