@@ -66,20 +66,14 @@ def write_section(output: Path, key: str, text: str) -> None:
 
 
 def run_benchmarks(output: Path, repeats: int = 30) -> str:
-    """Time every preset scenario (cold, from its start pose) and warm re-solves; write a Markdown report."""
-    rows = []
+    """Time every preset scenario (cold, from its start pose) and warm re-solves; write a Markdown report.
+
+    The cases take turns (one solve of each per round) so that the VM's speed drifts affect them alike.
+    """
+    cases = []  # (label, list of (problem, start, options) per repeat)
     for name in SCENARIOS:
         sc = load_scenario(PRESETS_DIR / "scenarios" / f"{name}.toml")
-        times, iters, ok = [], [], 0
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            res = solve(sc.problem, sc.start, sc.options)
-            times.append(time.perf_counter() - t0)
-            iters.append(res.iterations)
-            ok += res.converged
-        med, p95, fastest = _stats(times)
-        rows.append((f"{name} (cold, from its start pose)", med, p95, fastest, float(np.median(iters)), ok, repeats))
-        print(f"{name}: median {med * 1e3:.1f} ms, p95 {p95 * 1e3:.1f} ms, {np.median(iters):.0f} iterations")
+        cases.append((f"{name} (cold, from its start pose)", [(sc.problem, sc.start, sc.options)] * repeats))
     sc = load_scenario(PRESETS_DIR / "scenarios" / f"{WARM_SCENARIO}.toml")
     base = solve(sc.problem, sc.start, sc.options)
     move = f"{WARM_MOVE * 100:.0f} cm hand-target move"
@@ -89,17 +83,23 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
         (f"{WARM_SCENARIO}: warm re-solve after a {move}, constraints only", constraints_only),
     ):
         rng = np.random.default_rng(0)
-        times, iters, ok = [], [], 0
-        for _ in range(repeats):
-            moved = _moved(sc.problem, rng)
+        cases.append((label, [(_moved(sc.problem, rng), base.x, options) for _ in range(repeats)]))
+    times = [[] for _ in cases]
+    iters = [[] for _ in cases]
+    good = [0 for _ in cases]
+    for r in range(repeats):
+        for k, (_, runs) in enumerate(cases):
+            problem, start, options = runs[r]
             t0 = time.perf_counter()
-            res = solve(moved, base.x, options)
-            times.append(time.perf_counter() - t0)
-            iters.append(res.iterations)
-            ok += res.converged
-        med, p95, fastest = _stats(times)
-        rows.append((label, med, p95, fastest, float(np.median(iters)), ok, repeats))
-        print(f"{label}: median {med * 1e3:.1f} ms, p95 {p95 * 1e3:.1f} ms, {np.median(iters):.0f} iterations")
+            res = solve(problem, start, options)
+            times[k].append(time.perf_counter() - t0)
+            iters[k].append(res.iterations)
+            good[k] += res.converged
+    rows = []
+    for k, (label, _) in enumerate(cases):
+        med, p95, fastest = _stats(times[k])
+        rows.append((label, med, p95, fastest, float(np.median(iters[k])), good[k], repeats))
+        print(f"{label}: median {med * 1e3:.1f} ms, p95 {p95 * 1e3:.1f} ms, {np.median(iters[k]):.0f} iterations")
     lines = [
         "## Solver (issue 2)",
         "",
@@ -109,8 +109,9 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
         "Targets: box lift from the zero pose <= 50 ms median on one core; warm re-solve after a 5 cm target",
         "move <= 5 ms. Cold times include comfort optimisation until it settles; a warm re-solve either",
         "re-optimises comfort too or only restores the constraints (what an interactive drag needs).",
-        "The machine is a shared VM whose speed drifts by up to 2x over minutes; the fastest of the repeats",
-        "shows the cost without that noise.",
+        "The machine is a shared VM whose speed drifts by up to 2x over minutes: the cases take turns (one",
+        "solve of each per round) so the drift affects them alike, and the fastest of the repeats shows the",
+        "cost without that noise.",
         "",
         "| case | median ms | p95 ms | fastest ms | median iterations | converged |",
         "|---|---:|---:|---:|---:|---:|",
