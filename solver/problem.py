@@ -297,7 +297,11 @@ class Problem:
 
     def joint_change(self, state: State, dv: np.ndarray) -> np.ndarray:
         """(n,) change of every model joint (rad or m), to first order, for a change ``dv`` of the solver variables."""
-        dx = dv if self.reduction is None else self.reduction_jacobian(state) @ dv
+        red = self.reduction
+        if red is None:
+            dx = dv
+        else:
+            dx = red.basis_times(dv) if red.linear else self.reduction_jacobian(state) @ dv
         return dx[: self.model.n]
 
     def state_of_x(self, x: np.ndarray) -> State:
@@ -335,7 +339,8 @@ class Problem:
             return np.zeros((0, self.n_var))
         jac = np.concatenate([c.jacobian(state) for c in self.constraints])
         if self.reduction is not None:
-            jac = jac @ self.reduction_jacobian(state)
+            red = self.reduction
+            jac = red.times_basis(jac) if red.linear else jac @ self.reduction_jacobian(state)
         return jac * self._row_scale * self.scale
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
@@ -345,7 +350,7 @@ class Problem:
             return grad, curv
         red = self.reduction
         if red.linear:
-            return red.basis.T @ grad, red.basis_sq.T @ curv
+            return red.times_basis(grad), red.times_basis(curv, squared=True)
         dphi = self.reduction_jacobian(state)
         return dphi.T @ grad, (dphi * dphi).T @ curv
 

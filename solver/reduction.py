@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -55,9 +56,35 @@ class Reduction:
         """True when dphi/dbeta is the constant ``basis``."""
         return self.shoulder is None
 
+    @cached_property
+    def _supports(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
+        """The nonzeros of ``basis`` by column: (x rows, their columns, weights, each column's first entry,
+        whether every column has one). Columns have disjoint supports, so each x row has at most one entry."""
+        rows, cols = np.nonzero(self.basis)
+        order = np.argsort(cols, kind="stable")
+        rows, cols = rows[order], cols[order]
+        starts = np.searchsorted(cols, np.arange(self.n))
+        complete = bool(np.all(np.diff(np.append(starts, len(cols))) > 0))
+        return rows, cols, self.basis[rows, cols], starts, complete
+
+    def times_basis(self, a: np.ndarray, squared: bool = False) -> np.ndarray:
+        """``a @ basis`` (``a @ basis**2`` when ``squared``) for a (..., n_x) array, summing each column's own
+        rows instead of a dense product (most columns are a single joint)."""
+        rows, _, weight, starts, complete = self._supports
+        if not complete:
+            return a @ (self.basis_sq if squared else self.basis)
+        return np.add.reduceat(a[..., rows] * (weight * weight if squared else weight), starts, axis=-1)
+
+    def basis_times(self, beta: np.ndarray) -> np.ndarray:
+        """``basis @ beta`` (n_x,) by scattering each column's weights (every x row has at most one)."""
+        rows, cols, weight, _, _ = self._supports
+        out = np.zeros(self.basis.shape[0])
+        out[rows] = weight * beta[cols]
+        return out
+
     def phi(self, beta: np.ndarray) -> np.ndarray:
         """Full x for variables beta."""
-        x = self.offset + self.basis @ beta
+        x = self.offset + self.basis_times(beta)
         if self.shoulder is not None:
             x[self.shoulder.joints] = self.shoulder.values(beta[self.shoulder_vars])
         return x

@@ -64,6 +64,17 @@ def test_groups_shrink_the_variables(male50):
     assert reach(male50, GROUPS[:4]).reduction.linear and not p.reduction.linear
 
 
+@pytest.mark.parametrize("groups", [DEFAULT_GROUPS, ("lumbar", "grasp"), GROUPS])
+def test_sparse_products_with_the_basis_equal_the_dense_ones(male50, groups):
+    red = reach(male50, groups).reduction
+    rng = np.random.default_rng(1)
+    a = rng.standard_normal((5, red.basis.shape[0]))
+    beta = rng.standard_normal(red.n)
+    np.testing.assert_allclose(red.times_basis(a), a @ red.basis, atol=1e-12)
+    np.testing.assert_allclose(red.times_basis(a[0], squared=True), a[0] @ red.basis**2, atol=1e-12)
+    np.testing.assert_array_equal(red.basis_times(beta), red.basis @ beta)
+
+
 def test_phi_keeps_joints_inside_their_ranges(male50):
     p = reach(male50)
     rng = np.random.default_rng(0)
