@@ -36,6 +36,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg import lapack
 
 from .problem import Problem
 from .result import Result
@@ -113,26 +114,62 @@ def _thin_svd(jac: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return u, s, vt
 
 
+def _certified_inverse_factor(jac: np.ndarray, threshold: float) -> np.ndarray | None:
+    """L^-1 for J J^T = L L^T (Cholesky) when every singular value of J is certainly >= threshold * s_max, else None.
+
+    The certificate: lambda_min(J J^T) >= 1 / ||L^-1||_F^2 and lambda_max <= trace(J J^T). Then no singular value
+    needs damping and the least-squares quantities follow from L^-1 without an eigendecomposition.
+    """
+    m, n = jac.shape
+    if m == 0 or m > n:
+        return None
+    gram = jac @ jac.T
+    low, info = lapack.dpotrf(gram, lower=1)
+    if info != 0:
+        return None
+    inverse, info = lapack.dtrtri(low, lower=1)
+    if info != 0:
+        return None
+    if not (1.0 >= threshold * threshold * float(np.trace(gram)) * float(np.sum(inverse * inverse))):
+        return None  # possibly ill-conditioned (or not finite): the SVD decides
+    return inverse
+
+
 class _LeastSquares:
-    """Damped least squares on one Jacobian via its economy SVD: steps, row-space basis, multipliers.
+    """Damped least squares on one Jacobian: steps, row-space basis, multipliers.
 
     Damping grows smoothly only for singular values below ``singular_threshold * s_max``; a trust region
     adds Levenberg-Marquardt damping until the step fits, which shortens the poorly determined directions
-    first instead of shrinking the whole step.
+    first instead of shrinking the whole step. When the Jacobian is certainly well conditioned and the step
+    fits, a Cholesky factor of J J^T gives the same undamped quantities; otherwise its economy SVD is used.
     """
 
     def __init__(self, jac: np.ndarray, opts: SolverOptions) -> None:
         self.n = jac.shape[1]
-        self.u, self.s, self.vt = _thin_svd(jac)
+        self._jac = jac
+        self._opts = opts
+        self._svd = False
+        self._inverse = _certified_inverse_factor(jac, opts.singular_threshold)  # L^-1, or None
+        if self._inverse is not None:
+            self.basis = self._inverse @ jac  # orthonormal rows spanning the row space
+        else:
+            self._factor()
+            self.basis = self.vt[self._keep]  # orthonormal basis of the row space (undamped, rank-truncated)
+
+    def _factor(self) -> None:
+        """The economy SVD and the damping of its small singular values."""
+        if self._svd:
+            return
+        self._svd = True
+        self.u, self.s, self.vt = _thin_svd(self._jac)
         s_max = self.s[0] if self.s.size else 0.0
-        eps = opts.singular_threshold * s_max
+        eps = self._opts.singular_threshold * s_max
         ramp = 1.0 - (self.s / max(eps, 1e-300)) ** 2
-        self.damp2 = np.where(self.s < eps, (opts.max_damping * s_max) ** 2 * ramp, 0.0)
+        self.damp2 = np.where(self.s < eps, (self._opts.max_damping * s_max) ** 2 * ramp, 0.0)
         self._denominator = self.s * self.s + self.damp2  # of the gain, before any extra damping
         self._positive = bool(np.all(self._denominator > 0.0))
         self.s_max = s_max
-        keep = self.s > 1e-9 * s_max if s_max > 0 else np.zeros(len(self.s), dtype=bool)
-        self.basis = self.vt[keep]  # orthonormal basis of the row space (undamped, rank-truncated)
+        self._keep = self.s > 1e-9 * s_max if s_max > 0 else np.zeros(len(self.s), dtype=bool)
 
     def _gain(self, extra2: float) -> np.ndarray:
         denom = self._denominator + extra2
@@ -142,10 +179,18 @@ class _LeastSquares:
 
     def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
         """-J^+ err with the built-in damping (plus ``extra2``, a squared LM damping)."""
+        if self._inverse is not None and extra2 == 0.0:
+            return -self.basis.T @ (self._inverse @ err)
+        self._factor()
         return -self.vt.T @ (self._gain(extra2) * (self.u.T @ err))
 
     def step_within(self, err: np.ndarray, col_scale: np.ndarray, radius: float) -> np.ndarray:
         """The step, in variables ``col_scale * y``, with LM damping raised until its 2-norm <= radius."""
+        if self._inverse is not None:
+            plain = col_scale * self.step(err)
+            if math.sqrt(float(plain @ plain)) <= radius:
+                return plain
+        self._factor()
         c = self.u.T @ err
         a = self.vt.T * col_scale[:, None]  # step(extra) = -a @ (gain * c)
         gram = a.T @ a
@@ -168,6 +213,8 @@ class _LeastSquares:
 
     def multipliers(self, g: np.ndarray) -> np.ndarray:
         """lambda with g + J^T lambda ~ 0 (least squares)."""
+        if self._inverse is not None:
+            return -self._inverse.T @ (self.basis @ g)
         return -self.u @ (self._gain(0.0) * (self.vt @ g))
 
 
