@@ -200,7 +200,8 @@ def run_random_benchmark(
 
     With ``peers``, the peers also solve the first ``peer_trials`` (default: all) trials of every level.
     """
-    jobs = [(c, lv, seed + 100_000 * lv + i) for c in CONFIGS for lv in range(len(LEVELS)) for i in range(trials)]
+    # the settings take turns on each trial, so the VM's speed drifts (up to 2x over minutes) hit them alike
+    jobs = [(c, lv, seed + 100_000 * lv + i) for i in range(trials) for lv in range(len(LEVELS)) for c in CONFIGS]
     peer_trials = trials if peer_trials is None else max(0, min(peer_trials, trials))
     peer_names = []
     if peers:
@@ -243,7 +244,7 @@ def _report(outcomes: list[dict], trials: int, processes: int) -> str:
         "",
         f"Written by `python -m solver bench --random --trials {trials}` on {datetime.date.today().isoformat()}; "
         f"{trials} trials per level, the same seeds for every setting, {processes} processes (one solve per core, "
-        "single-threaded BLAS).",
+        "single-threaded BLAS); the settings take turns on each trial, so the shared VM's speed drifts hit them alike.",
         f"Machine: {machine()}. Manikin {PRESET}; hand targets with all six axes locked, feet sliding on the floor.",
         'Success = the constraint function met (converged). Times in seconds. "reduction" is what',
         "`reduction = true` does: the spine regions and the fingers grouped. The thesis's reduction also coupled",
