@@ -149,7 +149,7 @@ class Model:
         # Pointer jumping in depth order (in place is safe: the right-hand side gathers copies first).
         for start, anc in self._jumps:
             local[start:] = local.take(anc, axis=0) @ local[start:]
-        local = local[self._rank]
+        local = local.take(self._rank, axis=0)
         rot = local[:, :3, :3]
         pos = local[:, :3, 3]
         world_axis = np.einsum("nij,nj->ni", rot, self.axis)

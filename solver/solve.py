@@ -248,8 +248,13 @@ class _CurvatureMemory:
             self._pairs = (s, y, np.tril(s_y, -1), -np.diag(np.diag(s_y)))
         s, y, lower, minus_diagonal = self._pairs
         b0_s = b0[:, None] * s
-        middle = np.block([[s.T @ b0_s, lower], [lower.T, minus_diagonal]])
-        return np.hstack([b0_s, y]), middle
+        k = s.shape[1]
+        middle = np.empty((2 * k, 2 * k))
+        middle[:k, :k] = s.T @ b0_s
+        middle[:k, k:] = lower
+        middle[k:, :k] = lower.T
+        middle[k:, k:] = minus_diagonal
+        return np.concatenate((b0_s, y), axis=1), middle
 
 
 def null_space_newton(grad: np.ndarray, basis: np.ndarray, low_rank: tuple[np.ndarray, np.ndarray] | None):
@@ -287,7 +292,8 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     outward = jac.T @ err + grad_f  # descent of both pushes along -outward
     free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
     if comfort_on or curv_f.any():
-        level = float(np.mean(curv_f[free])) if free.any() else 1.0
+        curv_free = curv_f[free]
+        level = float(curv_free.sum()) / curv_free.size if curv_free.size else 1.0  # their mean curvature
         metric = curv_f + mu * max(level, 1e-12) + 1e-12
         force = ~problem.is_joint
         if force.any():  # a log barrier's curvature keeps lightly loaded contact edges from being driven negative
@@ -315,7 +321,7 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
             g_w = grad_f[free] / r_f
             low_rank = None if compact is None else (compact[0][free] / r_f[:, None], compact[1])
             comfort[free] = null_space_newton(g_w, basis, low_rank) / r_f
-            biggest = np.max(np.abs(comfort), initial=0.0)
+            biggest = float(np.abs(comfort).max()) if n else 0.0
             if biggest > opts.max_comfort_step:
                 comfort *= opts.max_comfort_step / biggest
         total = task + comfort
@@ -353,7 +359,8 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
 
 
 class _Evaluator:
-    """Evaluates x once: state, scaled error, merit (sum of squares), worst unweighted scaled error, f = -h."""
+    """Evaluates x once: state, scaled error, merit (sum of squares), worst unweighted scaled error; f = -h on
+    demand (:meth:`cost`), since trial points rejected on their error never need it."""
 
     def __init__(self, problem: Problem, comfort_on: bool) -> None:
         self.problem = problem
@@ -364,8 +371,16 @@ class _Evaluator:
         state = self.problem.state(x)
         err = self.problem.scaled_error(state)
         worst = float(np.max(np.abs(err) * self.unweight, initial=0.0))
-        f = -self.problem.comfort.value(state) if self.comfort_on else 0.0
-        return state, err, float(err @ err), worst, f
+        return state, err, float(err @ err), worst
+
+    def cost(self, state) -> float:
+        """f = -h at ``state`` (0 without comfort), computed once per state."""
+        if not self.comfort_on:
+            return 0.0
+        f = state.cache.get(self)
+        if f is None:
+            f = state.cache[self] = -self.problem.comfort.value(state)
+        return f
 
 
 def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions = DEFAULT_OPTIONS) -> Result:
@@ -401,7 +416,8 @@ def _iterate(
     restoring the constraints after the comfort phase does not drive joints onto their limits.
     """
     evaluate = _Evaluator(problem, comfort_on)
-    state, err, merit, worst, f = evaluate(x)
+    state, err, merit, worst = evaluate(x)
+    f = evaluate.cost(state)
     mu = INITIAL_MU
     radius = opts.max_step
     stalls = hovering = quiet = 0  # quiet: feasible iterations in a row that gained negligible comfort
@@ -456,22 +472,23 @@ def _iterate(
             alpha = 1.0
             for _ in range(tries):
                 x_try = np.clip(x + alpha * direction * problem.scale, problem.lower, problem.upper)
-                s_try, e_try, m_try, w_try, f_try = evaluate(x_try)
+                s_try, e_try, m_try, w_try = evaluate(x_try)
                 if use_comfort and near and w_try > 1.0:
                     # second-order correction: pull the comfort step back onto the constraints before judging it
                     x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
                     soc = evaluate(x_soc)
                     if soc[2] < m_try:
-                        x_try, (s_try, e_try, m_try, w_try, f_try) = x_soc, soc
+                        x_try, (s_try, e_try, m_try, w_try) = x_soc, soc
                 if use_comfort and not near:  # far from the constraints comfort rides along a task step
-                    better = m_try < merit and f_try < f + task_change + step.predicted_gain
+                    better = m_try < merit and evaluate.cost(s_try) < f + task_change + step.predicted_gain
                 elif use_comfort:
                     penalty = step.penalty * (np.abs(e_try).sum() - np.abs(err).sum())
-                    better = w_try <= COMFORT_SLACK and f_try - f + penalty < 0.0
+                    better = w_try <= COMFORT_SLACK and evaluate.cost(s_try) - f + penalty < 0.0
                 else:
                     better = m_try < merit
-                if np.isfinite(f_try) and np.isfinite(m_try) and better:
+                if better and np.isfinite(m_try) and np.isfinite(evaluate.cost(s_try)):
                     accepted = True
+                    f_try = evaluate.cost(s_try)
                     break
                 if use_comfort or not np.isfinite(m_try):
                     alpha *= 0.5
