@@ -50,6 +50,10 @@ MAX_TURN = 0.3  # rad: largest joint rotation of a step far from the constraints
 MAX_SLIDE = 0.3  # m: the same for a prismatic joint
 STAGNATION_WINDOW = 10  # iterations over which the error must fall by STAGNATION_GAIN while far from the constraints
 STAGNATION_GAIN = 0.02  # measured on 300 random trials: no success lost, failures stop after ~55 instead of 100
+# Without comfort every accepted step lowers the error, so the sum of squares is judged over a shorter window; the
+# worst row must also fall over STAGNATION_WINDOW (a flat worst row under a slowly falling sum is a stall too).
+# Measured on 320 random trials: no success lost, unreachable targets give up ~20 iterations sooner (-4 % overall).
+RESTORE_STAGNATION_WINDOW = 3
 # Contact edge weights w >= 0 get FORCE_BARRIER / (w / body weight)^2 in the step's metric (scaled variables, where a
 # joint's entry is about 1..10), like joints near their limits. Measured on 240 random trials: clamping re-solves per
 # step 2.6 -> 1.8, iterations -4 %, evaluations -12 %, comfort better (geometric mean of |h| -10 %); 0.01 / 0.03 / 0.1
@@ -425,8 +429,9 @@ def _iterate(
     memory = _CurvatureMemory(MEMORY) if comfort_on else None
     move_limit = np.where(problem.model.prismatic, MAX_SLIDE, MAX_TURN)
     previous = None  # (x, jac, grad_f, multipliers) of the previous iteration
-    merits: list[float] = []  # after each iteration
+    history: list[tuple[float, float]] = []  # (merit, worst) after each iteration
     stagnant_above = COMFORT_SLACK if comfort_on else 1.0
+    window = STAGNATION_WINDOW if comfort_on else RESTORE_STAGNATION_WINDOW
     while iterations < budget:
         iterations += 1
         jac = problem.scaled_jacobian(state)
@@ -515,8 +520,11 @@ def _iterate(
             if stalls >= 6:
                 break
         mu = float(np.clip(mu, 1e-8, 1e8))
-        merits.append(merit)
-        if worst > stagnant_above and len(merits) > STAGNATION_WINDOW:
-            if merit > (1.0 - STAGNATION_GAIN) * merits[-1 - STAGNATION_WINDOW]:
+        history.append((merit, worst))
+        if worst > stagnant_above and len(history) > window:
+            stalled = merit > (1.0 - STAGNATION_GAIN) * history[-1 - window][0]
+            if len(history) > STAGNATION_WINDOW:
+                stalled |= worst > (1.0 - STAGNATION_GAIN) * history[-1 - STAGNATION_WINDOW][1]
+            if stalled:
                 break  # far from the constraints and the error no longer falls: the targets are out of reach
     return x, worst, iterations
