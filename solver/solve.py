@@ -403,21 +403,23 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
     x = problem.start(x0)
     budget = opts.max_iterations
     used = 0
+    state = None
     if opts.optimize_comfort:
         polish = min(POLISH_ITERATIONS, budget // 3)
-        x, worst, used = _iterate(problem, x, opts, True, budget - polish)
+        x, worst, used, state = _iterate(problem, x, opts, True, budget - polish)
     else:
         worst = np.inf
     if worst > 1.0 and used < budget:
-        x, worst, more = _iterate(problem, x, opts, False, budget - used, keep_off_limits=opts.optimize_comfort)
+        x, worst, more, state = _iterate(problem, x, opts, False, budget - used, keep_off_limits=opts.optimize_comfort)
         used += more
-    return Result.from_state(problem, problem.state(x), used, time.perf_counter() - t0)
+    final = state if state is not None else problem.state(x)  # the last evaluation, with everything it computed
+    return Result.from_state(problem, final, used, time.perf_counter() - t0)
 
 
 def _iterate(
     problem: Problem, x: np.ndarray, opts: SolverOptions, comfort_on: bool, budget: int, keep_off_limits: bool = False
 ):
-    """Up to ``budget`` iterations from x; returns (x, worst scaled error, iterations used).
+    """Up to ``budget`` iterations from x; returns (x, worst scaled error, iterations used, the state at x).
 
     Without comfort, ``keep_off_limits`` still steps in the comfort's curvature metric (no comfort part), so
     restoring the constraints after the comfort phase does not drive joints onto their limits.
@@ -533,4 +535,4 @@ def _iterate(
                 stalled |= worst > (1.0 - STAGNATION_GAIN) * history[-1 - STAGNATION_WINDOW][1]
             if stalled:
                 break  # far from the constraints and the error no longer falls: the targets are out of reach
-    return x, worst, iterations
+    return x, worst, iterations, state

@@ -451,7 +451,7 @@ def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, 
     problem = random_targets.trial_problem(male50, targets, True, ())
     worst_range = {}
     for keep in (False, True):
-        x, worst, _ = _iterate(problem, problem.start(), DEFAULT_OPTIONS, False, 40, keep_off_limits=keep)
+        x, worst, _, _ = _iterate(problem, problem.start(), DEFAULT_OPTIONS, False, 40, keep_off_limits=keep)
         assert worst <= 1.0
         theta = problem.state(x).theta
         worst_range[keep] = float(np.max(problem.comfort.range_weight * problem.comfort._range_terms(theta, False)[0]))
