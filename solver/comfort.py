@@ -98,9 +98,12 @@ class Comfort:
 
     def value(self, state: State) -> float:
         """h(x) (<= 0; larger is more comfortable)."""
-        p = self.parts(state)
+        return self.total(self.parts(state))
+
+    def total(self, parts: dict[str, float]) -> float:
+        """h from its :meth:`parts` (the weighted sum, negated)."""
         w = self.weights
-        return -(w.range * p["range"] + w.load * p["load"] + w.contact * p["contact"])
+        return -(w.range * parts["range"] + w.load * parts["load"] + w.contact * parts["contact"])
 
     def derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """dh/dx (n_x,) and a positive diagonal curvature model of -h (n_x,).

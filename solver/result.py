@@ -32,6 +32,7 @@ class Result:
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
         unmet = problem.unmet(state)
+        parts = problem.comfort.parts(state)
         return cls(
             problem=problem,
             x=state.x.copy(),
@@ -40,8 +41,8 @@ class Result:
             time_s=time_s,
             residuals=problem.residuals(state),
             unmet=unmet,
-            comfort=problem.comfort.value(state),
-            comfort_parts=problem.comfort.parts(state),
+            comfort=problem.comfort.total(parts),
+            comfort_parts=parts,
             contacts=problem.contacts.wrenches(state.kin, state.w),
             com=state.kin.body_com(),
         )

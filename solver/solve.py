@@ -63,6 +63,10 @@ RESTORE_STAGNATION_WINDOW = 3
 # / 0.3 / 1 and a multiple of the mean curvature did less. The floor keeps an edge at zero free to take load again.
 FORCE_BARRIER = 0.05
 FORCE_FLOOR = 0.01
+# A comfort phase ends after a full, feasible comfort step predicted to gain less than FINAL_GAIN x the comfort
+# tolerance, instead of spending one more iteration to find the next gain negligible. Measured: random trials -5 %
+# iterations and evaluations, comfort 0.5 % lower (geometric mean of |h|); warm re-solves 2.9 -> 2.1 iterations.
+FINAL_GAIN = 2.0
 MEMORY = 6  # curvature pairs kept by the quasi-Newton comfort model; measured: 3 and 12 no better
 
 
@@ -467,7 +471,7 @@ def _iterate(
             attempts = [(True, 2), (False, 4)] if near else [(True, 1), (False, 5)]
         else:
             attempts = [(False, 5)]
-        accepted = use_comfort = False
+        accepted = use_comfort = settled = False
         task_change = 0.0  # f's predicted rise from the task part alone (diagonal model): a ride-along need not undo it
         if not near and step.predicted_gain > 0:
             task_change = max(float(grad_f @ step.task + 0.5 * (curv_f * step.task) @ step.task), 0.0)
@@ -519,6 +523,8 @@ def _iterate(
                 mu *= 4
         if accepted:
             quiet = quiet + 1 if (w_try <= 1.0 and f - f_try < negligible) else 0
+            # a full, feasible comfort step that was to gain little leaves less than the tolerance for the next one
+            settled = use_comfort and alpha == 1.0 and w_try <= 1.0 and step.predicted_gain < FINAL_GAIN * negligible
             x, state, err, merit, worst, f = x_try, s_try, e_try, m_try, w_try, f_try
             stalls = 0
             radius = min(2 * radius, opts.max_step) if alpha == 1.0 else radius
@@ -528,6 +534,8 @@ def _iterate(
             if stalls >= 6:
                 break
         mu = float(np.clip(mu, 1e-8, 1e8))
+        if settled:
+            break
         history.append((merit, worst))
         if worst > stagnant_above and len(history) > window:
             stalled = merit > (1.0 - STAGNATION_GAIN) * history[-1 - window][0]
