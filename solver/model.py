@@ -57,7 +57,7 @@ class Model:
     tcps: dict[str, Tcp]
     info: dict = field(default_factory=dict)  # body description (sex, stature, mass, sources)
     descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
-    subtree_sums: TreeSums = field(init=False)  # O(n) sums over every link's subtree
+    tree_sums: TreeSums = field(init=False)  # O(n) sums over every link's subtree or ancestors
     _jumps: tuple = field(init=False)
     _order: np.ndarray = field(init=False)
     _rank: np.ndarray = field(init=False)
@@ -72,7 +72,7 @@ class Model:
                 desc[j, k] = True
                 j = int(self.parent[j])
         object.__setattr__(self, "descendant", desc)
-        object.__setattr__(self, "subtree_sums", TreeSums(self.parent))
+        object.__setattr__(self, "tree_sums", TreeSums(self.parent))
         # Pointer-jumping schedule over the links sorted by depth: in each round every link whose ancestor
         # pointer is still inside the tree composes with it; those links form a suffix of the sorted order,
         # so each round updates one contiguous slice.

@@ -71,7 +71,7 @@ class StaticsLayout:
         over the points acting on its subtree."""
         n = self.model.n
         per_link = values[:n] + self.extra_on_link @ values[n:] if len(values) > n else values
-        return self.model.subtree_sums.subtree(per_link)
+        return self.model.tree_sums.subtree(per_link)
 
     def evaluate(self, kin: Kinematics, w: np.ndarray) -> Statics:
         return Statics(self, kin, w)
@@ -187,9 +187,11 @@ class Statics:
         a, g = self.kin.axis, self.moment_derivatives()
         aa, gg = _outer_rows(a, a), _outer_rows(g, g)
         # A^T X sums X over each joint's subtree (times its revolute flag)
-        from_ancestors = layout.model.subtree_sums.subtree(np.concatenate([coef[:, None] * g, weight[:, None] * gg], 1))
+        from_ancestors = layout.model.tree_sums.subtree(np.concatenate([coef[:, None] * g, weight[:, None] * gg], 1))
         from_ancestors *= layout.revolute[:, None]
-        from_descendants = layout.strict_descendant.T @ np.concatenate([coef[:, None] * a, weight[:, None] * aa], 1)
+        # D^T Y sums Y over each joint's strict ancestors
+        below = np.concatenate([coef[:, None] * a, weight[:, None] * aa], 1)
+        from_descendants = layout.model.tree_sums.ancestors(below) - below
         lin_theta = np.einsum("ni,ni->n", from_ancestors[:, :3], a) + np.einsum("ni,ni->n", from_descendants[:, :3], g)
         sq_theta = np.einsum("ni,ni->n", from_ancestors[:, 3:], aa) + np.einsum("ni,ni->n", from_descendants[:, 3:], gg)
         d_w = self._axis_load_force_jacobian()
