@@ -257,6 +257,7 @@ class Problem:
         self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
+        self._row_starts = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int)  # first row of each constraint
 
     @staticmethod
     def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
@@ -362,8 +363,9 @@ class Problem:
 
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints with some row outside its tolerance."""
-        names = []
-        for c in self.constraints:
-            if not np.all(np.abs(c.error(state)) <= c.tolerance() * (1 + 1e-9)):  # NaN counts as unmet
-                names.append(c.name)
-        return names
+        if not self.constraints:
+            return []
+        errors = np.concatenate([c.error(state) for c in self.constraints])
+        met = np.abs(errors) <= self.row_tolerance * (1 + 1e-9)  # NaN counts as unmet
+        per_constraint = np.logical_and.reduceat(met, self._row_starts)
+        return [c.name for c, ok in zip(self.constraints, per_constraint, strict=True) if not ok]

@@ -15,6 +15,8 @@ all TCPs (errors) and one for all rows (Jacobian), shared through the state's ca
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import ManikinError
@@ -64,6 +66,12 @@ class FrameConstraint(Constraint):
         base_tol = np.array([position_tolerance] * 3 + [rotation_tolerance] * 3)
         self._tolerance = np.abs(self.operator) @ base_tol
         self._is_selection = bool(np.all((self.operator == 0) | (self.operator == 1)))
+        locked = self.operator.sum(axis=0) > 0
+        position, rotation = np.r_[locked[:3], [False] * 3], np.r_[[False] * 3, locked[3:]]
+        # (residual name, mask of the unrelaxed components it measures) for the locked translation / rotation
+        self._locked_parts = [
+            (f"{name}.{part}", m) for part, m in (("position", position), ("rotation", rotation)) if m.any()
+        ]
         self._group: FrameGroup | None = None
         self._slot = 0  # index in the group
         self._rows = slice(0, self.rows)  # rows in the group's stacked error and Jacobian
@@ -102,13 +110,12 @@ class FrameConstraint(Constraint):
     def residuals(self, state: State) -> dict[str, float]:
         err = self.full_error(state)
         if not self._is_selection:
-            return {self.name: float(np.linalg.norm(self.operator @ err))}
-        locked = self.operator.sum(axis=0) > 0
+            relaxed = self.operator @ err
+            return {self.name: math.sqrt(float(relaxed @ relaxed))}
         out = {}
-        if locked[:3].any():
-            out[f"{self.name}.position"] = float(np.linalg.norm(err[:3][locked[:3]]))
-        if locked[3:].any():
-            out[f"{self.name}.rotation"] = float(np.linalg.norm(err[3:][locked[3:]]))
+        for part, mask in self._locked_parts:
+            kept = err[mask]
+            out[part] = math.sqrt(float(kept @ kept))
         return out
 
 
