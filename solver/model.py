@@ -219,19 +219,19 @@ class Kinematics:
         """(n, 3) p x a: velocity (m/s) of the point at the world origin turning with each revolute joint."""
         return cross(self.position, self.axis)
 
-    def jacobian_rows(self, link: int, point: np.ndarray, rows_lin: np.ndarray, rows_ang: np.ndarray) -> np.ndarray:
-        """(k, n) = rows_lin @ (d point / d theta) + rows_ang @ (angular velocity / d theta) for a point on ``link``;
-        columns of joints that do not move ``link`` are zero. ``rows_lin``, ``rows_ang``: (k, 3)."""
+    def jacobian_rows(self, points: np.ndarray, rows_lin: np.ndarray, rows_ang: np.ndarray, mask) -> np.ndarray:
+        """(k, n): row r is rows_lin[r] @ (d p_r / d theta) + rows_ang[r] @ (angular velocity / d theta) for a point
+        p_r = ``points[r]`` (or one point (3,) for all rows), times ``mask`` ((k, n) or (n,): 1 for the joints that
+        move the point's link, 0 otherwise). ``rows_lin``, ``rows_ang``: (k, 3)."""
         spin, origin = self.twist_basis
-        # velocity of the point: spin x point + origin = -[point]x spin + origin
-        through_spin = rows_ang - rows_lin @ skew(point)
-        out = through_spin @ spin.T + rows_lin @ origin.T
-        return out * self.model.descendant[:, link]
+        # velocity of a point p: spin x p + origin, so l.v + m.omega = (m - l x p).spin + l.origin
+        through_spin = rows_ang - cross(rows_lin, points)
+        return (through_spin @ spin.T + rows_lin @ origin.T) * mask
 
     def frame_jacobian(self, link: int, point: np.ndarray) -> np.ndarray:
         """(6, n) geometric Jacobian [linear velocity of ``point``; angular velocity] of a frame on ``link``."""
         eye, zero = np.eye(3), np.zeros((3, 3))
-        return self.jacobian_rows(link, point, np.vstack([eye, zero]), np.vstack([zero, eye]))
+        return self.jacobian_rows(point, np.vstack([eye, zero]), np.vstack([zero, eye]), self.model.descendant[:, link])
 
 
 class ModelBuilder:

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import ManikinError
 from ..model import Model, Tcp
-from ..spatial import cross, left_jacobian_inverse_so3, log_so3
+from ..spatial import left_jacobian_inverse_so3, log_so3
 from ..state import State
 from .base import Constraint
 
@@ -92,10 +92,8 @@ class FrameConstraint(Constraint):
 
     def target_frame(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """World (rotation, position) of the target for this state."""
-        if self.reference is None:
-            return self.target_rotation, self.target_position
-        r_ref, p_ref = state.kin.tcp_frame(self.reference)
-        return r_ref @ self.target_rotation, p_ref + r_ref @ self.target_position
+        values = self.group.evaluate(state)
+        return values.target_rotation[self._slot], values.target_position[self._slot]
 
     def full_error(self, state: State) -> np.ndarray:
         """The 6 unrelaxed components [e_p (m), e_r (rad)]."""
@@ -120,13 +118,14 @@ class FrameConstraint(Constraint):
 
 
 class _FrameValues:
-    """One state's evaluation of a group: target rotations (C, 3, 3), TCP positions (C, 3) m, the unrelaxed
-    errors (C, 6) and the relaxed rows of all members stacked (R,)."""
+    """One state's evaluation of a group: world target frames (C, 3, 3) and (C, 3) m, TCP positions (C, 3) m,
+    the unrelaxed errors (C, 6) and the relaxed rows of all members stacked (R,)."""
 
-    __slots__ = ("target_rotation", "position", "full", "errors", "jacobian")
+    __slots__ = ("target_rotation", "target_position", "position", "full", "errors", "jacobian")
 
-    def __init__(self, target_rotation, position, full, errors) -> None:
+    def __init__(self, target_rotation, target_position, position, full, errors) -> None:
         self.target_rotation = target_rotation
+        self.target_position = target_position
         self.position = position
         self.full = full
         self.errors = errors
@@ -197,7 +196,7 @@ class FrameGroup:
         for i in range(len(self.members)):
             full[i, 3:] = log_so3(relative[i])
         errors = (self.operator * full[self.row_member]).sum(axis=1)
-        values = state.cache[self] = _FrameValues(r_t, pos, full, errors)
+        values = state.cache[self] = _FrameValues(r_t, o_t, pos, full, errors)
         return values
 
     def jacobian(self, state: State) -> np.ndarray:
@@ -212,11 +211,7 @@ class FrameGroup:
         member = self.row_member
         rows_lin = (self.operator_lin @ r_t_inv[member])[:, 0, :]
         rows_ang = (self.operator_ang @ ang_map[member])[:, 0, :]
-        # velocity of the TCP point p: spin x p + origin, so a row l.v + m.omega = (m - l x p).spin + l.origin
-        spin, origin = kin.twist_basis
-        through_spin = rows_ang - cross(rows_lin, values.position[member])
         out = np.zeros((len(member), self.n_x))
-        n = kin.model.n
-        out[:, :n] = (through_spin @ spin.T + rows_lin @ origin.T) * self._mask(kin.model)
+        out[:, : kin.model.n] = kin.jacobian_rows(values.position[member], rows_lin, rows_ang, self._mask(kin.model))
         values.jacobian = out
         return out
