@@ -2,9 +2,10 @@
 
 Per iteration, in scaled variables (rows / tolerance, forces / body weight, joints / half their range):
 
-1. Task step: economy SVD of the Jacobian of the free variables, damped least squares whose damping grows
-   smoothly only for singular values below a threshold (near singularities).
-2. Comfort step in the null space N = I - V_r^T V_r of the undamped, rank-truncated row space. The thesis
+1. Task step: damped least squares on the Jacobian of the free variables, from a Cholesky factor of J J^T
+   (m ~ 24 rows) with a Tikhonov damping of 1e-3 of the largest singular value, which matters only near
+   singularities; a trust region adds Levenberg-Marquardt damping.
+2. Comfort step in the null space N = I - V_r^T V_r of the undamped row space (V_r = L^-1 J, orthonormal). The thesis
    takes lambda N grad h with a scalar lambda from a line search; we give lambda a metric: both parts are
    computed in the variables y = W^(1/2) x, W = diag(curvature of -h) + mu (comfort.py), so the comfort part
    is a diagonal Newton step and the task part a weighted least-norm step that keeps joints near their
@@ -23,7 +24,7 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    selectively damped least squares clamps joint changes): the linear model holds about that far, and the
    iterate stays in the basin of a comfortable pose. Near the constraints (within COMFORT_SLACK tolerances)
    task + comfort is tried first and must lower the exact-penalty merit -h + nu sum |scaled error|, nu twice
-   the largest multiplier estimate, judged after a second-order correction that reuses the same SVD. A
+   the largest multiplier estimate, judged after a second-order correction that reuses the same factors. A
    rejected step is halved, then the task part is tried alone (its step length from a safeguarded quadratic
    fit of the error); when comfort keeps failing, mu grows and the comfort part turns back into the thesis's
    gradient step.
@@ -80,8 +81,7 @@ class SolverOptions:
     max_step: float = 1.0  # trust region: largest 2-norm of a task step in scaled variables
     max_comfort_step: float = 0.5  # same for the comfort part of a step
     comfort_tolerance: float = 3e-3  # stop when the predicted comfort gain is below this fraction of max(|h|, 1)
-    singular_threshold: float = 1e-3  # damping starts below this fraction of the largest singular value
-    max_damping: float = 1e-3  # damping at a singularity, as a fraction of the largest singular value
+    max_damping: float = 1e-3  # Tikhonov damping of the task step, as a fraction of the largest singular value
     clamping_rounds: int = 10
 
 
@@ -99,135 +99,89 @@ class _Step:
     multipliers: np.ndarray  # per scaled row: lambda with grad f + J^T lambda ~ 0 on the free variables
 
     def correction(self, err: np.ndarray) -> np.ndarray:
-        """Second-order correction: the task step for a new error, reusing this step's SVD."""
+        """Second-order correction: the task step for a new error, reusing this step's factors."""
         out = np.zeros_like(self.task)
         out[self.free] = self.solve_correction(err)
         return out
 
 
-def _thin_svd(jac: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Economy SVD (u, s descending, vt) of a wide Jacobian from the eigenvectors of J J^T (3x cheaper here).
-
-    Singular values below 1e-7 of the largest lose their accuracy this way and are set to zero (with zero rows
-    of vt): the solver damps everything below 1e-3 of the largest anyway.
-    """
-    m, n = jac.shape
-    if m == 0 or n == 0:
-        return np.zeros((m, 0)), np.zeros(0), np.zeros((0, n))
-    if m > n:
-        return np.linalg.svd(jac, full_matrices=False)
-    lam, u = np.linalg.eigh(jac @ jac.T)
-    lam, u = lam[::-1], u[:, ::-1]
-    s = np.sqrt(np.clip(lam, 0.0, None))
-    ok = s > 1e-7 * s[0]
-    s = np.where(ok, s, 0.0)
-    vt = np.zeros((m, n))
-    vt[ok] = (u[:, ok].T @ jac) / s[ok, None]
-    return u, s, vt
-
-
-def _certified_inverse_factor(jac: np.ndarray, threshold: float) -> np.ndarray | None:
-    """L^-1 for J J^T = L L^T (Cholesky) when every singular value of J is certainly >= threshold * s_max, else None.
-
-    The certificate: lambda_min(J J^T) >= 1 / ||L^-1||_F^2 and lambda_max <= trace(J J^T). Then no singular value
-    needs damping and the least-squares quantities follow from L^-1 without an eigendecomposition.
-    """
-    m, n = jac.shape
-    if m == 0 or m > n:
-        return None
-    gram = jac @ jac.T
-    low, info = lapack.dpotrf(gram, lower=1)
-    if info != 0:
-        return None
-    inverse, info = lapack.dtrtri(low, lower=1)
-    if info != 0:
-        return None
-    if not (1.0 >= threshold * threshold * float(np.trace(gram)) * float(np.sum(inverse * inverse))):
-        return None  # possibly ill-conditioned (or not finite): the SVD decides
-    return inverse
-
-
 class _LeastSquares:
-    """Damped least squares on one Jacobian: steps, row-space basis, multipliers.
+    """Damped least squares on one Jacobian J (m x n): steps, row-space basis, multipliers.
 
-    Damping grows smoothly only for singular values below ``singular_threshold * s_max``; a trust region
-    adds Levenberg-Marquardt damping until the step fits, which shortens the poorly determined directions
-    first instead of shrinking the whole step. When the Jacobian is certainly well conditioned and the step
-    fits, a Cholesky factor of J J^T gives the same undamped quantities; otherwise its economy SVD is used.
+    Everything comes from G = J J^T (m is ~24, n ~100..190). Steps and multipliers use (G + d^2 I)^-1 with a
+    Tikhonov damping d = max_damping * s_max (s_max^2 estimated by ||G||_F, at most sqrt(m) times larger), which
+    only changes singular values within ~10 d of it: the damped least squares of Nakamura & Hanafusa near
+    singularities, negligible elsewhere. The row-space basis for the null-space projection is L^-1 J, G = L L^T,
+    undamped. A trust region adds Levenberg-Marquardt damping found by Newton's method on the secular equation
+    (Moré & Sorensen), each trial one Cholesky of an m x m matrix. When G is numerically singular (or too
+    ill-conditioned for Cholesky to be trusted) its eigendecomposition stands in for the factors.
     """
 
     def __init__(self, jac: np.ndarray, opts: SolverOptions) -> None:
-        self.n = jac.shape[1]
         self._jac = jac
-        self._opts = opts
-        self._svd = False
-        self._inverse = _certified_inverse_factor(jac, opts.singular_threshold)  # L^-1, or None
-        if self._inverse is not None:
-            self.basis = self._inverse @ jac  # orthonormal rows spanning the row space
+        m = jac.shape[0]
+        gram = jac @ jac.T
+        self._gram = gram
+        size2 = float(np.sum(gram * gram)) if m else 0.0
+        self._damp2 = opts.max_damping**2 * math.sqrt(size2)
+        self._eig: tuple[np.ndarray, np.ndarray] | None = None
+        self._factors: dict[float, np.ndarray] = {}
+        low, info = lapack.dpotrf(gram, lower=1) if m else (None, 1)
+        inverse = None
+        if info == 0:
+            inverse, info = lapack.dtrtri(low, lower=1)
+        # cond(G) <= trace(G) ||L^-1||_F^2 <= 1e10 keeps L^-1 J orthonormal to ~1e-5 (eps cond); beyond, eigenvectors
+        if info == 0 and float(np.trace(gram)) * float(np.sum(inverse * inverse)) < 1e10:
+            self.basis = inverse @ jac  # orthonormal rows spanning the row space
         else:
-            self._factor()
-            self.basis = self.vt[self._keep]  # orthonormal basis of the row space (undamped, rank-truncated)
+            lam, u = np.linalg.eigh(gram) if m else (np.zeros(0), np.zeros((0, 0)))
+            keep = lam > 1e-14 * max(float(lam[-1]), 0.0) if m else np.zeros(0, dtype=bool)
+            self._eig = (np.clip(lam, 0.0, None), u)
+            self.basis = (u[:, keep] / np.sqrt(lam[keep])).T @ jac  # undamped; J J^T gives s >= 1e-7 s_max accurately
 
-    def _factor(self) -> None:
-        """The economy SVD and the damping of its small singular values."""
-        if self._svd:
-            return
-        self._svd = True
-        self.u, self.s, self.vt = _thin_svd(self._jac)
-        s_max = self.s[0] if self.s.size else 0.0
-        eps = self._opts.singular_threshold * s_max
-        ramp = 1.0 - (self.s / max(eps, 1e-300)) ** 2
-        self.damp2 = np.where(self.s < eps, (self._opts.max_damping * s_max) ** 2 * ramp, 0.0)
-        self._denominator = self.s * self.s + self.damp2  # of the gain, before any extra damping
-        self._positive = bool(np.all(self._denominator > 0.0))
-        self.s_max = s_max
-        self._keep = self.s > 1e-9 * s_max if s_max > 0 else np.zeros(len(self.s), dtype=bool)
-
-    def _gain(self, extra2: float) -> np.ndarray:
-        denom = self._denominator + extra2
-        if self._positive and extra2 >= 0.0:
-            return self.s / denom
-        return np.divide(self.s, denom, out=np.zeros_like(self.s), where=denom > 0)
+    def _solve(self, rhs: np.ndarray, extra2: float = 0.0) -> np.ndarray:
+        """(G + (d^2 + extra2) I)^-1 rhs."""
+        shift = self._damp2 + extra2
+        if self._eig is not None:
+            lam, u = self._eig
+            denom = lam + shift
+            return u @ np.divide(u.T @ rhs, denom, out=np.zeros_like(lam), where=denom > 0)
+        factor = self._factors.get(shift)
+        if factor is None:
+            factor, info = lapack.dpotrf(self._gram + shift * np.eye(len(self._gram)), lower=1)
+            if info != 0:  # cannot happen for shift >= 0 once G itself factored; stay finite regardless
+                return np.zeros_like(rhs)
+            self._factors[shift] = factor
+        return lapack.dpotrs(factor, rhs, lower=1)[0]
 
     def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
-        """-J^+ err with the built-in damping (plus ``extra2``, a squared LM damping)."""
-        if self._inverse is not None and extra2 == 0.0:
-            return -self.basis.T @ (self._inverse @ err)
-        self._factor()
-        return -self.vt.T @ (self._gain(extra2) * (self.u.T @ err))
+        """-J^T (G + d^2 I)^-1 err (plus ``extra2``, a squared LM damping)."""
+        return -self._jac.T @ self._solve(err, extra2)
 
     def step_within(self, err: np.ndarray, col_scale: np.ndarray, radius: float) -> np.ndarray:
         """The step, in variables ``col_scale * y``, with LM damping raised until its 2-norm <= radius."""
-        if self._inverse is not None:
-            plain = col_scale * self.step(err)
-            if math.sqrt(float(plain @ plain)) <= radius:
-                return plain
-        self._factor()
-        c = self.u.T @ err
-        a = self.vt.T * col_scale[:, None]  # step(extra) = -a @ (gain * c)
-        gram = a.T @ a
-
-        def norm(extra2: float) -> float:
-            d = self._gain(extra2) * c
-            return math.sqrt(max(float(d @ gram @ d), 0.0))
-
-        if norm(0.0) <= radius or self.s_max <= 0:
-            return -a @ (self._gain(0.0) * c)
-        lo, hi = 0.0, self.s_max**2
-        while norm(hi) > radius and hi < 1e30:
-            hi *= 100.0
-        for _ in range(30):  # bisection on a log scale
-            mid = np.sqrt(max(lo, hi * 1e-12) * hi)
-            lo, hi = (mid, hi) if norm(mid) > radius else (lo, mid)
-            if hi / max(lo, 1e-300) < 1.5:
+        z = self._solve(err)
+        scaled = self._jac * col_scale  # the step is -scaled^T z
+        weight = scaled @ scaled.T  # ||step||^2 = z^T weight z
+        extra2 = 0.0
+        for _ in range(30):
+            size = math.sqrt(max(float(z @ weight @ z), 0.0))
+            if size <= 1.05 * radius:
                 break
-        return -a @ (self._gain(hi) * c)
+            # Newton on 1/||step(extra2)|| = 1/radius: d||step||^2/d extra2 = -2 z^T weight (G + shift I)^-1 z
+            slope = -2.0 * float((weight @ z) @ self._solve(z, extra2))
+            if not slope < 0.0:
+                extra2 = 4.0 * extra2 + self._damp2 + 1e-300
+            else:
+                extra2 += (1.0 / size - 1.0 / radius) / (0.5 * slope / size**3)
+            z = self._solve(err, extra2)
+        out = -scaled.T @ z
+        size = math.sqrt(float(out @ out))
+        return out * (radius / size) if size > radius else out
 
     def multipliers(self, g: np.ndarray) -> np.ndarray:
-        """lambda with g + J^T lambda ~ 0 (least squares)."""
-        if self._inverse is not None:
-            return -self._inverse.T @ (self.basis @ g)
-        return -self.u @ (self._gain(0.0) * (self.vt @ g))
+        """lambda with g + J^T lambda ~ 0 (damped least squares)."""
+        return -self._solve(self._jac @ g)
 
 
 class _CurvatureMemory:

@@ -425,24 +425,6 @@ def test_nan_target_is_rejected_or_gives_finite_result(male50):
     assert not result.converged and "hand_r" in result.unmet
 
 
-@pytest.mark.parametrize("rank", [22, 15, 0])
-def test_thin_svd_matches_numpy(rank):
-    """The solver's SVD from eig(J J^T) gives the same step, row-space projector and multipliers as numpy's."""
-    from solver.solve import _thin_svd
-
-    rng = np.random.default_rng(rank)
-    jac = rng.normal(size=(22, rank)) @ rng.normal(size=(rank, 190)) * np.geomspace(1e-3, 1e3, 22)[:, None]
-    u, s, vt = _thin_svd(jac)
-    u0, s0, vt0 = np.linalg.svd(jac, full_matrices=False)
-    big = max(s0[0], 1e-300)
-    # accurate to ~1e-16 (s_max / s)^2 relatively; below 1e-7 s_max a singular value is dropped (set to 0)
-    keep = s0 > 1e-5 * big
-    assert np.allclose(s[keep], s0[keep], rtol=1e-5) and np.all(s[s0 < 1e-8 * big] == 0.0)
-    assert np.allclose(u * s @ vt, jac, rtol=0.0, atol=1e-6 * big)
-    projector, projector0 = vt[keep].T @ vt[keep], vt0[keep].T @ vt0[keep]
-    assert np.allclose(projector, projector0, atol=1e-5)
-
-
 @pytest.mark.parametrize("level, seed", [(1, 107), (3, 307)])
 def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, seed):
     """The restoring phase steps in the comfort's curvature metric: constraints met, joints far from limits."""
