@@ -122,8 +122,7 @@ class _LeastSquares:
         m = jac.shape[0]
         gram = jac @ jac.T
         self._gram = gram
-        size2 = float(np.sum(gram * gram)) if m else 0.0
-        self._damp2 = opts.max_damping**2 * math.sqrt(size2)
+        self._damp2 = opts.max_damping**2 * math.sqrt(float(np.vdot(gram, gram)))
         self._eig: tuple[np.ndarray, np.ndarray] | None = None
         self._factors: dict[float, np.ndarray] = {}
         low, info = lapack.dpotrf(gram, lower=1) if m else (None, 1)
@@ -131,7 +130,7 @@ class _LeastSquares:
         if info == 0:
             inverse, info = lapack.dtrtri(low, lower=1)
         # cond(G) <= trace(G) ||L^-1||_F^2 <= 1e10 keeps L^-1 J orthonormal to ~1e-5 (eps cond); beyond, eigenvectors
-        if info == 0 and float(np.trace(gram)) * float(np.sum(inverse * inverse)) < 1e10:
+        if info == 0 and float(gram.diagonal().sum()) * float(np.vdot(inverse, inverse)) < 1e10:
             self.basis = inverse @ jac  # orthonormal rows spanning the row space
         else:
             lam, u = np.linalg.eigh(gram) if m else (np.zeros(0), np.zeros((0, 0)))
@@ -148,7 +147,9 @@ class _LeastSquares:
             return u @ np.divide(u.T @ rhs, denom, out=np.zeros_like(lam), where=denom > 0)
         factor = self._factors.get(shift)
         if factor is None:
-            factor, info = lapack.dpotrf(self._gram + shift * np.eye(len(self._gram)), lower=1)
+            shifted = self._gram.copy()
+            shifted.flat[:: len(shifted) + 1] += shift
+            factor, info = lapack.dpotrf(shifted, lower=1, overwrite_a=1)
             if info != 0:  # cannot happen for shift >= 0 once G itself factored; stay finite regardless
                 return np.zeros_like(rhs)
             self._factors[shift] = factor
@@ -235,11 +236,11 @@ def null_space_newton(grad: np.ndarray, basis: np.ndarray, low_rank: tuple[np.nd
         return -q
     v, middle = low_rank
     a = v - basis.T @ (basis @ v)
-    try:
-        z = -(q - a @ np.linalg.solve(a.T @ a - middle, a.T @ q))
-    except np.linalg.LinAlgError:
+    _, _, inner, info = lapack.dgesv(a.T @ a - middle, a.T @ q)
+    if info != 0:
         return -q
-    return z if (np.all(np.isfinite(z)) and z @ grad < 0.0) else -q
+    z = -(q - a @ inner)
+    return z if (math.isfinite(float(z @ z)) and z @ grad < 0.0) else -q
 
 
 def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on, memory) -> _Step:
@@ -310,10 +311,9 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     predicted = -(grad_f @ comfort + 0.5 * (curv_f * comfort) @ comfort) if comfort_on else 0.0
     if compact is not None:  # the quasi-Newton part of comfort @ B @ comfort / 2
         u_c = compact[0].T @ comfort
-        try:
-            predicted += 0.5 * float(u_c @ np.linalg.solve(compact[1], u_c))
-        except np.linalg.LinAlgError:
-            pass
+        _, _, inner, info = lapack.dgesv(compact[1], u_c)
+        if info == 0:
+            predicted += 0.5 * float(u_c @ inner)
     r_free = root[free]
 
     def correction(e: np.ndarray) -> np.ndarray:
