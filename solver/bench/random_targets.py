@@ -30,7 +30,7 @@ from ..reduction import DEFAULT_GROUPS, GROUPS
 from ..solve import SolverOptions, solve
 from ..spatial import exp_so3
 from .peers import PeerResult, placo_available, placo_peer, slsqp_peer
-from .scenarios import machine, write_section
+from .scenarios import machine, speed_reference, write_section
 
 LEVELS = (np.pi / 8, np.pi / 4, np.pi / 3, np.pi / 2, 2 * np.pi / 3, np.pi)
 LEVEL_NAMES = ("pi/8", "pi/4", "pi/3", "pi/2", "2pi/3", "pi")
@@ -211,6 +211,7 @@ def run_random_benchmark(
                      for i in range(peer_trials)]  # fmt: skip
         jobs = peer_jobs[: len(LEVELS) * peer_trials] + jobs + peer_jobs[len(LEVELS) * peer_trials :]
     processes = processes or os.cpu_count() or 1
+    reference = [speed_reference()]
     outcomes = []
     with _pool(processes) as pool:
         for k, outcome in enumerate(pool.imap_unordered(run_trial, jobs, chunksize=1), 1):
@@ -219,8 +220,9 @@ def run_random_benchmark(
                 bar = "#" * int(40 * k / len(jobs))
                 print(f"\r[{bar:<40}] {k}/{len(jobs)}", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
+    reference.append(speed_reference())
     output = Path(output)
-    text = _report(outcomes, trials, processes)
+    text = _report(outcomes, trials, processes, reference)
     if peers:
         text += "\n\n" + _peer_report(outcomes, peer_trials, peer_names)
     write_section(output, "random-bench", text)
@@ -238,14 +240,16 @@ def _stats(outcomes: list[dict], config: str, level: int) -> tuple[int, int, np.
     return sum(o["converged"] for o in sel), len(sel), np.array([o["time_s"] for o in sel])
 
 
-def _report(outcomes: list[dict], trials: int, processes: int) -> str:
+def _report(outcomes: list[dict], trials: int, processes: int, reference: list[float]) -> str:
     lines = [
         "## Randomized targets (issue 3, thesis §6.1.2)",
         "",
         f"Written by `python -m solver bench --random --trials {trials}` on {datetime.date.today().isoformat()}; "
         f"{trials} trials per level, the same seeds for every setting, {processes} processes (one solve per core, "
         "single-threaded BLAS); the settings take turns on each trial, so the shared VM's speed drifts hit them alike.",
-        f"Machine: {machine()}. Manikin {PRESET}; hand targets with all six axes locked, feet sliding on the floor.",
+        f"Machine: {machine()}; speed reference (a fixed NumPy workload, lower is faster; compare runs by it) "
+        f"{reference[0]:.1f} ms before, {reference[1]:.1f} ms after the trials.",
+        f"Manikin {PRESET}; hand targets with all six axes locked, feet sliding on the floor.",
         'Success = the constraint function met (converged). Times in seconds. "reduction" is what',
         "`reduction = true` does: the spine regions and the fingers grouped. The thesis's reduction also coupled",
         "each shoulder's nine joints by the Hogfors rhythm; that is the last setting (2 variables per shoulder:",

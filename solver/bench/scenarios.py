@@ -43,6 +43,27 @@ def machine() -> str:
     )
 
 
+def speed_reference(repeats: int = 7) -> float:
+    """Median time (ms) of a fixed NumPy workload like the solver's (batched 4x4 products, small Cholesky and
+    eigen factorisations): lower is faster. Recorded with every benchmark run, it tells a slow phase of the
+    shared VM from a slower solver when two runs are compared."""
+    rng = np.random.default_rng(0)
+    frames = rng.standard_normal((160, 4, 4))
+    jac = rng.standard_normal((24, 120))
+    gram = jac @ jac.T
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(50):
+            for _ in range(7):
+                frames @ frames
+            np.linalg.cholesky(gram)
+            np.linalg.eigh(gram)
+            np.sin(jac).sum(axis=0)
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times)) * 1e3
+
+
 def _stats(values: list[float]) -> tuple[float, float, float]:
     """(median, p95, min) of solve times, s."""
     return float(np.median(values)), float(np.percentile(values, 95)), float(np.min(values))
@@ -88,6 +109,7 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
     ):
         rng = np.random.default_rng(0)
         cases.append((label, [(_moved(sc.problem, rng), base.x, options) for _ in range(repeats)]))
+    reference = [speed_reference()]
     times = [[] for _ in cases]
     iters = [[] for _ in cases]
     good = [0 for _ in cases]
@@ -99,6 +121,7 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
                 times[k].append(time.perf_counter() - t0)
                 iters[k].append(res.iterations)
                 good[k] += res.converged
+    reference.append(speed_reference())
     rows = []
     for k, (label, _) in enumerate(cases):
         med, p95, fastest = _stats(times[k])
@@ -116,7 +139,8 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
         "(Comfort off: the least an interactive drag needs).",
         "The machine is a shared VM whose speed drifts by up to 2x over minutes: the cases take turns in blocks",
         f"of {BLOCK} solves (as an interactive session re-solves one problem) so the drift affects them alike, and",
-        "the fastest of the repeats shows the cost without that noise.",
+        "the fastest of the repeats shows the cost without that noise. Speed reference (a fixed NumPy workload,",
+        f"lower is faster; compare runs by it): {reference[0]:.1f} ms before, {reference[1]:.1f} ms after.",
         "",
         "| case | median ms | p95 ms | fastest ms | median iterations | converged |",
         "|---|---:|---:|---:|---:|---:|",
