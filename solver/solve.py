@@ -163,10 +163,13 @@ class _LeastSquares:
         """The step, in variables ``col_scale * y``, with LM damping raised until its 2-norm <= radius."""
         z = self._solve(err)
         scaled = self._jac * col_scale  # the step is -scaled^T z
-        weight = scaled @ scaled.T  # ||step||^2 = z^T weight z
+        out = -scaled.T @ z
+        size = math.sqrt(float(out @ out))
+        if size <= radius:
+            return out
+        weight = scaled @ scaled.T  # ||step||^2 = z^T weight z, only needed when the trust region binds
         extra2 = 0.0
         for _ in range(30):
-            size = math.sqrt(max(float(z @ weight @ z), 0.0))
             if size <= 1.05 * radius:
                 break
             # Newton on 1/||step(extra2)|| = 1/radius: d||step||^2/d extra2 = -2 z^T weight (G + shift I)^-1 z
@@ -176,6 +179,7 @@ class _LeastSquares:
             else:
                 extra2 += (1.0 / size - 1.0 / radius) / (0.5 * slope / size**3)
             z = self._solve(err, extra2)
+            size = math.sqrt(max(float(z @ weight @ z), 0.0))
         out = -scaled.T @ z
         size = math.sqrt(float(out @ out))
         return out * (radius / size) if size > radius else out
