@@ -2,8 +2,8 @@
 
 Link i is moved by joint i; its frame sits at the joint. ``parent[i]`` is the parent link (-1 = world).
 In the zero pose every link frame is a pure translation of its parent by ``origin_position`` rotated by
-``origin_rotation``. Units: m, rad, kg. Forward kinematics is vectorised by pointer jumping: after
-ceil(log2(depth)) batched compositions every link holds its world transform.
+``origin_rotation``. Units: m, rad, kg. Forward kinematics is vectorised: zero-offset chains (a vertebra's
+three rotations) are composed first, then the chains by pointer jumping (ceil(log2(depth)) batched compositions).
 """
 
 from __future__ import annotations
@@ -58,9 +58,6 @@ class Model:
     info: dict = field(default_factory=dict)  # body description (sex, stature, mass, sources)
     descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
     tree_sums: TreeSums = field(init=False)  # O(n) sums over every link's subtree or ancestors
-    _jumps: tuple = field(init=False)
-    _order: np.ndarray = field(init=False)
-    _rank: np.ndarray = field(init=False)
     _fk: _ForwardTables = field(init=False)
 
     def __post_init__(self) -> None:
@@ -73,25 +70,7 @@ class Model:
                 j = int(self.parent[j])
         object.__setattr__(self, "descendant", desc)
         object.__setattr__(self, "tree_sums", TreeSums(self.parent))
-        # Pointer-jumping schedule over the links sorted by depth: in each round every link whose ancestor
-        # pointer is still inside the tree composes with it; those links form a suffix of the sorted order,
-        # so each round updates one contiguous slice.
-        depth = np.zeros(n, dtype=int)
-        for k in range(n):
-            depth[k] = 0 if self.parent[k] < 0 else depth[self.parent[k]] + 1
-        order = np.argsort(depth, kind="stable")
-        rank = np.argsort(order)
-        anc = np.array([rank[self.parent[o]] if self.parent[o] >= 0 else -1 for o in order], dtype=int)
-        jumps = []
-        while np.any(anc >= 0):
-            start = int(np.argmax(anc >= 0))
-            jumps.append((start, anc[start:].copy()))
-            tail = anc[start:]
-            anc[start:] = np.where(anc[tail] >= 0, anc[tail], -1)
-        object.__setattr__(self, "_jumps", tuple(jumps))
-        object.__setattr__(self, "_order", order)
-        object.__setattr__(self, "_rank", rank)
-        object.__setattr__(self, "_fk", _ForwardTables.build(self, order))
+        object.__setattr__(self, "_fk", _ForwardTables.build(self))
         self.prismatic.setflags(write=False)
         self.descendant.setflags(write=False)
 
@@ -133,55 +112,151 @@ class Model:
         theta = np.asarray(theta, dtype=float)
         fk = self._fk
         n = len(theta)
-        angle = theta[self._order]  # the local transforms are built in depth order, as the jumps need them
+        angle = theta[fk.store]  # links in the storage order of the chain steps
         rev_angles = np.where(fk.prismatic, 0.0, angle)
         sin, cos = np.sin(rev_angles)[:, None], np.cos(rev_angles)[:, None]
-        local = np.zeros((n, 4, 4))
-        local[:, 3, 3] = 1.0
+        frames = np.zeros((n, 4, 4))  # link frames in the parent link frame, then in the world
+        frames[:, 3, 3] = 1.0
         spin = (fk.eye + sin * fk.axis_skew + (1.0 - cos) * fk.axis_skew2).reshape(n, 3, 3)
         slide = np.where(fk.prismatic, angle, 0.0)[:, None] * fk.axis
         if fk.origin_rotation is None:
-            local[:, :3, :3] = spin
-            local[:, :3, 3] = fk.origin_position + slide
+            frames[:, :3, :3] = spin
+            frames[:, :3, 3] = fk.origin_position + slide
         else:
-            local[:, :3, :3] = fk.origin_rotation @ spin
-            local[:, :3, 3] = fk.origin_position + np.einsum("nij,nj->ni", fk.origin_rotation, slide)
-        # Pointer jumping in depth order (in place is safe: the right-hand side gathers copies first).
-        for start, anc in self._jumps:
-            local[start:] = local.take(anc, axis=0) @ local[start:]
-        local = local.take(self._rank, axis=0)
-        rot = local[:, :3, :3]
-        pos = local[:, :3, 3]
-        world_axis = np.einsum("nij,nj->ni", rot, self.axis)
-        world_com = pos + np.einsum("nij,nj->ni", rot, self.com)
-        return Kinematics(self, theta, rot, pos, world_axis, world_com)
+            frames[:, :3, :3] = fk.origin_rotation @ spin
+            frames[:, :3, 3] = fk.origin_position + np.einsum("nij,nj->ni", fk.origin_rotation, slide)
+        # Each chain's links in the frame of the link above its head, one chain position at a time.
+        for above, links in fk.chain_steps:
+            frames[links] = frames[above] @ frames[links]
+        # Pointer jumping over the chains in depth order (in place is safe: the right side gathers copies first).
+        world = frames.take(fk.chain_end, axis=0)
+        for start, anc in fk.jumps:
+            world[start:] = world.take(anc, axis=0) @ world[start:]
+        # the links inside a chain hang from the world frame of the chain above (the identity for a root chain)
+        world_above = np.concatenate([world, fk.identity])
+        for links, chain_above in fk.inner:
+            frames[links] = world_above.take(chain_above, axis=0) @ frames[links]
+        frames[fk.chain_end] = world
+        frames = frames.take(fk.link_place, axis=0)
+        axis_and_com = frames @ fk.axis_and_com  # (n, 4, 2): the joint axis (direction) and the link's COM (point)
+        rot, pos = frames[:, :3, :3], frames[:, :3, 3]
+        return Kinematics(self, theta, rot, pos, axis_and_com[:, :3, 0], axis_and_com[:, :3, 1])
 
 
 @dataclass(frozen=True, eq=False)
 class _ForwardTables:
-    """Per-link constants of :meth:`Model.forward`, in depth order (the model's ``_order``)."""
+    """Constants of :meth:`Model.forward`.
 
-    prismatic: np.ndarray  # (n,) bool
-    eye: np.ndarray  # (9,) the identity, row-major
+    Forward kinematics composes chains first: a link whose joint sits at its parent's (zero offset) and is
+    its parent's only child joins the parent's chain (a vertebra's three rotations, the root's three slides),
+    so the 160 links form ~75 chains of 1..3 links. The links are stored by chain position (all heads, then
+    all second links, ...) with the chains longest first, so that composing every chain's next link with its
+    predecessor is one batched product of two slices (``chain_steps``). Then the chains' end frames are
+    composed by pointer jumping over the chain tree in depth order (``jumps``: in each round every chain
+    whose ancestor pointer is still inside the tree composes with it; those chains form a suffix of the depth
+    order, so each round updates one contiguous slice), and last the links inside a chain take the world
+    frame of the chain above. About half the 4x4 products of pointer jumping over the links themselves.
+    """
+
+    store: np.ndarray  # (n,) link at each storage place
+    link_place: np.ndarray  # (n,) storage place of each link
+    prismatic: np.ndarray  # (n,) bool, in storage order (as are the four below)
     axis_skew: np.ndarray  # (n, 9) [axis]x, row-major
     axis_skew2: np.ndarray  # (n, 9) [axis]x^2
     axis: np.ndarray  # (n, 3) joint axis in the link frame
     origin_position: np.ndarray  # (n, 3) m, in the parent frame
     origin_rotation: np.ndarray | None  # (n, 3, 3); None when every origin rotation is the identity
+    chain_steps: tuple  # ((slice of predecessors, slice of links), ...) for chain positions 1, 2, ...
+    chain_end: np.ndarray  # (c,) storage place of each chain's last link, chains in depth order
+    jumps: tuple  # ((start, ancestor chain of chains start:), ...)
+    inner: tuple  # ((slice of links inside chains, depth-order index of the chain above each, c = none), ...)
+    axis_and_com: np.ndarray  # (n, 4, 2) per link (link order): [axis, 0] and [COM, 1] in the link frame
+    eye: np.ndarray = field(default_factory=lambda: np.eye(3).ravel())  # (9,) the identity, row-major
+    identity: np.ndarray = field(default_factory=lambda: np.eye(4)[None])  # (1, 4, 4)
 
     @staticmethod
-    def build(model: Model, order: np.ndarray) -> _ForwardTables:
-        k = skew(model.axis)
+    def build(model: Model) -> _ForwardTables:
+        parent, n = model.parent, len(model.parent)
+        children = np.bincount(parent[parent >= 0], minlength=n)
+        at_parent = ~np.any(model.origin_position != 0.0, axis=1) & np.all(
+            model.origin_rotation == np.eye(3), axis=(1, 2)
+        )
+        depth = np.zeros(n, dtype=int)
+        for j in _parents_first(parent):
+            depth[j] = 0 if parent[j] < 0 else depth[parent[j]] + 1
+        members: dict[int, list[int]] = {}  # chain head -> its links, head first
+        head = np.arange(n)
+        for j in np.argsort(depth, kind="stable"):
+            p = parent[j]
+            if p >= 0 and at_parent[j] and children[p] == 1:
+                head[j] = head[p]
+            members.setdefault(int(head[j]), []).append(int(j))
+        heads = sorted(members, key=lambda h: (-len(members[h]), depth[h]))  # longest chains first
+        chain_of = {h: c for c, h in enumerate(heads)}
+        above = np.array([chain_of[int(head[parent[h]])] if parent[h] >= 0 else -1 for h in heads], dtype=int)
+        chain_depth = np.zeros(len(heads), dtype=int)
+        for c in np.argsort(depth[heads], kind="stable"):
+            chain_depth[c] = 0 if above[c] < 0 else chain_depth[above[c]] + 1
+        order = np.argsort(chain_depth, kind="stable")  # chains in depth order
+        rank = np.argsort(order)
+        # storage: position 0 of every chain, then position 1 of the chains that have one, ...
+        longest = len(members[heads[0]]) if heads else 0
+        blocks = [[members[h][k] for h in heads if len(members[h]) > k] for k in range(longest)]
+        starts = np.cumsum([0] + [len(b) for b in blocks])
+        store = np.array([j for b in blocks for j in b], dtype=int)
+        place = np.argsort(store)
+        steps = tuple(
+            (slice(int(starts[k - 1]), int(starts[k - 1]) + len(blocks[k])), slice(int(starts[k]), int(starts[k + 1])))
+            for k in range(1, longest)
+        )
+        inner = []
+        for k in range(longest - 1):
+            count = len(blocks[k + 1])  # chains longer than k + 1: their link k is inside the chain
+            chain_above = np.where(above[:count] >= 0, rank[above[:count]], len(heads))
+            inner.append((slice(int(starts[k]), int(starts[k]) + count), chain_above))
+        ends = np.array([place[members[h][-1]] for h in heads], dtype=int)
+        anc = np.array([rank[above[c]] if above[c] >= 0 else -1 for c in order], dtype=int)
+        jumps = []
+        while np.any(anc >= 0):
+            start = int(np.argmax(anc >= 0))
+            jumps.append((start, anc[start:].copy()))
+            tail = anc[start:]
+            anc[start:] = np.where(anc[tail] >= 0, anc[tail], -1)
+        k = skew(model.axis)[store]
         plain = bool(np.allclose(model.origin_rotation, np.eye(3)))
         return _ForwardTables(
-            prismatic=model.prismatic[order],
-            eye=np.eye(3).ravel(),
-            axis_skew=k[order].reshape(-1, 9),
-            axis_skew2=(k @ k)[order].reshape(-1, 9),
-            axis=model.axis[order],
-            origin_position=model.origin_position[order],
-            origin_rotation=None if plain else model.origin_rotation[order],
+            store=store,
+            link_place=place,
+            prismatic=model.prismatic[store],
+            axis_skew=k.reshape(-1, 9),
+            axis_skew2=(k @ k).reshape(-1, 9),
+            axis=model.axis[store],
+            origin_position=model.origin_position[store],
+            origin_rotation=None if plain else model.origin_rotation[store],
+            chain_steps=steps,
+            chain_end=ends[order],
+            jumps=tuple(jumps),
+            inner=tuple(inner),
+            axis_and_com=np.stack(
+                [np.column_stack([model.axis, np.zeros(n)]), np.column_stack([model.com, np.ones(n)])], axis=2
+            ),
         )
+
+
+def _parents_first(parent: np.ndarray) -> list[int]:
+    """Link indices ordered so that every link comes after its parent."""
+    done = np.zeros(len(parent), dtype=bool)
+    out: list[int] = []
+    for j in range(len(parent)):
+        stack = []
+        k = j
+        while k >= 0 and not done[k]:
+            stack.append(k)
+            k = int(parent[k])
+        for k in reversed(stack):
+            done[k] = True
+            out.append(k)
+    return out
 
 
 @dataclass(frozen=True, eq=False)

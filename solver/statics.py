@@ -95,14 +95,28 @@ class Statics:
         self.load_points = load_points
         self._points = np.concatenate([kin.com, self.corner_points, load_points])
         self._forces = np.concatenate([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
-        moments = cross(self._points, self._forces)
-        sums = layout.subtree_sums(np.concatenate([self._forces, moments], axis=1))
+        self._moments = cross(self._points, self._forces)
         self.total_force = self._forces.sum(axis=0)
-        self.total_moment = moments.sum(axis=0)  # about the world origin
-        self.sub_force = sums[:, 0:3]
-        self.sub_moment = sums[:, 3:6]
+        self.total_moment = self._moments.sum(axis=0)  # about the world origin
         self._g = None
         self._axis_loads: np.ndarray | None = None
+
+    @cached_property
+    def _subtree_wrench(self) -> np.ndarray:
+        """(n, 6) per joint: force (N) and moment about the world origin (N*m) of the loads on its subtree.
+
+        Only joint loads and derivatives need it; the balance error (a trial point's) needs the totals alone."""
+        return self.layout.subtree_sums(np.concatenate([self._forces, self._moments], axis=1))
+
+    @property
+    def sub_force(self) -> np.ndarray:
+        """(n, 3) sum of the forces on each joint's subtree, N (world)."""
+        return self._subtree_wrench[:, 0:3]
+
+    @property
+    def sub_moment(self) -> np.ndarray:
+        """(n, 3) sum of their moments about the world origin, N*m."""
+        return self._subtree_wrench[:, 3:6]
 
     @cached_property
     def sub_outer(self) -> np.ndarray:
