@@ -35,6 +35,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.linalg import lapack
@@ -94,15 +95,25 @@ class _Step:
     comfort: np.ndarray  # scaled comfort step
     predicted_gain: float  # comfort gain the quadratic model predicts for the comfort step (>= 0)
     free: np.ndarray  # variables the step moved freely
-    solve_correction: object  # err -> least-squares step over the free variables (same factorisation)
-    penalty: float  # weight of sum |scaled error| in the merit: twice the largest multiplier estimate
-    multipliers: np.ndarray  # per scaled row: lambda with grad f + J^T lambda ~ 0 on the free variables
+    least_squares: _LeastSquares  # the factors of the free variables' Jacobian, in the metric
+    root_metric: np.ndarray  # square root of the metric on the free variables
+    free_gradient: np.ndarray  # grad f on the free variables, in the metric
 
     def correction(self, err: np.ndarray) -> np.ndarray:
         """Second-order correction: the task step for a new error, reusing this step's factors."""
         out = np.zeros_like(self.task)
-        out[self.free] = self.solve_correction(err)
+        out[self.free] = self.least_squares.step(err) / self.root_metric
         return out
+
+    @cached_property
+    def multipliers(self) -> np.ndarray:
+        """Per scaled row: lambda with grad f + J^T lambda ~ 0 on the free variables (only near the constraints)."""
+        return self.least_squares.multipliers(self.free_gradient)
+
+    @cached_property
+    def penalty(self) -> float:
+        """Weight of sum |scaled error| in the merit: twice the largest multiplier estimate."""
+        return 2.0 * float(np.max(np.abs(self.multipliers), initial=0.0)) + 1e-9
 
 
 class _LeastSquares:
@@ -273,8 +284,6 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
     else:
         metric = np.ones_like(x)
     root = np.sqrt(metric)
-    half_lo = np.where(problem.is_joint & (-lo > FRACTION_NEAR), 0.5, 1.0)
-    half_hi = np.where(problem.is_joint & (hi > FRACTION_NEAR), 0.5, 1.0)
     fixed = np.zeros_like(x)
     n = len(x)
     compact = memory.compact(curv_f + 1e-12) if memory is not None else None  # memory is None without comfort
@@ -308,7 +317,9 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
             break
         # Saturate: a joint stops halfway to its limit unless it is already close to it (fraction to the
         # boundary, so the tan^2 comfort is not slammed to its wall); forces stop exactly at zero.
-        fixed[below], fixed[above] = lo[below] * half_lo[below], hi[above] * half_hi[above]
+        joint = problem.is_joint
+        fixed[below] = lo[below] * np.where(joint[below] & (-lo[below] > FRACTION_NEAR), 0.5, 1.0)
+        fixed[above] = hi[above] * np.where(joint[above] & (hi[above] > FRACTION_NEAR), 0.5, 1.0)
         free &= ~(below | above)
     if not (np.isfinite(task).all() and np.isfinite(comfort).all()):
         task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
@@ -319,13 +330,7 @@ def _step(problem: Problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfo
         if info == 0:
             predicted += 0.5 * float(u_c @ inner)
     r_free = root[free]
-
-    def correction(e: np.ndarray) -> np.ndarray:
-        return lsq.step(e) / r_free
-
-    lam = lsq.multipliers(grad_f[free] / r_free)
-    penalty = 2.0 * float(np.max(np.abs(lam), initial=0.0))
-    return _Step(task, comfort, max(float(predicted), 0.0), free, correction, penalty + 1e-9, lam)
+    return _Step(task, comfort, max(float(predicted), 0.0), free, lsq, r_free, grad_f[free] / r_free)
 
 
 class _Evaluator:
@@ -396,7 +401,7 @@ def _iterate(
     iterations = 0
     memory = _CurvatureMemory(MEMORY) if comfort_on else None
     move_limit = np.where(problem.model.prismatic, MAX_SLIDE, MAX_TURN)
-    previous = None  # (x, jac, grad_f, multipliers) of the previous iteration
+    previous = None  # (x, jac, grad_f, step) of the previous iteration
     history: list[tuple[float, float]] = []  # (merit, worst) after each iteration
     stagnant_above = COMFORT_SLACK if comfort_on else 1.0
     window = STAGNATION_WINDOW if comfort_on else RESTORE_STAGNATION_WINDOW
@@ -408,14 +413,14 @@ def _iterate(
             grad_f, curv_f = -grad_h * problem.scale, curv * problem.scale**2
             # Curvature pairs only near the constraints: far away the multipliers are no estimate yet.
             if previous is not None and previous[0] is not x and worst <= COMFORT_SLACK:
-                x_old, jac_old, grad_old, lam = previous
-                memory.add((x - x_old) / problem.scale, grad_f - grad_old + (jac - jac_old).T @ lam)
+                x_old, jac_old, grad_old, step_old = previous
+                memory.add((x - x_old) / problem.scale, grad_f - grad_old + (jac - jac_old).T @ step_old.multipliers)
         elif keep_off_limits:
             grad_f, curv_f = np.zeros(problem.n_var), problem.comfort_derivatives(state)[1] * problem.scale**2
         else:
             grad_f, curv_f = np.zeros(problem.n_var), np.zeros(problem.n_var)
         step = _step(problem, x, jac, err, grad_f, curv_f, mu, radius, opts, comfort_on, memory)
-        previous = (x, jac, grad_f, step.multipliers)
+        previous = (x, jac, grad_f, step)
         negligible = opts.comfort_tolerance * max(f, 1.0)
         if worst <= 1.0 and (step.predicted_gain <= negligible or quiet >= 2):
             break

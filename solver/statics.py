@@ -58,6 +58,7 @@ class StaticsLayout:
         self.load_link = np.array([ld.tcp.link for ld in loads], dtype=int)
         self.load_force = np.array([ld.force for ld in loads], dtype=float).reshape(-1, 3)
         self.gravity_force = model.mass[:, None] * GRAVITY[None, :]
+        self.gravity_total = model.total_mass * GRAVITY
         rev = ~model.prismatic
         self.ancestor_or_self_rev = desc.T * rev[None, :]  # [i, j]: j is i or an ancestor, j revolute
         self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
@@ -93,20 +94,33 @@ class Statics:
         else:
             load_points = layout.load_local  # (0, 3)
         self.load_points = load_points
-        self._points = np.concatenate([kin.com, self.corner_points, load_points])
-        self._forces = np.concatenate([layout.gravity_force, contacts.corner_forces(w), layout.load_force])
-        self._moments = cross(self._points, self._forces)
-        self.total_force = self._forces.sum(axis=0)
-        self.total_moment = self._moments.sum(axis=0)  # about the world origin
+        self._corner_forces = contacts.corner_forces(w)
+        # Totals from the few point forces plus gravity at the whole-body COM (the balance error of every trial
+        # point); the per-link forces and moments only when joint loads or derivatives need them.
+        mass = layout.model.mass
+        few_points = np.concatenate([(mass @ kin.com)[None, :], self.corner_points, load_points])
+        few_forces = np.concatenate([GRAVITY[None, :], self._corner_forces, layout.load_force])
+        self.total_force = layout.gravity_total + few_forces[1:].sum(axis=0)
+        self.total_moment = cross(few_points, few_forces).sum(axis=0)  # about the world origin
         self._g = None
         self._axis_loads: np.ndarray | None = None
+
+    @cached_property
+    def _points(self) -> np.ndarray:
+        """(points, 3) where every force acts, m: link COMs, sole corners, loads."""
+        return np.concatenate([self.kin.com, self.corner_points, self.load_points])
+
+    @cached_property
+    def _forces(self) -> np.ndarray:
+        """(points, 3) the forces, N (world)."""
+        return np.concatenate([self.layout.gravity_force, self._corner_forces, self.layout.load_force])
 
     @cached_property
     def _subtree_wrench(self) -> np.ndarray:
         """(n, 6) per joint: force (N) and moment about the world origin (N*m) of the loads on its subtree.
 
         Only joint loads and derivatives need it; the balance error (a trial point's) needs the totals alone."""
-        return self.layout.subtree_sums(np.concatenate([self._forces, self._moments], axis=1))
+        return self.layout.subtree_sums(np.concatenate([self._forces, cross(self._points, self._forces)], axis=1))
 
     @property
     def sub_force(self) -> np.ndarray:
