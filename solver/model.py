@@ -281,13 +281,17 @@ class Kinematics:
         return (m @ self.com) / m.sum()
 
     @cached_property
-    def twist_basis(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per joint, for a unit joint rate: angular velocity (n, 3) rad/s and velocity of the point at the
-        world origin moving with the joint's link (n, 3) m/s. A point q then moves with spin x q + origin."""
+    def twist(self) -> np.ndarray:
+        """(n, 6) per joint, for a unit joint rate: velocity of the point at the world origin moving with the
+        joint's link (m/s), then angular velocity (rad/s). A point q moves with spin x q + origin; the twist
+        dotted with a wrench [force, moment about the world origin] is the joint's load about its axis."""
         prismatic = self.model.prismatic[:, None]
-        spin = np.where(prismatic, 0.0, self.axis)
-        origin = np.where(prismatic, self.axis, self.origin_velocity)
-        return spin, origin
+        return np.concatenate([np.where(prismatic, self.axis, self.origin_velocity), (~prismatic) * self.axis], 1)
+
+    @property
+    def twist_basis(self) -> tuple[np.ndarray, np.ndarray]:
+        """(spin, origin) of :attr:`twist`, each (n, 3)."""
+        return self.twist[:, 3:], self.twist[:, :3]
 
     @cached_property
     def origin_velocity(self) -> np.ndarray:

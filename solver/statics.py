@@ -143,11 +143,8 @@ class Statics:
 
     def axis_loads(self) -> np.ndarray:
         """(n,) component of the joint moment about the joint axis, N*m (axial force in N if prismatic)."""
-        if self._axis_loads is None:
-            kin = self.kin
-            torque = np.einsum("ni,ni->n", kin.axis, self.joint_moments())
-            force = np.einsum("ni,ni->n", kin.axis, self.sub_force)
-            self._axis_loads = np.where(self.layout.model.prismatic, force, torque)
+        if self._axis_loads is None:  # a . (M - p x F) = a . M + (p x a) . F; a . F if prismatic
+            self._axis_loads = np.einsum("ni,ni->n", self.kin.twist, self._subtree_wrench)
         return self._axis_loads
 
     def moment_derivatives(self) -> np.ndarray:

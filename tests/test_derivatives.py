@@ -120,3 +120,34 @@ def test_near_singular_pose_jacobians():
     for c in problem.constraints:
         numeric = finite_difference(lambda xx, c=c: c.error(problem.state(xx)), x)
         np.testing.assert_allclose(c.jacobian(problem.state(x)), numeric, atol=2e-6 * max(1, np.abs(numeric).max()))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_axis_loads_and_balance_totals_by_brute_force(seed):
+    """Every point force summed joint by joint: moment about the joint on its axis (force along it if prismatic)."""
+    model = random_tree(seed)
+    rng = np.random.default_rng(300 + seed)
+    problem = make_problem(model, rng)
+    x = state_x(problem, rng)
+    state = problem.state(x)
+    kin, statics = state.kin, state.statics
+    contacts = problem.contacts
+    points = [(k, kin.com[k], model.mass[k] * np.array([0.0, 0.0, -9.81])) for k in range(model.n)]
+    corner_force = contacts.corner_of_var @ (state.w[:, None] * contacts.var_direction)
+    corners = contacts.corner_points(kin)
+    points += [(contacts.corner_link[c], corners[c], corner_force[c]) for c in range(len(corners))]
+    for ld in problem.loads:
+        rot, pos = kin.tcp_frame(ld.tcp)
+        points.append((ld.tcp.link, pos, ld.force))
+    expected = np.zeros(model.n)
+    for j in range(model.n):
+        a, p = kin.axis[j], kin.position[j]
+        on = [(q, f) for link, q, f in points if model.descendant[j, link]]
+        if model.prismatic[j]:
+            expected[j] = sum(a @ f for _, f in on)
+        else:
+            expected[j] = sum(a @ np.cross(q - p, f) for q, f in on)
+    np.testing.assert_allclose(statics.axis_loads(), expected, atol=1e-9 * max(1.0, np.abs(expected).max()))
+    total_force = sum(f for _, _, f in points)
+    total_moment = sum(np.cross(q, f) for _, q, f in points)
+    np.testing.assert_allclose(statics.balance_error(), np.concatenate([total_force, total_moment]), atol=1e-9)
