@@ -27,7 +27,11 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    the largest multiplier estimate, judged after a second-order correction that reuses the same factors. A
    rejected step is halved, then the task part is tried alone (its step length from a safeguarded quadratic
    fit of the error); when comfort keeps failing, mu grows and the comfort part turns back into the thesis's
-   gradient step.
+   gradient step. A full step that raises the error gets the same correction before it is shortened: far
+   from the constraints the balance moment is what bends (a step that swings the body's weight and moves the
+   center of pressure under it is bilinear in both), and the correction keeps the full step where backtracking
+   would keep a tenth of it (measured on 480 fresh random trials: iterations -7 %, evaluations -5 %, time -7 %,
+   comfort and success unchanged).
 """
 
 from __future__ import annotations
@@ -459,6 +463,13 @@ def _iterate(
                     x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
                     soc = evaluate(x_soc)
                     if soc[2] < m_try:
+                        x_try, (s_try, e_try, m_try, w_try) = x_soc, soc
+                elif comfort_on and (not use_comfort or not near) and alpha == 1.0 and merit <= m_try < np.inf:
+                    # a full step (task, or far away task + comfort) undone by the constraints' curvature (the
+                    # balance moment is bilinear in joint motion and forces): the same correction before backtracking
+                    x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
+                    soc = evaluate(x_soc)
+                    if soc[2] < merit:
                         x_try, (s_try, e_try, m_try, w_try) = x_soc, soc
                 if use_comfort and not near:  # far from the constraints comfort rides along a task step
                     better = m_try < merit and evaluate.cost(s_try) < f + task_change + step.predicted_gain
