@@ -34,6 +34,16 @@ def _outer_rows(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u.take(_ROW, axis=1) * v.take(_COL, axis=1)
 
 
+_SYM_I, _SYM_J = np.array([0, 1, 2, 0, 0, 1]), np.array([0, 1, 2, 1, 2, 2])
+_SYM_SCALE = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0]) ** 0.5
+
+
+def _with_squares(u: np.ndarray) -> np.ndarray:
+    """(m, 9) rows [u, s(u)] of (m, 3) rows u, where s(u) . s(v) = (u . v)^2 (the symmetric outer product u u^T
+    with its off-diagonal pairs folded, times sqrt 2), so sums of u u^T need 6 columns instead of 9."""
+    return np.concatenate([u, u.take(_SYM_I, axis=1) * u.take(_SYM_J, axis=1) * _SYM_SCALE], axis=1)
+
+
 @dataclass(frozen=True)
 class Load:
     """An external force (N, world frame) applied at a TCP, e.g. a carried box's weight."""
@@ -64,6 +74,7 @@ class StaticsLayout:
         self.strict_descendant = desc - np.eye(n)  # [i, j]: j strictly below i
         # [i, e]: contact edge variable e pushes on the subtree of joint i
         self.edge_acts = desc[:, contacts.corner_link[contacts.var_corner]]
+        self.supporting = np.flatnonzero(self.edge_acts.any(axis=1))  # joints between the root and a support
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
         self.has_prismatic = bool(model.prismatic.any())
 
@@ -193,31 +204,36 @@ class Statics:
         d_w[prism] = 0.0
         return d_theta, d_w
 
-    def _axis_load_force_jacobian(self) -> np.ndarray:
-        """d axis_loads / d w (n, n_w), prismatic rows included."""
+    def _axis_load_force_jacobian(self, joints: np.ndarray | slice = slice(None)) -> np.ndarray:
+        """d axis_loads / d w (n, n_w) of ``joints`` (all by default), prismatic rows included."""
         # a . (q x d) - (a x p) . d, with a x p = -(p x a), the joint's origin velocity
-        kin = self.kin
-        return self.layout.edge_acts * (
-            kin.axis @ self.edge_moment_arms.T + kin.origin_velocity @ self.layout.contacts.var_direction.T
+        kin, directions = self.kin, self.layout.contacts.var_direction
+        return self.layout.edge_acts[joints] * (
+            kin.axis[joints] @ self.edge_moment_arms.T + kin.origin_velocity[joints] @ directions.T
         )
 
     def axis_load_contractions(self, coef: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(coef @ J, weight @ (J * J)), both (n_x,), for J = d axis_loads / d x of :meth:`axis_load_jacobian`.
 
         Never forms the dense (n, n) block: with A = ancestor-or-self (revolute) and D = strict descendant,
-        J_ij = A_ij g_i.a_j + D_ij a_i.g_j, and A, D are disjoint, so both sums are (n, n) @ (n, 12) products.
+        J_ij = A_ij g_i.a_j + D_ij a_i.g_j, and A, D are disjoint, so both sums are (n, n) @ (n, 9) products,
+        done as subtree and ancestor sums.
         """
         layout = self.layout
         coef, weight = coef * layout.revolute, weight * layout.revolute
-        a, g = self.kin.axis, self.moment_derivatives()
-        aa, gg = _outer_rows(a, a), _outer_rows(g, g)
+        # rows [a, s(a)], [g, s(g)]: on A, J_ij = g_i.a_j and J_ij^2 = s(g_i).s(a_j); on D, a and g swap
+        a_rows, g_rows = _with_squares(self.kin.axis), _with_squares(self.moment_derivatives())
+        factor = np.empty_like(a_rows)  # coef for the J columns, weight for the J^2 columns
+        factor[:, :3], factor[:, 3:] = coef[:, None], weight[:, None]
         # A^T X sums X over each joint's subtree (times its revolute flag)
-        from_ancestors = layout.model.tree_sums.subtree(np.concatenate([coef[:, None] * g, weight[:, None] * gg], 1))
+        from_ancestors = layout.model.tree_sums.subtree(factor * g_rows)
         from_ancestors *= layout.revolute[:, None]
         # D^T Y sums Y over each joint's strict ancestors
-        below = np.concatenate([coef[:, None] * a, weight[:, None] * aa], 1)
+        below = factor * a_rows
         from_descendants = layout.model.tree_sums.ancestors(below) - below
-        lin_theta = np.einsum("ni,ni->n", from_ancestors[:, :3], a) + np.einsum("ni,ni->n", from_descendants[:, :3], g)
-        sq_theta = np.einsum("ni,ni->n", from_ancestors[:, 3:], aa) + np.einsum("ni,ni->n", from_descendants[:, 3:], gg)
-        d_w = self._axis_load_force_jacobian()
-        return np.concatenate([lin_theta, coef @ d_w]), np.concatenate([sq_theta, weight @ (d_w * d_w)])
+        both = from_ancestors * a_rows + from_descendants * g_rows
+        lin_theta, sq_theta = both[:, :3].sum(axis=1), both[:, 3:].sum(axis=1)
+        rows = layout.supporting  # the forces move only the loads of joints between the root and the supports
+        d_w = self._axis_load_force_jacobian(rows)
+        lin_w, sq_w = coef[rows] @ d_w, weight[rows] @ (d_w * d_w)
+        return np.concatenate([lin_theta, lin_w]), np.concatenate([sq_theta, sq_w])
