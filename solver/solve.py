@@ -24,14 +24,14 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    selectively damped least squares clamps joint changes): the linear model holds about that far, and the
    iterate stays in the basin of a comfortable pose. Near the constraints (within COMFORT_SLACK tolerances)
    task + comfort is tried first and must lower the exact-penalty merit -h + nu sum |scaled error|, nu twice
-   the largest multiplier estimate, judged after a second-order correction that reuses the same factors. A
-   rejected step is halved, then the task part is tried alone (its step length from a safeguarded quadratic
-   fit of the error); when comfort keeps failing, mu grows and the comfort part turns back into the thesis's
-   gradient step. A full step that raises the error gets the same correction before it is shortened: far
-   from the constraints the balance moment is what bends (a step that swings the body's weight and moves the
-   center of pressure under it is bilinear in both), and the correction keeps the full step where backtracking
-   would keep a tenth of it (measured on 480 fresh random trials: iterations -7 %, evaluations -5 %, time -7 %,
-   comfort and success unchanged).
+   the largest multiplier estimate (or meet the constraints and raise h), judged after a second-order
+   correction that reuses the same factors. A rejected step is halved, then the task part is tried alone (its
+   step length from a safeguarded quadratic fit of the error); when comfort keeps failing, mu grows and the
+   comfort part turns back into the thesis's gradient step. A full step that raises the error gets the same
+   correction before it is shortened: far from the constraints the balance moment is what bends (a step that
+   swings the body's weight and moves the center of pressure under it is bilinear in both), and the
+   correction keeps the full step where backtracking would keep a tenth of it (measured on 480 fresh random
+   trials: iterations -7 %, evaluations -5 %, time -7 %, comfort and success unchanged).
 """
 
 from __future__ import annotations
@@ -475,7 +475,11 @@ def _iterate(
                     better = m_try < merit and evaluate.cost(s_try) < f + task_change + step.predicted_gain
                 elif use_comfort:
                     penalty = step.penalty * (np.abs(e_try).sum() - np.abs(err).sum())
-                    better = w_try <= COMFORT_SLACK and evaluate.cost(s_try) - f + penalty < 0.0
+                    # the exact-penalty merit, or (as a filter would) any feasible point that is more comfortable:
+                    # 840 fresh random trials, evaluations -1.8 %, time -2 %, comfort and success unchanged
+                    cost_try = evaluate.cost(s_try)
+                    feasible_gain = w_try <= 1.0 and cost_try < f
+                    better = w_try <= COMFORT_SLACK and (cost_try - f + penalty < 0.0 or feasible_gain)
                 else:
                     better = m_try < merit
                 if better and np.isfinite(m_try) and np.isfinite(evaluate.cost(s_try)):
