@@ -138,19 +138,10 @@ class Statics:
         """(n, 3) sum of the forces on each joint's subtree, N (world)."""
         return self._subtree_wrench[:, 0:3]
 
-    @property
-    def sub_moment(self) -> np.ndarray:
-        """(n, 3) sum of their moments about the world origin, N*m."""
-        return self._subtree_wrench[:, 3:6]
-
     @cached_property
     def sub_outer(self) -> np.ndarray:
         """(n, 3, 3) subtree sums of q_k F_k^T (point times force), N*m; only the derivatives need it."""
         return self.layout.subtree_sums(_outer_rows(self._points, self._forces)).reshape(-1, 3, 3)
-
-    def joint_moments(self) -> np.ndarray:
-        """(n, 3) moment of each joint's subtree loads about the joint position, N*m (world)."""
-        return self.sub_moment - cross(self.kin.position, self.sub_force)
 
     def axis_loads(self) -> np.ndarray:
         """(n,) component of the joint moment about the joint axis, N*m (axial force in N if prismatic)."""
