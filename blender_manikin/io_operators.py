@@ -84,6 +84,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         settings.reduction = bool(problem.reduction_groups)
         settings.comfort = sc.options.optimize_comfort
         settings.max_iterations = sc.options.max_iterations
+        settings.restarts = sc.options.restarts
         w = problem.comfort.weights
         settings.comfort_range, settings.comfort_load, settings.comfort_contact = w.range, w.load, w.contact
         armature.write_pose(arm, sc.model.zero_pose())

@@ -107,6 +107,15 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
         update=_rig_changed,
     )
     max_iterations: IntProperty(name="Max iterations", default=100, min=1, max=100000, update=_rig_changed)
+    restarts: IntProperty(
+        name="Restarts",
+        default=1,
+        min=0,
+        max=10,
+        description="A solve that fails starts again from the other side of the joints it left at a limit "
+        "(not while dragging live)",
+        update=_rig_changed,
+    )
     live_iterations: IntProperty(
         name="Live iterations", default=30, min=1, max=1000, description="Iteration limit of each live re-solve"
     )

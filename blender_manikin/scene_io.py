@@ -142,6 +142,7 @@ def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
     options = SolverOptions(
         max_iterations=settings.live_iterations if live else settings.max_iterations,
         optimize_comfort=settings.comfort,
+        restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
     )
     labels.append((settings.balance, settings.comfort, settings.reduction, weights, options))
     inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))

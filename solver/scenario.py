@@ -188,12 +188,13 @@ def load_scenario(path: str | Path) -> Scenario:
     root.known(SECTIONS)
     model = _read_manikin(root.table("manikin"), path)
     solver_t = root.table("solver")
-    solver_t.known({"balance", "reduction", "max_iterations", "comfort"})
+    solver_t.known({"balance", "reduction", "max_iterations", "comfort", "restarts"})
     reduction = _read_reduction(solver_t)
     balance = solver_t.boolean("balance", True)
     options = SolverOptions(
         max_iterations=int(solver_t.number("max_iterations", DEFAULT_OPTIONS.max_iterations, 1, 100000)),
         optimize_comfort=solver_t.boolean("comfort", True),
+        restarts=int(solver_t.number("restarts", DEFAULT_OPTIONS.restarts, 0, 10)),
     )
     comfort_t = root.table("comfort")
     comfort_t.known({"range", "load", "contact"})
@@ -443,7 +444,10 @@ def scenario_to_dict(
     data: dict[str, Any] = {"name": name} if name else {}
     data["manikin"] = dict(manikin)
     data["solver"] = dict(
-        balance=problem.balance, max_iterations=options.max_iterations, comfort=options.optimize_comfort
+        balance=problem.balance,
+        max_iterations=options.max_iterations,
+        comfort=options.optimize_comfort,
+        restarts=options.restarts,
     )
     if problem.reduction_groups:
         data["solver"]["reduction"] = list(problem.reduction_groups)

@@ -197,6 +197,7 @@ bpy.context.view_layer.objects.active = arm
 
 # Scenario files: export this scene, import the box lift onto a new manikin and solve it.
 exported = WORK / "exported.toml"
+arm.manikin.restarts = 2  # a solver setting that must reach the file
 seen["export"] = list(bpy.ops.manikin.export_scenario(filepath=str(exported)))
 bpy.ops.object.select_all(action="DESELECT")
 bpy.context.view_layer.objects.active = None

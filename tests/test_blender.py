@@ -160,6 +160,7 @@ def test_scenario_export_and_import(session: dict) -> None:
     exported = load_scenario(Path(session["work"]) / "exported.toml")
     assert sorted(t.tcp for t in exported.problem.all_targets) == ["foot_l", "foot_r", "hand_r"]
     assert [(lp.tcp, lp.other) for lp in exported.problem.loops] == [("hand_l", "hand_r")]
+    assert exported.options.restarts == 2
     hand = next(t for t in exported.problem.all_targets if t.tcp == "hand_r")
     np.testing.assert_allclose(hand.position, np.array(session["live_target"])[:3, 3], atol=1e-6)
     assert session["import"] == ["FINISHED"] and session["import_solve"] == ["FINISHED"]

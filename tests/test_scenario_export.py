@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -33,13 +34,15 @@ def _same_problem(a, b) -> None:
 def test_box_lift_round_trip(tmp_path: Path) -> None:
     sc = load_scenario(BOX_LIFT)
     result = solve(sc.problem, sc.start, sc.options)
-    data = scenario_to_dict(sc.problem, {"preset": "male_50"}, sc.options, start=result.x, name="box lift again")
+    options = dataclasses.replace(sc.options, restarts=3)
+    data = scenario_to_dict(sc.problem, {"preset": "male_50"}, options, start=result.x, name="box lift again")
     path = tmp_path / "again.toml"
     path.write_text(dumps_scenario(data), encoding="utf-8")
     again = load_scenario(path)
     _same_problem(sc.problem, again.problem)
     np.testing.assert_allclose(again.start[: sc.model.n], result.theta, atol=1e-12)
     assert again.options.max_iterations == sc.options.max_iterations
+    assert again.options.restarts == 3
 
 
 def test_loops_operators_and_odd_strings(tmp_path: Path) -> None:

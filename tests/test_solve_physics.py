@@ -23,7 +23,7 @@ from solver.bodies import load_body
 from solver.errors import ManikinError
 from solver.problem import ExternalLoad, Loop, Problem, Target
 from solver.scenario import load_scenario
-from solver.solve import DEFAULT_OPTIONS, _iterate, solve
+from solver.solve import DEFAULT_OPTIONS, RESTART_AT, SolverOptions, _iterate, restart_pose, solve
 
 REPO = Path(__file__).resolve().parents[1]
 BOX_LIFT = REPO / "presets" / "scenarios" / "box_lift.toml"
@@ -438,6 +438,43 @@ def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, 
         theta = problem.state(x).theta
         worst_range[keep] = float(np.max(problem.comfort.range_weight * problem.comfort._range_terms(theta, False)[0]))
     assert worst_range[True] < 0.1 * worst_range[False], worst_range
+
+
+def test_restart_pose_moves_the_joints_at_a_limit_to_the_other_side(male50):
+    """Only joints that ended within 5 % of their range from a limit move, to a quarter range from the other
+    limit; forces and every other joint stay; no joint at a limit, no restart."""
+    problem = random_targets.trial_problem(
+        male50, random_targets.draw_targets(male50, random_targets.workspace_box(male50), np.pi, 7), True, ()
+    )
+    n = male50.n
+    x = problem.start()
+    assert restart_pose(problem, x) is not None  # the zero pose: straight elbows and knees are at their limits
+    middle = 0.5 * (male50.lower + male50.upper)
+    x[:n] = np.where(np.isfinite(middle), middle, 0.0)
+    assert restart_pose(problem, x) is None
+    elbow, pronation = male50.joint_index("elbow_r_flexion"), male50.joint_index("forearm_r_pronation")
+    x[elbow] = male50.lower[elbow]
+    x[pronation] = male50.upper[pronation] - 0.01 * (male50.upper[pronation] - male50.lower[pronation])
+    again = restart_pose(problem, x)
+    span = male50.upper - male50.lower
+    assert again[elbow] == pytest.approx(male50.upper[elbow] - RESTART_AT * span[elbow])
+    assert again[pronation] == pytest.approx(male50.lower[pronation] + RESTART_AT * span[pronation])
+    others = np.ones(len(x), dtype=bool)
+    others[[elbow, pronation]] = False
+    assert np.array_equal(again[others], x[others]) and len(x) > n
+
+
+def test_a_failed_solve_starts_again_from_the_other_side_of_its_limits(male50):
+    """A Max Dev = pi trial of the random benchmark where the hand's orientation was reached the wrong way round:
+    one restart meets the constraints; the result counts the iterations of both attempts."""
+    box = random_targets.workspace_box(male50)
+    targets = random_targets.draw_targets(male50, box, random_targets.LEVELS[5], 502015)
+    problem = random_targets.trial_problem(male50, targets, True, random_targets.DEFAULT_GROUPS)
+    once = solve(problem, options=SolverOptions(restarts=0))
+    assert not once.converged
+    again = solve(problem, options=SolverOptions(restarts=1))
+    assert again.converged and again.iterations > once.iterations
+    assert max(again.residuals.values()) < max(once.residuals.values())
 
 
 def test_far_steps_turn_no_joint_more_than_the_limit(monkeypatch):
