@@ -380,14 +380,14 @@ def solve(problem: Problem, x0: np.ndarray | None = None, options: SolverOptions
     iterations and time of all attempts.
     """
     t0 = time.perf_counter()
-    _, worst, used, state = _attempt(problem, problem.start(x0), options)
+    worst, used, state = _attempt(problem, problem.start(x0), options)
     for _ in range(options.restarts):
         if worst <= 1.0:
             break
         start = restart_pose(problem, state.x)
         if start is None:
             break
-        _, worst_again, more, state_again = _attempt(problem, problem.start(start), options)
+        worst_again, more, state_again = _attempt(problem, problem.start(start), options)
         used += more
         if worst_again < worst:
             worst, state = worst_again, state_again
@@ -421,7 +421,7 @@ def restart_pose(problem: Problem, x: np.ndarray) -> np.ndarray | None:
 
 def _attempt(problem: Problem, x: np.ndarray, opts: SolverOptions):
     """One solve from solver variables x: the comfort phase, then (if needed) the restoring phase; returns
-    (x, worst scaled error, iterations, the state at x)."""
+    (worst scaled error, iterations, the state it ended at)."""
     budget = opts.max_iterations
     used = 0
     state = None
@@ -435,7 +435,7 @@ def _attempt(problem: Problem, x: np.ndarray, opts: SolverOptions):
         used += more
     if state is None:  # no iteration ran: the start itself
         state, _, _, worst = _Evaluator(problem, False)(x)
-    return x, worst, used, state
+    return worst, used, state
 
 
 def _iterate(
@@ -508,18 +508,18 @@ def _iterate(
                 if use_comfort and near and w_try > HOPELESS * COMFORT_SLACK:
                     alpha *= 0.5  # too far off for a correction to bring it back: halve without trying one
                     continue
-                if use_comfort and near and w_try > 1.0:
-                    # second-order correction: pull the comfort step back onto the constraints before judging it
+                # Second-order correction before judging the trial: a comfort step near the constraints is pulled
+                # back onto them (kept if it lowers the error); a full step (task, or far away task + comfort) that
+                # the constraints' curvature undid (the balance moment is bilinear in joint motion and forces) gets
+                # the same correction before backtracking (kept if it beats the current error).
+                if use_comfort and near:
+                    bar = m_try if w_try > 1.0 else None
+                else:
+                    bar = merit if (comfort_on and alpha == 1.0 and merit <= m_try < np.inf) else None
+                if bar is not None:
                     x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
                     soc = evaluate(x_soc)
-                    if soc[2] < m_try:
-                        x_try, (s_try, e_try, m_try, w_try) = x_soc, soc
-                elif comfort_on and (not use_comfort or not near) and alpha == 1.0 and merit <= m_try < np.inf:
-                    # a full step (task, or far away task + comfort) undone by the constraints' curvature (the
-                    # balance moment is bilinear in joint motion and forces): the same correction before backtracking
-                    x_soc = np.clip(x_try + step.correction(e_try) * problem.scale, problem.lower, problem.upper)
-                    soc = evaluate(x_soc)
-                    if soc[2] < merit:
+                    if soc[2] < bar:
                         x_try, (s_try, e_try, m_try, w_try) = x_soc, soc
                 if use_comfort and not near:  # far from the constraints comfort rides along a task step
                     better = m_try < merit and evaluate.cost(s_try) < f + task_change + step.predicted_gain

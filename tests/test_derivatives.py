@@ -34,6 +34,14 @@ def state_x(problem, rng):
     return np.concatenate([theta, w])
 
 
+def random_case(seed, stream, balance=True):
+    """(model, problem, x, rng): a random tree, its problem and a random state, from random stream ``stream + seed``."""
+    model = random_tree(seed)
+    rng = np.random.default_rng(stream + seed)
+    problem = make_problem(model, rng, balance=balance)
+    return model, problem, state_x(problem, rng), rng
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_tcp_frame_jacobian(seed):
     model = random_tree(seed)
@@ -51,10 +59,7 @@ def test_tcp_frame_jacobian(seed):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_constraint_jacobians(seed):
-    model = random_tree(seed)
-    rng = np.random.default_rng(100 + seed)
-    problem = make_problem(model, rng)
-    x = state_x(problem, rng)
+    _, problem, x, _ = random_case(seed, 100)
     for c in problem.constraints:
         analytic = c.jacobian(problem.state(x))
         numeric = finite_difference(lambda xx, c=c: c.error(problem.state(xx)), x)
@@ -81,10 +86,7 @@ def test_rotation_error_jacobian_large_error():
 
 @pytest.mark.parametrize("seed", range(4))
 def test_axis_load_jacobian(seed):
-    model = random_tree(seed)
-    rng = np.random.default_rng(200 + seed)
-    problem = make_problem(model, rng)
-    x = state_x(problem, rng)
+    model, problem, x, rng = random_case(seed, 200)
     n = model.n
     d_theta, d_w = problem.state(x).statics.axis_load_jacobian()
     numeric = finite_difference(lambda xx: problem.state(xx).statics.axis_loads(), x)
@@ -102,10 +104,7 @@ def test_axis_load_jacobian(seed):
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize("balance", [True, False])
 def test_comfort_gradient(seed, balance):
-    model = random_tree(seed)
-    rng = np.random.default_rng(300 + seed)
-    problem = make_problem(model, rng, balance=balance)
-    x = state_x(problem, rng)[: problem.n_x]
+    _, problem, x, _ = random_case(seed, 300, balance)
     grad = problem.comfort.gradient(problem.state(x))
     numeric = finite_difference(lambda xx: [problem.comfort.value(problem.state(xx))], x)[0]
     np.testing.assert_allclose(grad, numeric, rtol=1e-5, atol=1e-6)
@@ -125,10 +124,7 @@ def test_near_singular_pose_jacobians():
 @pytest.mark.parametrize("seed", range(3))
 def test_axis_loads_and_balance_totals_by_brute_force(seed):
     """Every point force summed joint by joint: moment about the joint on its axis (force along it if prismatic)."""
-    model = random_tree(seed)
-    rng = np.random.default_rng(300 + seed)
-    problem = make_problem(model, rng)
-    x = state_x(problem, rng)
+    model, problem, x, _ = random_case(seed, 300)
     state = problem.state(x)
     kin, statics = state.kin, state.statics
     contacts = problem.contacts
