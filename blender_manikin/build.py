@@ -1,10 +1,12 @@
-"""Build and validate the extension zip with the build tool that ships inside the bpy wheel (no Blender binary).
+"""Build and validate the extension zips with the build tool that ships inside the bpy wheel (no Blender binary).
 
-    python -m blender_manikin.build [--output-dir dist]      # from the repository root
+    python -m blender_manikin.build [--output-dir dist] [--platform linux-x64]   # from the repository root
 
-writes ``dist/manikin-<version>.zip`` (what ships is set by ``[build]`` in blender_manifest.toml), checks the
-manifest's tags against Blender's list and validates the built archive. bpy itself is never imported: the
-tool is located through the installed package's files.
+fetches the wheels the manifest lists (scipy, matplotlib and what matplotlib needs, per platform) from the package
+registry into ``wheels/`` unless they are there already, then writes one zip per platform,
+``dist/manikin-<version>-<platform>.zip`` (windows_x64, macos_arm64, macos_x64, linux_x64), each with only its
+platform's wheels, checks the manifest's tags against Blender's list and validates every zip. bpy itself is never
+imported: the tool is found through the installed package's files.
 """
 
 from __future__ import annotations
@@ -14,15 +16,18 @@ import importlib.util
 import subprocess
 import sys
 import tomllib
+from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+WHEELS = ROOT / "wheels"
 TOOL = Path("scripts", "addons_core", "bl_pkg", "cli", "blender_ext.py")
 TAGS = Path("scripts", "modules", "_bpy_internal", "extensions", "tags.py")
+PYTHON = "3.11"  # Blender 4.2 to 5.0 all run CPython 3.11
 
 
 class BuildError(RuntimeError):
-    """The build tool is missing or the package did not build or validate."""
+    """The build tool or a wheel is missing, or the package did not build or validate."""
 
 
 def bpy_resources() -> Path:
@@ -37,6 +42,36 @@ def bpy_resources() -> Path:
     raise BuildError("the bpy package has no extension build tool (" + str(TOOL) + ")")
 
 
+def manifest() -> dict:
+    return tomllib.loads((ROOT / "blender_manifest.toml").read_text(encoding="utf-8"))
+
+
+def _platform_tags(wheel: str) -> tuple[str, ...]:
+    """The platform tags of a wheel file name (``manylinux_2_17_x86_64.manylinux2014_x86_64`` is two)."""
+    return tuple(Path(wheel).stem.split("-")[-1].split("."))
+
+
+def fetch_wheels(cache: Path = WHEELS) -> list[Path]:
+    """Every wheel of the manifest in ``cache``, downloaded with pip for its platform where missing."""
+    wanted = [cache / Path(w).name for w in manifest().get("wheels", [])]
+    missing: dict[tuple[str, ...], list[str]] = defaultdict(list)
+    for path in wanted:
+        if not path.is_file():
+            name, version = path.name.split("-")[:2]
+            missing[_platform_tags(path.name)].append(f"{name}=={version}")
+    for tags, requirements in missing.items():
+        platforms = [arg for tag in tags for arg in ("--platform", tag)]  # "any": pure Python, not this machine's
+        command = [sys.executable, "-m", "pip", "download", "--quiet", "--no-deps", "--only-binary=:all:",
+                   "--python-version", PYTHON, *platforms, "--dest", str(cache), *requirements]  # fmt: skip
+        done = subprocess.run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            raise BuildError(f"pip download {' '.join(requirements)} failed:\n{done.stderr.strip()[-2000:]}")
+    absent = [p.name for p in wanted if not p.is_file()]
+    if absent:
+        raise BuildError(f"the registry gave other files than the manifest lists; missing: {', '.join(absent)}")
+    return wanted
+
+
 def _run(args: list[str]) -> str:
     done = subprocess.run([sys.executable, *args], capture_output=True, text=True, cwd=ROOT)
     output = (done.stdout + done.stderr).strip()
@@ -45,19 +80,26 @@ def _run(args: list[str]) -> str:
     return output
 
 
-def build(output_dir: Path | None = None) -> Path:
-    """Validate the manifest, build the zip into ``output_dir`` (default ROOT/dist), validate the zip; its path."""
+def build(output_dir: Path | None = None) -> dict[str, Path]:
+    """Fetch the wheels, validate the manifest, build one zip per platform into ``output_dir`` (default
+    ROOT/dist) and validate each; {platform: zip path}."""
     resources = bpy_resources()
     tool, tags = str(resources / TOOL), str(resources / TAGS)
-    manifest = tomllib.loads((ROOT / "blender_manifest.toml").read_text(encoding="utf-8"))
-    out = Path(output_dir) if output_dir else ROOT / "dist"
+    info = manifest()
+    fetch_wheels()
+    out = (Path(output_dir) if output_dir else ROOT / "dist").resolve()
     out.mkdir(parents=True, exist_ok=True)
-    zip_path = out.resolve() / f"{manifest['id']}-{manifest['version']}.zip"
-    zip_path.unlink(missing_ok=True)
+    zips = {p: out / f"{info['id']}-{info['version']}-{p.replace('-', '_')}.zip" for p in info["platforms"]}
+    for path in zips.values():
+        path.unlink(missing_ok=True)
     _run([tool, "validate", "--valid-tags", tags, str(ROOT)])
-    _run([tool, "build", "--source-dir", str(ROOT), "--output-filepath", str(zip_path), "--valid-tags", tags])
-    _run([tool, "validate", "--valid-tags", tags, str(zip_path)])
-    return zip_path
+    _run([tool, "build", "--source-dir", str(ROOT), "--output-dir", str(out), "--split-platforms",
+          "--valid-tags", tags])  # fmt: skip
+    for platform, path in zips.items():
+        if not path.is_file():
+            raise BuildError(f"the build wrote no zip for {platform} ({path.name})")
+        _run([tool, "validate", "--valid-tags", tags, str(path)])
+    return zips
 
 
 def install(zip_path: Path, repo: str = "user_default") -> str:
@@ -75,14 +117,19 @@ def install(zip_path: Path, repo: str = "user_default") -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m blender_manikin.build", description=__doc__.splitlines()[0])
-    parser.add_argument("--output-dir", type=Path, default=None, help="where the zip goes (default: dist/)")
+    parser.add_argument("--output-dir", type=Path, default=None, help="where the zips go (default: dist/)")
+    parser.add_argument("--platform", help="print only this platform's zip (e.g. linux-x64); all are built")
     args = parser.parse_args(argv)
     try:
-        path = build(args.output_dir)
+        zips = build(args.output_dir)
+        if args.platform is not None and args.platform not in zips:
+            raise BuildError(f"--platform {args.platform}: not one of {', '.join(zips)}")
     except BuildError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
-    print(path)
+    for platform, path in zips.items():
+        if args.platform in (None, platform):
+            print(path if args.platform else f"{path}  ({path.stat().st_size / 1e6:.1f} MB)")
     return 0
 
 
