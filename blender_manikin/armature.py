@@ -1,9 +1,6 @@
 """The manikin in the scene: building the armature, body and TCP empties, and writing/reading its pose (bpy).
 
-Custom properties on the armature object, so scripts and warm starts find them: ``manikin_preset`` (preset
-name, or "" for a body file), ``manikin_body_file`` (path or ""), ``manikin_x`` (the last solution: joint
-values then contact-edge weights), ``manikin_result`` (JSON summary of the last solve, for the sidebar and the
-overlay) and, while live mode cannot solve, ``manikin_error``.
+The custom properties it writes (preset, body file, last solution) are named in :mod:`.schema`.
 """
 
 from __future__ import annotations
@@ -16,16 +13,11 @@ from mathutils import Matrix
 
 from ..solver.bodies import load_body
 from ..solver.ergonomics.worksheet import STRENGTH_BANDS
+from ..solver.errors import ManikinError
 from ..solver.model import Model
 from .body_mesh import build_body_mesh
 from .rig import RigLayout
-
-PRESET_KEY = "manikin_preset"
-FILE_KEY = "manikin_body_file"
-X_KEY = "manikin_x"
-RESULT_KEY = "manikin_result"
-ERROR_KEY = "manikin_error"  # the last live solve's error, for the sidebar
-TCP_PREFIX = "tcp."
+from .schema import FILE_KEY, PRESET_KEY, TCP_KEY, TCP_PREFIX, X_KEY
 
 _models: dict[tuple, Model] = {}
 _layouts: dict[int, RigLayout] = {}
@@ -49,10 +41,6 @@ def layout_of(model: Model) -> RigLayout:
     if id(model) not in _layouts:
         _layouts[id(model)] = RigLayout(model)
     return _layouts[id(model)]
-
-
-def is_manikin(obj: bpy.types.Object | None) -> bool:
-    return obj is not None and obj.type == "ARMATURE" and (PRESET_KEY in obj or FILE_KEY in obj)
 
 
 def model_of(arm: bpy.types.Object) -> Model:
@@ -151,8 +139,20 @@ def _add_tcp_empty(arm: bpy.types.Object, layout: RigLayout, tcp: str, collectio
     empty.matrix_parent_inverse = Matrix.Identity(4)
     empty.matrix_basis = _matrix(to_tail @ offset)
     empty.lock_location = empty.lock_rotation = empty.lock_scale = (True, True, True)
-    empty["manikin_tcp"] = tcp
+    empty[TCP_KEY] = tcp
     collection.objects.link(empty)
+
+
+def pose_bones(arm: bpy.types.Object, layout: RigLayout) -> list[bpy.types.PoseBone]:
+    """The armature's pose bone for every bone of the layout; ManikinError naming a renamed or deleted bone."""
+    bones = arm.pose.bones
+    found = [bones.get(bone.name) for bone in layout.bones]
+    missing = [bone.name for bone, pb in zip(layout.bones, found, strict=True) if pb is None]
+    if missing:
+        raise ManikinError(
+            f"{arm.name}: bone {missing[0]!r} is missing (renamed or deleted?); rename it back or add a new manikin"
+        )
+    return found
 
 
 def write_pose(arm: bpy.types.Object, x: np.ndarray) -> None:
@@ -162,9 +162,7 @@ def write_pose(arm: bpy.types.Object, x: np.ndarray) -> None:
     theta = np.asarray(x[: model.n], dtype=float)
     loc, euler = layout.channel_values(theta)
     basis = None if all(b.exact for b in layout.bones) else layout.basis_matrices(model.forward(theta))
-    bones = arm.pose.bones
-    for b, bone in enumerate(layout.bones):
-        pb = bones[bone.name]
+    for b, (bone, pb) in enumerate(zip(layout.bones, pose_bones(arm, layout), strict=True)):
         if bone.exact:
             pb.location = loc[b]
             pb.rotation_euler = euler[b]
@@ -206,9 +204,9 @@ def read_x(arm: bpy.types.Object) -> np.ndarray:
     layout = layout_of(model)
     stored = np.asarray(arm.get(X_KEY, []), dtype=float)
     fallback = stored[: model.n] if len(stored) >= model.n else model.zero_pose()
-    bones = arm.pose.bones
-    loc = np.array([tuple(bones[b.name].location) for b in layout.bones])
-    euler = np.array([tuple(bones[b.name].rotation_euler) for b in layout.bones])
+    bones = pose_bones(arm, layout)
+    loc = np.array([tuple(pb.location) for pb in bones])
+    euler = np.array([tuple(pb.rotation_euler) for pb in bones])
     theta = layout.theta_from_channels(loc, euler, fallback)
     return np.concatenate([theta, stored[model.n :]]) if len(stored) > model.n else theta
 

@@ -24,8 +24,7 @@ from ..solver.scenario import result_to_dict
 from ..solver.spatial import matrix_to_quat
 from . import keyframes, scene_io
 from .armature import layout_of, model_of, read_x, write_pose
-
-BAKE_KEY = "manikin_bake"  # JSON on the armature: the last bake's range and the frames that did not converge
+from .schema import BAKE_KEY
 
 
 @dataclass
@@ -132,6 +131,10 @@ class Baker:
             if time.perf_counter() >= t_end:
                 break
         return self.finished
+
+    def show_progress(self) -> None:
+        """Pose the manikin with the latest solved frame (the keys are written at the end)."""
+        write_pose(self.arm, self.last_x)
 
     def run(self) -> None:
         """Solve every remaining frame."""

@@ -69,11 +69,13 @@ def script_args(argv: list[str]) -> list[str]:
     return [] if Path(argv[0]).stem.lower().startswith("blender") else argv[1:]
 
 
-def load_extension() -> ModuleType:
-    """The extension package at ROOT, registered: an enabled add-on of that folder, else imported as ``manikin``.
+def load_extension() -> tuple[ModuleType, bool]:
+    """The extension package at ROOT, registered: an enabled add-on of that folder, else imported as ``manikin``;
+    and whether this call registered it (then :func:`main` unregisters it before exit: bpy 4.5 hangs at exit
+    otherwise).
 
     Another enabled copy of Manikin (a different folder) is disabled for this session, so its classes do not
-    clash with ours.
+    clash with ours; its wheels stay installed (no refresh), so this copy can use them.
     """
     import bpy
 
@@ -85,17 +87,29 @@ def load_extension() -> ModuleType:
         if module is None or not hasattr(module, "blender_manikin"):
             continue
         if Path(getattr(module, "__file__", "") or "").resolve() == init:
-            return module
-        addon_utils.disable(name)
+            return module, False
+        addon_utils.disable(name, refresh_handled=True)
     module = sys.modules.get(PACKAGE)
     if module is None or Path(getattr(module, "__file__", "") or "").resolve() != init:
         spec = importlib.util.spec_from_file_location(PACKAGE, init, submodule_search_locations=[str(ROOT)])
         module = importlib.util.module_from_spec(spec)
         sys.modules[PACKAGE] = module
         spec.loader.exec_module(module)
-    if not hasattr(bpy.types, "MANIKIN_OT_bake_motion"):
-        module.register()
-    return module
+    if hasattr(bpy.types, "MANIKIN_OT_bake_motion"):
+        return module, False
+    module.register()
+    return module, True
+
+
+def missing_dependency(exc: ImportError) -> str:
+    """One line saying what is missing and how a user gets it."""
+    name = exc.name or str(exc)
+    if name.split(".")[0] == "bpy":
+        return "this script runs inside Blender: blender --background --python batch.py -- ARGS (or pip install bpy)"
+    return (
+        f"{name} is missing: install the Manikin extension zip for your platform in this Blender (its wheels "
+        f"bring {name}), or run with a Python that has it (pip install -r requirements.txt in a checkout)"
+    )
 
 
 def _one_line(exc: BaseException) -> str:
@@ -110,12 +124,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {_one_line(exc)} (see --help)", file=sys.stderr)
         return EXIT_BAD_INPUT
     try:
-        extension = load_extension()
+        extension, registered = load_extension()
+        job = importlib.import_module(f"{extension.__name__}.blender_manikin.job")
+        errors = importlib.import_module(f"{extension.__name__}.solver.errors")
     except ImportError as exc:
-        print(f"error: cannot load Blender ({_one_line(exc)}); pip install -r requirements.txt", file=sys.stderr)
+        print(f"error: {missing_dependency(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    job = importlib.import_module(f"{extension.__name__}.blender_manikin.job")
-    errors = importlib.import_module(f"{extension.__name__}.solver.errors")
     try:
         return job.run(
             job.Job(
@@ -134,6 +148,12 @@ def main(argv: list[str] | None = None) -> int:
     except (errors.ManikinError, OSError) as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except ImportError as exc:
+        print(f"error: {missing_dependency(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    finally:
+        if registered:
+            extension.unregister()
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import platform as host
 import subprocess
 import sys
 import tomllib
@@ -40,6 +41,13 @@ def bpy_resources() -> Path:
         if versions:
             return versions[-1]
     raise BuildError("the bpy package has no extension build tool (" + str(TOOL) + ")")
+
+
+def this_platform() -> str:
+    """This machine's Blender platform name: linux-x64, windows-x64, macos-arm64 or macos-x64."""
+    system = {"darwin": "macos", "win32": "windows"}.get(sys.platform, sys.platform)
+    machine = host.machine().lower()
+    return f"{system}-{'arm64' if machine in ('arm64', 'aarch64') else 'x64'}"
 
 
 def manifest() -> dict:

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import bpy
 
-from ..solver import ManikinError
+from ..solver.errors import ManikinError
+from .compat import call_known
 
 FORMATS = {".fbx": "FBX", ".bvh": "BVH", ".glb": "glTF binary", ".gltf": "glTF (separate .bin)"}
 
@@ -26,14 +27,8 @@ def check_path(path: str | Path) -> Path:
     return path
 
 
-def _call(operator, **settings) -> set[str]:
-    """Call an exporter with the settings this Blender version knows (names change between 4.2 and 5.0)."""
-    known = operator.get_rna_type().properties.keys()
-    return operator(**{k: v for k, v in settings.items() if k in known})
-
-
 def _fbx(path: Path, start: int, end: int) -> set[str]:
-    return _call(
+    return call_known(
         bpy.ops.export_scene.fbx,
         filepath=str(path), check_existing=False, use_selection=True, object_types={"ARMATURE", "MESH"},
         add_leaf_bones=False, bake_anim=True, bake_anim_use_all_bones=True, bake_anim_use_nla_strips=False,
@@ -43,7 +38,7 @@ def _fbx(path: Path, start: int, end: int) -> set[str]:
 
 
 def _bvh(path: Path, start: int, end: int) -> set[str]:
-    return _call(
+    return call_known(
         bpy.ops.export_anim.bvh,
         filepath=str(path), check_existing=False, frame_start=start, frame_end=end, rotate_mode="NATIVE",
         root_transform_only=False,
@@ -51,7 +46,7 @@ def _bvh(path: Path, start: int, end: int) -> set[str]:
 
 
 def _gltf(path: Path, start: int, end: int) -> set[str]:
-    return _call(
+    return call_known(
         bpy.ops.export_scene.gltf,
         filepath=str(path), check_existing=False, export_format="GLB" if path.suffix.lower() == ".glb" else
         "GLTF_SEPARATE", use_selection=True, export_animations=True, export_frame_range=True,

@@ -6,7 +6,10 @@ become keyed empties and back (``motion_io``); general operator rows and custom 
 reported.
 """
 
+from __future__ import annotations
+
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import bpy
 import numpy as np
@@ -14,11 +17,13 @@ from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Matrix
 
-from ..solver import ManikinError
-from ..solver.bodies import MANIKINS_DIR
-from ..solver.model import Model
-from ..solver.scenario import dumps_scenario, load_scenario, scenario_to_dict
-from . import armature, motion_io, scene_io, targets
+from ..solver.errors import ManikinError
+from ..solver.presets import MANIKINS_DIR
+from .schema import FILE_KEY, PRESET_KEY, members, rig_of
+
+if TYPE_CHECKING:
+    from ..solver.model import Model
+    from ..solver.scenario import Scenario
 
 
 def body_source(model: Model) -> dict:
@@ -30,8 +35,8 @@ def body_source(model: Model) -> dict:
 
 
 def _rig_source(arm: bpy.types.Object) -> dict:
-    preset = arm.get(armature.PRESET_KEY, "")
-    return {"preset": preset} if preset else {"file": bpy.path.abspath(arm.get(armature.FILE_KEY, ""))}
+    preset = arm.get(PRESET_KEY, "")
+    return {"preset": preset} if preset else {"file": bpy.path.abspath(arm.get(FILE_KEY, ""))}
 
 
 def _world(arm: bpy.types.Object, rot: np.ndarray, pos: np.ndarray) -> Matrix:
@@ -56,10 +61,13 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from ..solver.scenario import load_scenario
+        from . import armature
+
         try:
             sc = load_scenario(self.filepath)
             source = body_source(sc.model)
-            arm = scene_io.rig_of(context.active_object)
+            arm = rig_of(context.active_object)
             if arm is None or _rig_source(arm) != source:
                 model = armature.load_model(source.get("preset", ""), source.get("file", ""))
                 preset, file = source.get("preset", ""), source.get("file", "")
@@ -76,8 +84,10 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         self.report({"INFO"}, f"Imported {Path(self.filepath).name} onto {arm.name}{motion}")
         return {"FINISHED"}
 
-    def _apply(self, scene: bpy.types.Scene, arm: bpy.types.Object, sc) -> int:
-        for ob in scene_io.members(arm):
+    def _apply(self, scene: bpy.types.Scene, arm: bpy.types.Object, sc: Scenario) -> int:
+        from . import armature, motion_io, targets
+
+        for ob in members(arm):
             bpy.data.objects.remove(ob, do_unlink=True)
         problem, settings = sc.problem, arm.manikin
         settings.balance = problem.balance
@@ -132,10 +142,13 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        return scene_io.rig_of(context.active_object) is not None
+        return rig_of(context.active_object) is not None
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        arm = scene_io.rig_of(context.active_object)
+        from ..solver.scenario import dumps_scenario, scenario_to_dict
+        from . import motion_io, scene_io
+
+        arm = rig_of(context.active_object)
         context.evaluated_depsgraph_get()
         try:
             sp = scene_io.read_problem(arm)

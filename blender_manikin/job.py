@@ -19,10 +19,10 @@ import bpy
 
 from ..solver import ManikinError
 from ..solver.scenario import load_scenario
-from . import exports, keyframes, motion_io, scene_io
-from .armature import FILE_KEY, PRESET_KEY, is_manikin
+from . import exports, keyframes, motion_io
 from .bake import Baker
 from .motion_report import captions, choose_frames, motion_report, summary_lines, write_json
+from .schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 
 EXIT_OK, EXIT_NOT_CONVERGED = 0, 3
 
@@ -163,7 +163,7 @@ def _title(job: Job, arm: bpy.types.Object) -> str:
 
 def _carried(arm: bpy.types.Object) -> str:
     """The carried mass as ", 10 kg carried" (from the load empties' downward forces), or an empty string."""
-    kg = sum(-ob.manikin_target.force[2] / 9.81 for ob in scene_io.members(arm) if ob.manikin_target.role == "LOAD")
+    kg = sum(-ob.manikin_target.force[2] / 9.81 for ob in members(arm) if ob.manikin_target.role == "LOAD")
     return f", {kg:.0f} kg carried" if kg >= 0.5 else ""
 
 
@@ -175,7 +175,7 @@ def run(job: Job) -> int:
         raise ManikinError(f"--frames {job.frames[0]} {job.frames[1]}: the end comes before the start")
     t0 = time.perf_counter()
     arm = open_scene(job)
-    if arm is None or scene_io.rig_of(arm) is None:
+    if arm is None or rig_of(arm) is None:
         raise ManikinError("the scenario did not create a manikin")
     baker = bake(job, arm)
     write_outputs(job, arm, baker)

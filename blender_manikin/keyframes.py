@@ -1,15 +1,16 @@
 """F-curves in bulk (bpy): one action per object, keys replaced over a frame range with ``foreach_set``.
 
-Blender 5.0 dropped ``Action.fcurves``: channels live in a channelbag per slot, reached with
-``Action.fcurve_ensure_for_datablock``. Blender 4.2-4.3 (and 4.4-4.5 through their compatibility layer) still have
-``Action.fcurves``, the fallback here. Writing keys never calls ``keyframe_insert``: the existing keys are read
-with ``foreach_get``, the ones inside the new range dropped, and all of them written back at once.
+Where the F-curves live differs between Blender versions (:mod:`.compat`). Writing keys never calls
+``keyframe_insert``: the existing keys are read with ``foreach_get``, the ones inside the new range dropped, and
+all of them written back at once.
 """
 
 from __future__ import annotations
 
 import bpy
 import numpy as np
+
+from .compat import ensure_fcurve, object_fcurves
 
 # Per-key attributes kept for the keys outside the replaced range: name -> (values per key, dtype).
 _FLOATS = {"co": 2, "handle_left": 2, "handle_right": 2, "back": 1, "amplitude": 1, "period": 1}
@@ -33,30 +34,7 @@ def ensure_action(obj: bpy.types.ID, name: str | None = None) -> bpy.types.Actio
 
 def fcurve(obj: bpy.types.ID, data_path: str, index: int = 0, group: str = "") -> bpy.types.FCurve:
     """The F-curve animating ``obj.<data_path>[index]`` in the object's action (both made when missing)."""
-    action = ensure_action(obj)
-    if hasattr(action, "fcurve_ensure_for_datablock"):  # Blender 4.4+
-        return action.fcurve_ensure_for_datablock(obj, data_path, index=index, group_name=group)
-    found = action.fcurves.find(data_path, index=index)
-    return found or action.fcurves.new(data_path, index=index, action_group=group)
-
-
-def object_fcurves(obj: bpy.types.ID) -> list[bpy.types.FCurve]:
-    """The F-curves animating ``obj`` (its slot's channelbag, or the legacy action's list)."""
-    anim = obj.animation_data
-    if anim is None or anim.action is None:
-        return []
-    action = anim.action
-    slot = getattr(anim, "action_slot", None)
-    if slot is not None and hasattr(action, "layers"):
-        curves: list[bpy.types.FCurve] = []
-        for layer in action.layers:
-            for strip in layer.strips:
-                bag = strip.channelbag(slot) if hasattr(strip, "channelbag") else None
-                if bag is not None:
-                    curves.extend(bag.fcurves)
-        if curves or not hasattr(action, "fcurves"):
-            return curves
-    return list(action.fcurves)
+    return ensure_fcurve(obj, ensure_action(obj), data_path, index, group)
 
 
 def key_frames(obj: bpy.types.ID) -> list[float]:

@@ -13,19 +13,18 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from ..solver import ManikinError, solve
-from . import scene_io
-from .armature import ERROR_KEY, is_manikin
+from ..solver.errors import ManikinError
+from .schema import ERROR_KEY, is_manikin, rig_of
 
 INTERVAL = 1.0 / 30.0  # s, at most one solve per manikin per interval
 
 _busy = False  # re-entrancy guard: True while the timer solves and writes
 _pending: set[str] = set()  # names of manikin armatures with moved empties
-_last_inputs: dict[str, scene_io.Inputs] = {}  # armature name -> the inputs last solved
+_last_inputs: dict = {}  # armature name -> the scene_io.Inputs last solved
 
 
 def _live_rig(obj: bpy.types.Object) -> bpy.types.Object | None:
-    rig = scene_io.rig_of(obj)
+    rig = rig_of(obj)
     return rig if rig is not None and rig.manikin.live else None
 
 
@@ -71,17 +70,18 @@ def solve_pending() -> None:
 
 
 def _solve(arm: bpy.types.Object) -> None:
+    from ..solver.solve import solve
+    from . import scene_io
+
     try:
         sp = scene_io.read_problem(arm, live=True)
+        if sp.inputs.same_as(_last_inputs.get(arm.name)):
+            return
+        _last_inputs[arm.name] = sp.inputs
+        scene_io.write_result(arm, solve(sp.problem, sp.x0, sp.options))
     except ManikinError as exc:
         if arm.get(ERROR_KEY) != str(exc):  # shown in the sidebar; written once, not on every update
             arm[ERROR_KEY] = str(exc)
-        return
-    if sp.inputs.same_as(_last_inputs.get(arm.name)):
-        return
-    _last_inputs[arm.name] = sp.inputs
-    result = solve(sp.problem, sp.x0, sp.options)
-    scene_io.write_result(arm, result)
 
 
 def register() -> None:

@@ -17,7 +17,7 @@ from mathutils import Matrix
 from ..solver.scenario import Scenario
 from ..solver.spatial import matrix_to_quat
 from . import keyframes
-from .scene_io import members
+from .schema import members
 
 GROUP = "Object Transforms"  # Blender's own group name for an object's transform channels
 

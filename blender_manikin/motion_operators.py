@@ -8,27 +8,15 @@ armature (``arm["manikin_bake"]``).
 
 from __future__ import annotations
 
-import json
-
 import bpy
 from bpy.props import IntProperty
 
-from ..solver import ManikinError
-from . import scene_io
-from .armature import write_pose
-from .bake import BAKE_KEY, Baker
+from ..solver.errors import ManikinError
+from .schema import rig_of
 
 SLICE_S = 0.05  # s of solving per timer tick: keeps the UI responsive to Esc
 VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE"}
 SHOWN_FAILURES = 8  # frames listed in the report line
-
-
-def last_bake(arm: bpy.types.Object) -> dict | None:
-    """The summary the last bake stored on ``arm``, or None."""
-    try:
-        return json.loads(arm.get(BAKE_KEY, ""))
-    except (TypeError, ValueError):
-        return None
 
 
 class MANIKIN_OT_bake_motion(bpy.types.Operator):
@@ -41,22 +29,24 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
     frame_start: IntProperty(name="Start", description="First frame (default: the scene's start)")
     frame_end: IntProperty(name="End", description="Last frame (default: the scene's end)")
 
-    _baker: Baker | None = None
+    _baker = None  # the running Baker (not an annotation: Blender reads an operator's annotations as properties)
     _timer = None
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        if scene_io.rig_of(context.active_object) is None:
+        if rig_of(context.active_object) is None:
             cls.poll_message_set("Select a manikin, or one of its targets")
             return False
         return context.mode in {"OBJECT", "POSE"}
 
     def _start(self, context: bpy.types.Context) -> bool:
+        from .bake import Baker
+
         scene = context.scene
         for name, default in (("frame_start", scene.frame_start), ("frame_end", scene.frame_end)):
             if not self.properties.is_property_set(name):
                 setattr(self, name, default)
-        arm = scene_io.rig_of(context.active_object)
+        arm = rig_of(context.active_object)
         if arm.manikin.live:  # the baked action drives the pose from now on
             arm.manikin.live = False
             self.report({"INFO"}, "Live switched off for the bake")
@@ -103,7 +93,7 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
         context.window_manager.progress_update(self._baker.done)
         if finished:
             return self._finish(context)
-        write_pose(self._baker.arm, self._baker.last_x)  # the manikin follows the bake on screen
+        self._baker.show_progress()  # the manikin follows the bake on screen
         self._status(context)
         return {"RUNNING_MODAL"}
 

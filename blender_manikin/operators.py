@@ -1,12 +1,16 @@
-"""Operators: add a manikin, its targets, loops and loads; solve; reset. Errors reach the user via report()."""
+"""Operators: add a manikin, its targets, loops and loads; solve; reset. Errors reach the user via report().
+
+The solver and the scene code load inside ``execute`` (as Blender's own importers do), so enabling the add-on
+imports neither.
+"""
 
 import bpy
 from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringProperty
 
-from ..solver import ManikinError, solve
-from ..solver.bodies import list_presets
-from . import armature, scene_io, targets
-from .props import AXES
+from ..solver.errors import ManikinError
+from ..solver.options import AXES
+from ..solver.presets import list_presets
+from .schema import RESULT_KEY, TCP_KEY, rig_of
 
 _LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
 
@@ -17,7 +21,7 @@ def _preset_items() -> list[tuple[str, str, str]]:
 
 
 def _active_rig(context: bpy.types.Context) -> bpy.types.Object | None:
-    return scene_io.rig_of(context.active_object)
+    return rig_of(context.active_object)
 
 
 def _select_only(context: bpy.types.Context, ob: bpy.types.Object) -> None:
@@ -56,6 +60,8 @@ class MANIKIN_OT_add_manikin(bpy.types.Operator):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from . import armature, targets
+
         preset, file = ("", self.filepath) if self.filepath else (self.preset, "")
         try:
             model = armature.load_model(preset, file)
@@ -81,13 +87,15 @@ class MANIKIN_OT_add_target(_RigOperator):
 
     def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
         ob = context.active_object  # a selected TCP empty (or target) says which TCP
-        if ob is not None and "manikin_tcp" in ob:
-            self.tcp = ob["manikin_tcp"]
+        if ob is not None and TCP_KEY in ob:
+            self.tcp = ob[TCP_KEY]
         elif ob is not None and ob.manikin_target.role == "TARGET":
             self.tcp = ob.manikin_target.tcp
         return self.execute(context)
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from . import targets
+
         arm = _active_rig(context)
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
         try:
@@ -112,6 +120,8 @@ class MANIKIN_OT_add_loop(_RigOperator):
     )
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from . import targets
+
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
         try:
             ob = targets.add_loop(_active_rig(context), self.tcp, self.other, lock=lock)
@@ -132,6 +142,8 @@ class MANIKIN_OT_add_load(_RigOperator):
     mass: FloatProperty(name="Mass", default=5.0, min=0.0, soft_max=50.0, unit="MASS", description="kg")
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from . import targets
+
         try:
             ob = targets.add_load(_active_rig(context), self.tcp, self.mass)
         except ManikinError as exc:
@@ -148,15 +160,18 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from ..solver.solve import solve
+        from . import scene_io
+
         arm = _active_rig(context)
         context.evaluated_depsgraph_get()  # brings the empties' world matrices up to date
         try:
             sp = scene_io.read_problem(arm)
             result = solve(sp.problem, sp.x0, sp.options)
+            scene_io.write_result(arm, result)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        scene_io.write_result(arm, result)
         if result.converged:
             self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms)")
         else:
@@ -171,13 +186,15 @@ class MANIKIN_OT_reset_pose(_RigOperator):
     bl_label = "Reset Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from . import armature
+
         arm = _active_rig(context)
         try:
             armature.write_pose(arm, armature.model_of(arm).zero_pose())
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        arm.pop(armature.RESULT_KEY, None)
+        arm.pop(RESULT_KEY, None)
         return {"FINISHED"}
 
 

@@ -8,26 +8,26 @@ import gpu
 from gpu_extras.batch import batch_for_shader
 from mathutils import Matrix, Vector
 
-from . import scene_io
-from .armature import is_manikin
+from .schema import RESULT_KEY, is_manikin, last_result, tcp_empty
 
 FORCE_SCALE = 0.001  # m of arrow per N: body weight (~700 N) draws about 0.7 m
 COM_COLOR = (1.0, 0.85, 0.1, 1.0)
 POLYGON_COLOR = (0.2, 0.9, 0.4, 1.0)
 CONTACT_COLOR = (0.2, 0.6, 1.0, 1.0)
 LOAD_COLOR = (1.0, 0.3, 0.2, 1.0)
+MARK_SIZE = 0.03  # m, half the span of the crosses at the center of mass and below it
 
 _handle = None
 _parsed: dict[str, tuple[str, dict]] = {}  # armature name -> (JSON text, parsed), so redraws do not re-parse
 
 
 def _result(arm: bpy.types.Object) -> dict | None:
-    text = arm.get("manikin_result")
+    text = arm.get(RESULT_KEY)
     if not text:
         return None
     cached = _parsed.get(arm.name)
     if cached is None or cached[0] != text:
-        data = scene_io.last_result(arm)
+        data = last_result(arm)
         if data is None:
             return None
         _parsed[arm.name] = cached = (text, data)
@@ -45,11 +45,21 @@ def _arrow(start: Vector, vec: Vector) -> list[Vector]:
     return [start, end, end, end + back + side, end, end + back - side]
 
 
+def _cross(center: Vector) -> list[Vector]:
+    """Three line segments crossing at ``center``: a point mark that every Blender version's line shader draws."""
+    out = []
+    for axis in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
+        arm = Vector(axis) * MARK_SIZE
+        out += [center - arm, center + arm]
+    return out
+
+
 def _geometry(arm: bpy.types.Object, data: dict) -> dict[str, list[Vector]]:
     m: Matrix = arm.matrix_world
     com = Vector(data["com"])
     floor = Vector((com.x, com.y, 0.0))
-    lines = {"com": [m @ com, m @ floor], "polygon": [], "contact": [], "load": []}
+    com_lines = [m @ com, m @ floor, *_cross(m @ com), *_cross(m @ floor)]
+    lines: dict[str, list[Vector]] = {"com": com_lines, "polygon": [], "contact": [], "load": []}
     poly = [m @ Vector((p[0], p[1], 0.0)) for p in data.get("support_polygon", [])]
     for a, b in zip(poly, poly[1:] + poly[:1], strict=True):
         lines["polygon"] += [a, b]
@@ -58,17 +68,15 @@ def _geometry(arm: bpy.types.Object, data: dict) -> dict[str, list[Vector]]:
         lines["contact"] += _arrow(m @ Vector(c["point"]), rot @ Vector(c["force"]) * FORCE_SCALE)
     points = {ld["tcp"]: ld for ld in data.get("loads", [])}
     for tcp, ld in points.items():
-        empty = scene_io.tcp_empty(arm, tcp)
+        empty = tcp_empty(arm, tcp)
         if empty is not None:
             lines["load"] += _arrow(empty.matrix_world.translation, rot @ Vector(ld["force"]) * FORCE_SCALE)
-    lines["points"] = [m @ com, m @ floor]
     return lines
 
 
 def draw() -> None:
     """POST_VIEW draw callback: one pass over the visible manikins with the overlay on."""
     lines_shader = gpu.shader.from_builtin("POLYLINE_UNIFORM_COLOR")
-    point_shader = gpu.shader.from_builtin("POINT_UNIFORM_COLOR")
     viewport = gpu.state.viewport_get()
     gpu.state.blend_set("ALPHA")
     gpu.state.depth_test_set("NONE")
@@ -86,9 +94,6 @@ def draw() -> None:
             if geo[key]:
                 lines_shader.uniform_float("color", color)
                 batch_for_shader(lines_shader, "LINES", {"pos": geo[key]}).draw(lines_shader)
-        gpu.state.point_size_set(8.0)
-        point_shader.uniform_float("color", COM_COLOR)
-        batch_for_shader(point_shader, "POINTS", {"pos": geo["points"]}).draw(point_shader)
     gpu.state.blend_set("NONE")
 
 

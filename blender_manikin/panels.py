@@ -4,8 +4,8 @@ import math
 
 import bpy
 
-from . import scene_io
-from .props import AXES
+from ..solver.options import AXES
+from .schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_bake, last_result, rig_of
 
 SHOWN_FAILURES = 6  # frames listed in the Motion panel
 _UNITS = {
@@ -51,12 +51,12 @@ class MANIKIN_PT_main(_SidebarPanel):
 
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
-        arm = scene_io.rig_of(context.active_object)
+        arm = rig_of(context.active_object)
         layout.operator_menu_enum("manikin.add_manikin", "preset", text="Add Manikin", icon="ARMATURE_DATA")
         if arm is None:
             layout.label(text="Select a manikin or one of its targets", icon="INFO")
             return
-        layout.label(text=f"{arm.name} ({arm.get('manikin_preset') or arm.get('manikin_body_file')})")
+        layout.label(text=f"{arm.name} ({arm.get(PRESET_KEY) or arm.get(FILE_KEY)})")
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("manikin.solve_pose", icon="PLAY")
@@ -71,8 +71,8 @@ class MANIKIN_PT_main(_SidebarPanel):
         row = layout.row(align=True)
         row.operator("manikin.import_scenario", icon="IMPORT")
         row.operator("manikin.export_scenario", icon="EXPORT")
-        if arm.get("manikin_error"):  # from live mode, which has no report()
-            layout.label(text=arm["manikin_error"], icon="ERROR")
+        if arm.get(ERROR_KEY):  # from live mode, which has no report()
+            layout.label(text=arm[ERROR_KEY], icon="ERROR")
 
 
 class MANIKIN_PT_target(_SidebarPanel):
@@ -115,11 +115,11 @@ class MANIKIN_PT_result(_SidebarPanel):
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        arm = scene_io.rig_of(context.active_object)
-        return arm is not None and scene_io.last_result(arm) is not None
+        arm = rig_of(context.active_object)
+        return arm is not None and last_result(arm) is not None
 
     def draw(self, context: bpy.types.Context) -> None:
-        data = scene_io.last_result(scene_io.rig_of(context.active_object))
+        data = last_result(rig_of(context.active_object))
         layout = self.layout
         ok = data["converged"]
         layout.label(
@@ -164,10 +164,10 @@ class MANIKIN_PT_settings(_SidebarPanel):
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        return scene_io.rig_of(context.active_object) is not None
+        return rig_of(context.active_object) is not None
 
     def draw(self, context: bpy.types.Context) -> None:
-        settings = scene_io.rig_of(context.active_object).manikin
+        settings = rig_of(context.active_object).manikin
         layout = self.layout
         layout.use_property_split = True
         for name in ("balance", "comfort", "reduction", "max_iterations", "restarts", "live_iterations"):
@@ -183,12 +183,10 @@ class MANIKIN_PT_motion(_SidebarPanel):
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        return scene_io.rig_of(context.active_object) is not None
+        return rig_of(context.active_object) is not None
 
     def draw(self, context: bpy.types.Context) -> None:
-        from .motion_operators import last_bake  # lazily: it imports the solver
-
-        arm = scene_io.rig_of(context.active_object)
+        arm = rig_of(context.active_object)
         layout = self.layout
         row = layout.row(align=True)
         row.prop(context.scene, "frame_start", text="Start")

@@ -15,7 +15,8 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-from .scene_io import members, tcp_empty
+from .compat import node_tree
+from .schema import members, tcp_empty
 
 VIEW = Vector((-1.35, -1.0, 0.4)).normalized()  # from the body towards the camera: front right, a little above
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
@@ -36,9 +37,7 @@ def _principled() -> None:
     for material in bpy.data.materials:
         if not material.name.startswith(("manikin.", "picture.")):
             continue  # the user's own materials stay as they are
-        if material.node_tree is None:  # Blender < 5 creates materials without nodes
-            material.use_nodes = True
-        bsdf = material.node_tree.nodes.get("Principled BSDF")
+        bsdf = node_tree(material).nodes.get("Principled BSDF")
         if bsdf is not None:
             bsdf.inputs["Base Color"].default_value = material.diffuse_color
             bsdf.inputs["Roughness"].default_value = 0.9

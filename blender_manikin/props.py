@@ -18,8 +18,8 @@ from bpy.props import (
     StringProperty,
 )
 
-from ..solver.constraints import AXES
-from ..solver.motion import MotionLimits
+from ..solver.options import AXES, DEFAULT_LIMITS
+from .schema import is_manikin
 
 ROLES = (
     ("NONE", "None", "Not a manikin target"),
@@ -32,7 +32,7 @@ ROLES = (
 def _resolve_live(rig: bpy.types.Object | None) -> None:
     """A setting changed: re-solve if the manikin is live (property edits do not reach the depsgraph handler)."""
     if rig is not None and rig.type == "ARMATURE" and rig.manikin.live:
-        from . import live  # lazily: live imports the solver
+        from . import live
 
         live.request(rig)
 
@@ -46,7 +46,7 @@ def _rig_changed(self, context: bpy.types.Context) -> None:
 
 
 def _is_manikin(_self, obj: bpy.types.Object) -> bool:
-    return obj.type == "ARMATURE" and ("manikin_preset" in obj or "manikin_body_file" in obj)
+    return is_manikin(obj)
 
 
 class MANIKIN_PG_target(bpy.types.PropertyGroup):
@@ -144,7 +144,7 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     )
     max_joint_change: FloatProperty(
         name="Max joint change",
-        default=MotionLimits.max_joint_change,
+        default=DEFAULT_LIMITS.max_joint_change,
         min=1e-6,
         max=10.0,
         subtype="ANGLE",
@@ -152,7 +152,7 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     )
     max_root_shift: FloatProperty(
         name="Max root shift",
-        default=MotionLimits.max_root_shift,
+        default=DEFAULT_LIMITS.max_root_shift,
         min=1e-6,
         max=100.0,
         unit="LENGTH",

@@ -21,42 +21,14 @@ from ..solver.ergonomics.loads import percent_of_strength
 from ..solver.ergonomics.report import evaluate
 from ..solver.reduction import DEFAULT_GROUPS
 from ..solver.scenario import result_to_dict
-from .armature import (
-    ERROR_KEY,
-    RESULT_KEY,
-    TCP_PREFIX,
-    color_bones_by_load,
-    is_manikin,
-    model_of,
-    read_x,
-    write_pose,
-)
+from .armature import color_bones_by_load, model_of, read_x, write_pose
+from .schema import ERROR_KEY, RESULT_KEY, members
 
 TOP_LOADS = 5
 
 
-def rig_of(obj: bpy.types.Object | None) -> bpy.types.Object | None:
-    """The manikin armature an object belongs to: itself, a target's manikin, or a TCP empty's parent."""
-    if obj is None:
-        return None
-    if is_manikin(obj):
-        return obj
-    settings = getattr(obj, "manikin_target", None)
-    if settings is not None and settings.role != "NONE" and is_manikin(settings.rig):
-        return settings.rig
-    if "manikin_tcp" in obj and is_manikin(obj.parent):
-        return obj.parent
-    return None
 
 
-def members(arm: bpy.types.Object) -> list[bpy.types.Object]:
-    """Target, loop and load empties of ``arm`` that are in some scene, sorted by name."""
-    found = [
-        ob
-        for ob in bpy.data.objects
-        if ob.manikin_target.role != "NONE" and ob.manikin_target.rig == arm and ob.users_scene
-    ]
-    return sorted(found, key=lambda ob: ob.name)
 
 
 def _frame(m: Matrix) -> tuple[np.ndarray, np.ndarray]:
@@ -207,21 +179,3 @@ def write_result(arm: bpy.types.Object, result: Result) -> None:
     arm[RESULT_KEY] = json.dumps(summary)
     if ERROR_KEY in arm:
         del arm[ERROR_KEY]
-
-
-def last_result(arm: bpy.types.Object) -> dict | None:
-    text = arm.get(RESULT_KEY)
-    if not text:
-        return None
-    try:
-        return json.loads(text)
-    except (TypeError, ValueError):
-        return None
-
-
-def tcp_empty(arm: bpy.types.Object, tcp: str) -> bpy.types.Object | None:
-    """The ``tcp.<name>`` empty of ``arm`` (found by its TCP property, so renamed copies still work)."""
-    for child in arm.children:
-        if child.get("manikin_tcp") == tcp:
-            return child
-    return bpy.data.objects.get(TCP_PREFIX + tcp)

@@ -10,12 +10,13 @@ new manikin, solves it and renders the body, the floor and the targets' places. 
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
 import sys
 import tempfile
 from pathlib import Path
 
-from .build import ROOT, build, install
+from .build import ROOT, build, install, this_platform
 
 DEFAULT_SCENARIO = ROOT / "presets" / "scenarios" / "box_lift.toml"
 
@@ -56,27 +57,25 @@ def _stage(bpy, size: int, samples: int) -> None:
     scene.render.image_settings.file_format = "PNG"
 
 
-def _materials(bpy) -> None:
+def _materials(bpy, node_tree) -> None:
     """Principled materials from the viewport colors, so the render matches the viewport."""
     for material in bpy.data.materials:
-        if material.node_tree is None:  # Blender < 5 creates materials without nodes
-            material.use_nodes = True
-        bsdf = material.node_tree.nodes.get("Principled BSDF")
+        bsdf = node_tree(material).nodes.get("Principled BSDF")
         if bsdf is not None:
             bsdf.inputs["Base Color"].default_value = material.diffuse_color
 
 
 def snapshot(output: Path, scenario: Path = DEFAULT_SCENARIO, size: int = 640, samples: int = 16) -> Path:
     """Render the solved scenario to ``output`` (PNG); returns its path. Imports bpy (a fresh process only)."""
-    zip_path = build(Path(tempfile.mkdtemp(prefix="manikin-dist-")))
+    zip_path = build(Path(tempfile.mkdtemp(prefix="manikin-dist-")))[this_platform()]
     os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp(prefix="manikin-user-")
     import bpy
 
-    install(zip_path)
+    compat = importlib.import_module(install(zip_path) + ".blender_manikin.compat")  # the installed copy
     _stage(bpy, size, samples)
     bpy.ops.manikin.import_scenario(filepath=str(scenario))
     bpy.ops.manikin.solve_pose()
-    _materials(bpy)
+    _materials(bpy, compat.node_tree)
     output = output.resolve()
     output.parent.mkdir(parents=True, exist_ok=True)
     bpy.context.scene.render.filepath = str(output)

@@ -13,9 +13,9 @@ from mathutils import Matrix
 
 from ..solver import ManikinError
 from ..solver.model import GRAVITY
+from ..solver.options import AXES
 from .armature import model_of, read_x, tcp_world_frame
-from .props import AXES
-from .scene_io import members, tcp_empty
+from .schema import members, tcp_empty
 
 FEET = ("foot_l", "foot_r")
 FLOOR_LOCK = ("z", "rx", "ry")  # a sole stays flat on the floor and may slide and turn

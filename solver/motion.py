@@ -14,9 +14,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOptions
 from .problem import Problem, Target
 from .result import Result
-from .solve import DEFAULT_OPTIONS, SolverOptions, solve
+from .solve import solve
 from .spatial import matrix_to_quat, quat_to_matrix, slerp
 
 
@@ -51,14 +52,6 @@ class Track:
             return position, a.rotation if b.rotation is None else b.rotation
         q = slerp(matrix_to_quat(a.rotation), matrix_to_quat(b.rotation), t)
         return position, quat_to_matrix(q)
-
-
-@dataclass(frozen=True)
-class MotionLimits:
-    """Largest change between consecutive frames."""
-
-    max_joint_change: float = 0.35  # rad per frame
-    max_root_shift: float = 0.10  # m per frame
 
 
 def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list[Target]:
@@ -98,7 +91,7 @@ def solve_frames(
     frames: list[int],
     start: np.ndarray,
     options: SolverOptions = DEFAULT_OPTIONS,
-    limits: MotionLimits | None = MotionLimits(),
+    limits: MotionLimits | None = DEFAULT_LIMITS,
 ) -> Iterator[tuple[int, Result]]:
     """Solve ``frames`` in order, each warm-started from the previous frame's solution.
 

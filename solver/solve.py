@@ -44,6 +44,7 @@ from functools import cached_property
 import numpy as np
 from scipy.linalg import lapack
 
+from .options import DEFAULT_OPTIONS, SolverOptions
 from .problem import Problem
 from .result import Result
 
@@ -82,21 +83,6 @@ RESTART_AT = 0.25
 MEMORY = 6  # curvature pairs kept by the quasi-Newton comfort model; measured: 3 and 12 no better
 
 
-@dataclass(frozen=True)
-class SolverOptions:
-    """Iteration limits and step controls; steps are in scaled variables (1 = half a joint's range)."""
-
-    max_iterations: int = 100
-    optimize_comfort: bool = True
-    max_step: float = 1.0  # trust region: largest 2-norm of a task step in scaled variables
-    max_comfort_step: float = 0.5  # same for the comfort part of a step
-    comfort_tolerance: float = 3e-3  # stop when the predicted comfort gain is below this fraction of max(|h|, 1)
-    max_damping: float = 1e-3  # Tikhonov damping of the task step, as a fraction of the largest singular value
-    clamping_rounds: int = 10
-    restarts: int = 1  # solves again from :func:`restart_pose` when the constraints are not met
-
-
-DEFAULT_OPTIONS = SolverOptions()
 
 
 @dataclass

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import finite_difference, random_tree
+from helpers import finite_difference, random_tree
 
 from solver.comfort import ComfortWeights
 from solver.constraints import FrameConstraint, lock_operator

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import finite_difference
+from helpers import finite_difference
 from scipy.spatial.transform import Rotation
 
 from solver.bodies import load_body

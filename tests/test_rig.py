@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import random_tree
+from helpers import random_tree
 
 from blender_manikin.rig import RigLayout, joint_groups
 from solver.bodies import load_body

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import finite_difference
+from helpers import finite_difference
 
 from solver.spatial import (
     cross,

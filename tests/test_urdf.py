@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import random_tree
+from helpers import random_tree
 
 from solver.bodies import load_body
 from solver.model import ModelBuilder

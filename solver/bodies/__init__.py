@@ -22,24 +22,18 @@ from pathlib import Path
 
 from ..errors import ModelError
 from ..model import Model
+from ..presets import MANIKINS_DIR, PRESETS_DIR, list_presets
 from .human import build_human, validate_human
 from .snake import build_snake, validate_snake
 
 __all__ = ["PRESETS_DIR", "MANIKINS_DIR", "build_human", "build_snake", "load_body", "list_presets", "body_from_dict"]
 
-PRESETS_DIR = Path(__file__).resolve().parents[2] / "presets"
-MANIKINS_DIR = PRESETS_DIR / "manikins"
 
 _COMMON_KEYS = {"kind", "name", "percentile", "source"}
 _KEYS = {
     "human": _COMMON_KEYS | {"sex", "stature", "mass"},
     "snake": _COMMON_KEYS | {"segments", "segment_length", "segment_mass"},
 }
-
-
-def list_presets() -> list[str]:
-    """Names of the shipped manikin presets (file stems in ``presets/manikins``), sorted."""
-    return sorted(p.stem for p in MANIKINS_DIR.glob("*.toml")) if MANIKINS_DIR.is_dir() else []
 
 
 def load_body(preset: str | None = None, file: str | Path | None = None) -> Model:

@@ -21,11 +21,11 @@ import numpy as np
 
 from ..errors import ManikinError
 from ..model import Model, Tcp
+from ..options import AXES
 from ..spatial import left_jacobian_inverse_so3, log_so3
 from ..state import State
 from .base import Constraint
 
-AXES = ("x", "y", "z", "rx", "ry", "rz")
 POSITION_TOLERANCE = 1e-3  # m
 ROTATION_TOLERANCE = np.deg2rad(0.2)  # rad
 

@@ -1,6 +1,6 @@
-"""Baking a motion in a Blender session as a user would, run by tests/test_bake.py in a subprocess:
+"""Baking a motion in a Blender session as a user would, run by tests/blender/test_bake.py in a subprocess:
 
-    BLENDER_USER_RESOURCES=<empty dir> python tests/bake_session.py <zip> <out.json> <work dir>
+    BLENDER_USER_RESOURCES=<empty dir> python tests/blender/bake_session.py <zip> <out.json> <work dir>
 
 installs the extension zip, imports the box-lift motion (keyed target empties), exports it back, keys a bone
 channel by hand inside and outside the range, bakes frames 2-9 through the operator, undoes, cancels a bake
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from blender_manikin.build import install  # noqa: E402
@@ -31,8 +31,8 @@ import bpy  # noqa: E402  (after BLENDER_USER_RESOURCES is set by the caller)
 
 module = install(ZIP)
 package = sys.modules[module]
-bake_module = sys.modules[module + ".blender_manikin.bake"]
-keyframes = sys.modules[module + ".blender_manikin.keyframes"]
+bake_module = importlib.import_module(module + ".blender_manikin.bake")
+keyframes = importlib.import_module(module + ".blender_manikin.keyframes")
 exports = importlib.import_module(module + ".blender_manikin.exports")  # imported lazily by the add-on
 scene = bpy.context.scene
 
@@ -112,7 +112,7 @@ class Layout:
 
 bpy.context.view_layer.objects.active = arm
 seen["panel"] = []
-sys.modules[module + ".blender_manikin.panels"].MANIKIN_PT_motion.draw(
+importlib.import_module(module + ".blender_manikin.panels").MANIKIN_PT_motion.draw(
     type("Panel", (), {"layout": Layout(seen["panel"])})(), bpy.context
 )
 
@@ -123,7 +123,9 @@ seen["undone"] = curves(arm)
 
 # The modal path (what a click in the UI runs), driven with stand-in events: a timer tick solves, view events
 # pass through, others are swallowed, Esc cancels (nothing keyed, the frame restored); ticks run it to the end.
-operator = sys.modules[module + ".blender_manikin.motion_operators"].MANIKIN_OT_bake_motion
+motion_operators = importlib.import_module(module + ".blender_manikin.motion_operators")
+motion_operators.SLICE_S = 0.0  # one frame per timer tick, however fast this machine solves
+operator = motion_operators.MANIKIN_OT_bake_motion
 reports: list = []
 methods = {n: operator.__dict__[n] for n in ("modal", "_current", "_status", "_cleanup", "_cancel", "_finish")}
 Modal = type("Modal", (), dict(methods, report=lambda self, kind, text: reports.append((sorted(kind)[0], text))))
@@ -145,6 +147,7 @@ op._baker = bake_module.Baker(scene, arm, 2, 9)
 ticks = [sorted(op.modal(context, event("TIMER"))) for _ in range(50)]
 seen["modal_ticks"] = ticks[: ticks.index(["FINISHED"]) + 1] if ["FINISHED"] in ticks else ticks
 seen["modal_keys"] = curves(arm)
+seen["modal_thetas"] = op._baker.thetas.tolist()
 seen["modal_reports"] = reports
 
 # A bake from frame 1 (the whole start of the lift), then exports and their re-imports.

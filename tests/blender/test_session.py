@@ -1,19 +1,16 @@
 """The Blender extension as a user meets it: the built zip installed into a throwaway user directory and driven
-through its operators (tests/blender_session.py, run once in a subprocess so bpy never enters this process).
+through its operators (tests/blender/session.py, run once in a subprocess so bpy never enters this process).
 The assertions recompute everything from the solver: poses by forward kinematics, balance from the forces.
 """
 
 from __future__ import annotations
 
-import importlib.util
-import subprocess
-import sys
 import zipfile
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import run_blender_session
+from environments import run_python
 
 from blender_manikin.rig import RigLayout
 from solver import Problem
@@ -21,8 +18,7 @@ from solver.bodies import load_body
 from solver.model import GRAVITY
 from solver.scenario import load_scenario
 
-ROOT = Path(__file__).resolve().parents[1]
-pytestmark = pytest.mark.skipif(importlib.util.find_spec("bpy") is None, reason="bpy (Blender as a module) missing")
+ROOT = Path(__file__).resolve().parents[2]
 MM = 1e-3
 FLOAT32 = 2e-5  # Blender stores matrices and channels in single precision
 
@@ -33,22 +29,35 @@ def model():
 
 
 @pytest.fixture(scope="module")
-def session(tmp_path_factory) -> dict:
-    return run_blender_session(tmp_path_factory.mktemp("blender"), "blender_session.py")
+def session(tmp_path_factory, run_session) -> dict:
+    return run_session(tmp_path_factory.mktemp("blender"), "session.py")
 
 
 def _frames(pose: dict, key: str) -> dict[str, np.ndarray]:
     return {name: np.array(m) for name, m in pose[key].items()}
 
 
-def test_zip_ships_the_extension_and_nothing_else(session: dict) -> None:
+def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> None:
     names = zipfile.ZipFile(session["zip"]).namelist()
     for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/operators.py", "solver/solve.py",
                    "presets/manikins/male_50.toml", "presets/scenarios/box_lift.toml", "LICENSE"):  # fmt: skip
         assert needed in names
+    wheels = [n.removeprefix("wheels/") for n in names if n.startswith("wheels/")]
+    assert {w.split("-")[0] for w in wheels} >= {"scipy", "matplotlib", "pillow", "kiwisolver", "contourpy"}
+    tags = [w.removesuffix(".whl").split("-")[-1] for w in wheels]
+    assert all(tag == "any" or ("linux" in tag and tag.endswith("x86_64")) for tag in tags), tags  # this platform
     for name in names:
         assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".")) and "__pycache__" not in name
         assert name not in ("pyproject.toml", "requirements.txt")
+
+
+def test_dependencies_come_from_the_extension_wheels(session: dict) -> None:
+    """The solver's scipy and the pictures' matplotlib load from the extension's wheels, not from the environment,
+    and enabling imported neither (nor the solver)."""
+    user = str(Path(session["work"]) / "user")
+    assert session["at_enable"]["scipy"] is False and session["at_enable"]["matplotlib"] is False
+    assert set(session["at_enable"]["solver"]) <= {"solver", "solver.errors", "solver.options", "solver.presets"}
+    assert session["modules"]["scipy"].startswith(user) and session["modules"]["matplotlib"].startswith(user)
 
 
 def test_add_manikin_builds_rig_body_tcps_and_supports(session: dict, model) -> None:
@@ -189,7 +198,7 @@ def test_most_loaded_joints(session: dict, model) -> None:
 
 def test_overlay_geometry(session: dict) -> None:
     counts = session["overlay"]
-    assert counts["com"] == 2 and counts["polygon"] >= 6 and counts["contact"] == 12
+    assert counts["com"] == 14 and counts["polygon"] >= 6 and counts["contact"] == 12
 
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
@@ -208,15 +217,13 @@ def test_sidebar_draws(session: dict) -> None:
     assert any(line.startswith("= 0.00 kg") for line in lines)  # the load panel
 
 
-def test_headless_render(tmp_path: Path) -> None:
+def test_headless_render(tmp_path: Path, blender_python: Path) -> None:
     """The snapshot script renders the solved box lift; the manikin's skin shows where the camera looks."""
     import matplotlib.image
 
     png = tmp_path / "manikin.png"
-    done = subprocess.run(
-        [sys.executable, "-m", "blender_manikin.snapshot", "-o", str(png), "--size", "96", "--samples", "2"],
-        cwd=ROOT, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
+    args = ["-m", "blender_manikin.snapshot", "-o", png, "--size", 96, "--samples", 2]
+    done = run_python(blender_python, args, tmp_path / "user")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     image = matplotlib.image.imread(png)[:, :, :3]
     skin = (image[:, :, 0] - image[:, :, 2]) > 0.03  # reddish: the body; floor and sky are grey-blue

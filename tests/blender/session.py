@@ -1,6 +1,6 @@
-"""A Blender session as a user would have it, run by tests/test_blender.py in a subprocess:
+"""A Blender session as a user would have it, run by tests/blender/test_session.py in a subprocess:
 
-    BLENDER_USER_RESOURCES=<empty dir> python tests/blender_session.py <zip> <out.json> <work dir>
+    BLENDER_USER_RESOURCES=<empty dir> python tests/blender/session.py <zip> <out.json> <work dir>
 
 installs the extension zip, enables it, adds a manikin, moves the right-hand target 30 cm forward, solves,
 undoes, tries live mode, exports and imports scenarios, disables the add-on, and writes what it saw (poses,
@@ -10,6 +10,7 @@ process stays clean.
 
 from __future__ import annotations
 
+import importlib
 import json
 import math
 import sys
@@ -17,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from blender_manikin.build import install  # noqa: E402
@@ -58,9 +59,14 @@ def error_of(call) -> str:
 
 module = install(ZIP)
 seen["module"] = module
+seen["at_enable"] = dict(
+    scipy="scipy" in sys.modules,
+    matplotlib="matplotlib" in sys.modules,
+    solver=sorted(k.removeprefix(module + ".") for k in sys.modules if k.startswith(module + ".solver")),
+)
 package = sys.modules[module]
-live = sys.modules[module + ".blender_manikin.live"]
-overlay = sys.modules[module + ".blender_manikin.overlay"]
+live = importlib.import_module(module + ".blender_manikin.live")
+overlay = importlib.import_module(module + ".blender_manikin.overlay")
 
 # A manikin, a target for the right hand, moved 30 cm forward (the manikin faces -y).
 seen["add"] = ui(bpy.ops.manikin.add_manikin, preset="male_50")
@@ -128,7 +134,7 @@ drawn: list = []
 for active in ("male_50", "target.hand_r", "load.hand_l"):
     obj = bpy.data.objects.get(active)
     bpy.context.view_layer.objects.active = obj
-    for panel in sys.modules[module + ".blender_manikin.panels"].classes:
+    for panel in importlib.import_module(module + ".blender_manikin.panels").classes:
         if not hasattr(panel, "poll") or panel.poll(bpy.context):
             panel.draw(type("Panel", (), {"layout": Layout(drawn)})(), bpy.context)
 seen["sidebar"] = drawn
@@ -204,9 +210,8 @@ bpy.context.view_layer.objects.active = None
 box = ROOT / "presets" / "scenarios" / "box_lift.toml"
 seen["import"] = list(bpy.ops.manikin.import_scenario(filepath=str(box)))
 lifter = bpy.context.active_object
-seen["imported"] = dict(
-    name=lifter.name, members=sorted(o.name for o in package.blender_manikin.scene_io.members(lifter))
-)
+schema = importlib.import_module(module + ".blender_manikin.schema")
+seen["imported"] = dict(name=lifter.name, members=sorted(o.name for o in schema.members(lifter)))
 seen["import_solve"] = list(bpy.ops.manikin.solve_pose())
 seen["import_result"] = json.loads(lifter["manikin_result"])
 seen["import_pose"] = pose_of(lifter)
@@ -214,6 +219,12 @@ lifter.manikin.reduction = True
 seen["reduced_solve"] = list(bpy.ops.manikin.solve_pose())
 seen["reduced_result"] = json.loads(lifter["manikin_result"])
 
+
+# Where the dependencies come from (before disabling, which uninstalls the extension's wheels).
+import matplotlib  # noqa: E402
+import scipy  # noqa: E402
+
+seen["modules"] = dict(scipy=scipy.__file__, matplotlib=matplotlib.__file__)
 
 # Disable: nothing of the add-on may stay registered.
 ours = [

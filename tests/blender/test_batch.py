@@ -5,35 +5,48 @@ installed extension running from its own folder.
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import os
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from environments import ROOT, run_python
 
-from blender_manikin.build import build
 from solver.ergonomics import read_result
 
-ROOT = Path(__file__).resolve().parents[1]
 BATCH = ROOT / "blender_manikin" / "batch.py"
 SNAKE = ROOT / "presets" / "scenarios" / "snake_motion.toml"
-pytestmark = pytest.mark.skipif(importlib.util.find_spec("bpy") is None, reason="bpy (Blender as a module) missing")
 
 
-def run(args: list, cwd: Path, script: Path = BATCH, env: dict | None = None) -> subprocess.CompletedProcess:
-    user = cwd / "user"
-    user.mkdir(exist_ok=True)
-    env = env or dict(os.environ, BLENDER_USER_RESOURCES=str(user))
-    return subprocess.run(
-        [sys.executable, str(script), *map(str, args)], cwd=cwd, env=env, capture_output=True, text=True, timeout=600
-    )
+def install(python: Path, zip_path: Path, user: Path) -> None:
+    """Install and enable the zip in ``user`` as a user would (its wheels go onto Blender's path)."""
+    code = f"import sys; sys.path.insert(0, {str(ROOT)!r}); from blender_manikin.build import install; " \
+           f"install(__import__('pathlib').Path({str(zip_path)!r}))"  # fmt: skip
+    done = run_python(python, ["-c", code], user)
+    assert done.returncode == 0, done.stderr[-3000:]
 
 
-def test_batch_writes_every_output(tmp_path: Path) -> None:
+@pytest.fixture(scope="module")
+def user(blender_python: Path, extension_zip: Path, tmp_path_factory) -> Path:
+    """A Blender user folder with the extension installed: a checkout's batch.py then finds scipy and matplotlib
+    on Blender's path, as in a Blender that has the extension."""
+    folder = tmp_path_factory.mktemp("user")
+    install(blender_python, extension_zip, folder)
+    return folder
+
+
+@pytest.fixture
+def run(blender_python: Path, user: Path):
+    """``batch.py ARGS`` (or another script) by the Blender environment's Python in ``cwd``."""
+
+    def batch(args: list, cwd: Path, script: Path = BATCH) -> subprocess.CompletedProcess:
+        return run_python(blender_python, [script, *args], user, cwd=cwd)
+
+    return batch
+
+
+def test_batch_writes_every_output(tmp_path: Path, run) -> None:
     out = tmp_path / "out"
     done = run(
         ["--scenario", SNAKE, "--frames", 1, 6, "--out", out / "snake.blend", "--export", out / "snake.bvh",
@@ -60,7 +73,7 @@ def test_batch_writes_every_output(tmp_path: Path) -> None:
     assert picture.shape[1] > 2 * picture.shape[0] and np.std(picture[:, :, :3]) > 0.05  # tiles side by side
 
 
-def test_batch_reports_frames_that_do_not_converge(tmp_path: Path) -> None:
+def test_batch_reports_frames_that_do_not_converge(tmp_path: Path, run) -> None:
     """A target that jumps between two frames: exit 3, the report still written, the jump named."""
     text = SNAKE.read_text(encoding="utf-8").replace("frame = 48", "frame = 2").replace("end = 48", "end = 3")
     (tmp_path / "jump.toml").write_text(text, encoding="utf-8")
@@ -85,7 +98,7 @@ def test_batch_reports_frames_that_do_not_converge(tmp_path: Path) -> None:
         ([], "no manikin in the scene"),
     ],
 )
-def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str) -> None:
+def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str, run) -> None:
     (tmp_path / "broken.toml").write_text("[manikin\npreset = 1", encoding="utf-8")
     done = run(args, tmp_path)
     assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
@@ -93,24 +106,25 @@ def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
 
 
-def test_batch_runs_from_an_installed_extension(tmp_path: Path) -> None:
-    """Installed as a user installs it, the batch script inside the extension folder loads that copy."""
-    user = tmp_path / "user"
-    user.mkdir()
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(user))
-    zip_path = build(tmp_path / "dist")
-    install = f"import sys; sys.path.insert(0, {str(ROOT)!r}); from blender_manikin.build import install; " \
-              f"install(__import__('pathlib').Path({str(zip_path)!r}))"  # fmt: skip
-    done = subprocess.run([sys.executable, "-c", install], env=env, capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr[-3000:]
+def test_batch_runs_from_an_installed_extension(tmp_path: Path, run, user: Path) -> None:
+    """The batch script inside the installed extension's folder loads that copy:
+    ``blender --background --python <extension>/blender_manikin/batch.py -- ...``."""
     installed = next(user.rglob("manikin/blender_manikin/batch.py"))
-    done = run(["--scenario", SNAKE, "--frames", 1, 3, "--report", "report.json"], tmp_path, installed, env)
+    done = run(["--scenario", SNAKE, "--frames", 1, 3, "--report", "report.json"], tmp_path, installed)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     report = json.loads((tmp_path / "report.json").read_text(encoding="utf-8"))
     assert report["converged"] and len(report["frames"]) == 3
 
 
-def test_batch_as_blender_runs_it_on_an_open_blend(tmp_path: Path) -> None:
+def test_batch_without_the_wheels_says_what_is_missing(tmp_path: Path, blender_python: Path) -> None:
+    """A checkout's batch.py in a Blender without the extension: one line naming scipy and the way to get it."""
+    done = run_python(blender_python, [BATCH, "--scenario", SNAKE, "--frames", 1, 2], tmp_path / "user")
+    assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and "scipy is missing: install the Manikin extension zip" in lines[0], done.stderr
+
+
+def test_batch_as_blender_runs_it_on_an_open_blend(tmp_path: Path, run, blender_python: Path, user: Path) -> None:
     """``blender --background scene.blend --python batch.py -- ARGS``, emulated with the bpy module: the .blend is
     opened first, sys.argv is Blender's, and the script runs as __main__; it bakes the open file's manikin."""
     done = run(["--scenario", SNAKE, "--frames", 1, 2, "--out", "scene.blend"], tmp_path)
@@ -122,9 +136,7 @@ def test_batch_as_blender_runs_it_on_an_open_blend(tmp_path: Path) -> None:
         f"import bpy, runpy, sys; bpy.ops.wm.open_mainfile(filepath={str(blend)!r}); sys.argv = {argv!r}\n"
         f"runpy.run_path({str(BATCH)!r}, run_name='__main__')"
     )
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
-    done = subprocess.run([sys.executable, "-c", emulate], cwd=tmp_path, env=env, capture_output=True, text=True,
-                          timeout=600)  # fmt: skip
+    done = run_python(blender_python, ["-c", emulate], user, cwd=tmp_path)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     report = json.loads((tmp_path / "again.json").read_text(encoding="utf-8"))
     assert report["converged"] and [f["frame"] for f in report["frames"]] == [1, 2, 3, 4]

@@ -1,0 +1,84 @@
+"""How a manikin is stored in a Blender scene: every custom property key and object name prefix, and the lookups
+that find a manikin's parts (bpy only; no solver, so the UI can draw before anything heavy is imported).
+
+On the armature object: ``manikin_preset`` (preset name, or "" for a body file), ``manikin_body_file`` (path or
+""), ``manikin_x`` (the last solution: joint values, then contact-edge weights), ``manikin_result`` (JSON summary
+of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
+that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
+(its TCP's name). Settings live in the ``Object.manikin`` / ``Object.manikin_target`` property groups (props.py).
+"""
+
+from __future__ import annotations
+
+import json
+
+import bpy
+
+PRESET_KEY = "manikin_preset"
+FILE_KEY = "manikin_body_file"
+X_KEY = "manikin_x"
+RESULT_KEY = "manikin_result"
+BAKE_KEY = "manikin_bake"
+ERROR_KEY = "manikin_error"
+TCP_KEY = "manikin_tcp"
+
+TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
+PREFIXES = {"TARGET": "target.", "LOOP": "loop.", "LOAD": "load."}  # the empties a user moves, by role
+
+
+def is_manikin(obj: bpy.types.Object | None) -> bool:
+    return obj is not None and obj.type == "ARMATURE" and (PRESET_KEY in obj or FILE_KEY in obj)
+
+
+def rig_of(obj: bpy.types.Object | None) -> bpy.types.Object | None:
+    """The manikin armature an object belongs to: itself, a target's manikin, or a TCP empty's parent."""
+    if obj is None:
+        return None
+    if is_manikin(obj):
+        return obj
+    settings = getattr(obj, "manikin_target", None)
+    if settings is not None and settings.role != "NONE" and is_manikin(settings.rig):
+        return settings.rig
+    if TCP_KEY in obj and is_manikin(obj.parent):
+        return obj.parent
+    return None
+
+
+def members(arm: bpy.types.Object) -> list[bpy.types.Object]:
+    """Target, loop and load empties of ``arm`` that are in some scene, sorted by name."""
+    found = [
+        ob
+        for ob in bpy.data.objects
+        if ob.manikin_target.role != "NONE" and ob.manikin_target.rig == arm and ob.users_scene
+    ]
+    return sorted(found, key=lambda ob: ob.name)
+
+
+def tcp_empty(arm: bpy.types.Object, tcp: str) -> bpy.types.Object | None:
+    """The ``tcp.<name>`` empty of ``arm`` (found by its TCP property, so renamed copies still work)."""
+    for child in arm.children:
+        if child.get(TCP_KEY) == tcp:
+            return child
+    found = bpy.data.objects.get(TCP_PREFIX + tcp)
+    return found if found is not None and found.parent == arm else None
+
+
+def _json(arm: bpy.types.Object, key: str) -> dict | None:
+    text = arm.get(key)
+    if not text:
+        return None
+    try:
+        data = json.loads(text)
+    except (TypeError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
+
+
+def last_result(arm: bpy.types.Object) -> dict | None:
+    """The summary of the manikin's last solve (converged, residuals, loads, ...), or None."""
+    return _json(arm, RESULT_KEY)
+
+
+def last_bake(arm: bpy.types.Object) -> dict | None:
+    """The summary the last bake stored on ``arm``, or None."""
+    return _json(arm, BAKE_KEY)

@@ -1,0 +1,46 @@
+"""Fixtures of the Blender tests: everything runs in a Blender-equivalent environment (only the ``bpy`` wheel and
+numpy, see environments.py; series chosen by MANIKIN_BLENDER, default 5.0) on the linux-x64 zip that environment
+built, installed into a throwaway user directory. bpy never enters the pytest process, whose own environment
+(with scipy) only checks the results."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+from environments import ROOT, python_of, run_python, selected
+
+
+@pytest.fixture(scope="session")
+def blender_python() -> Path:
+    return python_of(selected())
+
+
+@pytest.fixture(scope="session")
+def extension_zip(blender_python: Path, tmp_path_factory) -> Path:
+    """The linux-x64 zip, built by the Blender environment's own build tool (wheels fetched by its pip)."""
+    out = tmp_path_factory.mktemp("dist")
+    done = subprocess.run(
+        [str(blender_python), "-m", "blender_manikin.build", "--output-dir", str(out), "--platform", "linux-x64"],
+        cwd=ROOT, capture_output=True, text=True, timeout=900,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:]
+    return Path(done.stdout.strip())
+
+
+@pytest.fixture(scope="session")
+def run_session(blender_python: Path, extension_zip: Path):
+    """Run ``tests/blender/<script> <zip> <seen.json> <work>`` in a fresh user directory; what the script recorded."""
+
+    def run(work: Path, script: str) -> dict:
+        here = Path(__file__).resolve().parent
+        args = [here / script, extension_zip, work / "seen.json", work]
+        done = run_python(blender_python, args, work / "user")
+        assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+        seen = json.loads((work / "seen.json").read_text(encoding="utf-8"))
+        seen.update(zip=str(extension_zip), work=str(work), log=done.stdout + done.stderr)
+        return seen
+
+    return run

@@ -1,0 +1,62 @@
+"""Blender-equivalent Python environments: a virtual environment holding only the ``bpy`` wheel and what it declares,
+with numpy pinned to the version that Blender release bundles. That is what a user's Blender has (numpy, requests,
+zstandard, cython; no scipy, no matplotlib), so the extension must bring the rest itself.
+
+    python tests/blender/environments.py 4.2      # create .venvs/bpy-4.2.23 (if missing) and print its python
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import venv
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+VENVS = ROOT / ".venvs"
+
+# Supported Blender series: (bpy wheel, numpy that Blender bundles). bpy 4.2 leaves numpy open (and breaks with
+# numpy 2); 4.5 and 5.0 declare numpy>=1.26,<2. Blender 4.2 ships numpy 1.24.3, 4.4 to 5.0 ship 1.26.4.
+BLENDERS = {
+    "4.2": ("4.2.23", "1.24.3"),
+    "4.5": ("4.5.15", "1.26.4"),
+    "5.0": ("5.0.1", "1.26.4"),
+}
+DEFAULT = "5.0"
+SELECT = "MANIKIN_BLENDER"  # environment variable: which series the Blender tests run on
+
+
+def selected() -> str:
+    """The Blender series chosen by MANIKIN_BLENDER (default 5.0)."""
+    series = os.environ.get(SELECT, DEFAULT)
+    if series not in BLENDERS:
+        raise SystemExit(f"{SELECT}={series}: expected one of {', '.join(BLENDERS)}")
+    return series
+
+
+def python_of(series: str) -> Path:
+    """The Python of the series' environment, created on first use (a half-made one is made again)."""
+    bpy_version, numpy_version = BLENDERS[series]
+    home = VENVS / f"bpy-{bpy_version}"
+    python = home / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
+    done = home / "complete"
+    if not done.is_file():
+        venv.EnvBuilder(clear=True, with_pip=True).create(home)
+        pins = [f"bpy=={bpy_version}", f"numpy=={numpy_version}"]
+        subprocess.run([str(python), "-m", "pip", "install", "--quiet", *pins], check=True)
+        done.write_text(" ".join(pins) + "\n", encoding="utf-8")
+    return python
+
+
+def run_python(python: Path, args: list, user: Path, cwd: Path | None = None, timeout: int = 600):
+    """Run ``python args`` with ``user`` as Blender's user directory; the completed process."""
+    user.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(user))
+    return subprocess.run(
+        [str(python), *map(str, args)], cwd=cwd or ROOT, env=env, capture_output=True, text=True, timeout=timeout
+    )
+
+
+if __name__ == "__main__":
+    print(python_of(sys.argv[1] if len(sys.argv) > 1 else selected()))
