@@ -6,7 +6,8 @@
 ARGS: --scenario S.toml (a new manikin with keyed target empties) and/or --blend FILE.blend (or the .blend Blender
 opened), --manikin NAME (when the scene has several), --frames START END (default: the scenario's motion or the
 scene's range), --out OUT.blend, --export OUT.fbx|OUT.bvh|OUT.glb|OUT.gltf (repeatable), --report REPORT.json,
---result RESULT.json (the format of python -m solver solve), --picture KEY_POSES.png, -q.
+--result RESULT.json (the format of python -m solver solve), --picture KEY_POSES.png, --plots PREFIX (ergonomics
+plots PREFIX_loads.png, PREFIX_scores.png, PREFIX_back.png), -q.
 
 Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input (one line
 on stderr). Run as a script, this file loads the extension it belongs to from its own location (a checkout or
@@ -19,6 +20,8 @@ from __future__ import annotations
 import argparse
 import importlib
 import importlib.util
+import os
+import shutil
 import sys
 from pathlib import Path
 from types import ModuleType
@@ -48,6 +51,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--report", type=Path, help="JSON report: per frame convergence, times, residuals, ergonomics")
     p.add_argument("--result", type=Path, help="result JSON as written by python -m solver solve")
     p.add_argument("--picture", type=Path, help="PNG of key poses (small Cycles renders side by side)")
+    p.add_argument("--plots", type=Path, metavar="PREFIX", help="ergonomics plots PREFIX_loads.png, "
+                   "PREFIX_scores.png, PREFIX_back.png (joint loads, RULA/REBA, back and arms per frame)")
     p.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     return p
 
@@ -142,6 +147,7 @@ def main(argv: list[str] | None = None) -> int:
                 report=args.report,
                 result=args.result,
                 picture=args.picture,
+                plots=args.plots,
                 quiet=args.quiet,
             )
         )
@@ -156,7 +162,21 @@ def main(argv: list[str] | None = None) -> int:
             extension.unregister()
 
 
+def exit_process(code: int) -> None:
+    """Exit with ``code``. Inside the Blender binary that is sys.exit; as the bpy module, the process ends at once
+    after flushing (and removing Blender's temp folder): bpy 4.2's module segfaults at exit after any glTF export
+    (a static destructor calls into the finalized interpreter), which would turn every exit code into 139."""
+    bpy = sys.modules.get("bpy")
+    if bpy is None or bpy.app.binary_path:
+        sys.exit(code)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    if Path(bpy.app.tempdir).name.startswith("blender_"):  # this session's own folder, never the configured one
+        shutil.rmtree(bpy.app.tempdir, ignore_errors=True)
+    os._exit(code)
+
+
 if __name__ == "__main__":
     if sys.path and Path(sys.path[0]).resolve() == Path(__file__).resolve().parent:
         sys.path.pop(0)  # run as a script: our own folder on the path would shadow nothing useful, only confuse
-    sys.exit(main())
+    exit_process(main())

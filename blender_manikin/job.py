@@ -21,7 +21,7 @@ from ..solver import ManikinError
 from ..solver.scenario import load_scenario
 from . import exports, keyframes, motion_io
 from .bake import Baker
-from .motion_report import captions, choose_frames, motion_report, summary_lines, write_json
+from .motion_report import captions, choose_frames, evaluate_motion, motion_report, summary_lines, write_json
 from .schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 
 EXIT_OK, EXIT_NOT_CONVERGED = 0, 3
@@ -40,6 +40,7 @@ class Job:
     report: Path | None = None
     result: Path | None = None
     picture: Path | None = None
+    plots: Path | None = None
     quiet: bool = False
 
 
@@ -95,7 +96,7 @@ def bake(job: Job, arm: bpy.types.Object) -> Baker:
     """Solve the frame range with progress lines, then key it."""
     scene = bpy.context.scene
     start, end = job.frames or (scene.frame_start, scene.frame_end)
-    keep = job.report is not None or job.result is not None or job.picture is not None
+    keep = any(p is not None for p in (job.report, job.result, job.picture, job.plots))
     baker = Baker(scene, arm, start, end, keep_results=keep)
     n = len(baker.frames)
     _say(job, f"baking {arm.name}: frames {start}-{end} ({n})")
@@ -124,8 +125,14 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
     source = dict(scenario=str(job.scenario) if job.scenario else None, blend=str(job.blend) if job.blend else None)
     body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
     report = None
-    if job.report is not None or job.picture is not None:
-        report = motion_report(baker, source, body, job.report or Path("report.json"))
+    if job.report is not None or job.picture is not None or job.plots is not None:
+        ergo = evaluate_motion(baker, body, job.report or Path("report.json"))
+        report = motion_report(baker, source, body, ergo)
+    if job.plots is not None:
+        from ..solver.ergonomics.plots import write_plots
+
+        for path in write_plots(ergo, job.plots.resolve()):
+            _say(job, f"wrote {path}")
     if job.report is not None:
         _say(job, f"wrote {write_json(report, job.report)}")
         for line in summary_lines(report):

@@ -25,9 +25,14 @@ if TYPE_CHECKING:
 ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet", "niosh")
 
 
-def motion_report(baker: Baker, source: dict, body: str, path: Path) -> dict:
-    """The report of ``baker`` (baked with ``keep_results``); ``body`` is the preset name or body file."""
-    ergo = evaluate(dict(scenario=None, frames=baker.results), ErgoOptions(manikin=body or None), Path(path))
+def evaluate_motion(baker: Baker, body: str, path: Path) -> dict:
+    """The ergonomics of every baked frame (the format of ``python -m solver ergo``, which its plots draw);
+    ``body`` is the preset name or body file, ``path`` where the report goes (relative files resolve there)."""
+    return evaluate(dict(scenario=None, frames=baker.results), ErgoOptions(manikin=body or None), Path(path))
+
+
+def motion_report(baker: Baker, source: dict, body: str, ergo: dict) -> dict:
+    """The report of ``baker`` (baked with ``keep_results``) with its ergonomics ``ergo`` (:func:`evaluate_motion`)."""
     frames = []
     for record, evaluated in zip(baker.records, ergo["frames"], strict=True):
         frames.append(dict(asdict(record), ergonomics={k: evaluated[k] for k in ERGONOMICS}))

@@ -1,4 +1,5 @@
-"""A picture of key poses of a baked motion (bpy + matplotlib): small Cycles CPU renders side by side.
+"""A picture of key poses of a baked motion (bpy + matplotlib, a wheel of the extension): small Cycles CPU renders
+side by side.
 
 Every pose is rendered by the same orthographic camera, a three-quarter view from the manikin's front right
 framed on the body over all shown frames, so the poses compare at one scale. A load carried by both hands is
@@ -178,11 +179,8 @@ def render_key_poses(
     samples: int = 16,
 ) -> Path:
     """Render ``frames`` of the armature's animation side by side into ``output`` (PNG); returns its path."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.image
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     scene = bpy.context.scene
     current = scene.frame_current
@@ -214,7 +212,8 @@ def render_key_poses(
     width, height = size
     tile_in = 2.8  # inches per tile
     fig_h = tile_in * height / width + 0.5 + 0.17 * lines
-    fig, axes = plt.subplots(1, len(tiles), figsize=(tile_in * len(tiles), fig_h), dpi=130, squeeze=False)
+    fig = Figure(figsize=(tile_in * len(tiles), fig_h), dpi=130)
+    axes = fig.subplots(1, len(tiles), squeeze=False)
     for ax, frame, tile in zip(axes[0], frames, tiles, strict=True):
         ax.imshow(tile)
         ax.set_axis_off()
@@ -227,5 +226,4 @@ def render_key_poses(
     if title:
         fig.suptitle(title, fontsize=11, y=1 - 0.05 / fig_h, va="top")
     fig.savefig(output)
-    plt.close(fig)
     return output

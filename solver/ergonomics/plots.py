@@ -1,4 +1,5 @@
-"""PNG plots of an ergonomics report (matplotlib, Agg backend): joint loads, RULA/REBA scores, back and arms.
+"""PNG plots of an ergonomics report (matplotlib figures without pyplot, so no global backend is chosen: the same
+code runs inside Blender, where other add-ons may use matplotlib too): joint loads, RULA/REBA scores, back and arms.
 
 Over time (one point per frame) for a motion; bar charts for a single pose. Colours follow the worksheet:
 green / yellow / red bands with the thresholds of :mod:`.worksheet`.
@@ -8,13 +9,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.ticker import MaxNLocator  # noqa: E402
-
-from .worksheet import STRENGTH_BANDS  # noqa: E402
+from .worksheet import STRENGTH_BANDS
 
 GREEN, YELLOW, RED = "#cfe8cf", "#fbeeb8", "#f6c9c4"
 LEVEL_COLOUR = {"green": "#3a9a3a", "yellow": "#d9a400", "red": "#c8372d", None: "#888888"}
@@ -47,7 +45,8 @@ def plot_loads(report: dict, path: Path) -> Path:
     x = [f["frame"] for f in frames]
     joints = _worst_joints(frames)
     comp = [f["joint_loads"]["l4_l5"].get("compression") for f in frames]
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [2.2, 1]})
+    fig = Figure(figsize=(12, 5))
+    ax1, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": [2.2, 1]})
     g, y = STRENGTH_BANDS
     top = max([y * 1.5] + [f["joint_loads"][j]["percent_strength"] or 0 for f in frames for j in joints]) * 1.1
     if len(frames) == 1:
@@ -89,7 +88,8 @@ def plot_loads(report: dict, path: Path) -> Path:
 def plot_scores(report: dict, path: Path) -> Path:
     frames = report["frames"]
     x = [f["frame"] for f in frames]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig = Figure(figsize=(11, 4.5))
+    axes = fig.subplots(1, 2)
     specs = (("rula", "RULA grand score", [0.5, 2.5, 4.5, 7.5], "1-2 acceptable, 3-4 investigate, 5+ change"),
              ("reba", "REBA score", [0.5, 3.5, 7.5, 15.5], "1-3 negligible/low, 4-7 medium, 8+ high"))  # fmt: skip
     for ax, (key, title, edges, legend) in zip(axes, specs, strict=True):
@@ -119,7 +119,8 @@ def plot_back(report: dict, path: Path) -> Path:
     items = [("back_bend", "trunk flexion", [0, 20, 60, 120]), ("neck", "neck flexion (to trunk)", [0, 25, 25, 90]),
              ("shoulder_l", "upper arm elevation, left", [0, 20, 60, 180]),
              ("shoulder_r", "upper arm elevation, right", [0, 20, 60, 180])]  # fmt: skip
-    fig, axes = plt.subplots(1, len(items), figsize=(13, 4.2))
+    fig = Figure(figsize=(13, 4.2))
+    axes = fig.subplots(1, len(items))
     for ax, (key, title, edges) in zip(axes, items, strict=True):
         vals = [f["worksheet"][key]["value"] for f in frames]
         ax.set_title(title, fontsize=10)
@@ -152,7 +153,6 @@ def _save(fig, path: Path) -> Path:
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path
 
 

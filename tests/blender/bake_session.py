@@ -20,6 +20,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
@@ -183,3 +184,4 @@ seen["gltf_mesh"] = any(ob.type == "MESH" and ob.find_armature() == gltf for ob 
 seen["finite"] = bool(np.isfinite(np.array(seen["thetas"])).all())
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 print("bake session done")
+exit_process(0)  # bpy 4.2 would segfault at exit after the glTF export

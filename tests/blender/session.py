@@ -21,6 +21,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
@@ -259,3 +260,4 @@ bpy.ops.preferences.addon_disable(module=module)
 seen["left"] = registered()
 seen["x_is_finite"] = bool(np.isfinite(seen["after"]["x"]).all())
 OUT.write_text(json.dumps(seen), encoding="utf-8")
+exit_process(0)  # bpy 4.2 would segfault at exit after the glTF export

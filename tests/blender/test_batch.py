@@ -51,12 +51,13 @@ def test_batch_writes_every_output(tmp_path: Path, run) -> None:
     done = run(
         ["--scenario", SNAKE, "--frames", 1, 6, "--out", out / "snake.blend", "--export", out / "snake.bvh",
          "--export", out / "snake.glb", "--export", out / "snake.fbx", "--report", out / "report.json",
-         "--result", out / "result.json", "--picture", out / "poses.png"],
+         "--result", out / "result.json", "--picture", out / "poses.png", "--plots", out / "ergo"],
         tmp_path,
     )  # fmt: skip
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert "Traceback" not in done.stdout + done.stderr
-    for name in ("snake.blend", "snake.bvh", "snake.glb", "snake.fbx", "report.json", "result.json", "poses.png"):
+    for name in ("snake.blend", "snake.bvh", "snake.glb", "snake.fbx", "report.json", "result.json", "poses.png",
+                 "ergo_loads.png", "ergo_scores.png", "ergo_back.png"):  # fmt: skip
         assert (out / name).stat().st_size > 1000, name
     report = json.loads((out / "report.json").read_text(encoding="utf-8"))
     assert report["converged"] and report["not_converged"] == [] and report["manikin"] == "snake"
