@@ -121,20 +121,10 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run with this script's arguments (default: from sys.argv); the exit code."""
-    try:
-        args = parse(script_args(sys.argv) if argv is None else argv)
-    except BadInput as exc:
-        print(f"error: {_one_line(exc)} (see --help)", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    try:
-        extension, registered = load_extension()
-        job = importlib.import_module(f"{extension.__name__}.blender_manikin.job")
-        errors = importlib.import_module(f"{extension.__name__}.solver.errors")
-    except ImportError as exc:
-        print(f"error: {missing_dependency(exc)}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
+    """Bake and write with the loaded extension; its exit code (bad input: one line on stderr, 2)."""
+    job = importlib.import_module(f"{extension.__name__}.blender_manikin.job")
+    errors = importlib.import_module(f"{extension.__name__}.solver.errors")
     try:
         return job.run(
             job.Job(
@@ -154,12 +144,25 @@ def main(argv: list[str] | None = None) -> int:
     except (errors.ManikinError, OSError) as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run with this script's arguments (default: from sys.argv); the exit code."""
+    try:
+        args = parse(script_args(sys.argv) if argv is None else argv)
+    except BadInput as exc:
+        print(f"error: {_one_line(exc)} (see --help)", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    registered = False
+    try:
+        extension, registered = load_extension()
+        return run_job(extension, args)
     except ImportError as exc:
         print(f"error: {missing_dependency(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     finally:
         if registered:
-            extension.unregister()
+            extension.unregister()  # bpy 4.5 hangs at exit with the add-on still registered
 
 
 def exit_process(code: int) -> None:
