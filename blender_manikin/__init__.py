@@ -1,13 +1,17 @@
 """The Blender layer of Manikin (bpy only: scene <-> solver translation, operators, panels, handlers).
 
-Modules: ``rig`` and ``body_mesh`` (how a solver model maps onto bones and a visible body, plain NumPy),
+Modules: ``schema`` (every custom property key and object prefix, and the lookups that find a manikin's parts),
+``compat`` (every difference between Blender 4.2, 4.5 and 5.0), ``rig`` and ``body_mesh`` (how a solver model maps
+onto bones and a visible body, plain NumPy),
 ``armature`` (building the rig, writing and reading poses), ``targets`` (the empties a user moves),
 ``scene_io`` (empties -> solver Problem, Result -> pose), ``props``, ``operators``, ``io_operators``,
 ``panels`` (UI), ``live`` (re-solve on change) and ``overlay`` (viewport drawing); motions: ``keyframes`` (bulk
 F-curves), ``bake`` and ``motion_operators`` (Bake Motion), ``motion_io`` (keyed targets <-> scenario keys),
 ``exports``, ``picture``, ``motion_report`` and ``job`` (the headless pipeline behind ``batch.py`` and ``demo``);
-``build`` packages the extension, ``snapshot`` renders a picture headless and ``bench`` times a bake. This file
-imports nothing at module level, so ``python -m blender_manikin.build`` runs without bpy.
+``build`` packages the extension (one zip per platform with its wheels), ``snapshot`` renders a picture headless
+and ``bench`` times a bake. This file imports nothing at module level, so ``python -m blender_manikin.build`` runs
+without bpy; the registered modules import only bpy, ``schema`` and the solver's light ``errors``, ``options`` and
+``presets``, so enabling loads neither the solver nor scipy.
 """
 
 from __future__ import annotations

@@ -127,7 +127,10 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
 
     def _finish(self, context: bpy.types.Context) -> set[str]:
         baker = self._baker
-        baker.write()
+        try:
+            baker.write()
+        except ManikinError as exc:
+            return self._cancel(context, f"Solved {baker.done} frames but could not key them: {exc}")
         self._cleanup(context)
         failed = baker.not_converged()
         n = len(baker.frames)
