@@ -70,7 +70,7 @@ def solve_pending() -> None:
 
 
 def _solve(arm: bpy.types.Object) -> None:
-    from ..solver.solve import solve
+    from ..solver.iteration import solve
     from . import scene_io
 
     try:

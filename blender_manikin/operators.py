@@ -160,7 +160,7 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ..solver.solve import solve
+        from ..solver.iteration import solve
         from . import scene_io
 
         arm = _active_rig(context)

@@ -22,7 +22,7 @@ _HOMES = {
     "ScenarioError": "errors",
     "SolverOptions": "options",
     "Target": "problem",
-    "solve": "solve",
+    "solve": "iteration",
 }
 __all__ = [
     "ComfortWeights",
@@ -43,11 +43,11 @@ __all__ = [
 if TYPE_CHECKING:
     from .comfort import ComfortWeights
     from .errors import ManikinError, ModelError, ScenarioError
+    from .iteration import solve
     from .model import Model, ModelBuilder
     from .options import SolverOptions
     from .problem import ExternalLoad, Loop, Problem, Target
     from .result import Result
-    from .solve import solve
 
 
 def __getattr__(name: str) -> object:

@@ -14,10 +14,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .iteration import solve
 from .options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOptions
 from .problem import Problem, Target
 from .result import Result
-from .solve import solve
 from .spatial import matrix_to_quat, quat_to_matrix, slerp
 
 

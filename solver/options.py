@@ -19,7 +19,7 @@ class SolverOptions:
     comfort_tolerance: float = 3e-3  # stop when the predicted comfort gain is below this fraction of max(|h|, 1)
     max_damping: float = 1e-3  # Tikhonov damping of the task step, as a fraction of the largest singular value
     clamping_rounds: int = 10
-    restarts: int = 1  # solves again from :func:`solver.solve.restart_pose` when the constraints are not met
+    restarts: int = 1  # solves again from :func:`solver.iteration.restart_pose` when the constraints are not met
 
 
 DEFAULT_OPTIONS = SolverOptions()

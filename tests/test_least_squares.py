@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from solver.solve import DEFAULT_OPTIONS, _LeastSquares
+from solver.iteration import DEFAULT_OPTIONS, _LeastSquares
 
 
 def _reference(jac: np.ndarray):

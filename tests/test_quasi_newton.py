@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.linalg import null_space
 
-from solver.solve import _CurvatureMemory, null_space_newton
+from solver.iteration import _CurvatureMemory, null_space_newton
 
 
 def _pairs(rng: np.random.Generator, n: int, k: int) -> list[tuple[np.ndarray, np.ndarray]]:

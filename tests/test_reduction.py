@@ -12,12 +12,12 @@ from scipy.spatial.transform import Rotation
 
 from solver.bodies import load_body
 from solver.errors import ScenarioError
+from solver.iteration import solve
 from solver.motion import MotionLimits, variable_steps
 from solver.problem import Problem, Target
 from solver.reduction import DEFAULT_GROUPS, GROUPS
 from solver.scenario import load_scenario
 from solver.shoulder_rhythm import JOINTS, LOWER, REST, UPPER, bone_angles_deg, build_rhythm, rhythm_angles
-from solver.solve import solve
 
 ROOT = Path(__file__).resolve().parents[1]
 DEG = np.pi / 180

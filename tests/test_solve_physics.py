@@ -21,9 +21,9 @@ from scipy.spatial.transform import Rotation
 from solver.bench import random_targets
 from solver.bodies import load_body
 from solver.errors import ManikinError
+from solver.iteration import DEFAULT_OPTIONS, RESTART_AT, SolverOptions, _iterate, restart_pose, solve
 from solver.problem import ExternalLoad, Loop, Problem, Target
 from solver.scenario import load_scenario
-from solver.solve import DEFAULT_OPTIONS, RESTART_AT, SolverOptions, _iterate, restart_pose, solve
 
 REPO = Path(__file__).resolve().parents[1]
 BOX_LIFT = REPO / "presets" / "scenarios" / "box_lift.toml"
@@ -479,7 +479,7 @@ def test_a_failed_solve_starts_again_from_the_other_side_of_its_limits(male50):
 
 def test_far_steps_turn_no_joint_more_than_the_limit(monkeypatch):
     """Far from the constraints (cold box lift from the zero pose) every accepted step stays within MAX_TURN."""
-    solve_module = importlib.import_module("solver.solve")
+    solve_module = importlib.import_module("solver.iteration")
     scenario = load_scenario(BOX_LIFT)
     problem = scenario.problem
     seen = []
@@ -504,7 +504,7 @@ def test_lightly_loaded_contact_edges_rarely_need_a_clamping_re_solve(monkeypatc
     """The force barrier in the step's metric: across random reaching trials the clamping loop solves the step
     about 1.6 times per iteration (2.5 without the barrier, when a task step drove edges negative almost every
     iteration); every solve still meets its constraints with pushing forces."""
-    solve_module = importlib.import_module("solver.solve")
+    solve_module = importlib.import_module("solver.iteration")
     factorisations = [0]
     original = solve_module._LeastSquares.__init__
 

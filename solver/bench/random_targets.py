@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import load_body
+from ..iteration import SolverOptions, solve
 from ..model import Model
 from ..problem import Problem, Target
 from ..reduction import DEFAULT_GROUPS, GROUPS
-from ..solve import SolverOptions, solve
 from ..spatial import exp_so3
 from .peers import PeerResult, placo_available, placo_peer, slsqp_peer
 from .scenarios import machine, speed_reference, write_section

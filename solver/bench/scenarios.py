@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import PRESETS_DIR
+from ..iteration import solve
 from ..problem import Problem
 from ..scenario import load_scenario
-from ..solve import solve
 
 SCENARIOS = ("box_lift", "box_lift_high", "snake_pose_a", "snake_pose_b")
 WARM_SCENARIO = "box_lift"

@@ -1,0 +1,28 @@
+"""``import solver`` is cheap (the Blender add-on enables on it) and its names are the documented objects whatever
+was imported first (the function ``solve``, not a module of that name)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _run(code: str) -> str:
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
+def test_light_modules_load_neither_the_numerics_nor_scipy() -> None:
+    code = "import sys, solver, solver.errors, solver.options, solver.presets; " \
+           "print(sorted(m for m in sys.modules if m.startswith(('solver', 'scipy', 'numpy'))))"  # fmt: skip
+    assert _run(code) == str(["solver", "solver.errors", "solver.options", "solver.presets"])
+
+
+def test_package_names_are_the_objects_whatever_loaded_first() -> None:
+    code = "import solver.motion, solver.scenario; from solver import solve, Problem, SolverOptions; " \
+           "print(callable(solve), solve.__module__, Problem.__module__, SolverOptions().max_iterations)"  # fmt: skip
+    assert _run(code) == "True solver.iteration solver.problem 100"
