@@ -10,17 +10,22 @@ write never causes (loop and load empties ride on the TCPs, but their offsets st
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import bpy
 from bpy.app.handlers import persistent
 
 from ..solver.errors import ManikinError
 from .schema import ERROR_KEY, is_manikin, rig_of
 
+if TYPE_CHECKING:
+    from .scene_io import Inputs  # imports the solver: only for the type checker
+
 INTERVAL = 1.0 / 30.0  # s, at most one solve per manikin per interval
 
 _busy = False  # re-entrancy guard: True while the timer solves and writes
 _pending: set[str] = set()  # names of manikin armatures with moved empties
-_last_inputs: dict = {}  # armature name -> the scene_io.Inputs last solved
+_last_inputs: dict[str, Inputs] = {}  # armature name -> the inputs last solved
 
 
 def _live_rig(obj: bpy.types.Object) -> bpy.types.Object | None:
