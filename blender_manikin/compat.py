@@ -13,9 +13,12 @@ Each function tests for the feature it uses, not for a version number:
 
 from __future__ import annotations
 
+from functools import cache
+
 import bpy
 
 
+@cache  # the running Blender does not change: one look per session, not one per keyed channel
 def _ensure_parameters() -> tuple[str, ...] | None:
     """Parameter names of ``Action.fcurve_ensure_for_datablock``, or None where it does not exist (4.2-4.3)."""
     function = bpy.types.Action.bl_rna.functions.get("fcurve_ensure_for_datablock")

@@ -49,8 +49,8 @@ def _cross(center: Vector) -> list[Vector]:
     """Three line segments crossing at ``center``: a point mark that every Blender version's line shader draws."""
     out = []
     for axis in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
-        arm = Vector(axis) * MARK_SIZE
-        out += [center - arm, center + arm]
+        half = Vector(axis) * MARK_SIZE
+        out += [center - half, center + half]
     return out
 
 

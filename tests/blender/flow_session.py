@@ -18,6 +18,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from session_tools import error_of  # noqa: E402
+
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.build import install  # noqa: E402
 
@@ -40,14 +42,6 @@ seen["enable_s"] = time.perf_counter() - t0  # measured ~13 ms on 4.2, 4.5 and 5
 seen["enabled"] = module in bpy.context.preferences.addons
 seen["loaded_on_enable"] = sorted(m.removeprefix(module + ".") for m in sys.modules if m.startswith(module + ".solver"))
 seen["heavy_on_enable"] = [m for m in ("scipy", "matplotlib") if m in sys.modules]
-
-
-def error_of(call) -> str:
-    try:
-        call()
-    except RuntimeError as exc:  # an operator's ERROR report reaches a script as RuntimeError
-        return str(exc)
-    return ""
 
 
 # Every preset, as Add > Manikin offers them.

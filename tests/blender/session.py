@@ -21,6 +21,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from session_tools import error_of  # noqa: E402
+
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.build import install  # noqa: E402
 
@@ -50,21 +52,8 @@ def ui(op, **props) -> list[str]:
     return sorted(op("EXEC_DEFAULT", True, **props))
 
 
-def error_of(call) -> str:
-    try:
-        call()
-    except RuntimeError as exc:  # an operator's ERROR report reaches a script as RuntimeError
-        return str(exc)
-    return ""
-
-
 module = install(ZIP)
 seen["module"] = module
-seen["at_enable"] = dict(
-    scipy="scipy" in sys.modules,
-    matplotlib="matplotlib" in sys.modules,
-    solver=sorted(k.removeprefix(module + ".") for k in sys.modules if k.startswith(module + ".solver")),
-)
 package = sys.modules[module]
 live = importlib.import_module(module + ".blender_manikin.live")
 overlay = importlib.import_module(module + ".blender_manikin.overlay")
