@@ -10,15 +10,14 @@ AXES = ("x", "y", "z", "rx", "ry", "rz")  # the error components of a frame targ
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """Iteration limits and step controls; steps are in scaled variables (1 = half a joint's range)."""
+    """What a user chooses per solve: the budget, whether comfort is optimised, its tolerance, restarts.
+
+    How the method itself steps and stops is fixed in :class:`solver.iteration.Tuning`.
+    """
 
     max_iterations: int = 100
     optimize_comfort: bool = True
-    max_step: float = 1.0  # trust region: largest 2-norm of a task step in scaled variables
-    max_comfort_step: float = 0.5  # same for the comfort part of a step
     comfort_tolerance: float = 3e-3  # stop when the predicted comfort gain is below this fraction of max(|h|, 1)
-    max_damping: float = 1e-3  # Tikhonov damping of the task step, as a fraction of the largest singular value
-    clamping_rounds: int = 10
     restarts: int = 1  # solves again from :func:`solver.iteration.restart_pose` when the constraints are not met
 
 

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from .iteration import StopReason
     from .problem import Problem
     from .state import State
 
@@ -28,6 +29,7 @@ class Result:
     contacts: list[dict]
     com: np.ndarray
     notes: list[str] = field(default_factory=list)
+    stop: StopReason | None = None  # why the iteration ended (None for a pose that was not solved)
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
@@ -63,6 +65,8 @@ class Result:
         """A few lines a person can read: status, each constraint's residual, contacts, comfort."""
         status = "converged" if self.converged else "NOT converged"
         lines = [f"{self.problem.model.name}: {status} in {self.iterations} iterations, {self.time_s * 1e3:.1f} ms"]
+        if self.stop is not None:
+            lines.append(f"  stopped: {self.stop.value} ({self.stop.describe()})")
         if self.unmet:
             lines.append("  unmet: " + ", ".join(self.unmet))
         lines.extend(f"  note: {note}" for note in self.notes)

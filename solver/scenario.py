@@ -19,9 +19,9 @@ from .bodies import load_body
 from .comfort import ComfortWeights
 from .constraints import AXES
 from .errors import ManikinError, ScenarioError, read_text
-from .iteration import DEFAULT_OPTIONS, SolverOptions
 from .model import GRAVITY, Model
 from .motion import Key, MotionLimits, Track, targets_at
+from .options import DEFAULT_OPTIONS, SolverOptions
 from .problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
 from .reduction import DEFAULT_GROUPS, GROUPS
 from .result import Result

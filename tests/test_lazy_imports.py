@@ -25,4 +25,4 @@ def test_light_modules_load_neither_the_numerics_nor_scipy() -> None:
 def test_package_names_are_the_objects_whatever_loaded_first() -> None:
     code = "import solver.motion, solver.scenario; from solver import solve, Problem, SolverOptions; " \
            "print(callable(solve), solve.__module__, Problem.__module__, SolverOptions().max_iterations)"  # fmt: skip
-    assert _run(code) == "True solver.iteration solver.problem 100"
+    assert _run(code) == "True solver.iteration.phases solver.problem 100"

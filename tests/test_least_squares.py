@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from solver.iteration import DEFAULT_OPTIONS, _LeastSquares
+from solver.iteration import TUNING, LeastSquares
 
 
 def _reference(jac: np.ndarray):
     """(u, s, vt, d^2): numpy's SVD and the damping the solver documents (max_damping^2 ||J J^T||_F)."""
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
-    damp2 = DEFAULT_OPTIONS.max_damping**2 * np.linalg.norm(jac @ jac.T)
+    damp2 = TUNING.max_damping**2 * np.linalg.norm(jac @ jac.T)
     return u, s, vt, damp2
 
 
@@ -29,7 +29,7 @@ def _projector(basis: np.ndarray) -> np.ndarray:
 def test_well_conditioned_step_basis_and_multipliers_match_the_svd():
     rng = np.random.default_rng(3)
     jac = rng.standard_normal((8, 30))
-    lsq = _LeastSquares(jac, DEFAULT_OPTIONS)
+    lsq = LeastSquares(jac, TUNING.max_damping)
     err, grad = rng.standard_normal(8), rng.standard_normal(30)
     np.testing.assert_allclose(lsq.step(err), _damped_step(jac, err), atol=1e-10)
     # with singular values far above the damping the step is the minimum-norm solution of J dx = -err
@@ -46,7 +46,7 @@ def test_near_singular_jacobian_is_damped_not_blown_up():
     jac = rng.standard_normal((6, 20))
     jac[5] = jac[4] + 1e-5 * rng.standard_normal(20)  # singular value ratio ~1e-5, far below the damping
     err = rng.standard_normal(6)
-    lsq = _LeastSquares(jac, DEFAULT_OPTIONS)
+    lsq = LeastSquares(jac, TUNING.max_damping)
     step = lsq.step(err)
     np.testing.assert_allclose(step, _damped_step(jac, err), rtol=1e-5, atol=1e-8)
     _, s, _, damp2 = _reference(jac)
@@ -61,8 +61,8 @@ def test_rank_deficient_or_tall_jacobians_take_the_eigendecomposition(shape, ran
     rng = np.random.default_rng(rank)
     m, n = shape
     jac = rng.standard_normal((m, rank)) @ rng.standard_normal((rank, n)) if rank else np.zeros(shape)
-    lsq = _LeastSquares(jac, DEFAULT_OPTIONS)
-    assert lsq._eig is not None
+    lsq = LeastSquares(jac, TUNING.max_damping)
+    assert lsq.uses_eigendecomposition
     err, grad = rng.standard_normal(m), rng.standard_normal(n)
     assert lsq.basis.shape == (rank, n)
     np.testing.assert_allclose(lsq.basis @ lsq.basis.T, np.eye(rank), atol=1e-8)
@@ -75,7 +75,7 @@ def test_rank_deficient_or_tall_jacobians_take_the_eigendecomposition(shape, ran
 
 
 def test_empty_jacobian():
-    lsq = _LeastSquares(np.zeros((0, 5)), DEFAULT_OPTIONS)
+    lsq = LeastSquares(np.zeros((0, 5)), TUNING.max_damping)
     assert lsq.basis.shape == (0, 5)
     assert np.all(lsq.step(np.zeros(0)) == 0.0) and lsq.multipliers(np.ones(5)).shape == (0,)
 
@@ -85,7 +85,7 @@ def test_trust_region_step_is_the_levenberg_marquardt_step_of_that_length(shrink
     rng = np.random.default_rng(5)
     jac = rng.standard_normal((10, 40)) * np.geomspace(1e-2, 1.0, 10)[:, None]
     err, col_scale = rng.standard_normal(10), rng.uniform(0.2, 3.0, 40)
-    lsq = _LeastSquares(jac, DEFAULT_OPTIONS)
+    lsq = LeastSquares(jac, TUNING.max_damping)
     free = col_scale * lsq.step(err)
     wide = np.linalg.norm(free) * 1.5
     np.testing.assert_allclose(lsq.step_within(err, col_scale, wide), free, atol=1e-12)

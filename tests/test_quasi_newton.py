@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.linalg import null_space
 
-from solver.iteration import _CurvatureMemory, null_space_newton
+from solver.iteration import CurvatureMemory, null_space_newton
 
 
 def _pairs(rng: np.random.Generator, n: int, k: int) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -32,7 +32,7 @@ def test_compact_form_is_the_bfgs_recursion(seed):
     rng = np.random.default_rng(seed)
     n, k = 12, 4
     pairs = _pairs(rng, n, k)
-    memory = _CurvatureMemory(size=k)
+    memory = CurvatureMemory(size=k)
     for s, y in pairs:
         memory.add(s, y)
     b0 = rng.uniform(0.5, 3.0, n)
@@ -46,7 +46,7 @@ def test_compact_form_is_the_bfgs_recursion(seed):
 
 def test_memory_keeps_the_newest_pairs_and_skips_negative_curvature():
     rng = np.random.default_rng(7)
-    memory = _CurvatureMemory(size=2)
+    memory = CurvatureMemory(size=2)
     assert memory.compact(np.ones(5)) is None
     pairs = _pairs(rng, 5, 3)
     for s, y in pairs:
@@ -63,7 +63,7 @@ def test_null_space_newton_matches_the_dense_solution(seed):
     rng = np.random.default_rng(seed)
     n, rows, k = 15, 4, 3
     basis = np.linalg.qr(rng.normal(size=(n, rows)))[0].T  # orthonormal rows
-    memory = _CurvatureMemory(size=k)
+    memory = CurvatureMemory(size=k)
     for s, y in _pairs(rng, n, k):
         memory.add(s, y)
     v, middle = memory.compact(np.ones(n))

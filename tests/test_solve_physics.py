@@ -21,7 +21,9 @@ from scipy.spatial.transform import Rotation
 from solver.bench import random_targets
 from solver.bodies import load_body
 from solver.errors import ManikinError
-from solver.iteration import DEFAULT_OPTIONS, RESTART_AT, SolverOptions, _iterate, restart_pose, solve
+from solver.iteration import TUNING, LeastSquares, StopReason, restart_pose, solve
+from solver.iteration.loop import run_phase
+from solver.options import DEFAULT_OPTIONS, SolverOptions
 from solver.problem import ExternalLoad, Loop, Problem, Target
 from solver.scenario import load_scenario
 
@@ -433,9 +435,9 @@ def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, 
     problem = random_targets.trial_problem(male50, targets, True, ())
     worst_range = {}
     for keep in (False, True):
-        x, worst, _, _ = _iterate(problem, problem.start(), DEFAULT_OPTIONS, False, 40, keep_off_limits=keep)
-        assert worst <= 1.0
-        theta = problem.state(x).theta
+        end = run_phase(problem, problem.start(), DEFAULT_OPTIONS, TUNING, False, 40, keep_off_limits=keep)
+        assert end.trial.worst <= 1.0
+        theta = end.trial.state.theta
         worst_range[keep] = float(np.max(problem.comfort.range_weight * problem.comfort._range_terms(theta, False)[0]))
     assert worst_range[True] < 0.1 * worst_range[False], worst_range
 
@@ -457,8 +459,8 @@ def test_restart_pose_moves_the_joints_at_a_limit_to_the_other_side(male50):
     x[pronation] = male50.upper[pronation] - 0.01 * (male50.upper[pronation] - male50.lower[pronation])
     again = restart_pose(problem, x)
     span = male50.upper - male50.lower
-    assert again[elbow] == pytest.approx(male50.upper[elbow] - RESTART_AT * span[elbow])
-    assert again[pronation] == pytest.approx(male50.lower[pronation] + RESTART_AT * span[pronation])
+    assert again[elbow] == pytest.approx(male50.upper[elbow] - TUNING.restart_at * span[elbow])
+    assert again[pronation] == pytest.approx(male50.lower[pronation] + TUNING.restart_at * span[pronation])
     others = np.ones(len(x), dtype=bool)
     others[[elbow, pronation]] = False
     assert np.array_equal(again[others], x[others]) and len(x) > n
@@ -478,41 +480,41 @@ def test_a_failed_solve_starts_again_from_the_other_side_of_its_limits(male50):
 
 
 def test_far_steps_turn_no_joint_more_than_the_limit(monkeypatch):
-    """Far from the constraints (cold box lift from the zero pose) every accepted step stays within MAX_TURN."""
-    solve_module = importlib.import_module("solver.iteration")
+    """Far from the constraints (cold box lift from the zero pose) every accepted step stays within max_turn."""
+    loop = importlib.import_module("solver.iteration.loop")
     scenario = load_scenario(BOX_LIFT)
     problem = scenario.problem
     seen = []
-    original = solve_module._step
+    original = loop.compute_step
 
-    def recording(problem_, x, jac, err, *args):
-        seen.append((x.copy(), float(np.max(np.abs(err) / problem_.row_weight))))
-        return original(problem_, x, jac, err, *args)
+    def recording(problem_, at, *args):
+        seen.append((at.x.copy(), at.worst))
+        return original(problem_, at, *args)
 
-    monkeypatch.setattr(solve_module, "_step", recording)
+    monkeypatch.setattr(loop, "compute_step", recording)
     result = solve(problem, scenario.start, scenario.options)
     assert result.converged
     n = problem.model.n
-    slack = solve_module.COMFORT_SLACK
+    slack = TUNING.comfort_slack
     far_steps = [(a, b) for (a, worst), (b, _) in zip(seen[:-1], seen[1:], strict=True) if worst > slack]
     assert len(far_steps) >= 5
     for before, after in far_steps:
-        assert np.max(np.abs(after[:n] - before[:n])) <= solve_module.MAX_TURN + 1e-9
+        assert np.max(np.abs(after[:n] - before[:n])) <= TUNING.max_turn + 1e-9
 
 
 def test_lightly_loaded_contact_edges_rarely_need_a_clamping_re_solve(monkeypatch):
     """The force barrier in the step's metric: across random reaching trials the clamping loop solves the step
     about 1.6 times per iteration (2.5 without the barrier, when a task step drove edges negative almost every
     iteration); every solve still meets its constraints with pushing forces."""
-    solve_module = importlib.import_module("solver.iteration")
+    step_module = importlib.import_module("solver.iteration.step")
     factorisations = [0]
-    original = solve_module._LeastSquares.__init__
 
-    def counting(self, *args):
-        factorisations[0] += 1
-        original(self, *args)
+    class Counting(LeastSquares):
+        def __init__(self, *args) -> None:
+            factorisations[0] += 1
+            super().__init__(*args)
 
-    monkeypatch.setattr(solve_module._LeastSquares, "__init__", counting)
+    monkeypatch.setattr(step_module, "LeastSquares", Counting)
     model = load_body(preset="male_50")
     box = random_targets.workspace_box(model)
     iterations = 0
@@ -525,3 +527,16 @@ def test_lightly_loaded_contact_edges_rarely_need_a_clamping_re_solve(monkeypatc
             assert np.all(result.x[model.n :] >= 0.0)
             iterations += result.iterations
     assert factorisations[0] / iterations < 2.0
+
+
+def test_the_result_says_why_the_iteration_stopped(male50):
+    """A met reach ends CONVERGED; a hand target 3.5 m high ends when the error stops falling (or the budget runs out),
+    and the summary prints the reason."""
+    met = solve(reach_problem(male50, np.array([0.25, -0.35, 1.1])))
+    assert met.converged and met.stop is StopReason.CONVERGED
+    far = solve(reach_problem(male50, np.array([0.0, -0.3, 3.5])), options=SolverOptions(restarts=0))
+    assert not far.converged
+    assert far.stop in (StopReason.STAGNATED, StopReason.NO_PROGRESS, StopReason.ITERATION_LIMIT)
+    assert f"stopped: {far.stop.value}" in far.summary()
+    budget = solve(reach_problem(male50, np.array([0.0, -0.3, 3.5])), options=SolverOptions(max_iterations=0))
+    assert budget.stop is StopReason.NOT_RUN and budget.iterations == 0

@@ -24,8 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import load_body
-from ..iteration import SolverOptions, solve
+from ..iteration import solve
 from ..model import Model
+from ..options import SolverOptions
 from ..problem import Problem, Target
 from ..reduction import DEFAULT_GROUPS, GROUPS
 from ..spatial import exp_so3

@@ -1,0 +1,37 @@
+"""The iteration: dx = -J^+ g(x) + lambda (I - J^+ J) grad h(x) (thesis eq. 2.4), made fast and robust.
+
+Per iteration, in scaled variables (rows / tolerance, forces / body weight, joints / half their range):
+
+1. Task step (``least_squares``): damped least squares on the Jacobian of the free variables, from a Cholesky
+   factor of J J^T (m ~ 24 rows), Tikhonov-damped near singularities, inside a trust region.
+2. Comfort step (``step``, ``curvature_memory``) in the null space of the undamped row space, in the metric
+   W = diag(curvature of -h) + mu: a diagonal Newton step on comfort (for large mu exactly the thesis step with
+   lambda = 1/mu), plus a limited-memory BFGS model of the Lagrangian's curvature gathered near the constraints.
+3. Bounds (``step``): variables the step pushes past a bound are saturated there and the step is solved again
+   without them; contact edge weights (>= 0) carry a log barrier's curvature in the metric.
+4. Trials (``trial``): far from the constraints a step is shortened so no joint turns more than ``max_turn`` and
+   must lower the error (comfort may ride along); near them task + comfort must lower the exact-penalty merit
+   after a second-order correction; rejected steps are halved, then the task part is tried alone.
+5. Phases (``loop``, ``phases``): comfort first, then the constraints restored without comfort if needed;
+   stopping rules (``stopping``) record a :class:`StopReason`; a failed solve restarts from the other side of the
+   joints it left at a limit (``restarts``). Every knob is one field of :class:`Tuning` (``tuning``).
+"""
+
+from .curvature_memory import CurvatureMemory, null_space_newton
+from .least_squares import LeastSquares
+from .phases import attempt, solve
+from .restarts import restart_pose
+from .stopping import StopReason
+from .tuning import TUNING, Tuning
+
+__all__ = [
+    "TUNING",
+    "CurvatureMemory",
+    "LeastSquares",
+    "StopReason",
+    "Tuning",
+    "attempt",
+    "null_space_newton",
+    "restart_pose",
+    "solve",
+]

@@ -1,0 +1,133 @@
+"""One phase of the iteration: linearise, step, search, adapt, until a stopping rule fires."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..options import SolverOptions
+from ..problem import Problem
+from .curvature_memory import CurvatureMemory
+from .step import Linearization, Step, compute_step
+from .stopping import StagnationWatch, StopReason
+from .trial import Evaluator, LineSearch, Outcome, Trial
+from .tuning import Tuning
+
+
+@dataclass(frozen=True)
+class PhaseEnd:
+    """Where a phase ended, after how many iterations, and why."""
+
+    trial: Trial
+    iterations: int
+    reason: StopReason
+
+
+@dataclass
+class _Controls:
+    """What the phase adapts between iterations."""
+
+    mu: float  # comfort metric damping (x mean curvature): Levenberg-Marquardt on the comfort model
+    radius: float  # trust region of the task step
+    rejected: int = 0  # iterations in a row without an accepted step
+    hovering: int = 0  # iterations in a row just outside the constraints
+    quiet: int = 0  # feasible iterations in a row that gained negligible comfort
+
+
+def run_phase(
+    problem: Problem,
+    x: np.ndarray,
+    options: SolverOptions,
+    tuning: Tuning,
+    comfort_on: bool,
+    budget: int,
+    keep_off_limits: bool = False,
+) -> PhaseEnd:
+    """Up to ``budget`` iterations from solver variables x.
+
+    Without comfort, ``keep_off_limits`` still steps in the comfort's curvature metric (no comfort part), so
+    restoring the constraints after the comfort phase does not drive joints onto their limits.
+    """
+    evaluate = Evaluator(problem, comfort_on)
+    at = evaluate(x)
+    f = evaluate.cost(at.state)
+    ctl = _Controls(tuning.initial_mu, tuning.max_step)
+    memory = CurvatureMemory(tuning.memory) if comfort_on else None
+    watch = StagnationWatch(tuning, comfort_on)
+    previous: tuple[Trial, Linearization, Step] | None = None
+    for iteration in range(1, budget + 1):
+        lin = _linearize(problem, at, comfort_on, keep_off_limits)
+        if memory is not None and previous is not None and at.worst <= tuning.comfort_slack:
+            _remember(memory, problem, previous, at, lin)
+        step = compute_step(problem, at, lin, ctl.mu, ctl.radius, tuning, memory)
+        previous = (at, lin, step)
+        negligible = options.comfort_tolerance * max(f, 1.0)
+        if at.worst <= 1.0 and (step.predicted_gain <= negligible or ctl.quiet >= 2):
+            return PhaseEnd(at, iteration, StopReason.CONVERGED)
+        ctl.hovering = ctl.hovering + 1 if 1.0 < at.worst <= tuning.comfort_slack else 0
+        if comfort_on and ctl.hovering > tuning.hover_limit:
+            return PhaseEnd(at, iteration, StopReason.HOVERING)
+        outcome = LineSearch(evaluate, at, f, lin, step, tuning).run()
+        settled = _adapt(ctl, outcome, at, f, step, negligible, tuning)
+        if outcome.trial is not None:
+            at, f = outcome.trial, outcome.cost
+        elif ctl.rejected >= tuning.max_rejected:
+            return PhaseEnd(at, iteration, StopReason.NO_PROGRESS)
+        if settled:
+            return PhaseEnd(at, iteration, StopReason.CONVERGED)
+        if watch.stalled(at.merit, at.worst):
+            return PhaseEnd(at, iteration, StopReason.STAGNATED)
+    return PhaseEnd(at, budget, StopReason.ITERATION_LIMIT if budget else StopReason.NOT_RUN)
+
+
+def _linearize(problem: Problem, at: Trial, comfort_on: bool, keep_off_limits: bool) -> Linearization:
+    """The constraint Jacobian and the comfort model (or only its curvature, or nothing) at a trial."""
+    jac = problem.scaled_jacobian(at.state)
+    zeros = np.zeros(problem.n_var)
+    if comfort_on:
+        grad_h, curv = problem.comfort_derivatives(at.state)
+        return Linearization(jac, -grad_h * problem.scale, curv * problem.scale**2, True)
+    if keep_off_limits:
+        return Linearization(jac, zeros, problem.comfort_derivatives(at.state)[1] * problem.scale**2, False)
+    return Linearization(jac, zeros, np.zeros(problem.n_var), False)
+
+
+def _remember(memory: CurvatureMemory, problem: Problem, previous, at: Trial, lin: Linearization) -> None:
+    """Add the curvature pair of the last accepted step (only near the constraints: far away the multipliers
+    are no estimate yet)."""
+    before, lin_before, step_before = previous
+    if before.x is at.x:
+        return
+    change = lin.grad_f - lin_before.grad_f + (lin.jac - lin_before.jac).T @ step_before.multipliers
+    memory.add((at.x - before.x) / problem.scale, change)
+
+
+def _adapt(ctl: _Controls, outcome: Outcome, at: Trial, f: float, step: Step, negligible: float, tuning: Tuning):
+    """Update mu, the trust region and the counters after a line search; True when the phase has settled (a
+    full, feasible comfort step that was to gain little, or did gain little as a modest prediction confirmed)."""
+    near = at.worst <= tuning.comfort_slack
+    factor = tuning.mu_factor
+    if near and step.predicted_gain > 0:
+        if outcome.trial is not None and outcome.with_comfort:
+            ratio = (f - outcome.cost) / (outcome.alpha * step.predicted_gain)
+            ctl.mu = (
+                ctl.mu / factor
+                if (ratio > 0.75 and outcome.alpha == 1.0)
+                else (ctl.mu * factor if ratio < 0.25 else ctl.mu)
+            )
+        else:
+            ctl.mu *= factor
+    ctl.mu = float(np.clip(ctl.mu, 1e-8, 1e8))
+    if outcome.trial is None:
+        ctl.rejected += 1
+        ctl.radius = max(ctl.radius / 4, 1e-6)
+        return False
+    new = outcome.trial
+    gained = f - outcome.cost
+    ctl.quiet = ctl.quiet + 1 if (new.worst <= 1.0 and gained < negligible) else 0
+    ctl.rejected = 0
+    ctl.radius = min(2 * ctl.radius, tuning.max_step) if outcome.alpha == 1.0 else ctl.radius
+    small = step.predicted_gain < tuning.final_gain * negligible
+    confirmed = gained < negligible and step.predicted_gain < 2 * tuning.final_gain * negligible
+    return outcome.with_comfort and outcome.alpha == 1.0 and new.worst <= 1.0 and (small or confirmed)

@@ -1,0 +1,69 @@
+"""A solve: the comfort phase, then (if needed) the restoring phase, restarted from the other side of the limits."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..options import DEFAULT_OPTIONS, SolverOptions
+from ..problem import Problem
+from ..result import Result
+from .loop import PhaseEnd, run_phase
+from .restarts import restart_pose
+from .stopping import StopReason
+from .trial import Evaluator
+from .tuning import TUNING, Tuning
+
+
+def solve(
+    problem: Problem,
+    x0: np.ndarray | None = None,
+    options: SolverOptions = DEFAULT_OPTIONS,
+    tuning: Tuning = TUNING,
+) -> Result:
+    """Find x meeting the constraints and maximising comfort, warm-started from ``x0`` (any earlier pose).
+
+    Comfort is optimised while the constraints are met; if they are not met by the end of that phase (or the
+    iterate keeps hovering just outside them), the last iterations restore them with comfort switched off
+    (but still in its curvature metric, which keeps joints off their limits). A phase ends early when, far
+    from the constraints, the error has stopped falling (unreachable targets: the best compromise, sooner).
+    A solve that still fails starts again (up to ``options.restarts`` times) from :func:`restart_pose`; the
+    result is the first that meets the constraints, else the one with the smallest worst error, with the
+    iterations and time of all attempts and the reason its last phase stopped (``Result.stop``).
+    """
+    t0 = time.perf_counter()
+    best = attempt(problem, problem.start(x0), options, tuning)
+    used = best.iterations
+    for _ in range(options.restarts):
+        if best.trial.worst <= 1.0:
+            break
+        start = restart_pose(problem, best.trial.state.x, tuning)
+        if start is None:
+            break
+        again = attempt(problem, problem.start(start), options, tuning)
+        used += again.iterations
+        if again.trial.worst < best.trial.worst:
+            best = again
+    result = Result.from_state(problem, best.trial.state, used, time.perf_counter() - t0)
+    result.stop = best.reason
+    return result
+
+
+def attempt(problem: Problem, x: np.ndarray, options: SolverOptions, tuning: Tuning = TUNING) -> PhaseEnd:
+    """One solve from solver variables x: the comfort phase, then the restoring phase if the constraints are not
+    met; the end of the last phase that ran, with the iterations of both."""
+    budget = options.max_iterations
+    end: PhaseEnd | None = None
+    if options.optimize_comfort:
+        polish = min(tuning.polish_iterations, budget // 3)
+        end = run_phase(problem, x, options, tuning, True, budget - polish)
+    used = end.iterations if end is not None else 0
+    if (end is None or end.trial.worst > 1.0) and used < budget:
+        x = end.trial.x if end is not None else x
+        keep = options.optimize_comfort
+        restored = run_phase(problem, x, options, tuning, False, budget - used, keep_off_limits=keep)
+        end = PhaseEnd(restored.trial, used + restored.iterations, restored.reason)
+    if end is None:  # no iteration ran: the start itself
+        end = PhaseEnd(Evaluator(problem, False)(x), 0, StopReason.NOT_RUN)
+    return end

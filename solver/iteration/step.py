@@ -1,0 +1,159 @@
+"""One step in scaled variables: the task part, the comfort part in the null space, both kept inside the bounds.
+
+With W = diag(curvature of -h) + mu and y = W^(1/2) dx the step is the thesis's (eq. 2.4):
+y = -Jw^+ err - (I - Jw^+ Jw) W^(-1/2) grad f, Jw = J W^(-1/2), the exact minimiser of the diagonal comfort
+model on the linearised constraints. The bound check is made on the sum of both parts, so a joint that the task
+alone would push past its limit stays free when comfort pulls it back; variables the sum pushes past a bound are
+saturated there and the step is solved again without them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from scipy.linalg import lapack
+
+from ..problem import Problem
+from .curvature_memory import CurvatureMemory, null_space_newton
+from .least_squares import LeastSquares
+from .trial import Trial
+from .tuning import Tuning
+
+
+@dataclass(frozen=True)
+class Linearization:
+    """The models a step is computed from, at one iterate (scaled variables, rows in tolerances)."""
+
+    jac: np.ndarray  # d scaled error / d scaled variables
+    grad_f: np.ndarray  # gradient of f = -h (zeros without comfort)
+    curv_f: np.ndarray  # diagonal curvature model of f (zeros when no metric is wanted)
+    comfort_on: bool  # whether the step carries a comfort part
+
+
+@dataclass
+class Step:
+    """A task step and a comfort step, with what a second-order correction and the merit need."""
+
+    task: np.ndarray  # scaled task step (fixed variables included)
+    comfort: np.ndarray  # scaled comfort step
+    predicted_gain: float  # comfort gain the quadratic model predicts for the comfort step (>= 0)
+    free: np.ndarray  # variables the step moved freely
+    least_squares: LeastSquares  # the factors of the free variables' Jacobian, in the metric
+    root_metric: np.ndarray  # square root of the metric on the free variables
+    free_gradient: np.ndarray  # grad f on the free variables, in the metric
+
+    def correction(self, err: np.ndarray) -> np.ndarray:
+        """Second-order correction: the task step for a new error, reusing this step's factors."""
+        out = np.zeros_like(self.task)
+        out[self.free] = self.least_squares.step(err) / self.root_metric
+        return out
+
+    @cached_property
+    def multipliers(self) -> np.ndarray:
+        """Per scaled row: lambda with grad f + J^T lambda ~ 0 on the free variables (only near the constraints)."""
+        return self.least_squares.multipliers(self.free_gradient)
+
+    @cached_property
+    def penalty(self) -> float:
+        """Weight of sum |scaled error| in the merit: twice the largest multiplier estimate."""
+        return 2.0 * float(np.max(np.abs(self.multipliers), initial=0.0)) + 1e-9
+
+
+def metric(problem: Problem, x: np.ndarray, lin: Linearization, free: np.ndarray, mu: float, tuning: Tuning):
+    """Diagonal metric W of the step: the comfort curvature + mu x its mean on the free variables, with a log
+    barrier's curvature on contact edge weights; the identity when there is neither comfort nor curvature."""
+    curv_f = lin.curv_f
+    if not (lin.comfort_on or curv_f.any()):
+        return np.ones_like(x)
+    curv_free = curv_f[free]
+    level = float(curv_free.sum()) / curv_free.size if curv_free.size else 1.0
+    out = curv_f + mu * max(level, 1e-12) + 1e-12
+    force = ~problem.is_joint
+    if force.any():  # keeps lightly loaded contact edges from being driven negative
+        share = np.maximum(x[force] / problem.scale[force], tuning.force_floor)  # edge weight / body weight
+        out[force] += tuning.force_barrier / (share * share)
+    return out
+
+
+def compute_step(
+    problem: Problem,
+    at: Trial,
+    lin: Linearization,
+    mu: float,
+    radius: float,
+    tuning: Tuning,
+    memory: CurvatureMemory | None,
+) -> Step:
+    """The step from ``at`` in the metric of :func:`metric`, inside the bounds (``memory`` None without comfort)."""
+    x, jac, err, grad_f = at.x, lin.jac, at.err, lin.grad_f
+    lo = (problem.lower - x) / problem.scale
+    hi = (problem.upper - x) / problem.scale
+    # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.
+    outward = jac.T @ err + grad_f  # descent of both pushes along -outward
+    free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
+    root = np.sqrt(metric(problem, x, lin, free, mu, tuning))
+    compact = memory.compact(lin.curv_f + 1e-12) if memory is not None else None
+    fixed = np.zeros_like(x)
+    for round_ in range(tuning.clamping_rounds):
+        task, comfort, lsq = _free_step(problem, at, lin, free, fixed, root, radius, compact, tuning)
+        total = task + comfort
+        below = free & (total < lo - 1e-12)
+        above = free & (total > hi + 1e-12)
+        if not (below.any() or above.any()):
+            break
+        if round_ == tuning.clamping_rounds - 1:
+            comfort *= _room(task, comfort, lo, hi)  # out of rounds: shorten the comfort part to stay inside
+            break
+        # Saturate: a joint stops halfway to its limit unless it is already close to it (so the tan^2 comfort is
+        # not slammed to its wall); forces stop exactly at zero.
+        joint = problem.is_joint
+        fixed[below] = lo[below] * np.where(joint[below] & (-lo[below] > tuning.fraction_near), 0.5, 1.0)
+        fixed[above] = hi[above] * np.where(joint[above] & (hi[above] > tuning.fraction_near), 0.5, 1.0)
+        free &= ~(below | above)
+    if not (np.isfinite(task).all() and np.isfinite(comfort).all()):
+        task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
+    gain = _predicted_gain(lin, comfort, compact)
+    r_free = root[free]
+    return Step(task, comfort, gain, free, lsq, r_free, grad_f[free] / r_free)
+
+
+def _free_step(problem, at, lin, free, fixed, root, radius, compact, tuning):
+    """(task, comfort, factors) with the variables outside ``free`` held at ``fixed``."""
+    jac, err = lin.jac, at.err
+    n = len(at.x)
+    err_eff = err + jac[:, ~free] @ fixed[~free] if (~free).any() else err
+    r_f = root[free]
+    lsq = LeastSquares(jac[:, free] / r_f, tuning.max_damping)
+    task = fixed.copy()
+    task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)
+    comfort = np.zeros(n)
+    if lin.comfort_on:
+        g_w = lin.grad_f[free] / r_f
+        low_rank = None if compact is None else (compact[0][free] / r_f[:, None], compact[1])
+        comfort[free] = null_space_newton(g_w, lsq.basis, low_rank) / r_f
+        biggest = float(np.abs(comfort).max()) if n else 0.0
+        if biggest > tuning.max_comfort_step:
+            comfort *= tuning.max_comfort_step / biggest
+    return task, comfort, lsq
+
+
+def _room(task: np.ndarray, comfort: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The largest fraction in [0, 1] of ``comfort`` that keeps task + fraction x comfort inside [lo, hi]."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        room = np.where(comfort > 0, (hi - task) / comfort, np.where(comfort < 0, (lo - task) / comfort, 1.0))
+    return float(np.clip(np.min(room, initial=1.0), 0.0, 1.0))
+
+
+def _predicted_gain(lin: Linearization, comfort: np.ndarray, compact) -> float:
+    """Comfort gain the model predicts for the comfort part: diagonal model plus the quasi-Newton part (>= 0)."""
+    if not lin.comfort_on:
+        return 0.0
+    predicted = -(lin.grad_f @ comfort + 0.5 * (lin.curv_f * comfort) @ comfort)
+    if compact is not None:  # the quasi-Newton part of comfort @ B @ comfort / 2
+        u_c = compact[0].T @ comfort
+        _, _, inner, info = lapack.dgesv(compact[1], u_c)
+        if info == 0:
+            predicted += 0.5 * float(u_c @ inner)
+    return max(float(predicted), 0.0)

@@ -1,0 +1,164 @@
+"""A trial point and the rules that accept or reject it (the line search of one iteration)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..problem import Problem
+from ..state import State
+
+if TYPE_CHECKING:
+    from .step import Linearization, Step
+    from .tuning import Tuning
+
+COST_KEY = "iteration cost"  # where f = -h of a state is kept in its cache
+
+
+@dataclass(frozen=True, slots=True)
+class Trial:
+    """One evaluated point: solver variables, state, scaled error and its measures."""
+
+    x: np.ndarray  # solver variables
+    state: State
+    err: np.ndarray  # scaled error rows (weight / tolerance)
+    merit: float  # sum of squares of ``err``
+    worst: float  # largest |row error| / tolerance, weights taken out: <= 1 means met
+
+
+class Evaluator:
+    """Evaluates x once into a :class:`Trial`; f = -h on demand (:meth:`cost`), since trial points rejected on
+    their error never need it."""
+
+    def __init__(self, problem: Problem, comfort_on: bool) -> None:
+        self.problem = problem
+        self.comfort_on = comfort_on
+        self.unweight = 1.0 / problem.row_weight if problem.n_rows else np.zeros(0)
+
+    def __call__(self, x: np.ndarray) -> Trial:
+        state = self.problem.state(x)
+        err = self.problem.scaled_error(state)
+        worst = float(np.max(np.abs(err) * self.unweight, initial=0.0))
+        return Trial(x, state, err, float(err @ err), worst)
+
+    def cost(self, state: State) -> float:
+        """f = -h at ``state`` (0 without comfort), computed once per state."""
+        if not self.comfort_on:
+            return 0.0
+        f = state.cache.get(COST_KEY)
+        if f is None:
+            f = state.cache[COST_KEY] = -self.problem.comfort.value(state)
+        return f
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What the line search found: the accepted trial (None if every try failed) and how it was reached."""
+
+    trial: Trial | None
+    cost: float  # f at the accepted trial
+    alpha: float  # the step length that was accepted (or the last tried)
+    with_comfort: bool  # whether the comfort part was in the accepted step (or the last tried)
+
+
+class LineSearch:
+    """Tries the step of one iteration from ``at`` (cost ``f``) and judges each trial.
+
+    Far from the constraints only the task part matters (comfort may ride along if the error still falls);
+    near them task + comfort comes first, judged on the exact-penalty merit after a second-order correction,
+    then the task part alone with a safeguarded quadratic backtracking.
+    """
+
+    def __init__(self, evaluate: Evaluator, at: Trial, f: float, lin: Linearization, step: Step, tuning: Tuning):
+        self.evaluate, self.at, self.f, self.lin, self.step, self.tuning = evaluate, at, f, lin, step, tuning
+        self.problem = evaluate.problem
+        self.near = at.worst <= tuning.comfort_slack
+        self.task_change = 0.0  # f's predicted rise from the task part alone: a ride-along need not undo it
+        if not self.near and step.predicted_gain > 0:
+            task, grad_f, curv_f = step.task, lin.grad_f, lin.curv_f
+            self.task_change = max(float(grad_f @ task + 0.5 * (curv_f * task) @ task), 0.0)
+
+    def attempts(self) -> list[tuple[bool, int]]:
+        """(with comfort, tries) in the order they are tried."""
+        t = self.tuning
+        if self.step.predicted_gain <= 0:
+            return [(False, t.task_tries)]
+        if self.near:
+            return [(True, t.near_comfort_tries), (False, t.task_tries - 1)]
+        return [(True, t.far_comfort_tries), (False, t.task_tries)]
+
+    def run(self) -> Outcome:
+        alpha, with_comfort = 1.0, False
+        for with_comfort, tries in self.attempts():
+            found, alpha = self._try(with_comfort, tries)
+            if found is not None:
+                return Outcome(found, self.evaluate.cost(found.state), alpha, with_comfort)
+        return Outcome(None, self.f, alpha, with_comfort)
+
+    def _direction(self, with_comfort: bool) -> np.ndarray:
+        step, problem = self.step, self.problem
+        direction = step.task + step.comfort if with_comfort else step.task
+        if not self.near:  # far away, a joint turns at most max_turn per step: the linear model holds about that far
+            limit = np.where(problem.model.prismatic, self.tuning.max_slide, self.tuning.max_turn)
+            move = np.abs(problem.joint_change(self.at.state, direction * problem.scale)) / limit
+            direction = direction / max(float(np.max(move, initial=0.0)), 1.0)
+        return direction
+
+    def _try(self, with_comfort: bool, tries: int) -> tuple[Trial | None, float]:
+        """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha)."""
+        at, problem = self.at, self.problem
+        direction = self._direction(with_comfort)
+        slope = 0.0 if with_comfort else 2.0 * float(at.err @ (self.lin.jac @ direction))  # d merit / d alpha at 0
+        hopeless = self.tuning.hopeless * self.tuning.comfort_slack
+        alpha = 1.0
+        for _ in range(tries):
+            trial = self.evaluate(np.clip(at.x + alpha * direction * problem.scale, problem.lower, problem.upper))
+            if with_comfort and self.near and trial.worst > hopeless:
+                alpha *= 0.5  # too far off for a correction to bring it back: halve without trying one
+                continue
+            trial = self._corrected(trial, with_comfort, alpha)
+            if self._better(trial, with_comfort) and np.isfinite(trial.merit):
+                if np.isfinite(self.evaluate.cost(trial.state)):
+                    return trial, alpha
+            if with_comfort or not np.isfinite(trial.merit):
+                alpha *= 0.5
+            else:  # minimum of the quadratic through merit(0), its slope and merit(alpha), safeguarded
+                bend = (trial.merit - at.merit - alpha * slope) / alpha**2
+                guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
+                alpha = float(np.clip(guess, 0.1 * alpha, 0.5 * alpha))
+        return None, alpha
+
+    def _corrected(self, trial: Trial, with_comfort: bool, alpha: float) -> Trial:
+        """The trial after a second-order correction, when one applies and lowers the error below its bar.
+
+        A comfort step near the constraints is pulled back onto them (kept if it lowers the error); a full step
+        that the constraints' curvature undid (the balance moment is bilinear in joint motion and forces) gets
+        the same correction before backtracking (kept if it beats the current error).
+        """
+        if with_comfort and self.near:
+            bar = trial.merit if trial.worst > 1.0 else None
+        else:
+            full = self.evaluate.comfort_on and alpha == 1.0
+            bar = self.at.merit if (full and self.at.merit <= trial.merit < np.inf) else None
+        if bar is None:
+            return trial
+        problem = self.problem
+        x_soc = np.clip(trial.x + self.step.correction(trial.err) * problem.scale, problem.lower, problem.upper)
+        corrected = self.evaluate(x_soc)
+        return corrected if corrected.merit < bar else trial
+
+    def _better(self, trial: Trial, with_comfort: bool) -> bool:
+        """The acceptance rule of the part being tried."""
+        at, f = self.at, self.f
+        if not with_comfort:
+            return trial.merit < at.merit
+        cost = self.evaluate.cost
+        if not self.near:  # comfort rides along a task step: the error falls and comfort ends no worse than predicted
+            return trial.merit < at.merit and cost(trial.state) < f + self.task_change + self.step.predicted_gain
+        # the exact-penalty merit, or (as a filter would) any feasible point that is more comfortable
+        penalty = self.step.penalty * (np.abs(trial.err).sum() - np.abs(at.err).sum())
+        cost_try = cost(trial.state)
+        feasible_gain = trial.worst <= 1.0 and cost_try < f
+        return trial.worst <= self.tuning.comfort_slack and (cost_try - f + penalty < 0.0 or feasible_gain)
