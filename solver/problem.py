@@ -188,7 +188,7 @@ class Problem:
             )
         if balance:
             self.constraints.append(BalanceConstraint(self.n_x))
-        self.comfort = Comfort(model, comfort_weights)
+        self.comfort = Comfort.standard(model, comfort_weights)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
         self.x_lower = np.concatenate([model.lower, np.zeros(n_w)])
         self.x_upper = np.concatenate([model.upper, np.full(n_w, np.inf)])

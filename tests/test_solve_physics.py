@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 
 from solver.bench import random_targets
 from solver.bodies import load_body
+from solver.comfort import JointRange
 from solver.errors import ManikinError
 from solver.iteration import TUNING, LeastSquares, StopReason, restart_pose, solve
 from solver.iteration.loop import run_phase
@@ -438,7 +439,8 @@ def test_restoring_without_comfort_keeps_joints_off_their_limits(male50, level, 
         end = run_phase(problem, problem.start(), DEFAULT_OPTIONS, TUNING, False, 40, keep_off_limits=keep)
         assert end.trial.worst <= 1.0
         theta = end.trial.state.theta
-        worst_range[keep] = float(np.max(problem.comfort.range_weight * problem.comfort._range_terms(theta, False)[0]))
+        joint_range = JointRange(problem.model)
+        worst_range[keep] = float(np.max(joint_range.joint_weight * joint_range.per_joint(theta, False)[0]))
     assert worst_range[True] < 0.1 * worst_range[False], worst_range
 
 

@@ -1,0 +1,79 @@
+"""The comfort function h(x) the solver maximises in the constraints' null space (thesis §3.3).
+
+h = -sum_k weight_k cost_k(x) over :class:`ComfortTerm` objects, one per module: ``joint_range`` (tan^2 of each
+joint's deviation from neutral), ``joint_load`` (squared joint strain), ``contact_spread`` (squared contact forces).
+A new term is a new module with a ComfortTerm; :class:`Comfort` takes any list of (weight, term).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import Model
+from ..state import State
+from .base import ComfortTerm
+from .contact_spread import ContactSpread
+from .joint_load import JointLoad
+from .joint_range import JointRange
+
+
+@dataclass(frozen=True)
+class ComfortWeights:
+    """Weights of the three standard comfort terms (dimensionless)."""
+
+    range: float = 1.0
+    load: float = 1.0
+    contact: float = 0.01
+
+
+DEFAULT_COMFORT = ComfortWeights()
+
+
+class Comfort:
+    """h(x) = -sum weight x cost over ``terms`` (each a (weight, :class:`ComfortTerm`) pair)."""
+
+    def __init__(self, terms: list[tuple[float, ComfortTerm]], weights: ComfortWeights | None = None) -> None:
+        self.terms = list(terms)
+        self.weights = weights  # the standard weights these terms came from, if they did
+
+    @classmethod
+    def standard(cls, model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> Comfort:
+        """The three standard terms with ``weights``."""
+        terms = [(weights.range, JointRange(model)), (weights.load, JointLoad(model))]
+        return cls([*terms, (weights.contact, ContactSpread(model))], weights)
+
+    def parts(self, state: State) -> dict[str, float]:
+        """Each term's unweighted cost (>= 0), for reports; a term of zero weight is not part of comfort (0)."""
+        return {term.name: term.cost(state) if weight else 0.0 for weight, term in self.terms}
+
+    def total(self, parts: dict[str, float]) -> float:
+        """h from its :meth:`parts` (the weighted sum, negated)."""
+        out = 0.0
+        for weight, term in self.terms:
+            out += weight * parts[term.name]
+        return -out
+
+    def value(self, state: State) -> float:
+        """h(x) (<= 0; larger is more comfortable)."""
+        return self.total(self.parts(state))
+
+    def derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """dh/dx (n_x,) and a positive diagonal curvature model of -h (n_x,), which the solver uses as the metric
+        of its steps."""
+        grad = np.zeros(state.n_x)
+        curv = np.zeros(state.n_x)
+        for weight, term in self.terms:
+            if weight:
+                g, c = term.derivatives(state, weight)
+                grad -= g
+                curv += c
+        return grad, curv
+
+    def gradient(self, state: State) -> np.ndarray:
+        """dh/dx, shape (n_x,)."""
+        return self.derivatives(state)[0]
+
+
+__all__ = ["DEFAULT_COMFORT", "Comfort", "ComfortTerm", "ComfortWeights", "ContactSpread", "JointLoad", "JointRange"]

@@ -1,0 +1,23 @@
+"""The one interface every comfort term implements: a dimensionless cost, its gradient and a curvature model."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import numpy as np
+
+from ..state import State
+
+
+class ComfortTerm(ABC):
+    """A cost c(x) >= 0 (0 = comfortable); comfort h = -sum of weight x cost over the terms."""
+
+    name: str  # the key of this term in reports (``Result.comfort_parts``)
+
+    @abstractmethod
+    def cost(self, state: State) -> float:
+        """c(x), unweighted."""
+
+    @abstractmethod
+    def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
+        """(d(weight c)/dx (n_x,), a positive diagonal curvature model of weight c (n_x,))."""

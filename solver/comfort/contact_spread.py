@@ -1,0 +1,29 @@
+"""Contact-spread discomfort: sum_k (w_k / body weight)^2, a small preference for sharing load among contacts."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import GRAVITY, Model
+from ..state import State
+from .base import ComfortTerm
+
+
+class ContactSpread(ComfortTerm):
+    """Squared contact edge weights (forces / body weight); the curvature model is exact."""
+
+    name = "contact"
+
+    def __init__(self, model: Model) -> None:
+        self.n = model.n
+        self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))  # N
+
+    def cost(self, state: State) -> float:
+        return float(np.sum((state.w / self.body_weight) ** 2)) if len(state.w) else 0.0
+
+    def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
+        grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
+        if len(state.w):
+            grad[self.n :] = weight * 2.0 * state.w / self.body_weight**2
+            curv[self.n :] = weight * 2.0 / self.body_weight**2
+        return grad, curv

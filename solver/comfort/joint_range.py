@@ -1,0 +1,65 @@
+"""Joint-range discomfort (thesis §3.3): sum_i c_i tan^2(u_i), 0 at a joint's neutral value, steep at its limits.
+
+u_i = (pi/2)(theta_i - n_i)/(hi_i - n_i) above the neutral value n_i and (pi/2)(theta_i - n_i)/(n_i - lo_i) below:
+the thesis's tan^2 form, generalised to asymmetric limits; past |u| = U_MAX it continues linearly (C1) so it stays
+finite. c_i is the model's per-joint comfort weight (1/17 per thoracolumbar vertebra, so bending the whole region
+costs like one joint).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import Model
+from ..state import State
+from .base import ComfortTerm
+
+U_MAX = 0.48 * np.pi
+
+
+class JointRange(ComfortTerm):
+    """tan^2 range cost of every joint with finite limits; the curvature model is exact."""
+
+    name = "range"
+
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        lo, hi, mid = model.lower, model.upper, model.neutral
+        finite = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
+        self.joint_weight = np.where(finite, model.range_weight, 0.0)
+        self.span_up = np.where(finite, np.maximum(hi - mid, 1e-9), 1.0)
+        self.span_down = np.where(finite, np.maximum(mid - lo, 1e-9), 1.0)
+
+    def per_joint(self, theta: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
+        """tan^2(u) per joint (unweighted) and, with ``derivatives``, its first and second derivative (per rad or m)."""
+        d = theta - self.model.neutral
+        span = np.where(d >= 0.0, self.span_up, self.span_down)
+        u = 0.5 * np.pi * d / span
+        t = np.tan(np.clip(u, -U_MAX, U_MAX))
+        t2 = t * t
+        slope = 2.0 * t * (1.0 + t2)
+        beyond = np.abs(u) - U_MAX
+        value = t2 + np.where(beyond > 0.0, np.abs(slope) * beyond, 0.0)
+        if not derivatives:
+            return (value,)
+        du = 0.5 * np.pi / span
+        curvature = 2.0 * (1.0 + t2) * (1.0 + 3.0 * t * t) * du * du
+        return value, slope * du, curvature
+
+    def _at(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`per_joint` with derivatives at ``state``, once per state (the value and the step share it)."""
+        cached = state.cache.get(self)
+        if cached is None:
+            cached = state.cache[self] = self.per_joint(state.theta)
+        return cached
+
+    def cost(self, state: State) -> float:
+        return float(self.joint_weight @ self._at(state)[0])
+
+    def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
+        n = self.model.n
+        _, slope, curvature = self._at(state)
+        grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
+        grad[:n] = weight * self.joint_weight * slope
+        curv[:n] = weight * self.joint_weight * curvature
+        return grad, curv
