@@ -8,7 +8,6 @@ frame that needs more does not converge and says that its target moved too far.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 
@@ -79,11 +78,7 @@ def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
 def bounded(problem: Problem, previous_x: np.ndarray, limits: MotionLimits) -> Problem:
     """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``."""
     step = variable_steps(problem, limits)
-    previous = problem.to_variables(previous_x)
-    narrowed = copy.copy(problem)
-    narrowed.lower = np.maximum(problem.lower, previous - step)
-    narrowed.upper = np.minimum(problem.upper, previous + step)
-    return narrowed
+    return problem.with_bounds(problem.bounds.around(problem.to_variables(previous_x), step))
 
 
 def solve_frames(
@@ -106,9 +101,7 @@ def solve_frames(
         result = solve(problem, x, options)
         if not result.converged and problem is not full:
             v = problem.to_variables(result.x)
-            held = (np.isclose(v, problem.lower) & (problem.lower > full.lower)) | (
-                np.isclose(v, problem.upper) & (problem.upper < full.upper)
-            )
+            held = problem.bounds.held(v, full.bounds)
             if held.any():
                 names = full.variable_names()
                 shown = ", ".join(names[i] for i in np.nonzero(held)[0][:3])

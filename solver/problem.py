@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .bounds import Bounds
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
 from .contacts import Support, build_contacts
@@ -61,17 +62,6 @@ class ExternalLoad:
 
     tcp: str
     force: np.ndarray
-
-
-def joint_scale(model: Model) -> np.ndarray:
-    """Scaled-variable unit per joint: half its range, within [0.02, 1] (rad or m).
-
-    A minimum-norm step in scaled variables then shares motion in proportion to each joint's range, so the
-    72 vertebrae (a few degrees each) do not saturate before the hips and shoulders move; it is also the
-    diagonal Newton scaling of the comfort's tan^2 range term.
-    """
-    half = 0.5 * (model.upper - model.lower)
-    return np.where(np.isfinite(half), np.clip(half, 0.02, 1.0), 1.0)
 
 
 MAX_DISTANCE = 1000.0  # m: targets and offsets farther than this from the origin are refused
@@ -190,18 +180,14 @@ class Problem:
             self.constraints.append(BalanceConstraint(self.n_x))
         self.comfort = Comfort.standard(model, comfort_weights)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
-        self.x_lower = np.concatenate([model.lower, np.zeros(n_w)])
-        self.x_upper = np.concatenate([model.upper, np.full(n_w, np.inf)])
-        x_scale = np.concatenate([joint_scale(model), np.full(n_w, self.body_weight)])
+        self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)
+        xb = self.x_bounds
         self.reduction_groups = tuple(reduction)
-        self.reduction = build_reduction(model, self.reduction_groups, self.x_lower, self.x_upper, x_scale)
+        self.reduction = build_reduction(model, self.reduction_groups, xb.lower, xb.upper, xb.scale)
         # The solver's variables v: x itself, or beta with x = phi(beta) when reduced.
         red = self.reduction
-        self.lower = self.x_lower.copy() if red is None else red.lower.copy()
-        self.upper = self.x_upper.copy() if red is None else red.upper.copy()
-        self.scale = x_scale if red is None else red.scale
-        self.is_joint = (np.arange(self.n_x) < n) if red is None else red.is_joint
-        self.n_var = len(self.lower)
+        self.bounds = xb if red is None else Bounds(red.lower, red.upper, red.scale, red.is_joint)
+        self.n_var = len(self.bounds)
         self._set_rows()
 
     def with_targets(self, targets: list[Target]) -> Problem:
@@ -232,8 +218,18 @@ class Problem:
             copy.copy(c) if isinstance(c, FrameConstraint) else c for c in self.constraints[len(self.targets) :]
         ]
         moved._set_rows()
-        moved.lower, moved.upper = self.lower.copy(), self.upper.copy()
         return moved
+
+    def with_bounds(self, bounds: Bounds) -> Problem:
+        """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
+        narrowed = copy.copy(self)
+        narrowed.bounds = bounds
+        return narrowed
+
+    @property
+    def scale(self) -> np.ndarray:
+        """Scaled-variable unit of each solver variable (see :class:`Bounds`)."""
+        return self.bounds.scale
 
     def _same_supports(self, targets: list[Target]) -> bool:
         def key(t: Target) -> tuple:
@@ -324,8 +320,8 @@ class Problem:
         else:
             down = self.body_weight - sum(float(ld.force[2]) for ld in self.loads)
             w = self.contacts.even_weights(down)
-        x = np.clip(np.concatenate([theta, w]), self.x_lower, self.x_upper)
-        return np.clip(self.to_variables(x), self.lower, self.upper)
+        x = self.x_bounds.clip(np.concatenate([theta, w]))
+        return self.bounds.clip(self.to_variables(x))
 
     def scaled_error(self, state: State) -> np.ndarray:
         """All constraint rows divided by their tolerance and multiplied by their weight."""

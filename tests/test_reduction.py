@@ -80,9 +80,9 @@ def test_phi_keeps_joints_inside_their_ranges(male50):
     rng = np.random.default_rng(0)
     shoulder = p.reduction.shoulder_vars.ravel()
     for _ in range(20):
-        v = rng.uniform(np.maximum(p.lower, -3), np.minimum(p.upper, 3))
+        v = rng.uniform(np.maximum(p.bounds.lower, -3), np.minimum(p.bounds.upper, 3))
         x = p.to_x(v)
-        assert np.all(x >= p.x_lower - 1e-12) and np.all(x <= p.x_upper + 1e-12)
+        assert np.all(x >= p.x_bounds.lower - 1e-12) and np.all(x <= p.x_bounds.upper + 1e-12)
         back = p.to_variables(x)
         np.testing.assert_allclose(np.delete(back, shoulder), np.delete(v, shoulder), atol=1e-12)
         np.testing.assert_allclose(back[shoulder], v[shoulder], atol=1e-8)  # from_x(phi(beta)) = beta
@@ -91,12 +91,12 @@ def test_phi_keeps_joints_inside_their_ranges(male50):
 def test_reduced_jacobian_and_gradient_match_finite_differences(male50):
     p = reach(male50)
     rng = np.random.default_rng(1)
-    margin = np.minimum(0.01, 0.25 * (p.upper - p.lower))  # finite differences must stay inside the ranges
+    margin = np.minimum(0.01, 0.25 * (p.bounds.upper - p.bounds.lower))  # finite differences stay inside the ranges
     for spread in (0.05, 1.0):  # near the start, then the shoulders anywhere in their box
         v = p.start() + rng.normal(scale=0.05, size=p.n_var)
         shoulder = p.reduction.shoulder_vars
-        v[shoulder] += spread * rng.uniform(0, 1, size=shoulder.shape) * (p.upper - p.lower)[shoulder]
-        v = np.clip(v, p.lower + margin, p.upper - margin)
+        v[shoulder] += spread * rng.uniform(0, 1, size=shoulder.shape) * (p.bounds.upper - p.bounds.lower)[shoulder]
+        v = np.clip(v, p.bounds.lower + margin, p.bounds.upper - margin)
         state = p.state(v)
         numeric = finite_difference(lambda vv: p.scaled_error(p.state(vv)), v) * p.scale[None, :]
         np.testing.assert_allclose(p.scaled_jacobian(state), numeric, atol=1e-4 * np.abs(numeric).max())
@@ -129,7 +129,7 @@ def test_solve_with_the_shoulder_rhythm(male50, rhythm, position):
     result = solve(p)
     assert result.converged, result.summary()
     x = result.x
-    assert np.all(x >= p.x_lower - 1e-9) and np.all(x <= p.x_upper + 1e-9)
+    assert np.all(x >= p.x_bounds.lower - 1e-9) and np.all(x <= p.x_bounds.upper + 1e-9)
     ab = p.to_variables(x)[p.reduction.shoulder_vars]
     assert np.all(ab >= LOWER - 1e-12) and np.all(ab <= UPPER + 1e-12)
     np.testing.assert_allclose(x[rhythm.joints], rhythm.values(ab), atol=1e-9)  # the nine joints follow the rhythm
@@ -255,7 +255,7 @@ def test_motion_steps_bound_the_shoulder_joints(male50):
         v[shoulder[0]] = ab
         for k in shoulder[0]:
             moved = v.copy()
-            moved[k] = np.clip(v[k] + step[k], p.lower[k], p.upper[k])
+            moved[k] = np.clip(v[k] + step[k], p.bounds.lower[k], p.bounds.upper[k])
             change = np.abs(p.to_x(moved) - p.to_x(v))[: male50.n]
             assert change.max() <= limits.max_joint_change * 1.05
 

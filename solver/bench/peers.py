@@ -5,7 +5,7 @@ worst unweighted scaled error <= 1, exactly what makes :func:`solver.solve` repo
 
 * :func:`slsqp_peer`: the same problem as a general nonlinear program, handed to ``scipy.optimize``:
   maximise the comfort h(v) subject to ``problem.scaled_error(v) = 0`` (every target row, the balance rows)
-  and ``problem.lower <= v <= problem.upper``, with our exact gradient and Jacobian, from ``problem.start()``.
+  and ``problem.bounds``, with our exact gradient and Jacobian, from ``problem.start()``.
   The variables are scaled (z = v / problem.scale, as our solver's), so the constraint Jacobian is
   ``problem.scaled_jacobian`` as it stands.
 * :func:`placo_peer`: placo's ``KinematicsSolver`` (a QP per iteration, differential IK) on the URDF export
@@ -103,8 +103,8 @@ def slsqp_peer(problem: Problem, method: str = "SLSQP", max_iterations: int = 50
     def jacobian(z: np.ndarray) -> np.ndarray:
         return problem.scaled_jacobian(cache.at(z))
 
-    lower = np.where(np.isfinite(problem.lower), problem.lower / scale, -np.inf)
-    upper = np.where(np.isfinite(problem.upper), problem.upper / scale, np.inf)
+    lower = np.where(np.isfinite(problem.bounds.lower), problem.bounds.lower / scale, -np.inf)
+    upper = np.where(np.isfinite(problem.bounds.upper), problem.bounds.upper / scale, np.inf)
     z0 = problem.start() / scale
     t0 = time.perf_counter()
     if method == "SLSQP":

@@ -70,9 +70,9 @@ def metric(problem: Problem, x: np.ndarray, lin: Linearization, free: np.ndarray
     curv_free = curv_f[free]
     level = float(curv_free.sum()) / curv_free.size if curv_free.size else 1.0
     out = curv_f + mu * max(level, 1e-12) + 1e-12
-    force = ~problem.is_joint
+    force = ~problem.bounds.is_joint
     if force.any():  # keeps lightly loaded contact edges from being driven negative
-        share = np.maximum(x[force] / problem.scale[force], tuning.force_floor)  # edge weight / body weight
+        share = np.maximum(x[force] / problem.bounds.scale[force], tuning.force_floor)  # edge weight / body weight
         out[force] += tuning.force_barrier / (share * share)
     return out
 
@@ -88,8 +88,7 @@ def compute_step(
 ) -> Step:
     """The step from ``at`` in the metric of :func:`metric`, inside the bounds (``memory`` None without comfort)."""
     x, jac, err, grad_f = at.x, lin.jac, at.err, lin.grad_f
-    lo = (problem.lower - x) / problem.scale
-    hi = (problem.upper - x) / problem.scale
+    lo, hi = problem.bounds.room(x)
     # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.
     outward = jac.T @ err + grad_f  # descent of both pushes along -outward
     free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
@@ -108,7 +107,7 @@ def compute_step(
             break
         # Saturate: a joint stops halfway to its limit unless it is already close to it (so the tan^2 comfort is
         # not slammed to its wall); forces stop exactly at zero.
-        joint = problem.is_joint
+        joint = problem.bounds.is_joint
         fixed[below] = lo[below] * np.where(joint[below] & (-lo[below] > tuning.fraction_near), 0.5, 1.0)
         fixed[above] = hi[above] * np.where(joint[above] & (hi[above] > tuning.fraction_near), 0.5, 1.0)
         free &= ~(below | above)

@@ -114,7 +114,7 @@ class LineSearch:
         hopeless = self.tuning.hopeless * self.tuning.comfort_slack
         alpha = 1.0
         for _ in range(tries):
-            trial = self.evaluate(np.clip(at.x + alpha * direction * problem.scale, problem.lower, problem.upper))
+            trial = self.evaluate(problem.bounds.clip(at.x + alpha * direction * problem.scale))
             if with_comfort and self.near and trial.worst > hopeless:
                 alpha *= 0.5  # too far off for a correction to bring it back: halve without trying one
                 continue
@@ -145,7 +145,7 @@ class LineSearch:
         if bar is None:
             return trial
         problem = self.problem
-        x_soc = np.clip(trial.x + self.step.correction(trial.err) * problem.scale, problem.lower, problem.upper)
+        x_soc = problem.bounds.clip(trial.x + self.step.correction(trial.err) * problem.scale)
         corrected = self.evaluate(x_soc)
         return corrected if corrected.merit < bar else trial
 
