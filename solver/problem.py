@@ -139,7 +139,11 @@ class Problem:
         balance: bool = True,
         comfort_weights: ComfortWeights = DEFAULT_COMFORT,
         reduction: tuple[str, ...] = (),
+        extra_constraints: list[Constraint] = (),
+        comfort: Comfort | None = None,
     ) -> None:
+        """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
+        ``comfort`` replaces the standard terms weighted by ``comfort_weights``."""
         validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
@@ -160,25 +164,11 @@ class Problem:
         self.layout = StaticsLayout(model, self.contacts, self.loads)
         n, n_w = model.n, self.contacts.n_vars
         self.n_x = n + n_w
-        self.constraints: list[Constraint] = [self._target_constraint(t, zero) for t in self.targets]
-        for lp in self.loops:
-            op = lp.operator if lp.operator is not None else lock_operator(lp.lock)
-            rot = np.eye(3) if lp.offset_rotation is None else lp.offset_rotation
-            self.constraints.append(
-                FrameConstraint(
-                    f"loop {lp.tcp}-{lp.other}",
-                    model.tcp(lp.tcp),
-                    rot,
-                    lp.offset_position,
-                    op,
-                    self.n_x,
-                    reference=model.tcp(lp.other),
-                    weight=lp.weight,
-                )
-            )
-        if balance:
-            self.constraints.append(BalanceConstraint(self.n_x))
-        self.comfort = Comfort.standard(model, comfort_weights)
+        self.loop_constraints = [self._loop_constraint(lp) for lp in self.loops]
+        self.balance_constraint = BalanceConstraint(self.n_x) if balance else None
+        self.extra_constraints = list(extra_constraints)
+        self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
+        self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
         self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)
         xb = self.x_bounds
@@ -188,7 +178,6 @@ class Problem:
         red = self.reduction
         self.bounds = xb if red is None else Bounds(red.lower, red.upper, red.scale, red.is_joint)
         self.n_var = len(self.bounds)
-        self._set_rows()
 
     def with_targets(self, targets: list[Target]) -> Problem:
         """The same problem (loops, loads, balance, comfort) with other targets.
@@ -204,20 +193,16 @@ class Problem:
                 self.loops,
                 self.load_specs,
                 self.balance,
-                self.comfort.weights,
+                self.comfort.weights or DEFAULT_COMFORT,
                 self.reduction_groups,
+                self.extra_constraints,
+                self.comfort,
             )
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
-        zero = self._zero_kin
-        frames = [self._target_constraint(t, zero) for t in moved.targets]
-        # the loops are copied: a frame constraint is evaluated in one group, and this problem keeps its own
-        moved.constraints = frames + [
-            copy.copy(c) if isinstance(c, FrameConstraint) else c for c in self.constraints[len(self.targets) :]
-        ]
-        moved._set_rows()
+        moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
         return moved
 
     def with_bounds(self, bounds: Bounds) -> Problem:
@@ -246,14 +231,28 @@ class Problem:
         rot = self._rotation_of(t, zero_pose_kin)
         return FrameConstraint(t.tcp, self.model.tcp(t.tcp), rot, t.position, op, self.n_x, weight=t.weight)
 
-    def _set_rows(self) -> None:
-        rows = self.constraints
-        FrameGroup([c for c in rows if isinstance(c, FrameConstraint)])
+    def _loop_constraint(self, lp: Loop) -> FrameConstraint:
+        op = lp.operator if lp.operator is not None else lock_operator(lp.lock)
+        rot = np.eye(3) if lp.offset_rotation is None else lp.offset_rotation
+        tcp, other = self.model.tcp(lp.tcp), self.model.tcp(lp.other)
+        name = f"loop {lp.tcp}-{lp.other}"
+        return FrameConstraint(name, tcp, rot, lp.offset_position, op, self.n_x, reference=other, weight=lp.weight)
+
+    def _set_constraints(self, target_constraints: list[FrameConstraint]) -> None:
+        """The stacked constraints: targets and loops as one frame group, balance, the extra constraints; and the
+        row scaling."""
+        frames = [*target_constraints, *self.loop_constraints]
+        self.frames = FrameGroup(frames) if frames else None
+        rows = [c for c in (self.frames, self.balance_constraint, *self.extra_constraints) if c is not None]
+        self.constraints: list[Constraint] = rows
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
-        self.row_weight = np.concatenate([np.full(c.rows, c.weight) for c in rows]) if rows else np.zeros(0)
+        self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
-        self._row_starts = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int)  # first row of each constraint
+
+    def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """World (rotation (3, 3), position (3,) m) of every target and loop frame at ``state``, by name."""
+        return self.frames.target_frames(state) if self.frames is not None else {}
 
     @staticmethod
     def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
@@ -358,10 +357,5 @@ class Problem:
         return out
 
     def unmet(self, state: State) -> list[str]:
-        """Names of the constraints with some row outside its tolerance."""
-        if not self.constraints:
-            return []
-        errors = np.concatenate([c.error(state) for c in self.constraints])
-        met = np.abs(errors) <= self.row_tolerance * (1 + 1e-9)  # NaN counts as unmet
-        per_constraint = np.logical_and.reduceat(met, self._row_starts)
-        return [c.name for c, ok in zip(self.constraints, per_constraint, strict=True) if not ok]
+        """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
+        return [name for c in self.constraints for name in c.unmet(state)]

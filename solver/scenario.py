@@ -396,10 +396,8 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
         for i in range(model.n)
     ]
     targets = {}
-    for c in problem.constraints:
-        if hasattr(c, "target_frame"):
-            rot, pos = c.target_frame(state)
-            targets[c.name] = dict(position=_vec(pos), rotation=_vec(matrix_to_quat(rot)))
+    for name, (rot, pos) in problem.target_frames(state).items():
+        targets[name] = dict(position=_vec(pos), rotation=_vec(matrix_to_quat(rot)))
     contacts = {
         c["tcp"]: dict(point=_vec(c["point"]), force=_vec(c["force"]), moment=_vec(c["moment"]))
         for c in result.contacts

@@ -3,5 +3,6 @@
 from .balance import BalanceConstraint
 from .base import Constraint
 from .frame import AXES, FrameConstraint, FrameGroup, lock_operator
+from .inequality import Inequality
 
-__all__ = ["AXES", "BalanceConstraint", "Constraint", "FrameConstraint", "FrameGroup", "lock_operator"]
+__all__ = ["AXES", "BalanceConstraint", "Constraint", "FrameConstraint", "FrameGroup", "Inequality", "lock_operator"]

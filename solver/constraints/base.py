@@ -32,3 +32,15 @@ class Constraint(ABC):
     @abstractmethod
     def residuals(self, state: State) -> dict[str, float]:
         """Readable residuals in their own units (m, rad, N, N*m), keyed ``<name>.<quantity>``."""
+
+    def row_weight(self) -> np.ndarray:
+        """Per row: its weight in the stacked, scaled error."""
+        return np.full(self.rows, self.weight)
+
+    def met_rows(self, state: State) -> np.ndarray:
+        """Per row: |error| within tolerance (NaN counts as unmet)."""
+        return np.abs(self.error(state)) <= self.tolerance() * (1 + 1e-9)
+
+    def unmet(self, state: State) -> list[str]:
+        """Names of what is not met at ``state`` (this constraint's name, or its members')."""
+        return [] if self.met_rows(state).all() else [self.name]

@@ -9,8 +9,9 @@ The Jacobian is exact: d e_r = J_l^-1(e_r) R_T^T (omega - omega_ref) (inverse le
 d e_p = R_T^T (v - v_ref(o)), where v_ref(o) is the velocity of the point o carried rigidly by the reference
 TCP's link (zero for a fixed target).
 
-A problem's frame constraints are evaluated together by a :class:`FrameGroup`: one batched NumPy pass for
-all TCPs (errors) and one for all rows (Jacobian), shared through the state's cache.
+A problem's frame constraints are evaluated together by a :class:`FrameGroup`, itself a constraint: one batched
+NumPy pass for all TCPs (errors) and one for all rows (Jacobian), kept in the state's cache. A frame constraint
+on its own is evaluated as a group of one; grouping never changes a member, so members can be shared freely.
 """
 
 from __future__ import annotations
@@ -72,9 +73,7 @@ class FrameConstraint(Constraint):
         self._locked_parts = [
             (f"{name}.{part}", m) for part, m in (("position", position), ("rotation", rotation)) if m.any()
         ]
-        self._group: FrameGroup | None = None
-        self._slot = 0  # index in the group
-        self._rows = slice(0, self.rows)  # rows in the group's stacked error and Jacobian
+        self._alone: FrameGroup | None = None  # the group of one that evaluates this constraint on its own
 
     @property
     def rows(self) -> int:
@@ -84,29 +83,30 @@ class FrameConstraint(Constraint):
         return self._tolerance
 
     @property
-    def group(self) -> FrameGroup:
-        """The batch this constraint is evaluated in (a batch of its own until a problem groups it)."""
-        if self._group is None:
-            FrameGroup([self])
-        return self._group
+    def _group(self) -> FrameGroup:
+        if self._alone is None:
+            self._alone = FrameGroup([self])
+        return self._alone
 
     def target_frame(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """World (rotation, position) of the target for this state."""
-        values = self.group.evaluate(state)
-        return values.target_rotation[self._slot], values.target_position[self._slot]
+        return self._group.target_frames(state)[self.name]
 
     def full_error(self, state: State) -> np.ndarray:
         """The 6 unrelaxed components [e_p (m), e_r (rad)]."""
-        return self.group.evaluate(state).full[self._slot]
+        return self._group.evaluate(state).full[0]
 
     def error(self, state: State) -> np.ndarray:
-        return self.group.evaluate(state).errors[self._rows]
+        return self._group.error(state)
 
     def jacobian(self, state: State) -> np.ndarray:
-        return self.group.jacobian(state)[self._rows]
+        return self._group.jacobian(state)
 
     def residuals(self, state: State) -> dict[str, float]:
-        err = self.full_error(state)
+        return self.residuals_of(self.full_error(state))
+
+    def residuals_of(self, err: np.ndarray) -> dict[str, float]:
+        """Readable residuals (m, rad) of the 6 unrelaxed error components ``err``."""
         if not self._is_selection:
             relaxed = self.operator @ err
             return {self.name: math.sqrt(float(relaxed @ relaxed))}
@@ -132,18 +132,19 @@ class _FrameValues:
         self.jacobian: np.ndarray | None = None
 
 
-class FrameGroup:
-    """Frame constraints evaluated together; each member reads its rows from the batch.
+class FrameGroup(Constraint):
+    """Frame constraints evaluated together as one constraint: their rows stacked in member order, each
+    member's residuals and unmet status reported under its own name."""
 
-    Grouping re-assigns the members (a constraint belongs to one group: the last that took it).
-    """
+    name = "frames"
 
     def __init__(self, members: list[FrameConstraint]) -> None:
         self.members = list(members)
         sizes = [c.rows for c in self.members]
         offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
-        for i, c in enumerate(self.members):
-            c._group, c._slot, c._rows = self, i, slice(int(offsets[i]), int(offsets[i + 1]))
+        self.member_rows = [slice(int(offsets[i]), int(offsets[i + 1])) for i in range(len(self.members))]
+        self._tolerance = np.concatenate([c.tolerance() for c in self.members]) if self.members else np.zeros(0)
+        self._row_weight = np.concatenate([np.full(c.rows, c.weight) for c in self.members]) if sizes else np.zeros(0)
         self.n_x = self.members[0].n_x if self.members else 0
         self.link = np.array([c.tcp.link for c in self.members], dtype=int)
         self.tcp_rotation = np.array([c.tcp.rotation for c in self.members]).reshape(-1, 3, 3)
@@ -161,14 +162,43 @@ class FrameGroup:
         self.operator_ang = self.operator[:, None, 3:]
         self._row_mask: np.ndarray | None = None
 
+    @property
+    def rows(self) -> int:
+        return len(self._tolerance)
+
+    def tolerance(self) -> np.ndarray:
+        return self._tolerance
+
+    def row_weight(self) -> np.ndarray:
+        return self._row_weight
+
+    def error(self, state: State) -> np.ndarray:
+        return self.evaluate(state).errors
+
+    def residuals(self, state: State) -> dict[str, float]:
+        full = self.evaluate(state).full
+        out: dict[str, float] = {}
+        for i, c in enumerate(self.members):
+            out.update(c.residuals_of(full[i]))
+        return out
+
+    def unmet(self, state: State) -> list[str]:
+        met = self.met_rows(state)
+        return [c.name for c, rows in zip(self.members, self.member_rows, strict=True) if not met[rows].all()]
+
+    def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Each member's world target frame (rotation (3, 3), position (3,) m) at ``state``."""
+        values = self.evaluate(state)
+        return {c.name: (values.target_rotation[i], values.target_position[i]) for i, c in enumerate(self.members)}
+
     def _mask(self, model: Model) -> np.ndarray:
         """(R, n): 1 where a joint moves a row's TCP, minus 1 where it moves the reference TCP (loops)."""
         if self._row_mask is None:
             desc = model.descendant.astype(float)
             mask = desc[:, self.link[self.row_member]].T
-            for c in self.members:
+            for c, rows in zip(self.members, self.member_rows, strict=True):
                 if c.reference is not None:
-                    mask[c._rows] -= desc[:, c.reference.link]
+                    mask[rows] -= desc[:, c.reference.link]
             self._row_mask = mask
         return self._row_mask
 

@@ -1,0 +1,41 @@
+"""One-sided constraints g(x) >= floor (clearances, heights): met rows are zero, so they plug into the stacked rows.
+
+The error of a row is min(g - floor, 0): zero while the row is met, so it neither pulls nor takes a rank of the
+task step, and its Jacobian row is dg/dx only while it is violated (an active set that the iteration need not
+know about). Comfort steps may touch such a bound; the next task step pushes back onto it.
+"""
+
+from __future__ import annotations
+
+from abc import abstractmethod
+
+import numpy as np
+
+from ..state import State
+from .base import Constraint
+
+
+class Inequality(Constraint):
+    """Rows g(x) >= ``floor``; subclasses give g (:meth:`value`) and dg/dx (:meth:`value_jacobian`)."""
+
+    floor: np.ndarray  # (rows,) in g's units
+
+    @abstractmethod
+    def value(self, state: State) -> np.ndarray:
+        """g(x), (rows,)."""
+
+    @abstractmethod
+    def value_jacobian(self, state: State) -> np.ndarray:
+        """dg/dx, (rows, n_x)."""
+
+    def error(self, state: State) -> np.ndarray:
+        return np.minimum(self.value(state) - self.floor, 0.0)
+
+    def jacobian(self, state: State) -> np.ndarray:
+        jac = np.array(self.value_jacobian(state), dtype=float)
+        jac[self.value(state) - self.floor > 0.0] = 0.0
+        return jac
+
+    def residuals(self, state: State) -> dict[str, float]:
+        """The largest shortfall below the floor (0 when met), in g's units."""
+        return {f"{self.name}.shortfall": float(-np.min(self.error(state), initial=0.0))}
