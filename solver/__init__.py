@@ -15,7 +15,7 @@ _HOMES = {
     "Loop": "problem",
     "ManikinError": "errors",
     "Model": "model",
-    "ModelBuilder": "model",
+    "ModelBuilder": "model_builder",
     "ModelError": "errors",
     "Problem": "problem",
     "Result": "result",
@@ -44,7 +44,8 @@ if TYPE_CHECKING:
     from .comfort import ComfortWeights
     from .errors import ManikinError, ModelError, ScenarioError
     from .iteration import solve
-    from .model import Model, ModelBuilder
+    from .model import Model
+    from .model_builder import ModelBuilder
     from .options import SolverOptions
     from .problem import ExternalLoad, Loop, Problem, Target
     from .result import Result

@@ -9,7 +9,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from solver.model import Model, ModelBuilder  # noqa: E402
+from solver.model import Model  # noqa: E402
+from solver.model_builder import ModelBuilder  # noqa: E402
 
 
 def random_tree(seed: int, n_interior: int = 14) -> Model:

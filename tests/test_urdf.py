@@ -13,7 +13,7 @@ import pytest
 from helpers import random_tree
 
 from solver.bodies import load_body
-from solver.model import ModelBuilder
+from solver.model_builder import ModelBuilder
 from solver.urdf import link_inertia, matrix_from_rpy, model_to_urdf, rpy_from_matrix
 
 REPO = Path(__file__).resolve().parents[1]

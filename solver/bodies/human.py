@@ -15,7 +15,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..errors import ModelError
-from ..model import Model, ModelBuilder
+from ..model import Model
+from ..model_builder import ModelBuilder
 from . import anthropometry as A
 
 X, Y, Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)

@@ -11,7 +11,8 @@ import math
 import numpy as np
 
 from ..errors import ModelError
-from ..model import Model, ModelBuilder
+from ..model import Model
+from ..model_builder import ModelBuilder
 
 BASE_MASS = 0.5  # kg, estimate
 BASE_COM = (0.0, 0.0, 0.02)  # m, estimate
