@@ -45,7 +45,8 @@ def test_placo_peer_on_an_easy_trial(easy_problem):
 
 
 def test_peer_report_tables_from_outcomes():
-    from solver.bench.random_targets import LEVEL_NAMES, OURS_FOR_PEERS, _peer_report
+    from solver.bench.peer_report import OURS_FOR_PEERS, peer_report
+    from solver.bench.random_targets import LEVEL_NAMES
 
     outcomes = []
     for level in range(len(LEVEL_NAMES)):
@@ -53,7 +54,7 @@ def test_peer_report_tables_from_outcomes():
             seed = 2012 + 100_000 * level + i
             for config, t in zip([*OURS_FOR_PEERS, "SLSQP"], (0.1, 0.2, 0.05, 1.0), strict=True):
                 outcomes.append(dict(config=config, level=level, seed=seed, converged=i == 0, time_s=t, comfort=-1.0))
-    text = _peer_report(outcomes, 2, ["SLSQP"])
+    text = peer_report(outcomes, 2, ["SLSQP"], LEVEL_NAMES)
     assert "### Peers, same trials" in text and "placo**: not installed" in text
     assert "| pi/8 | 2 | 1/2 | 1/2 | 1/2 | 1/2 |" in text and "| all | 12 | 6/12 | 6/12 | 6/12 | 6/12 |" in text
     assert "10.0 (10.0)" in text and "5.0 (5.0)" in text  # SLSQP time over ours: p+r, then p

@@ -207,28 +207,9 @@ def _support_polygon(robot, feet) -> list[np.ndarray]:
     return [points[i] for i in hull.vertices[::-1]]  # scipy gives counter-clockwise in 2-D
 
 
-def placo_peer(problem: Problem, settings: PlacoSettings = DEFAULT_PLACO) -> PeerResult:
-    """Solve the trial's targets with placo's KinematicsSolver from our start pose; judge by our function.
-
-    Only ``solver.solve`` and the kinematics updates (plus refreshing the support polygon) are timed.
-    """
-    import placo
-
-    if problem.reduction is not None:
-        raise ValueError("placo_peer needs a problem without variable reduction")
+def _placo_tasks(solver, robot, problem: Problem, settings: PlacoSettings) -> tuple[list, list, list]:
+    """placo tasks for the problem's targets: (feet (frame, sole), slide anchors, (task, our tolerance) checks)."""
     model = problem.model
-    robot = _robot_for(model)
-    robot.reset()
-    theta0 = problem.start()[: model.n]
-    for name, value in zip(model.joint_names, theta0, strict=True):
-        robot.set_joint(name, float(value))
-    robot.update_kinematics()
-    solver = placo.KinematicsSolver(robot)
-    solver.mask_fbase(True)
-    solver.enable_joint_limits(True)
-    if settings.dt > 0:
-        solver.enable_velocity_limits(True)
-        solver.dt = settings.dt
     feet, anchors = [], []
     checks = []  # (placo task, our tolerance in its units): the stop test
     zero = model.forward(model.zero_pose())
@@ -256,6 +237,32 @@ def placo_peer(problem: Problem, settings: PlacoSettings = DEFAULT_PLACO) -> Pee
             task = solver.add_frame_task(frame, pose)
             task.configure(target.tcp, "soft", settings.hand_weight, settings.hand_weight)
             checks += [(task.position(), POSITION_TOLERANCE), (task.orientation(), ANGLE_TOLERANCE)]
+    return feet, anchors, checks
+
+
+def placo_peer(problem: Problem, settings: PlacoSettings = DEFAULT_PLACO) -> PeerResult:
+    """Solve the trial's targets with placo's KinematicsSolver from our start pose; judge by our function.
+
+    Only ``solver.solve`` and the kinematics updates (plus refreshing the support polygon) are timed.
+    """
+    import placo
+
+    if problem.reduction is not None:
+        raise ValueError("placo_peer needs a problem without variable reduction")
+    model = problem.model
+    robot = _robot_for(model)
+    robot.reset()
+    theta0 = problem.start()[: model.n]
+    for name, value in zip(model.joint_names, theta0, strict=True):
+        robot.set_joint(name, float(value))
+    robot.update_kinematics()
+    solver = placo.KinematicsSolver(robot)
+    solver.mask_fbase(True)
+    solver.enable_joint_limits(True)
+    if settings.dt > 0:
+        solver.enable_velocity_limits(True)
+        solver.dt = settings.dt
+    feet, anchors, checks = _placo_tasks(solver, robot, problem, settings)
     com = None
     if problem.balance and feet:
         com = solver.add_com_polygon_constraint(_support_polygon(robot, feet), settings.com_margin)
