@@ -1,4 +1,4 @@
-"""Scenario export (solver/scenario.py: scenario_to_dict, dumps_scenario): what is written reads back the same."""
+"""Scenario export (solver/io/scenario_write.py): what scenario_to_dict and dumps_scenario write reads back the same."""
 
 from __future__ import annotations
 
@@ -8,11 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import Problem, solve
+from solver import Problem, dumps_scenario, load_scenario, scenario_to_dict, solve
 from solver.bodies import PRESETS_DIR
 from solver.contacts import support_polygon
 from solver.errors import ScenarioError
-from solver.scenario import dumps_scenario, load_scenario, scenario_to_dict
 
 BOX_LIFT = PRESETS_DIR / "scenarios" / "box_lift.toml"
 

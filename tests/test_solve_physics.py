@@ -18,12 +18,12 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
+from solver import load_scenario
 from solver.bench import random_targets
 from solver.bodies import load_body
 from solver.errors import ManikinError
 from solver.iteration import DEFAULT_OPTIONS, RESTART_AT, SolverOptions, _iterate, restart_pose, solve
 from solver.problem import ExternalLoad, Loop, Problem, Target
-from solver.scenario import load_scenario
 
 REPO = Path(__file__).resolve().parents[1]
 BOX_LIFT = REPO / "presets" / "scenarios" / "box_lift.toml"
