@@ -35,3 +35,10 @@ def test_io_api_names_are_the_functions_whatever_loaded_first() -> None:
     expected = "solver.io.result_read solver.ergonomics solver.io.scenario_read solver.io.result_write solver.bodies"
     assert _run(code) == expected + " solver.motion solver.scenario"
     assert _run("import solver; print(all(getattr(solver, n) is not None for n in solver.__all__))") == "True"
+
+
+def test_ergonomics_and_the_result_reader_load_no_scipy() -> None:
+    """The Blender layer imports the ergonomics (worksheet bands) when it enables, in a Blender without scipy."""
+    code = "import sys, solver.ergonomics.worksheet, solver.io.result_read; " \
+           "print(sorted(m for m in sys.modules if m.startswith('scipy')))"  # fmt: skip
+    assert _run(code) == "[]"

@@ -16,7 +16,6 @@ import numpy as np
 from ..bodies import is_body_file, load_preset
 from ..errors import ManikinError
 from ..io.frame import Frame
-from ..io.scenario_read import scenario_manikin
 from ..model import Model
 
 
@@ -97,6 +96,9 @@ def _scenario_manikin(scenario: Path, result_dir: Path) -> Model:
     found = next((c for c in candidates if c.is_file()), None)
     if found is None:
         raise ManikinError(f"scenario file {str(scenario)!r} not found")
+    # imported here: the scenario reader loads scipy, and the Blender layer imports this package when it enables
+    from ..io.scenario_read import scenario_manikin
+
     return scenario_manikin(found)
 
 
