@@ -31,8 +31,20 @@ PACKAGE = "manikin"
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
 
 
-class BadInput(Exception):
-    """A user error: reported as one line, exit code 2."""
+def _usage_error() -> type[Exception]:
+    """``solver.errors.UsageError``: of the package this file belongs to, or (run as a script, outside any package)
+    loaded from ``solver/errors.py`` beside it, which imports nothing."""
+    if __package__:
+        root = __package__.rpartition(".")[0]
+        return importlib.import_module(f"{root}.solver.errors" if root else "solver.errors").UsageError
+    spec = importlib.util.spec_from_file_location("_manikin_batch_errors", ROOT / "solver" / "errors.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.UsageError
+
+
+class BadInput(_usage_error()):
+    """A user error: reported as one line, exit code 2 (a ``solver.errors.UsageError``, so a ``ManikinError``)."""
 
 
 class _Parser(argparse.ArgumentParser):

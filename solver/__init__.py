@@ -1,7 +1,22 @@
 """Manikin pose prediction: a balanced, comfort-maximising unified IK solver in NumPy/SciPy (no bpy).
 
-The names below load their module on first use (PEP 562), so ``from solver.errors import ManikinError`` or
-``solver.options`` costs nothing: the Blender add-on enables without importing the solver or scipy.
+The public API (every name loads its module on first use, PEP 562, so ``import solver``, ``solver.errors``,
+``solver.options`` and ``solver.presets`` cost nothing: the Blender add-on enables without NumPy or SciPy)::
+
+    model = solver.load_preset("male_50")            # or a body TOML path -> Model
+    scenario = solver.load_scenario("scene.toml")    # -> Scenario (model, problem, options, start, frames)
+    result = solver.solve(scenario.problem, scenario.start, scenario.options)        # -> Result
+    motion = solver.load_motion("lift.toml")         # a Scenario that has keyed targets or a frame range
+    solved = list(solver.solve_motion(motion))       # [(frame, Result), ...], each warm-started
+    report = solver.evaluate(result)                 # ergonomics: loads, RULA, REBA, OWAS, NIOSH, worksheet
+    solver.write_result("result.json", solved, motion.path)   # the result file (README "result JSON")
+    frames = solver.read_result("result.json")       # -> ResultFile: its typed frames; solver.evaluate takes it
+    text = solver.dumps_scenario(solver.scenario_to_dict(problem, {"preset": "male_50"}))  # scenario TOML
+
+Building blocks: ``Model``/``ModelBuilder``, ``Problem`` with ``Target``, ``Loop``, ``ExternalLoad``,
+``ComfortWeights``, ``SolverOptions``, ``Frame`` (a solved pose as world arrays: ``frame_of_result``),
+``ErgoOptions``. Every user error is a ``ManikinError``: ``ModelError``, ``ScenarioError``, ``ResultFileError``,
+``UsageError`` (:mod:`solver.errors`), with a one-line message naming the file, the key and what was expected.
 """
 
 from __future__ import annotations
@@ -11,7 +26,9 @@ from typing import TYPE_CHECKING
 
 _HOMES = {
     "ComfortWeights": "comfort",
+    "ErgoOptions": "ergonomics",
     "ExternalLoad": "problem",
+    "Frame": "io.frame",
     "Loop": "problem",
     "ManikinError": "errors",
     "Model": "model",
@@ -19,14 +36,32 @@ _HOMES = {
     "ModelError": "errors",
     "Problem": "problem",
     "Result": "result",
+    "ResultFile": "io.result_read",
+    "ResultFileError": "errors",
+    "Scenario": "scenario",
     "ScenarioError": "errors",
     "SolverOptions": "options",
     "Target": "problem",
+    "UsageError": "errors",
+    "dumps_scenario": "io.scenario_write",
+    "evaluate": "ergonomics",
+    "frame_of_result": "io.frame",
+    "load_motion": "io.scenario_read",
+    "load_preset": "bodies",
+    "load_scenario": "io.scenario_read",
+    "read_result": "io.result_read",
+    "result_to_dict": "io.result_write",
+    "scenario_to_dict": "io.scenario_write",
     "solve": "iteration",
+    "solve_motion": "motion",
+    "write_result": "io.result_write",
+    "write_scenario": "io.scenario_write",
 }
 __all__ = [
     "ComfortWeights",
+    "ErgoOptions",
     "ExternalLoad",
+    "Frame",
     "Loop",
     "ManikinError",
     "Model",
@@ -34,21 +69,46 @@ __all__ = [
     "ModelError",
     "Problem",
     "Result",
+    "ResultFile",
+    "ResultFileError",
+    "Scenario",
     "ScenarioError",
     "SolverOptions",
     "Target",
+    "UsageError",
+    "dumps_scenario",
+    "evaluate",
+    "frame_of_result",
+    "load_motion",
+    "load_preset",
+    "load_scenario",
+    "read_result",
+    "result_to_dict",
+    "scenario_to_dict",
     "solve",
+    "solve_motion",
+    "write_result",
+    "write_scenario",
 ]
 
 if TYPE_CHECKING:
+    from .bodies import load_preset
     from .comfort import ComfortWeights
-    from .errors import ManikinError, ModelError, ScenarioError
+    from .ergonomics import ErgoOptions, evaluate
+    from .errors import ManikinError, ModelError, ResultFileError, ScenarioError, UsageError
+    from .io.frame import Frame, frame_of_result
+    from .io.result_read import ResultFile, read_result
+    from .io.result_write import result_to_dict, write_result
+    from .io.scenario_read import load_motion, load_scenario
+    from .io.scenario_write import dumps_scenario, scenario_to_dict, write_scenario
     from .iteration import solve
     from .model import Model
     from .model_builder import ModelBuilder
+    from .motion import solve_motion
     from .options import SolverOptions
     from .problem import ExternalLoad, Loop, Problem, Target
     from .result import Result
+    from .scenario import Scenario
 
 
 def __getattr__(name: str) -> object:

@@ -8,42 +8,35 @@ on stderr naming the file, the key and what was expected).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from .errors import ManikinError
+from .errors import ManikinError, UsageError
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
 
 
 def _solve(args: argparse.Namespace) -> int:
-    from .motion import solve_frames
-    from .scenario import load_scenario, result_to_dict
+    from .io.result_write import write_result
+    from .io.scenario_read import load_scenario
+    from .motion import solve_motion
 
     scenario = load_scenario(args.scenario)
-    frames, failed, last = [], [], None
-    solved = solve_frames(scenario.problem_at, scenario.frames, scenario.start, scenario.options, scenario.limits)
-    for frame, result in solved:
-        frames.append(result_to_dict(result, frame))
-        last = result
+    solved, failed = [], []
+    for frame, result in solve_motion(scenario):
+        solved.append((frame, result))
         if not result.converged:
             failed.append(frame)
         if len(scenario.frames) > 1 and not args.quiet:
             status = "ok" if result.converged else "NOT converged: " + ", ".join(result.unmet)
             print(f"frame {frame}: {result.iterations} iterations, {result.time_s * 1e3:.1f} ms, {status}")
     if not args.quiet:
-        print(last.summary())
-        if len(frames) > 1:
+        print(solved[-1][1].summary())
+        if len(solved) > 1:
             missed = f"; not converged: {failed}" if failed else ""
-            print(f"{len(frames)} frames, {len(frames) - len(failed)} converged{missed}")
+            print(f"{len(solved)} frames, {len(solved) - len(failed)} converged{missed}")
     if args.output:
-        out = Path(args.output)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        payload = {"scenario": str(scenario.path), "frames": frames}
-        tmp = out.with_name(out.name + ".tmp")
-        tmp.write_text(json.dumps(payload, indent=1), encoding="utf-8")
-        tmp.replace(out)
+        out = write_result(args.output, solved, scenario.path)
         if not args.quiet:
             print(f"wrote {out}")
     return EXIT_NOT_CONVERGED if failed else EXIT_OK
@@ -98,7 +91,7 @@ def _urdf(args: argparse.Namespace) -> int:
     from .urdf import model_to_urdf, write_urdf
 
     if (args.preset is None) == (args.file is None):
-        raise ManikinError("urdf needs a manikin preset name or --file BODY.toml (one of them)")
+        raise UsageError("urdf needs a manikin preset name or --file BODY.toml (one of them)")
     model = load_body(preset=args.preset, file=args.file)
     if args.output:
         print(f"wrote {write_urdf(model, args.output)} ({model.n} joints, {len(model.tcps)} TCP frames)")

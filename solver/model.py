@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import ModelError
 from .spatial import cross, skew
-from .tree import TreeSums
+from .tree import TreeSums, descendants
 
 GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2, world frame
 EXTERIOR_JOINTS = ("root_tx", "root_ty", "root_tz", "root_rz", "root_rx", "root_ry")
@@ -61,14 +61,7 @@ class Model:
     _fk: _ForwardTables = field(init=False)
 
     def __post_init__(self) -> None:
-        n = len(self.joint_names)
-        desc = np.zeros((n, n), dtype=bool)
-        for k in range(n):
-            j = k
-            while j >= 0:
-                desc[j, k] = True
-                j = int(self.parent[j])
-        object.__setattr__(self, "descendant", desc)
+        object.__setattr__(self, "descendant", descendants(self.parent))
         object.__setattr__(self, "tree_sums", TreeSums(self.parent))
         object.__setattr__(self, "_fk", _ForwardTables.build(self))
         self.prismatic.setflags(write=False)

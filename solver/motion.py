@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,9 @@ from .options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOption
 from .problem import Problem, Target
 from .result import Result
 from .spatial import matrix_to_quat, quat_to_matrix, slerp
+
+if TYPE_CHECKING:
+    from .scenario import Scenario
 
 
 @dataclass(frozen=True)
@@ -111,3 +115,9 @@ def solve_frames(
                 )
         x = previous_x = result.x
         yield frame, result
+
+
+def solve_motion(scenario: Scenario) -> Iterator[tuple[int, Result]]:
+    """Solve every frame of ``scenario`` (one frame for a single pose) with its options and per-frame limits;
+    yields (frame, result) as :func:`solve_frames` does."""
+    return solve_frames(scenario.problem_at, scenario.frames, scenario.start, scenario.options, scenario.limits)

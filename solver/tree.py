@@ -54,3 +54,17 @@ class TreeSums:
         closed = np.zeros_like(entered)
         np.cumsum(values.take(self.by_end, axis=0), axis=0, out=closed[1:])
         return entered.take(self.after, axis=0) - closed.take(self.closed_before, axis=0)
+
+
+def descendants(parent: np.ndarray) -> np.ndarray:
+    """(n, n) bool: [j, k] when link k is in the subtree of link j, itself included (parent[i] < 0 for a root).
+
+    Each walk up stops after n steps, so a cycle of parents (a malformed file) cannot loop forever."""
+    n = len(parent)
+    below = np.zeros((n, n), dtype=bool)
+    for k in range(n):
+        j, steps = k, 0
+        while j >= 0 and steps <= n:
+            below[j, k] = True
+            j, steps = int(parent[j]), steps + 1
+    return below

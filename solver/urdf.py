@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .io.files import write_text
 from .model import Model
 
 RADIUS_ACROSS = 0.30  # radius of gyration across the link, fraction of its length
@@ -159,8 +160,5 @@ def model_to_urdf(model: Model) -> str:
 
 
 def write_urdf(model: Model, path: str | Path) -> Path:
-    """Write the URDF of ``model`` to ``path`` (parent folders created); returns the path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(model_to_urdf(model), encoding="utf-8")
-    return path
+    """Write the URDF of ``model`` to ``path`` (parent folders created, atomically); returns the path."""
+    return write_text(Path(path), model_to_urdf(model))

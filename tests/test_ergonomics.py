@@ -14,9 +14,9 @@ import pytest
 
 from solver.bodies import load_body
 from solver.ergonomics import ErgoOptions, evaluate, niosh, owas, reba, rula, run
-from solver.ergonomics.frames import parse_frame
 from solver.ergonomics.loads import disc_compression, joint_moments, percent_of_strength
 from solver.ergonomics.postures import measure
+from solver.io.result_read import frame_from_dict, result_from_dict
 from solver.spatial import matrix_to_quat
 
 REPO = Path(__file__).resolve().parents[1]
@@ -84,16 +84,16 @@ def test_shoulder_moment_arm_horizontal_with_5kg_is_the_hand_calculation(male) -
         (5.0, ua + fa + 0.30 * hand),
     ]
     expected = G * sum(kg * lever for kg, lever in parts)
-    frame = parse_frame(frame_dict(male, pose(male, shoulder_r_flexion=math.pi / 2),
+    frame = frame_from_dict(frame_dict(male, pose(male, shoulder_r_flexion=math.pi / 2),
                                    loads=(("hand_r", (0.0, 0.0, -5.0 * G)),)), "test")  # fmt: skip
     _, tau, _ = joint_moments(frame)
     i = frame.index["shoulder_r_flexion"]
     # the load pulls the arm down = extension: negative about the flexion axis; muscles flex (capacity 91 N*m)
     assert tau[i] == pytest.approx(-expected, rel=2e-3)
     assert expected == pytest.approx(40.0, abs=3.0)  # about 5 kg * 0.6 m + the arm's own weight
-    report = evaluate({"frames": [frame_dict(male, pose(male, shoulder_r_flexion=math.pi / 2),
-                                              loads=(("hand_r", (0.0, 0.0, -5.0 * G)),))]},
-                      ErgoOptions(manikin="male_50"), Path("memory.json"))  # fmt: skip
+    report = evaluate(result_from_dict({"frames": [frame_dict(male, pose(male, shoulder_r_flexion=math.pi / 2),
+                                                               loads=(("hand_r", (0.0, 0.0, -5.0 * G)),))]}),
+                      ErgoOptions(manikin="male_50"))  # fmt: skip
     load = report["frames"][0]["joint_loads"]["shoulder_r_flexion"]
     assert load["percent_strength"] == pytest.approx(expected / 91.0 * 100.0, rel=2e-3)
 
@@ -128,14 +128,14 @@ def tiny_trunk(load_kg: float = 10.0) -> dict:
 def test_l4_l5_moment_and_compression_by_hand() -> None:
     """M = g (40 kg * 0.2 m + 10 kg * 0.4 m) = 117.72 N*m; F = M / 0.05 m + g * 50 kg = 2844.9 N (Chaffin)."""
     assert disc_compression(100.0, 500.0) == pytest.approx(100.0 / 0.05 + 500.0)
-    report = evaluate({"frames": [tiny_trunk()]}, ErgoOptions(), Path("memory.json"))
+    report = evaluate(result_from_dict({"frames": [tiny_trunk()]}), ErgoOptions())
     l45 = report["frames"][0]["joint_loads"]["l4_l5"]
     assert l45["flexion_moment"] == pytest.approx(G * (40 * 0.2 + 10 * 0.4))
     assert l45["moment"] == pytest.approx([G * 12.0, 0.0, 0.0])
     assert l45["axial_force"] == pytest.approx(G * 50.0)
     assert l45["compression"] == pytest.approx(G * 12.0 / 0.05 + G * 50.0)
     assert l45["level"] == "green"
-    heavy = evaluate({"frames": [tiny_trunk(60.0)]}, ErgoOptions(), Path("m.json"))["frames"][0]
+    heavy = evaluate(result_from_dict({"frames": [tiny_trunk(60.0)]}), ErgoOptions())["frames"][0]
     assert heavy["joint_loads"]["l4_l5"]["compression"] > 6400 and heavy["joint_loads"]["l4_l5"]["level"] == "red"
     assert heavy["rula"]["score"] is None and "not a human" in heavy["rula"]["reason"]
 
@@ -268,7 +268,7 @@ def test_reba_example_neck2_trunk2_legs2_arm1_forearm2_wrist3() -> None:
 def test_rula_and_reba_of_the_zero_pose(male) -> None:
     """Standing upright, arms hanging: RULA lower arm 2 (elbow straight), everything else 1 -> grand score 2;
     REBA 1 (negligible)."""
-    frame = parse_frame(frame_dict(male, male.zero_pose()), "zero")
+    frame = frame_from_dict(frame_dict(male, male.zero_pose()), "zero")
     p = measure(frame)
     for key in ("trunk_flexion", "trunk_side_bend", "trunk_twist", "neck_flexion", "head_tilt"):
         assert p[key] == pytest.approx(0.0, abs=1e-6)
@@ -280,14 +280,14 @@ def test_rula_and_reba_of_the_zero_pose(male) -> None:
 
 
 def test_body_angles_on_known_poses(male) -> None:
-    lean = measure(parse_frame(frame_dict(male, pose(male, root_rx=math.radians(30))), "lean"))
+    lean = measure(frame_from_dict(frame_dict(male, pose(male, root_rx=math.radians(30))), "lean"))
     assert lean["trunk_flexion"] == pytest.approx(30.0, abs=1e-6)  # whole body tipped forward 30 deg
     assert lean["neck_flexion"] == pytest.approx(0.0, abs=1e-6) and lean["head_tilt"] == pytest.approx(30.0)
-    arm = measure(parse_frame(frame_dict(male, pose(male, shoulder_r_flexion=math.pi / 2,
+    arm = measure(frame_from_dict(frame_dict(male, pose(male, shoulder_r_flexion=math.pi / 2,
                                                      elbow_l_flexion=math.pi / 2)), "arm"))  # fmt: skip
     assert arm["r"]["upper_arm_elevation"] == pytest.approx(90.0) and arm["r"]["upper_arm_flexion"] == pytest.approx(90)
     assert arm["l"]["elbow_flexion"] == pytest.approx(90.0)
-    side = measure(parse_frame(frame_dict(male, pose(male, shoulder_l_abduction=math.radians(60))), "abd"))
+    side = measure(frame_from_dict(frame_dict(male, pose(male, shoulder_l_abduction=math.radians(60))), "abd"))
     assert side["l"]["upper_arm_abduction"] == pytest.approx(60.0)
     assert side["l"]["upper_arm_flexion"] == pytest.approx(0.0, abs=1e-9)
 

@@ -26,3 +26,19 @@ def test_package_names_are_the_objects_whatever_loaded_first() -> None:
     code = "import solver.motion, solver.scenario; from solver import solve, Problem, SolverOptions; " \
            "print(callable(solve), solve.__module__, Problem.__module__, SolverOptions().max_iterations)"  # fmt: skip
     assert _run(code) == "True solver.iteration.phases solver.problem 100"
+
+
+def test_io_api_names_are_the_functions_whatever_loaded_first() -> None:
+    code = "import solver.io.result_read, solver.ergonomics, solver.scenario; import solver; " \
+           "print(*(getattr(solver, n).__module__ for n in ('read_result', 'evaluate', 'load_scenario', " \
+           "'write_result', 'load_preset', 'solve_motion', 'Scenario')))"  # fmt: skip
+    expected = "solver.io.result_read solver.ergonomics solver.io.scenario_read solver.io.result_write solver.bodies"
+    assert _run(code) == expected + " solver.motion solver.scenario"
+    assert _run("import solver; print(all(getattr(solver, n) is not None for n in solver.__all__))") == "True"
+
+
+def test_ergonomics_and_the_result_reader_load_no_scipy() -> None:
+    """The Blender layer imports the ergonomics (worksheet bands) when it enables, in a Blender without scipy."""
+    code = "import sys, solver.ergonomics.worksheet, solver.io.result_read; " \
+           "print(sorted(m for m in sys.modules if m.startswith('scipy')))"  # fmt: skip
+    assert _run(code) == "[]"

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from solver import load_scenario
 from solver.iteration import solve
 from solver.motion import Key, MotionLimits, Track, solve_frames
-from solver.scenario import load_scenario
 from solver.spatial import exp_so3, log_so3
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,13 +10,13 @@ import pytest
 from helpers import finite_difference
 from scipy.spatial.transform import Rotation
 
+from solver import load_scenario
 from solver.bodies import load_body
 from solver.errors import ScenarioError
 from solver.iteration import solve
 from solver.motion import MotionLimits, variable_steps
 from solver.problem import Problem, Target
 from solver.reduction import DEFAULT_GROUPS, GROUPS
-from solver.scenario import load_scenario
 from solver.shoulder_rhythm import JOINTS, LOWER, REST, UPPER, bone_angles_deg, build_rhythm, rhythm_angles
 
 ROOT = Path(__file__).resolve().parents[1]

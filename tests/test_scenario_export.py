@@ -1,4 +1,4 @@
-"""Scenario export (solver/scenario.py: scenario_to_dict, dumps_scenario): what is written reads back the same."""
+"""Scenario export (solver/io/scenario_write.py): what scenario_to_dict and dumps_scenario write reads back the same."""
 
 from __future__ import annotations
 
@@ -8,11 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import Problem, solve
+from solver import Problem, dumps_scenario, load_scenario, scenario_to_dict, solve, write_scenario
 from solver.bodies import PRESETS_DIR
 from solver.contacts import support_polygon
 from solver.errors import ScenarioError
-from solver.scenario import dumps_scenario, load_scenario, scenario_to_dict
 
 BOX_LIFT = PRESETS_DIR / "scenarios" / "box_lift.toml"
 
@@ -36,9 +35,8 @@ def test_box_lift_round_trip(tmp_path: Path) -> None:
     result = solve(sc.problem, sc.start, sc.options)
     options = dataclasses.replace(sc.options, restarts=3)
     data = scenario_to_dict(sc.problem, {"preset": "male_50"}, options, start=result.x, name="box lift again")
-    path = tmp_path / "again.toml"
-    path.write_text(dumps_scenario(data), encoding="utf-8")
-    again = load_scenario(path)
+    again = load_scenario(write_scenario(tmp_path / "again.toml", data))
+    assert again.path.read_text(encoding="utf-8") == dumps_scenario(data)
     _same_problem(sc.problem, again.problem)
     np.testing.assert_allclose(again.start[: sc.model.n], result.theta, atol=1e-12)
     assert again.options.max_iterations == sc.options.max_iterations

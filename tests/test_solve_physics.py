@@ -18,6 +18,7 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
+from solver import load_scenario
 from solver.bench import random_targets
 from solver.bodies import load_body
 from solver.comfort import JointRange
@@ -26,7 +27,6 @@ from solver.iteration import TUNING, LeastSquares, StopReason, restart_pose, sol
 from solver.iteration.loop import run_phase
 from solver.options import DEFAULT_OPTIONS, SolverOptions
 from solver.problem import ExternalLoad, Loop, Problem, Target
-from solver.scenario import load_scenario
 
 REPO = Path(__file__).resolve().parents[1]
 BOX_LIFT = REPO / "presets" / "scenarios" / "box_lift.toml"

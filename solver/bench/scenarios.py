@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import PRESETS_DIR
+from ..io.scenario_read import load_scenario
 from ..iteration import solve
 from ..problem import Problem
-from ..scenario import load_scenario
 
 SCENARIOS = ("box_lift", "box_lift_high", "snake_pose_a", "snake_pose_b")
 WARM_SCENARIO = "box_lift"

@@ -26,7 +26,16 @@ from ..presets import MANIKINS_DIR, PRESETS_DIR, list_presets
 from .human import build_human, validate_human
 from .snake import build_snake, validate_snake
 
-__all__ = ["PRESETS_DIR", "MANIKINS_DIR", "build_human", "build_snake", "load_body", "list_presets", "body_from_dict"]
+__all__ = [
+    "PRESETS_DIR",
+    "MANIKINS_DIR",
+    "build_human",
+    "build_snake",
+    "load_body",
+    "load_preset",
+    "list_presets",
+    "body_from_dict",
+]
 
 
 _COMMON_KEYS = {"kind", "name", "percentile", "source"}
@@ -34,6 +43,19 @@ _KEYS = {
     "human": _COMMON_KEYS | {"sex", "stature", "mass"},
     "snake": _COMMON_KEYS | {"segments", "segment_length", "segment_mass"},
 }
+
+
+def is_body_file(name_or_path: str | Path) -> bool:
+    """Whether ``name_or_path`` names a body TOML file (a Path, a ``.toml`` name or a path with a folder)."""
+    text = str(name_or_path)
+    return isinstance(name_or_path, Path) or text.endswith(".toml") or "/" in text or "\\" in text
+
+
+def load_preset(name_or_path: str | Path) -> Model:
+    """A manikin preset by name (``"male_50"``, see :func:`list_presets`) or a body TOML file by path."""
+    if is_body_file(name_or_path):
+        return load_body(file=name_or_path)
+    return load_body(preset=str(name_or_path))
 
 
 def load_body(preset: str | None = None, file: str | Path | None = None) -> Model:

@@ -1,33 +1,76 @@
 """Ergonomic evaluation of solved poses and motions (issue 6): joint loads, RULA, REBA, OWAS, NIOSH, a worksheet.
 
-Works from a result file alone (README "result JSON"); the manikin named by the result's scenario (or
-``ErgoOptions.manikin``) supplies joint strengths and the standard working area. One module, one job:
-``frames`` (reading), ``manikin`` (strengths, working area), ``loads``, ``postures``, ``rula``, ``reba``, ``owas``,
-``niosh``, ``worksheet``, ``report`` (JSON, CSV), ``plots`` (PNG).
+Works on typed frames (:class:`solver.io.frame.Frame`): from a :class:`~solver.Result` directly or from a
+result file (README "result JSON"). The manikin (the result's own, ``ErgoOptions.manikin`` or the one the
+result file's scenario names) supplies joint strengths and the standard working area. One module, one job:
+``manikin`` (strengths, working area), ``loads``, ``postures``, ``rula``, ``reba``, ``owas``, ``niosh``,
+``worksheet``, ``report`` (the evaluation of all frames, JSON, CSV), ``plots`` (PNG).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 
-from .frames import ErgonomicsInputError, read_result
+from ..errors import UsageError
+from ..io.frame import Frame, frame_of_result
+from ..io.result_read import ResultFile, read_result
+from ..model import Model
+from ..result import Result
+from .manikin import resolve_model
 from .options import ErgoOptions
-from .report import evaluate, write_csv, write_json
+from .report import evaluate_frames, write_csv, write_json
 
-__all__ = ["ErgoOptions", "ErgonomicsInputError", "evaluate", "read_result", "run"]
+__all__ = ["ErgoOptions", "evaluate", "run"]
+
+Source = Result | ResultFile | Iterable[Frame] | Iterable[tuple[int, Result]]
 
 
-def run(result: str | Path, output: str | Path, options: ErgoOptions | None = None, plots: bool = True) -> dict:
-    """Evaluate ``result`` and write ``output`` (JSON), the CSV beside it (same stem) and, if ``plots``, the PNGs
-    ``<stem>_loads.png``, ``<stem>_scores.png`` and ``<stem>_back.png``. Returns the report and the written paths
-    under ``"written"``."""
+def evaluate(source: Source, options: ErgoOptions | None = None, model: Model | None = None) -> dict:
+    """The ergonomic report of ``source``: a Result (frame 1), (frame, Result) pairs as :func:`solver.solve_motion`
+    yields, a read result file (:func:`solver.read_result`) or typed frames.
+
+    The manikin for strengths and the working area: ``model`` if given, else ``options.manikin`` (preset or
+    body file), else the solved problem's own model, else the manikin of the result file's scenario.
+    """
+    options = checked(options)
+    frames, own, scenario, path = _frames_of(source)
+    if model is not None:
+        note = f"model {model.name}"
+    elif own is not None and not options.manikin:
+        model, note = own, f"model {own.name} of the result"
+    else:
+        model, note = resolve_model(options.manikin, scenario, path.parent if path else Path("."))
+    return evaluate_frames(frames, options, model, note, str(path) if path else None, scenario)
+
+
+def checked(options: ErgoOptions | None) -> ErgoOptions:
+    """``options`` (default: ErgoOptions()) after their check; a bad value is one UsageError line."""
     options = options or ErgoOptions()
     try:
         options.check()
     except ValueError as exc:
-        raise ErgonomicsInputError(f"options: {exc}") from None
-    result, output = Path(result), Path(output)
-    report = evaluate(read_result(result), options, result)
+        raise UsageError(f"options: {exc}") from None
+    return options
+
+
+def _frames_of(source: Source) -> tuple[list[Frame], Model | None, str | None, Path | None]:
+    """(frames, the solved problem's model or None, the scenario named, the result file's path)."""
+    if isinstance(source, ResultFile):
+        return source.frames, None, source.scenario, source.path
+    items = [(1, source)] if isinstance(source, Result) else list(source)
+    frames = [item if isinstance(item, Frame) else frame_of_result(item[1], item[0]) for item in items]
+    own = next((item[1].problem.model for item in items if not isinstance(item, Frame)), None)
+    return frames, own, None, None
+
+
+def run(result: str | Path, output: str | Path, options: ErgoOptions | None = None, plots: bool = True) -> dict:
+    """Evaluate the result file ``result`` and write ``output`` (JSON), the CSV beside it (same stem) and, if
+    ``plots``, the PNGs ``<stem>_loads.png``, ``<stem>_scores.png`` and ``<stem>_back.png``. Returns the report and
+    the written paths under ``"written"``."""
+    options = checked(options)
+    output = Path(output)
+    report = evaluate(read_result(result), options)
     write_json(report, output)
     written = [output, output.with_suffix(".csv")]
     write_csv(report, written[1])

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from .frames import Frame
+from ..io.frame import Frame
 
 MUSCLE_MOMENT_ARM = 0.05  # m, single equivalent extensor muscle about L4/L5 (Chaffin et al., see above)
 DISC_ACTION_LIMIT = 3400.0  # N, NIOSH 1981 action limit

@@ -8,17 +8,15 @@ carry ``strength`` ([negative, positive] capacity, N*m, null = unlimited), else 
 
 from __future__ import annotations
 
-import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..bodies import load_body
+from ..bodies import is_body_file, load_preset
 from ..errors import ManikinError
+from ..io.frame import Frame
 from ..model import Model
-from .frames import Frame
 
 
 @dataclass(frozen=True)
@@ -92,22 +90,16 @@ def working_area(model: Model) -> WorkingArea | None:
     )
 
 
-def _scenario_manikin(scenario: str, result_dir: Path) -> Model:
-    path = Path(scenario)
-    candidates = [path] if path.is_absolute() else [path, result_dir / path]
+def _scenario_manikin(scenario: Path, result_dir: Path) -> Model:
+    """The manikin of the scenario a result names (relative paths: from the working or the result's folder)."""
+    candidates = [scenario] if scenario.is_absolute() else [scenario, result_dir / scenario]
     found = next((c for c in candidates if c.is_file()), None)
     if found is None:
-        raise ManikinError(f"scenario file {scenario!r} not found")
-    try:
-        table = tomllib.loads(found.read_text(encoding="utf-8")).get("manikin", {})
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise ManikinError(f"cannot read {found}: {exc}") from None
-    if isinstance(table.get("preset"), str):
-        return load_body(preset=table["preset"])
-    if isinstance(table.get("file"), str):
-        body = Path(table["file"])
-        return load_body(file=body if body.is_absolute() else found.parent / body)
-    raise ManikinError(f"{found}: [manikin] names neither a preset nor a file")
+        raise ManikinError(f"scenario file {str(scenario)!r} not found")
+    # imported here: the scenario reader loads scipy, and the Blender layer imports this package when it enables
+    from ..io.scenario_read import scenario_manikin
+
+    return scenario_manikin(found)
 
 
 def resolve_model(manikin: str | None, scenario: str | None, result_dir: Path) -> tuple[Model | None, str]:
@@ -117,11 +109,10 @@ def resolve_model(manikin: str | None, scenario: str | None, result_dir: Path) -
     """
     try:
         if manikin:
-            if manikin.endswith(".toml"):
-                return load_body(file=manikin), f"body file {manikin}"
-            return load_body(preset=manikin), f"preset {manikin}"
+            kind = "body file" if is_body_file(manikin) else "preset"
+            return load_preset(manikin), f"{kind} {manikin}"
         if scenario:
-            return _scenario_manikin(scenario, result_dir), f"manikin of scenario {scenario}"
+            return _scenario_manikin(Path(scenario), result_dir), f"manikin of scenario {scenario}"
     except ManikinError as exc:
         return None, f"no manikin: {exc}"
     return None, "no manikin: the result names no scenario and no --manikin was given"
@@ -132,10 +123,7 @@ def strengths(frame: Frame, model: Model | None) -> tuple[np.ndarray, str]:
     n = len(frame.joint_names)
     out = np.full((n, 2), np.nan)
     if frame.joint_strength is not None:
-        for i, s in enumerate(frame.joint_strength):
-            if isinstance(s, list) and len(s) == 2:
-                out[i] = [math.inf if v is None else float(v) for v in s]
-        return out, "result file (joints' strength)"
+        return frame.joint_strength.copy(), "result file (joints' strength)"
     if model is None:
         return out, "unknown (no manikin)"
     names = dict(zip(model.joint_names, model.strength, strict=True))

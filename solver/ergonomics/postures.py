@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from .frames import Frame
+from ..io.frame import Frame
 from .manikin import feet_frame
 
 SIDES = ("l", "r")

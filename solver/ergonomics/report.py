@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import csv
-import json
 import math
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
+from ..io.files import write_json as write_file
+from ..io.frame import Frame
+from ..io.result_read import result_from_dict
+from ..model import Model
 from . import niosh, postures
-from .frames import parse_frames
 from .loads import joint_loads
 from .manikin import resolve_model, strengths, working_area
 from .options import ErgoOptions
@@ -51,11 +54,17 @@ def clean(value):
     return value
 
 
-def evaluate(data: dict, options: ErgoOptions, result_path: Path) -> dict:
-    """Everything for every frame of a parsed result file (see the README section of the ``ergo`` command)."""
-    frames = parse_frames(data, str(result_path))
-    scenario = data.get("scenario") if isinstance(data.get("scenario"), str) else None
-    model, model_note = resolve_model(options.manikin, scenario, result_path.parent)
+def evaluate_frames(
+    frames: Sequence[Frame],
+    options: ErgoOptions,
+    model: Model | None,
+    model_note: str,
+    result: str | None = None,
+    scenario: str | None = None,
+) -> dict:
+    """Everything for every frame (see the README section of the ``ergo`` command). ``model`` supplies strengths
+    the frames lack and the working area (``model_note`` says where it came from); ``result`` and ``scenario``
+    name the files the report is about."""
     area = working_area(model) if model is not None else None
     lift = niosh.lift(frames, options)
     d = lift["origin"]["D"] if "origin" in lift else 25.0
@@ -82,7 +91,7 @@ def evaluate(data: dict, options: ErgoOptions, result_path: Path) -> dict:
         )
     return clean(
         dict(
-            result=str(result_path),
+            result=result,
             scenario=scenario,
             manikin=model_note,
             strength=strength_note,
@@ -95,11 +104,17 @@ def evaluate(data: dict, options: ErgoOptions, result_path: Path) -> dict:
     )
 
 
+def evaluate(data: dict, options: ErgoOptions, result_path: Path) -> dict:
+    """Deprecated (kept for blender_manikin until it calls :func:`solver.evaluate`): the evaluation of a parsed
+    result file ``data`` (JSON dict) found at ``result_path``."""
+    read = result_from_dict(data, result_path)
+    model, note = resolve_model(options.manikin, read.scenario, result_path.parent)
+    return evaluate_frames(read.frames, options, model, note, str(result_path), read.scenario)
+
+
 def write_json(report: dict, path: Path) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(report, indent=1, allow_nan=False), encoding="utf-8")
-    tmp.replace(path)
+    """The report as JSON (no NaN: :func:`clean` made them null)."""
+    write_file(path, report, allow_nan=False)
 
 
 def _get(d: dict | None, *keys):

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .frames import Frame
+from ..io.frame import Frame
 from .manikin import WorkingArea, feet_frame, to_feet
 
 ISO = "ISO 11226 / EN 1005-4"

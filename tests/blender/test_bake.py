@@ -11,10 +11,9 @@ import numpy as np
 import pytest
 
 from blender_manikin.rig import RigLayout
-from solver import Problem
+from solver import Problem, load_scenario
 from solver.bodies import load_body
 from solver.motion import solve_frames
-from solver.scenario import load_scenario
 from solver.spatial import log_so3
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from environments import ROOT, run_python
 
-from solver.ergonomics import read_result
+from solver import read_result
 
 BATCH = ROOT / "blender_manikin" / "batch.py"
 SNAKE = ROOT / "presets" / "scenarios" / "snake_motion.toml"
@@ -67,7 +67,7 @@ def test_batch_writes_every_output(tmp_path: Path, run) -> None:
         # each locked axis within 1 mm (so the 3-axis norm within sqrt(3) mm); force balance within 1 N
         assert frame["residuals"]["top.position"] < 3**0.5 * 1e-3 and frame["residuals"]["balance.force"] < 1.0
         assert set(frame["ergonomics"]) >= {"rula", "reba", "owas", "worksheet", "niosh", "joint_loads", "posture"}
-    assert len(read_result(out / "result.json")["frames"]) == 6  # python -m solver ergo reads it
+    assert len(read_result(out / "result.json").frames) == 6  # python -m solver ergo reads it
     import matplotlib.image
 
     picture = matplotlib.image.imread(out / "poses.png")

@@ -13,10 +13,9 @@ import pytest
 from environments import run_python
 
 from blender_manikin.rig import RigLayout
-from solver import Problem
+from solver import Problem, load_scenario
 from solver.bodies import load_body
 from solver.model import GRAVITY
-from solver.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 MM = 1e-3

@@ -1,0 +1,96 @@
+"""The typed frame: one solved pose as world-space arrays, from a :class:`~solver.Result` or a result file.
+
+Everything the ergonomics needs and the result file holds per frame: joints (value, limits, world position and
+axis, type, the link each moves, strength), links (parent, mass, world centre of mass), TCP frames, gravity,
+contact wrenches and external loads. Units: m, N, N*m, kg, rad.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..model import GRAVITY
+from ..tree import descendants
+
+if TYPE_CHECKING:
+    from ..result import Result
+
+
+@dataclass
+class Frame:
+    """One frame as arrays. Joint i moves link ``joint_link[i]``; ``below[j, k]``: link k in the subtree of link j
+    (itself included)."""
+
+    number: int
+    converged: bool | None
+    joint_names: list[str]
+    joint_value: np.ndarray  # (n,) rad or m
+    joint_range: np.ndarray  # (n, 2) lower, upper limit (rad or m), +-inf if none
+    joint_position: np.ndarray  # (n, 3) m, world
+    joint_axis: np.ndarray  # (n, 3) unit, world
+    prismatic: np.ndarray  # (n,) bool
+    joint_link: np.ndarray  # (n,) int, index into links
+    joint_strength: np.ndarray | None  # (n, 2) capacity [negative, positive], inf unlimited, NaN unknown
+    link_names: list[str]
+    link_parent: np.ndarray  # (L,) int, -1 for a root
+    link_mass: np.ndarray  # (L,) kg
+    link_com: np.ndarray  # (L, 3) m
+    tcp_position: dict[str, np.ndarray]
+    tcp_rotation: dict[str, np.ndarray]  # 3x3, world
+    tcp_link: dict[str, int]
+    gravity: np.ndarray
+    contacts: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]  # (tcp, point, force, moment about the point)
+    loads: list[tuple[str, np.ndarray, np.ndarray]]  # (tcp, point, force)
+    below: np.ndarray = field(init=False)  # (L, L) bool
+    index: dict[str, int] = field(init=False)  # joint name -> index
+
+    def __post_init__(self) -> None:
+        self.below = descendants(self.link_parent)
+        self.index = {n: i for i, n in enumerate(self.joint_names)}
+
+    def joint(self, name: str) -> int | None:
+        """Index of joint ``name`` or None."""
+        return self.index.get(name)
+
+    def has(self, *names: str) -> bool:
+        return all(n in self.index for n in names)
+
+    def pos(self, name: str) -> np.ndarray:
+        return self.joint_position[self.index[name]]
+
+    def value(self, name: str) -> float:
+        return float(self.joint_value[self.index[name]])
+
+
+def frame_of_result(result: Result, number: int = 1) -> Frame:
+    """The frame of a solve's result (what its result file would hold, without writing it)."""
+    problem = result.problem
+    model = problem.model
+    state = result.state
+    kin = state.kin
+    frames = {name: kin.tcp_frame(tcp) for name, tcp in model.tcps.items()}
+    return Frame(
+        number=number,
+        converged=result.converged,
+        joint_names=list(model.joint_names),
+        joint_value=result.theta.copy(),
+        joint_range=np.column_stack([model.lower, model.upper]),
+        joint_position=kin.position.copy(),
+        joint_axis=kin.axis.copy(),
+        prismatic=model.prismatic.copy(),
+        joint_link=np.arange(model.n),
+        joint_strength=model.strength.copy(),
+        link_names=list(model.link_names),
+        link_parent=np.asarray(model.parent, dtype=int).copy(),
+        link_mass=model.mass.copy(),
+        link_com=kin.com.copy(),
+        tcp_position={name: pos for name, (_, pos) in frames.items()},
+        tcp_rotation={name: rot for name, (rot, _) in frames.items()},
+        tcp_link={name: tcp.link for name, tcp in model.tcps.items()},
+        gravity=np.asarray(GRAVITY, dtype=float).copy(),
+        contacts=[(c["tcp"], c["point"], c["force"], c["moment"]) for c in result.contacts],
+        loads=[(ld.tcp.name, p, ld.force) for ld, p in zip(problem.loads, state.statics.load_points, strict=True)],
+    )

@@ -1,0 +1,216 @@
+"""Scenario TOML -> :class:`~solver.scenario.Scenario`: every key checked, every problem one ScenarioError line.
+
+The format is the README's "Scenario files". Units: m, rad, N, kg; rotations are quaternions (w, x, y, z).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from ..bodies import load_body
+from ..comfort import ComfortWeights
+from ..errors import ManikinError, ScenarioError
+from ..model import GRAVITY, Model
+from ..motion import Key, Track, targets_at
+from ..options import AXES, DEFAULT_OPTIONS, MotionLimits, SolverOptions
+from ..problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
+from ..reduction import DEFAULT_GROUPS, GROUPS
+from ..scenario import Scenario
+from .files import read_text
+from .table_reader import TableReader
+
+SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
+            "description"}  # fmt: skip
+TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
+               "name", "keys"}  # fmt: skip
+LOOP_KEYS = {"tcp", "other", "offset_position", "offset_rotation", "lock", "operator", "weight"}
+
+
+def read_toml(path: Path) -> TableReader:
+    """A reader of the TOML file ``path``; an empty, missing or malformed file is one ScenarioError line."""
+    text = read_text(path, ScenarioError)
+    if not text.strip():
+        raise ScenarioError(f"{path}: the file is empty; expected a scenario with [manikin] and [[targets]]")
+    try:
+        return TableReader(path, tomllib.loads(text), error=ScenarioError)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{path}: malformed TOML ({exc})") from None
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file into a ready-to-solve :class:`Scenario`."""
+    path = Path(path)
+    root = read_toml(path)
+    root.known(SECTIONS)
+    model = read_manikin(root.table("manikin"))
+    balance, reduction, options = _read_solver(root.table("solver"))
+    comfort = root.table("comfort")
+    comfort.known({"range", "load", "contact"})
+    weights = ComfortWeights(
+        comfort.number("range", 1.0, 0.0), comfort.number("load", 1.0, 0.0), comfort.number("contact", 0.01, 0.0)
+    )
+    read = [_read_target(t, model) for t in root.table_list("targets")]
+    targets = [target for target, _ in read]
+    tracks = [Track(i, keys) for i, (_, keys) in enumerate(read) if keys]
+    loads = [_read_load(t, model) for t in root.table_list("loads")]
+    loops = [_read_loop(t, model) for t in root.table_list("loops")]
+    if not targets and not loops:
+        raise root.fail("targets", "at least one [[targets]] entry")
+    if balance and not any(t.support and t.enabled for t in targets):
+        raise root.fail("targets", "a target with support = true when [solver] balance = true")
+    frames, limits = _read_motion(root, tracks)
+    try:
+        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction)
+    except ManikinError as exc:
+        raise ScenarioError(f"{path}: {exc}") from None
+    start = _read_start(root.table("start"), model, problem)
+    return Scenario(path, model, problem, options, start, frames, tracks, limits)
+
+
+def load_motion(path: str | Path) -> Scenario:
+    """A scenario that is a motion (keyed targets or a [motion] frame range); a single pose is a ScenarioError."""
+    scenario = load_scenario(path)
+    if not scenario.is_motion:
+        raise ScenarioError(
+            f"{scenario.path}: motion: expected keyed targets ([[targets.keys]]) or a [motion] range of frames, "
+            "got a single pose"
+        )
+    return scenario
+
+
+def scenario_manikin(path: Path) -> Model:
+    """The body named by the [manikin] table of the scenario file ``path`` (the rest of the file unread)."""
+    return read_manikin(read_toml(path).table("manikin"))
+
+
+def read_manikin(t: TableReader) -> Model:
+    """[manikin] preset = "name" or file = "body.toml" (relative to the scenario's folder)."""
+    t.known({"preset", "file"})
+    which = t.exactly_one("preset", "file", 'exactly one of preset = "male_50" or file = "body.toml"')
+    try:
+        if which == "preset":
+            return load_body(preset=t.string("preset"))
+        body = Path(t.string("file"))
+        return load_body(file=body if body.is_absolute() else Path(t.path).parent / body)
+    except ManikinError as exc:
+        raise ScenarioError(f"{t.path}: manikin: {exc}") from None
+
+
+def _read_solver(t: TableReader) -> tuple[bool, tuple[str, ...], SolverOptions]:
+    """[solver]: balance, the reduction groups and the iteration options."""
+    t.known({"balance", "reduction", "max_iterations", "comfort", "restarts"})
+    options = SolverOptions(
+        max_iterations=int(t.number("max_iterations", DEFAULT_OPTIONS.max_iterations, 1, 100000)),
+        optimize_comfort=t.boolean("comfort", True),
+        restarts=int(t.number("restarts", DEFAULT_OPTIONS.restarts, 0, 10)),
+    )
+    return t.boolean("balance", True), _read_reduction(t), options
+
+
+def _read_reduction(t: TableReader) -> tuple[str, ...]:
+    """[solver] reduction = true (every group but the opt-in shoulder rhythm), false, or a list of groups."""
+    value = t.get("reduction", False)
+    if isinstance(value, bool):
+        return DEFAULT_GROUPS if value else ()
+    if isinstance(value, list) and all(isinstance(g, str) for g in value) and all(g in GROUPS for g in value):
+        return tuple(value)
+    raise t.fail("reduction", "true, false or a list of groups from " + ", ".join(GROUPS), value)
+
+
+def _read_motion(root: TableReader, tracks: list[Track]) -> tuple[list[int], MotionLimits | None]:
+    """Frames to solve and per-frame change limits: [motion] start/end/step, else the keys' span."""
+    motion = root.table("motion")
+    motion.known({"start", "end", "step", "max_joint_change", "max_root_shift", "bounded"})
+    keyed = [k.frame for track in tracks for k in track.keys]
+    first = int(root.number("frame", 1, -1e9, 1e9)) if not keyed else min(keyed)
+    start = int(motion.number("start", first, -1e9, 1e9))
+    end = int(motion.number("end", max(keyed) if keyed else start, start, 1e9))
+    step = int(motion.number("step", 1, 1, 1e6))
+    frames = list(range(start, end + 1, step))
+    if len(frames) > 100000:
+        raise motion.fail("end", "at most 100000 frames")
+    limits = MotionLimits(
+        motion.number("max_joint_change", MotionLimits.max_joint_change, 1e-6, 10.0),
+        motion.number("max_root_shift", MotionLimits.max_root_shift, 1e-6, 100.0),
+    )
+    return frames, limits if motion.boolean("bounded", True) else None
+
+
+def _read_target(t: TableReader, model: Model) -> tuple[Target, tuple[Key, ...]]:
+    """One [[targets]] entry and its keys (empty unless the target is keyed)."""
+    t.known(TARGET_KEYS)
+    sole = None
+    if "sole" in t.data:
+        sole = t.points("sole", 2, "a list of [x, y] corners in the TCP frame, m")
+    keys = _read_keys(t)
+    if keys and "position" not in t.data:
+        position, rotation = keys[0].position, keys[0].rotation
+    else:
+        position, rotation = t.vector("position", 3, limit=MAX_DISTANCE), t.rotation("rotation")
+    target = Target(
+        tcp=t.choice("tcp", model.tcps, "a TCP of the manikin"),
+        position=position,
+        rotation=rotation,
+        lock=t.lock("lock", AXES),
+        operator=t.operator("operator"),
+        weight=t.number("weight", 1.0, 1e-6),
+        support=t.boolean("support", False),
+        friction=t.number("friction", 0.6, 0.0, 10.0),
+        sole=sole,
+        enabled=t.boolean("enabled", True),
+    )
+    return target, keys
+
+
+def _read_keys(t: TableReader) -> tuple[Key, ...]:
+    """[[targets.keys]] frame = N, position = [...], rotation = [...] (optional), sorted by frame."""
+    keys = []
+    for k in t.table_list("keys"):
+        k.known({"frame", "position", "rotation"})
+        frame = k.number("frame", low=-1e9, high=1e9)
+        if frame != int(frame):
+            raise k.fail("frame", "a whole frame number", frame)
+        keys.append(Key(int(frame), k.vector("position", 3, limit=MAX_DISTANCE), k.rotation("rotation")))
+    frames = [k.frame for k in keys]
+    if len(set(frames)) != len(frames):
+        raise t.fail("keys", "distinct frame numbers", frames)
+    return tuple(sorted(keys, key=lambda k: k.frame))
+
+
+def _read_load(t: TableReader, model: Model) -> ExternalLoad:
+    """One [[loads]] entry: a force (N) or a mass (kg) held at a TCP."""
+    t.known({"tcp", "force", "mass"})
+    if t.exactly_one("force", "mass", "exactly one of force = [fx, fy, fz] (N) or mass = kg") == "force":
+        force = t.vector("force", 3, limit=MAX_FORCE)
+    else:
+        force = t.number("mass", low=0.0, high=MAX_FORCE / 9.81) * GRAVITY
+    return ExternalLoad(t.choice("tcp", model.tcps, "a TCP of the manikin"), force)
+
+
+def _read_loop(t: TableReader, model: Model) -> Loop:
+    """One [[loops]] entry: a TCP held on another TCP's frame."""
+    t.known(LOOP_KEYS)
+    return Loop(
+        tcp=t.choice("tcp", model.tcps, "a TCP of the manikin"),
+        other=t.choice("other", model.tcps, "a TCP of the manikin"),
+        offset_position=t.vector("offset_position", 3, [0.0, 0.0, 0.0], limit=MAX_DISTANCE),
+        offset_rotation=t.rotation("offset_rotation"),
+        lock=t.lock("lock", ("x", "y", "z")),
+        operator=t.operator("operator"),
+        weight=t.number("weight", 1.0, 1e-6),
+    )
+
+
+def _read_start(t: TableReader, model: Model, problem: Problem) -> np.ndarray:
+    """[start.joints] name = value: the start pose (other joints zero), as solver variables x."""
+    t.known({"joints"})
+    theta = model.zero_pose()
+    joints = t.table("joints")
+    for name in joints.data:
+        if name not in model.joint_names:
+            raise joints.fail(name, "a joint name of the manikin (unknown joint)")
+        theta[model.joint_index(name)] = joints.number(name)
+    return problem.to_x(problem.start(theta))
