@@ -7,10 +7,10 @@ imports neither.
 import bpy
 from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringProperty
 
-from ..solver.errors import ManikinError
-from ..solver.options import AXES
-from ..solver.presets import list_presets
-from .schema import RESULT_KEY, TCP_KEY, rig_of
+from ...solver.errors import ManikinError
+from ...solver.options import AXES
+from ...solver.presets import list_presets
+from ..scene.schema import RESULT_KEY, TCP_KEY, rig_of
 
 _LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
 
@@ -60,7 +60,7 @@ class MANIKIN_OT_add_manikin(bpy.types.Operator):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import armature, targets
+        from ..scene import armature, targets
 
         preset, file = ("", self.filepath) if self.filepath else (self.preset, "")
         try:
@@ -94,7 +94,7 @@ class MANIKIN_OT_add_target(_RigOperator):
         return self.execute(context)
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import targets
+        from ..scene import targets
 
         arm = _active_rig(context)
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
@@ -120,7 +120,7 @@ class MANIKIN_OT_add_loop(_RigOperator):
     )
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import targets
+        from ..scene import targets
 
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
         try:
@@ -142,7 +142,7 @@ class MANIKIN_OT_add_load(_RigOperator):
     mass: FloatProperty(name="Mass", default=5.0, min=0.0, soft_max=50.0, unit="MASS", description="kg")
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import targets
+        from ..scene import targets
 
         try:
             ob = targets.add_load(_active_rig(context), self.tcp, self.mass)
@@ -160,15 +160,15 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ..solver.iteration import solve
-        from . import scene_io
+        from ...solver.iteration import solve
+        from ..scene import problem_io
 
         arm = _active_rig(context)
         context.evaluated_depsgraph_get()  # brings the empties' world matrices up to date
         try:
-            sp = scene_io.read_problem(arm)
+            sp = problem_io.read_problem(arm)
             result = solve(sp.problem, sp.x0, sp.options)
-            scene_io.write_result(arm, result)
+            problem_io.write_result(arm, result)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -186,7 +186,7 @@ class MANIKIN_OT_reset_pose(_RigOperator):
     bl_label = "Reset Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import armature
+        from ..scene import armature
 
         arm = _active_rig(context)
         try:

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from environments import run_python
 
-from blender_manikin.rig import RigLayout
+from blender_manikin.rigging.bones import RigLayout
 from solver import Problem
 from solver.bodies import load_body
 from solver.model import GRAVITY
@@ -39,7 +39,7 @@ def _frames(pose: dict, key: str) -> dict[str, np.ndarray]:
 
 def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> None:
     names = zipfile.ZipFile(session["zip"]).namelist()
-    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/operators.py", "solver/iteration.py",
+    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/ui/operators.py", "solver/iteration.py",
                    "presets/manikins/male_50.toml", "presets/scenarios/box_lift.toml", "LICENSE"):  # fmt: skip
         assert needed in names
     wheels = [n.removeprefix("wheels/") for n in names if n.startswith("wheels/")]
@@ -220,7 +220,7 @@ def test_headless_render(tmp_path: Path, blender_python: Path) -> None:
     import matplotlib.image
 
     png = tmp_path / "manikin.png"
-    args = ["-m", "blender_manikin.snapshot", "-o", png, "--size", 96, "--samples", 2]
+    args = ["-m", "blender_manikin.dev.snapshot", "-o", png, "--size", 96, "--samples", 2]
     done = run_python(blender_python, args, tmp_path / "user")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     image = matplotlib.image.imread(png)[:, :, :3]
