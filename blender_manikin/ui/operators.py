@@ -4,6 +4,8 @@ The solver and the scene code load inside ``execute`` (as Blender's own importer
 imports neither.
 """
 
+from collections.abc import Callable
+
 import bpy
 from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringProperty
 
@@ -43,6 +45,17 @@ class _RigOperator(bpy.types.Operator):
             cls.poll_message_set("Select a manikin, or one of its targets")
             return False
         return context.mode in {"OBJECT", "POSE"}
+
+    def add_empty(self, context: bpy.types.Context, add: Callable[[], bpy.types.Object]) -> set[str]:
+        """Run ``add`` (a scene call making a target, loop or load empty) and select what it made; an error is
+        reported, not raised."""
+        try:
+            ob = add()
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        _select_only(context, ob)
+        return {"FINISHED"}
 
 
 class MANIKIN_OT_add_manikin(bpy.types.Operator):
@@ -96,15 +109,10 @@ class MANIKIN_OT_add_target(_RigOperator):
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ..scene import targets
 
-        arm = _active_rig(context)
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
-        try:
-            ob = targets.add_target(arm, self.tcp, lock=lock, support=self.support)
-        except ManikinError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        _select_only(context, ob)
-        return {"FINISHED"}
+        return self.add_empty(
+            context, lambda: targets.add_target(_active_rig(context), self.tcp, lock=lock, support=self.support)
+        )
 
 
 class MANIKIN_OT_add_loop(_RigOperator):
@@ -123,13 +131,7 @@ class MANIKIN_OT_add_loop(_RigOperator):
         from ..scene import targets
 
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
-        try:
-            ob = targets.add_loop(_active_rig(context), self.tcp, self.other, lock=lock)
-        except ManikinError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        _select_only(context, ob)
-        return {"FINISHED"}
+        return self.add_empty(context, lambda: targets.add_loop(_active_rig(context), self.tcp, self.other, lock=lock))
 
 
 class MANIKIN_OT_add_load(_RigOperator):
@@ -144,13 +146,7 @@ class MANIKIN_OT_add_load(_RigOperator):
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ..scene import targets
 
-        try:
-            ob = targets.add_load(_active_rig(context), self.tcp, self.mass)
-        except ManikinError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        _select_only(context, ob)
-        return {"FINISHED"}
+        return self.add_empty(context, lambda: targets.add_load(_active_rig(context), self.tcp, self.mass))
 
 
 class MANIKIN_OT_solve_pose(_RigOperator):
