@@ -46,9 +46,9 @@ def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> N
     assert {w.split("-")[0] for w in wheels} >= {"scipy", "matplotlib", "pillow", "kiwisolver", "contourpy"}
     tags = [w.removesuffix(".whl").split("-")[-1] for w in wheels]
     assert all(tag == "any" or ("linux" in tag and tag.endswith("x86_64")) for tag in tags), tags  # this platform
-    for name in names:
-        assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".")) and "__pycache__" not in name
-        assert name not in ("pyproject.toml", "requirements.txt")
+    for name in names:  # no tests, docs, developer tools or benchmarks (the rule: tests/test_shipped_files.py)
+        assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".", "blender_manikin/dev/", "solver/bench/"))
+        assert "__pycache__" not in name and name not in ("pyproject.toml", "requirements.txt", "README.md")
 
 
 def test_dependencies_come_from_the_extension_wheels(session: dict) -> None:
