@@ -1,6 +1,6 @@
 """The Blender layer of Manikin: the solver's problems and results in a Blender scene, and the UI around them.
 
-``ui/`` everything registered with Blender (operators, panels, live mode, overlay; one ``classes`` tuple);
+``ui/`` everything registered with Blender (operators, panels, live mode, overlay; one ``classes()`` list);
 ``scene/`` reading and writing the scene (``schema``: every custom property key and object name; ``compat``: every
 difference between Blender 4.2, 4.5 and 5.0; armature, targets, scene <-> Problem/Result, keyframes, bake,
 exports); ``rigging/`` how a solver model maps onto bones and a body mesh (NumPy, no bpy); ``headless/`` the

@@ -217,7 +217,7 @@ import scipy  # noqa: E402
 seen["modules"] = dict(scipy=scipy.__file__, matplotlib=matplotlib.__file__)
 
 # Disable: nothing of the add-on may stay registered.
-ours = sys.modules[f"{module}.blender_manikin.ui"].classes  # everything the add-on registers
+ours = sys.modules[f"{module}.blender_manikin.ui"].classes()  # everything the add-on registers
 
 
 def registered() -> dict:
