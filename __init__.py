@@ -1,5 +1,6 @@
 """Blender extension entry point: registration lives in blender_manikin (imported relatively)."""
 
-from .blender_manikin import register, unregister
+if __package__:  # pytest imports this file as a plain module when the checkout's folder is no Python name
+    from .blender_manikin import register, unregister
 
-__all__ = ["register", "unregister"]
+    __all__ = ["register", "unregister"]

@@ -63,8 +63,13 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--report", type=Path, help="JSON report: per frame convergence, times, residuals, ergonomics")
     p.add_argument("--result", type=Path, help="result JSON as written by python -m solver solve")
     p.add_argument("--picture", type=Path, help="PNG of key poses (small Cycles renders side by side)")
-    p.add_argument("--plots", type=Path, metavar="PREFIX", help="ergonomics plots PREFIX_loads.png, "
-                   "PREFIX_scores.png, PREFIX_back.png (joint loads, RULA/REBA, back and arms per frame)")
+    p.add_argument(
+        "--plots",
+        type=Path,
+        metavar="PREFIX",
+        help="ergonomics plots PREFIX_loads.png, "
+        "PREFIX_scores.png, PREFIX_back.png (joint loads, RULA/REBA, back and arms per frame)",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     return p
 
@@ -135,7 +140,7 @@ def _one_line(exc: BaseException) -> str:
 
 def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
     """Bake and write with the loaded extension; its exit code (bad input: one line on stderr, 2)."""
-    job = importlib.import_module(f"{extension.__name__}.blender_manikin.job")
+    job = importlib.import_module(f"{extension.__name__}.blender_manikin.headless.job")
     errors = importlib.import_module(f"{extension.__name__}.solver.errors")
     try:
         return job.run(

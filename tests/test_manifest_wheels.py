@@ -9,6 +9,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 MANIFEST = tomllib.loads((ROOT / "blender_manifest.toml").read_text(encoding="utf-8"))
+
+
 def _platform(tag: str) -> str:
     """The Blender platform of a wheel's platform tag, as the build tool maps them ("any" for pure Python)."""
     if tag == "any":

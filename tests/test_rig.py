@@ -1,4 +1,5 @@
-"""The armature layout (blender_manikin/rig.py, no bpy): bone channels reproduce the solver's kinematics exactly.
+"""The armature layout (blender_manikin/rigging/bones.py, no bpy): bone channels reproduce the solver's kinematics
+exactly.
 
 Blender computes a pose bone's armature-space matrix as parent_pose @ parent_rest^-1 @ rest @ basis with
 basis = T(location) @ R(euler, rotation mode); these tests apply that formula in NumPy.
@@ -10,7 +11,7 @@ import numpy as np
 import pytest
 from helpers import random_tree
 
-from blender_manikin.rig import RigLayout, joint_groups
+from blender_manikin.rigging.bones import RigLayout, joint_groups
 from solver.bodies import load_body
 
 

@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from blender_manikin.batch import exit_process  # noqa: E402
-from blender_manikin.build import install  # noqa: E402
+from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 MOTION = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -32,9 +32,9 @@ import bpy  # noqa: E402  (after BLENDER_USER_RESOURCES is set by the caller)
 
 module = install(ZIP)
 package = sys.modules[module]
-bake_module = importlib.import_module(module + ".blender_manikin.bake")
-keyframes = importlib.import_module(module + ".blender_manikin.keyframes")
-exports = importlib.import_module(module + ".blender_manikin.exports")  # imported lazily by the add-on
+bake_module = importlib.import_module(module + ".blender_manikin.scene.bake")
+keyframes = importlib.import_module(module + ".blender_manikin.scene.keyframes")
+exports = importlib.import_module(module + ".blender_manikin.scene.exports")  # imported lazily by the add-on
 scene = bpy.context.scene
 
 
@@ -113,7 +113,7 @@ class Layout:
 
 bpy.context.view_layer.objects.active = arm
 seen["panel"] = []
-importlib.import_module(module + ".blender_manikin.panels").MANIKIN_PT_motion.draw(
+importlib.import_module(module + ".blender_manikin.ui.panels").MANIKIN_PT_motion.draw(
     type("Panel", (), {"layout": Layout(seen["panel"])})(), bpy.context
 )
 
@@ -124,11 +124,11 @@ seen["undone"] = curves(arm)
 
 # The modal path (what a click in the UI runs), driven with stand-in events: a timer tick solves, view events
 # pass through, others are swallowed, Esc cancels (nothing keyed, the frame restored); ticks run it to the end.
-motion_operators = importlib.import_module(module + ".blender_manikin.motion_operators")
+motion_operators = importlib.import_module(module + ".blender_manikin.ui.motion_operators")
 motion_operators.SLICE_S = 0.0  # one frame per timer tick, however fast this machine solves
 operator = motion_operators.MANIKIN_OT_bake_motion
 reports: list = []
-methods = {n: operator.__dict__[n] for n in ("modal", "_current", "_status", "_cleanup", "_cancel", "_finish")}
+methods = {n: operator.__dict__[n] for n in ("modal", "current_frame", "show_status", "cleanup", "stop", "finish")}
 Modal = type("Modal", (), dict(methods, report=lambda self, kind, text: reports.append((sorted(kind)[0], text))))
 context = type("Context", (), dict(window_manager=bpy.context.window_manager, workspace=None, scene=scene))()
 
@@ -139,16 +139,16 @@ def event(kind: str):
 
 scene.frame_set(4)
 op = Modal()
-op._baker, op._timer = bake_module.Baker(scene, arm, 2, 9), None
+op.baker, op.timer = bake_module.Baker(scene, arm, 2, 9), None
 seen["modal_events"] = [sorted(op.modal(context, event(e))) for e in ("TIMER", "MIDDLEMOUSE", "GKEY", "ESC")]
-seen["cancel_done"] = op._baker.done
+seen["cancel_done"] = op.baker.done
 seen["cancelled"] = curves(arm)
 seen["cancel_frame"] = scene.frame_current
-op._baker = bake_module.Baker(scene, arm, 2, 9)
+op.baker = bake_module.Baker(scene, arm, 2, 9)
 ticks = [sorted(op.modal(context, event("TIMER"))) for _ in range(50)]
 seen["modal_ticks"] = ticks[: ticks.index(["FINISHED"]) + 1] if ["FINISHED"] in ticks else ticks
 seen["modal_keys"] = curves(arm)
-seen["modal_thetas"] = op._baker.thetas.tolist()
+seen["modal_thetas"] = op.baker.thetas.tolist()
 seen["modal_reports"] = reports
 
 # A bake from frame 1 (the whole start of the lift), then exports and their re-imports.

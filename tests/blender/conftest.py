@@ -23,7 +23,7 @@ def extension_zip(blender_python: Path, tmp_path_factory) -> Path:
     """The linux-x64 zip, built by the Blender environment's own build tool (wheels fetched by its pip)."""
     out = tmp_path_factory.mktemp("dist")
     done = subprocess.run(
-        [str(blender_python), "-m", "blender_manikin.build", "--output-dir", str(out), "--platform", "linux-x64"],
+        [str(blender_python), "-m", "blender_manikin.dev.build", "--output-dir", str(out), "--platform", "linux-x64"],
         cwd=ROOT, capture_output=True, text=True, timeout=900,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr[-3000:]

@@ -21,7 +21,7 @@ sys.path.insert(0, str(ROOT))
 from session_tools import error_of  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
-from blender_manikin.build import install  # noqa: E402
+from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 seen: dict = {}
@@ -57,8 +57,11 @@ for x, preset in enumerate(presets):
         bones=len(arm.data.bones),
         tcps=sum("manikin_tcp" in child for child in arm.children),
         bodies=sum(child.type == "MESH" for child in arm.children),
-        supports=sorted(ob.manikin_target.tcp for ob in bpy.data.objects
-                        if ob.manikin_target.rig == arm and ob.manikin_target.support),  # fmt: skip
+        supports=sorted(
+            ob.manikin_target.tcp
+            for ob in bpy.data.objects
+            if ob.manikin_target.rig == arm and ob.manikin_target.support
+        ),  # fmt: skip
     )
     seen["presets"][preset]["solve"] = sorted(bpy.ops.manikin.solve_pose())
 
@@ -71,14 +74,12 @@ seen["solve"] = sorted(bpy.ops.manikin.solve_pose())
 seen["converged"] = json.loads(arm["manikin_result"])["converged"]
 bpy.context.view_layer.objects.active = arm
 seen["reset"] = sorted(bpy.ops.manikin.reset_pose())
-seen["reset_channels"] = max(
-    max(map(abs, pb.location)) + max(map(abs, pb.rotation_euler)) for pb in arm.pose.bones
-)
+seen["reset_channels"] = max(max(map(abs, pb.location)) + max(map(abs, pb.rotation_euler)) for pb in arm.pose.bones)
 seen["reset_result_gone"] = "manikin_result" not in arm
 bpy.ops.manikin.solve_pose()
 
 # The overlay, drawn with a stand-in for gpu: which builtin shaders it asks for, and how many line batches.
-overlay = importlib.import_module(module + ".blender_manikin.overlay")
+overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
 asked: list[str] = []
 drawn: list[int] = []
 
@@ -137,7 +138,7 @@ seen["renamed_bake"] = error_of(lambda: bpy.ops.manikin.bake_motion(frame_start=
 bone.name = "upper_arm_r"
 
 arm.manikin.live = True
-live = importlib.import_module(module + ".blender_manikin.live")
+live = importlib.import_module(module + ".blender_manikin.ui.live")
 live.solve_pending()
 bpy.data.objects.remove(bpy.data.objects["target.hand_r"], do_unlink=True)  # deleted while live
 bpy.context.view_layer.update()

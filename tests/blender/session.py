@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))
 from session_tools import error_of  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
-from blender_manikin.build import install  # noqa: E402
+from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 seen: dict = {}
@@ -55,8 +55,8 @@ def ui(op, **props) -> list[str]:
 module = install(ZIP)
 seen["module"] = module
 package = sys.modules[module]
-live = importlib.import_module(module + ".blender_manikin.live")
-overlay = importlib.import_module(module + ".blender_manikin.overlay")
+live = importlib.import_module(module + ".blender_manikin.ui.live")
+overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
 
 # A manikin, a target for the right hand, moved 30 cm forward (the manikin faces -y).
 seen["add"] = ui(bpy.ops.manikin.add_manikin, preset="male_50")
@@ -83,7 +83,7 @@ seen["undo_flag"] = "UNDO" in bpy.types.MANIKIN_OT_solve_pose.bl_options
 seen["target"] = mat(bpy.data.objects["target.hand_r"].matrix_world)
 seen["result"] = json.loads(arm["manikin_result"])
 seen["bone_colors"] = {pb.name: [pb.color.palette, list(pb.color.custom.normal)] for pb in arm.pose.bones}
-seen["overlay"] = {k: len(v) for k, v in overlay._geometry(arm, seen["result"]).items()}
+seen["overlay"] = {k: len(v) for k, v in overlay.geometry(arm, seen["result"]).items()}
 
 # The sidebar draws (checked against a recording layout: properties, operators and icons must exist).
 ICONS = set(bpy.types.UILayout.bl_rna.functions["label"].parameters["icon"].enum_items.keys())
@@ -124,7 +124,7 @@ drawn: list = []
 for active in ("male_50", "target.hand_r", "load.hand_l"):
     obj = bpy.data.objects.get(active)
     bpy.context.view_layer.objects.active = obj
-    for panel in importlib.import_module(module + ".blender_manikin.panels").classes:
+    for panel in importlib.import_module(module + ".blender_manikin.ui.panels").classes:
         if not hasattr(panel, "poll") or panel.poll(bpy.context):
             panel.draw(type("Panel", (), {"layout": Layout(drawn)})(), bpy.context)
 seen["sidebar"] = drawn
@@ -200,7 +200,7 @@ bpy.context.view_layer.objects.active = None
 box = ROOT / "presets" / "scenarios" / "box_lift.toml"
 seen["import"] = list(bpy.ops.manikin.import_scenario(filepath=str(box)))
 lifter = bpy.context.active_object
-schema = importlib.import_module(module + ".blender_manikin.schema")
+schema = importlib.import_module(module + ".blender_manikin.scene.schema")
 seen["imported"] = dict(name=lifter.name, members=sorted(o.name for o in schema.members(lifter)))
 seen["import_solve"] = list(bpy.ops.manikin.solve_pose())
 seen["import_result"] = json.loads(lifter["manikin_result"])
@@ -217,11 +217,7 @@ import scipy  # noqa: E402
 seen["modules"] = dict(scipy=scipy.__file__, matplotlib=matplotlib.__file__)
 
 # Disable: nothing of the add-on may stay registered.
-ours = [
-    c
-    for m in ("props", "operators", "io_operators", "motion_operators", "panels")
-    for c in sys.modules[f"{module}.blender_manikin.{m}"].classes
-]
+ours = sys.modules[f"{module}.blender_manikin.ui"].classes()  # everything the add-on registers
 
 
 def registered() -> dict:

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from blender_manikin.rig import RigLayout
+from blender_manikin.rigging.bones import RigLayout
 from solver import Problem, load_scenario
 from solver.bodies import load_body
 from solver.motion import solve_frames

@@ -21,7 +21,7 @@ SNAKE = ROOT / "presets" / "scenarios" / "snake_motion.toml"
 
 def install(python: Path, zip_path: Path, user: Path) -> None:
     """Install and enable the zip in ``user`` as a user would (its wheels go onto Blender's path)."""
-    code = f"import sys; sys.path.insert(0, {str(ROOT)!r}); from blender_manikin.build import install; " \
+    code = f"import sys; sys.path.insert(0, {str(ROOT)!r}); from blender_manikin.dev.build import install; " \
            f"install(__import__('pathlib').Path({str(zip_path)!r}))"  # fmt: skip
     done = run_python(python, ["-c", code], user)
     assert done.returncode == 0, done.stderr[-3000:]

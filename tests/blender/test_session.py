@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from environments import run_python
 
-from blender_manikin.rig import RigLayout
+from blender_manikin.rigging.bones import RigLayout
 from solver import Problem, load_scenario
 from solver.bodies import load_body
 from solver.model import GRAVITY
@@ -38,16 +38,16 @@ def _frames(pose: dict, key: str) -> dict[str, np.ndarray]:
 
 def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> None:
     names = zipfile.ZipFile(session["zip"]).namelist()
-    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/operators.py", "solver/iteration.py",
+    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/ui/operators.py", "solver/iteration.py",
                    "presets/manikins/male_50.toml", "presets/scenarios/box_lift.toml", "LICENSE"):  # fmt: skip
         assert needed in names
     wheels = [n.removeprefix("wheels/") for n in names if n.startswith("wheels/")]
     assert {w.split("-")[0] for w in wheels} >= {"scipy", "matplotlib", "pillow", "kiwisolver", "contourpy"}
     tags = [w.removesuffix(".whl").split("-")[-1] for w in wheels]
     assert all(tag == "any" or ("linux" in tag and tag.endswith("x86_64")) for tag in tags), tags  # this platform
-    for name in names:
-        assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".")) and "__pycache__" not in name
-        assert name not in ("pyproject.toml", "requirements.txt")
+    for name in names:  # no tests, docs, developer tools or benchmarks (the rule: tests/test_shipped_files.py)
+        assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".", "blender_manikin/dev/", "solver/bench/"))
+        assert "__pycache__" not in name and name not in ("pyproject.toml", "requirements.txt", "README.md")
 
 
 def test_dependencies_come_from_the_extension_wheels(session: dict) -> None:
@@ -219,7 +219,7 @@ def test_headless_render(tmp_path: Path, blender_python: Path) -> None:
     import matplotlib.image
 
     png = tmp_path / "manikin.png"
-    args = ["-m", "blender_manikin.snapshot", "-o", png, "--size", 96, "--samples", 2]
+    args = ["-m", "blender_manikin.dev.snapshot", "-o", png, "--size", 96, "--samples", 2]
     done = run_python(blender_python, args, tmp_path / "user")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     image = matplotlib.image.imread(png)[:, :, :3]

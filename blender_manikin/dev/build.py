@@ -1,6 +1,6 @@
 """Build and validate the extension zips with the build tool that ships inside the bpy wheel (no Blender binary).
 
-    python -m blender_manikin.build [--output-dir dist] [--platform linux-x64]   # from the repository root
+    python -m blender_manikin.dev.build [--output-dir dist] [--platform linux-x64]   # from the repository root
 
 fetches the wheels the manifest lists (scipy, matplotlib and what matplotlib needs, per platform) from the package
 registry into ``wheels/`` unless they are there already, then writes one zip per platform,
@@ -20,7 +20,7 @@ import tomllib
 from collections import defaultdict
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]  # the repository (extension) root
 WHEELS = ROOT / "wheels"
 TOOL = Path("scripts", "addons_core", "bl_pkg", "cli", "blender_ext.py")
 TAGS = Path("scripts", "modules", "_bpy_internal", "extensions", "tags.py")
@@ -124,7 +124,7 @@ def install(zip_path: Path, repo: str = "user_default") -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m blender_manikin.build", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m blender_manikin.dev.build", description=__doc__.splitlines()[0])
     parser.add_argument("--output-dir", type=Path, default=None, help="where the zips go (default: dist/)")
     parser.add_argument("--platform", help="print only this platform's zip (e.g. linux-x64); all are built")
     args = parser.parse_args(argv)

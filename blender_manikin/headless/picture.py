@@ -16,8 +16,8 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-from .compat import node_tree
-from .schema import members, tcp_empty
+from ..scene.compat import node_tree
+from ..scene.schema import OUR_MATERIALS, PICTURE_COLLECTION, PICTURE_PREFIX, members, tcp_empty
 
 VIEW = Vector((-1.35, -1.0, 0.4)).normalized()  # from the body towards the camera: front right, a little above
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
@@ -36,7 +36,7 @@ def _principled() -> None:
     """Our materials (body, floor, box) as matte Principled surfaces of their viewport colors: the render
     matches the viewport, and a rough surface needs fewer samples."""
     for material in bpy.data.materials:
-        if not material.name.startswith(("manikin.", "picture.")):
+        if not material.name.startswith(OUR_MATERIALS):
             continue  # the user's own materials stay as they are
         bsdf = node_tree(material).nodes.get("Principled BSDF")
         if bsdf is not None:
@@ -49,28 +49,28 @@ class _Stage:
 
     def __init__(self, scene: bpy.types.Scene, arm: bpy.types.Object) -> None:
         self.scene, self.arm = scene, arm
-        self.collection = bpy.data.collections.new("manikin.picture")
+        self.collection = bpy.data.collections.new(PICTURE_COLLECTION)
         scene.collection.children.link(self.collection)
         self.objects: list[bpy.types.Object] = []
-        floor_mesh = bpy.data.meshes.new("picture.floor")
+        floor_mesh = bpy.data.meshes.new(PICTURE_PREFIX + "floor")
         s = 40.0
         floor_mesh.from_pydata([(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)], [], [(0, 1, 2, 3)])
-        floor_mesh.materials.append(_material("picture.floor", (0.5, 0.52, 0.55)))
-        self._add("picture.floor", floor_mesh)
-        sun = self._add("picture.sun", bpy.data.lights.new("picture.sun", "SUN"))
+        floor_mesh.materials.append(_material(PICTURE_PREFIX + "floor", (0.5, 0.52, 0.55)))
+        self._add(PICTURE_PREFIX + "floor", floor_mesh)
+        sun = self._add(PICTURE_PREFIX + "sun", bpy.data.lights.new(PICTURE_PREFIX + "sun", "SUN"))
         sun.data.energy, sun.data.angle = 4.5, 0.1
         sun.rotation_euler = (0.6, 0.0, -0.9)
-        self.camera = self._add("picture.camera", bpy.data.cameras.new("picture.camera"))
+        self.camera = self._add(PICTURE_PREFIX + "camera", bpy.data.cameras.new(PICTURE_PREFIX + "camera"))
         self.camera.data.type = "ORTHO"
         self.box = None
         loads = {ob.manikin_target.tcp for ob in members(arm) if ob.manikin_target.role == "LOAD"}
         if {"hand_l", "hand_r"} <= loads:
-            box_mesh = bpy.data.meshes.new("picture.box")
+            box_mesh = bpy.data.meshes.new(PICTURE_PREFIX + "box")
             corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
             faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
             box_mesh.from_pydata(corners, [], faces)
-            box_mesh.materials.append(_material("picture.box", (0.62, 0.42, 0.22)))
-            self.box = self._add("picture.box", box_mesh)
+            box_mesh.materials.append(_material(PICTURE_PREFIX + "box", (0.62, 0.42, 0.22)))
+            self.box = self._add(PICTURE_PREFIX + "box", box_mesh)
 
     def _add(self, name: str, data: bpy.types.ID) -> bpy.types.Object:
         ob = bpy.data.objects.new(name, data)
@@ -127,7 +127,7 @@ def _render_settings(
     scene: bpy.types.Scene, size: tuple[int, int], samples: int
 ) -> tuple[list[tuple], bpy.types.World]:
     """Cycles on the CPU at ``size`` with few bounces and a dim sky; (what to restore, the picture's world)."""
-    world = bpy.data.worlds.new("picture.world")
+    world = bpy.data.worlds.new(PICTURE_PREFIX + "world")
     world.color = SKY
     if world.node_tree is not None and "Background" in world.node_tree.nodes:  # dim sky light: less noise
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (*SKY, 1.0)

@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..solver.ergonomics import ErgoOptions
-from ..solver.ergonomics.report import clean, evaluate
+from ...solver.ergonomics import ErgoOptions
+from ...solver.ergonomics.report import clean, evaluate
 
 if TYPE_CHECKING:
-    from .bake import Baker
+    from ..scene.bake import Baker
 
 ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet", "niosh")
 

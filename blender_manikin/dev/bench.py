@@ -1,6 +1,6 @@
 """Bake throughput: a 240-frame box lift baked by Bake Motion's code path, written to docs/BENCHMARKS.md.
 
-    python -m blender_manikin.bench [-o docs/BENCHMARKS.md] [--runs 3]
+    python -m blender_manikin.dev.bench [-o docs/BENCHMARKS.md] [--runs 3]
 
 The motion is presets/scenarios/box_lift_motion.toml played up, down, up and down (its hand keys repeated every
 60 frames, so every frame moves as fast as in the preset). Each run starts from the scenario's start pose with no
@@ -23,7 +23,7 @@ from types import ModuleType
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]  # the repository root
 PRESET = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
 FRAMES = 240
 TARGET_FPS = 60.0
@@ -49,8 +49,8 @@ def _bake_once(ext: ModuleType, arm, start: np.ndarray, comfort: bool) -> dict:
     """One timed bake from the start pose: per-frame times, keying time, total, iterations, converged frames."""
     import bpy
 
-    bake = importlib.import_module(f"{ext.__name__}.blender_manikin.bake")
-    armature = importlib.import_module(f"{ext.__name__}.blender_manikin.armature")
+    bake = importlib.import_module(f"{ext.__name__}.blender_manikin.scene.bake")
+    armature = importlib.import_module(f"{ext.__name__}.blender_manikin.scene.armature")
     arm.animation_data_clear()
     armature.write_pose(arm, start)
     arm.manikin.comfort = comfort
@@ -83,10 +83,10 @@ def _row(label: str, done: list[dict]) -> tuple:
 
 def run(output: Path, runs: int = 3) -> str:
     """Bake ``runs`` times per setting and write the bake-bench section of ``output``; the section's text."""
-    from .batch import load_extension
+    from ..batch import load_extension
 
     ext, registered = load_extension()
-    job = importlib.import_module(f"{ext.__name__}.blender_manikin.job")
+    job = importlib.import_module(f"{ext.__name__}.blender_manikin.headless.job")
     scenario = importlib.import_module(f"{ext.__name__}.solver.scenario")
     bench = importlib.import_module(f"{ext.__name__}.solver.bench.scenarios")
     with tempfile.TemporaryDirectory(prefix="manikin-bench-") as tmp:
@@ -102,11 +102,11 @@ def run(output: Path, runs: int = 3) -> str:
     lines = [
         "## Bake throughput (issue 5)",
         "",
-        f"Written by `python -m blender_manikin.bench` on {datetime.date.today().isoformat()}.",
+        f"Written by `python -m blender_manikin.dev.bench` on {datetime.date.today().isoformat()}.",
         f"Machine: {bench.machine()}; the benchmark process is pinned to one core.",
         "",
         f"A {FRAMES}-frame box lift (the preset's hand keys played up, down, up, down; 10 kg box as a load; male_50)",
-        "baked by Bake Motion's code (`blender_manikin/bake.py`): per frame the scene is set to the frame, the",
+        "baked by Bake Motion's code (`blender_manikin/scene/bake.py`): per frame the scene is set to the frame, the",
         "targets are read and the frame is solved warm-started within the per-frame change bound; at the end the",
         f"160 joint channels are keyed in bulk. {runs} runs per setting, each from the start pose; frames/s = frames /",
         "wall time of the whole bake (median run); per-frame times are wall times per frame over all runs (setting",
@@ -136,12 +136,12 @@ def run(output: Path, runs: int = 3) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m blender_manikin.bench", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m blender_manikin.dev.bench", description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs" / "BENCHMARKS.md")
     parser.add_argument("--runs", type=int, default=3, help="bakes per setting")
     args = parser.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    importlib.import_module("solver.bench").one_core("blender_manikin.bench")  # one core, one BLAS thread
+    importlib.import_module("solver.bench").one_core("blender_manikin.dev.bench")  # one core, one BLAS thread
     with tempfile.TemporaryDirectory(prefix="manikin-bench-user-") as user:
         os.environ.setdefault("BLENDER_USER_RESOURCES", user)
         run(args.output, args.runs)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .rig import RigLayout
+from .bones import RigLayout
 
 DENSITY = 1000.0  # kg/m^3
 SIDES = 10

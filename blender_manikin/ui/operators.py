@@ -4,13 +4,15 @@ The solver and the scene code load inside ``execute`` (as Blender's own importer
 imports neither.
 """
 
+from collections.abc import Callable
+
 import bpy
 from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringProperty
 
-from ..solver.errors import ManikinError
-from ..solver.options import AXES
-from ..solver.presets import list_presets
-from .schema import RESULT_KEY, TCP_KEY, rig_of
+from ...solver.errors import ManikinError
+from ...solver.options import AXES
+from ...solver.presets import list_presets
+from ..scene.schema import RESULT_KEY, TCP_KEY, rig_of
 
 _LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
 
@@ -44,6 +46,17 @@ class _RigOperator(bpy.types.Operator):
             return False
         return context.mode in {"OBJECT", "POSE"}
 
+    def add_empty(self, context: bpy.types.Context, add: Callable[[], bpy.types.Object]) -> set[str]:
+        """Run ``add`` (a scene call making a target, loop or load empty) and select what it made; an error is
+        reported, not raised."""
+        try:
+            ob = add()
+        except ManikinError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        _select_only(context, ob)
+        return {"FINISHED"}
+
 
 class MANIKIN_OT_add_manikin(bpy.types.Operator):
     """Add a manikin: an armature with the solver's joints, a body, TCP empties and both feet on the floor"""
@@ -60,7 +73,7 @@ class MANIKIN_OT_add_manikin(bpy.types.Operator):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import armature, targets
+        from ..scene import armature, targets
 
         preset, file = ("", self.filepath) if self.filepath else (self.preset, "")
         try:
@@ -94,17 +107,12 @@ class MANIKIN_OT_add_target(_RigOperator):
         return self.execute(context)
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import targets
+        from ..scene import targets
 
-        arm = _active_rig(context)
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
-        try:
-            ob = targets.add_target(arm, self.tcp, lock=lock, support=self.support)
-        except ManikinError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        _select_only(context, ob)
-        return {"FINISHED"}
+        return self.add_empty(
+            context, lambda: targets.add_target(_active_rig(context), self.tcp, lock=lock, support=self.support)
+        )
 
 
 class MANIKIN_OT_add_loop(_RigOperator):
@@ -120,16 +128,10 @@ class MANIKIN_OT_add_loop(_RigOperator):
     )
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import targets
+        from ..scene import targets
 
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
-        try:
-            ob = targets.add_loop(_active_rig(context), self.tcp, self.other, lock=lock)
-        except ManikinError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        _select_only(context, ob)
-        return {"FINISHED"}
+        return self.add_empty(context, lambda: targets.add_loop(_active_rig(context), self.tcp, self.other, lock=lock))
 
 
 class MANIKIN_OT_add_load(_RigOperator):
@@ -142,15 +144,9 @@ class MANIKIN_OT_add_load(_RigOperator):
     mass: FloatProperty(name="Mass", default=5.0, min=0.0, soft_max=50.0, unit="MASS", description="kg")
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import targets
+        from ..scene import targets
 
-        try:
-            ob = targets.add_load(_active_rig(context), self.tcp, self.mass)
-        except ManikinError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        _select_only(context, ob)
-        return {"FINISHED"}
+        return self.add_empty(context, lambda: targets.add_load(_active_rig(context), self.tcp, self.mass))
 
 
 class MANIKIN_OT_solve_pose(_RigOperator):
@@ -160,15 +156,15 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ..solver.iteration import solve
-        from . import scene_io
+        from ...solver.iteration import solve
+        from ..scene import problem_io
 
         arm = _active_rig(context)
         context.evaluated_depsgraph_get()  # brings the empties' world matrices up to date
         try:
-            sp = scene_io.read_problem(arm)
+            sp = problem_io.read_problem(arm)
             result = solve(sp.problem, sp.x0, sp.options)
-            scene_io.write_result(arm, result)
+            problem_io.write_result(arm, result)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -186,7 +182,7 @@ class MANIKIN_OT_reset_pose(_RigOperator):
     bl_label = "Reset Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from . import armature
+        from ..scene import armature
 
         arm = _active_rig(context)
         try:

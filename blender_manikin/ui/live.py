@@ -15,11 +15,11 @@ from typing import TYPE_CHECKING
 import bpy
 from bpy.app.handlers import persistent
 
-from ..solver.errors import ManikinError
-from .schema import ERROR_KEY, is_manikin, rig_of
+from ...solver.errors import ManikinError
+from ..scene.schema import ERROR_KEY, is_manikin, rig_of
 
 if TYPE_CHECKING:
-    from .scene_io import Inputs  # imports the solver: only for the type checker
+    from ..scene.problem_io import Inputs  # imports the solver: only for the type checker
 
 INTERVAL = 1.0 / 30.0  # s, at most one solve per manikin per interval
 
@@ -75,15 +75,15 @@ def solve_pending() -> None:
 
 
 def _solve(arm: bpy.types.Object) -> None:
-    from ..solver.iteration import solve
-    from . import scene_io
+    from ...solver.iteration import solve
+    from ..scene import problem_io
 
     try:
-        sp = scene_io.read_problem(arm, live=True)
+        sp = problem_io.read_problem(arm, live=True)
         if sp.inputs.same_as(_last_inputs.get(arm.name)):
             return
         _last_inputs[arm.name] = sp.inputs
-        scene_io.write_result(arm, solve(sp.problem, sp.x0, sp.options))
+        problem_io.write_result(arm, solve(sp.problem, sp.x0, sp.options))
     except ManikinError as exc:
         if arm.get(ERROR_KEY) != str(exc):  # shown in the sidebar; written once, not on every update
             arm[ERROR_KEY] = str(exc)

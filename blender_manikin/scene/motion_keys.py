@@ -14,8 +14,8 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ..solver.scenario import Scenario
-from ..solver.spatial import matrix_to_quat
+from ...solver.scenario import Scenario
+from ...solver.spatial import matrix_to_quat
 from . import keyframes
 from .schema import members
 
@@ -23,7 +23,7 @@ GROUP = "Object Transforms"  # Blender's own group name for an object's transfor
 
 
 def target_empties(arm: bpy.types.Object) -> list[bpy.types.Object]:
-    """The target empties of ``arm`` in the order :func:`scene_io.read_problem` lists their targets."""
+    """The target empties of ``arm`` in the order :func:`problem_io.read_problem` lists their targets."""
     return [ob for ob in members(arm) if ob.manikin_target.role == "TARGET"]
 
 

@@ -18,8 +18,8 @@ from bpy.props import (
     StringProperty,
 )
 
-from ..solver.options import AXES, DEFAULT_LIMITS
-from .schema import is_manikin
+from ...solver.options import AXES, DEFAULT_LIMITS
+from ..scene.schema import is_manikin
 
 ROLES = (
     ("NONE", "None", "Not a manikin target"),
@@ -163,15 +163,13 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
 classes = (MANIKIN_PG_target, MANIKIN_PG_rig)
 
 
-def register() -> None:
-    for cls in classes:
-        bpy.utils.register_class(cls)
+def attach() -> None:
+    """Give every object the two settings groups (their classes registered first)."""
     bpy.types.Object.manikin_target = PointerProperty(type=MANIKIN_PG_target)
     bpy.types.Object.manikin = PointerProperty(type=MANIKIN_PG_rig)
 
 
-def unregister() -> None:
+def detach() -> None:
+    """Remove what :func:`attach` added (before the classes are unregistered)."""
     del bpy.types.Object.manikin
     del bpy.types.Object.manikin_target
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)

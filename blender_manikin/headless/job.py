@@ -17,12 +17,12 @@ from pathlib import Path
 
 import bpy
 
-from ..solver import ManikinError
-from ..solver.scenario import load_scenario
-from . import exports, keyframes, motion_io
-from .bake import Baker
-from .motion_report import captions, choose_frames, evaluate_motion, motion_report, summary_lines, write_json
-from .schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
+from ...solver import ManikinError
+from ...solver.scenario import load_scenario
+from ..scene import exports, keyframes, motion_keys
+from ..scene.bake import Baker
+from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
+from .report import captions, choose_frames, evaluate_motion, motion_report, summary_lines, write_json
 
 EXIT_OK, EXIT_NOT_CONVERGED = 0, 3
 
@@ -129,7 +129,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
         ergo = evaluate_motion(baker, body, job.report or Path("report.json"))
         report = motion_report(baker, source, body, ergo)
     if job.plots is not None:
-        from ..solver.ergonomics.plots import write_plots
+        from ...solver.ergonomics.plots import write_plots
 
         for path in write_plots(ergo, job.plots.resolve()):
             _say(job, f"wrote {path}")
@@ -147,7 +147,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
     if job.picture is not None:
         from .picture import render_key_poses
 
-        keys = {round(f) for ob in motion_io.target_empties(arm) for f in keyframes.key_frames(ob)}
+        keys = {round(f) for ob in motion_keys.target_empties(arm) for f in keyframes.key_frames(ob)}
         frames = choose_frames(baker.frames, baker.thetas, sorted(keys))
         title = f"{_title(job, arm)}: {body}{_carried(arm)}, frames {start}-{end}, " + (
             f"{len(baker.not_converged())} not converged" if baker.not_converged() else "all converged"

@@ -11,11 +11,11 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ..solver import ManikinError
-from ..solver.model import GRAVITY
-from ..solver.options import AXES
+from ...solver import ManikinError
+from ...solver.model import GRAVITY
+from ...solver.options import AXES
 from .armature import model_of, read_x, tcp_world_frame
-from .schema import members, tcp_empty
+from .schema import member_name, members, tcp_empty
 
 FEET = ("foot_l", "foot_r")
 FLOOR_LOCK = ("z", "rx", "ry")  # a sole stays flat on the floor and may slide and turn
@@ -55,7 +55,7 @@ def add_target(
     _check_tcp(arm, tcp)
     ob = find_member(arm, "TARGET", tcp)
     if ob is None:
-        ob = _new_empty(arm, f"target.{tcp}", "TARGET", tcp, "ARROWS", 0.12)
+        ob = _new_empty(arm, member_name("TARGET", tcp), "TARGET", tcp, "ARROWS", 0.12)
         s = ob.manikin_target
         s.lock = [a in lock for a in AXES]
         s.support, s.friction = support, friction
@@ -89,7 +89,7 @@ def add_loop(arm: bpy.types.Object, tcp: str, other: str, lock: tuple[str, ...] 
     _check_tcp(arm, other)
     if tcp == other:
         raise ManikinError("a loop needs two different TCPs")
-    ob = find_member(arm, "LOOP", tcp) or _new_empty(arm, f"loop.{tcp}", "LOOP", tcp, "SPHERE", 0.03)
+    ob = find_member(arm, "LOOP", tcp) or _new_empty(arm, member_name("LOOP", tcp), "LOOP", tcp, "SPHERE", 0.03)
     s = ob.manikin_target
     s.other = other
     s.lock = [a in lock for a in AXES]
@@ -102,7 +102,7 @@ def add_load(arm: bpy.types.Object, tcp: str, mass: float) -> bpy.types.Object:
     _check_tcp(arm, tcp)
     if not (np.isfinite(mass) and mass >= 0.0):
         raise ManikinError(f"load mass must be a non-negative number of kg, got {mass}")
-    ob = find_member(arm, "LOAD", tcp) or _new_empty(arm, f"load.{tcp}", "LOAD", tcp, "CUBE", 0.05)
+    ob = find_member(arm, "LOAD", tcp) or _new_empty(arm, member_name("LOAD", tcp), "LOAD", tcp, "CUBE", 0.05)
     ob.manikin_target.force = tuple(float(v) for v in mass * GRAVITY)
     _parent_to_tcp(ob, arm, tcp, tcp_world_frame(arm, read_x(arm), tcp))
     return ob

@@ -2,7 +2,7 @@
 
 Import reads with :func:`solver.scenario.load_scenario` (all validation lives there) and builds the empties;
 export reads the scene into a Problem exactly as Solve does and writes it with ``dumps_scenario``. Keyed targets
-become keyed empties and back (``motion_io``); general operator rows and custom soles have no UI and are
+become keyed empties and back (``scene.motion_keys``); general operator rows and custom soles have no UI and are
 reported.
 """
 
@@ -17,13 +17,13 @@ from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Matrix
 
-from ..solver.errors import ManikinError
-from ..solver.presets import MANIKINS_DIR
-from .schema import FILE_KEY, PRESET_KEY, members, rig_of
+from ...solver.errors import ManikinError
+from ...solver.presets import MANIKINS_DIR
+from ..scene.schema import FILE_KEY, PRESET_KEY, members, rig_of
 
 if TYPE_CHECKING:
-    from ..solver.model import Model
-    from ..solver.scenario import Scenario
+    from ...solver.model import Model
+    from ...solver.scenario import Scenario
 
 
 def body_source(model: Model) -> dict:
@@ -61,8 +61,8 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ..solver.scenario import load_scenario
-        from . import armature
+        from ...solver.scenario import load_scenario
+        from ..scene import armature
 
         try:
             sc = load_scenario(self.filepath)
@@ -85,7 +85,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         return {"FINISHED"}
 
     def _apply(self, scene: bpy.types.Scene, arm: bpy.types.Object, sc: Scenario) -> int:
-        from . import armature, motion_io, targets
+        from ..scene import armature, motion_keys, targets
 
         for ob in members(arm):
             bpy.data.objects.remove(ob, do_unlink=True)
@@ -121,7 +121,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             ob = targets.add_load(arm, ld.tcp, 0.0)
             ob.manikin_target.force = tuple(float(v) for v in arm_rot @ np.asarray(ld.force))
         armature.write_pose(arm, sc.start)
-        return motion_io.import_motion(scene, arm, sc, empties)
+        return motion_keys.import_motion(scene, arm, sc, empties)
 
     def _warn_unsupported(self, what: str, operator, sole) -> None:
         if operator is not None:
@@ -145,16 +145,16 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
         return rig_of(context.active_object) is not None
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ..solver.scenario import dumps_scenario, scenario_to_dict
-        from . import motion_io, scene_io
+        from ...solver.scenario import dumps_scenario, scenario_to_dict
+        from ..scene import motion_keys, problem_io
 
         arm = rig_of(context.active_object)
         context.evaluated_depsgraph_get()
         try:
-            sp = scene_io.read_problem(arm)
+            sp = problem_io.read_problem(arm)
             start = sp.x0 if self.include_pose else None
             data = scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name)
-            motion_io.export_motion(data, context.scene, arm)
+            motion_keys.export_motion(data, context.scene, arm)
             Path(self.filepath).write_text(dumps_scenario(data), encoding="utf-8")
         except (ManikinError, OSError) as exc:
             self.report({"ERROR"}, str(exc))

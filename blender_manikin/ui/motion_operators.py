@@ -11,8 +11,8 @@ from __future__ import annotations
 import bpy
 from bpy.props import IntProperty
 
-from ..solver.errors import ManikinError
-from .schema import rig_of
+from ...solver.errors import ManikinError
+from ..scene.schema import rig_of
 
 SLICE_S = 0.05  # s of solving per timer tick: keeps the UI responsive to Esc
 VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE"}
@@ -29,8 +29,8 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
     frame_start: IntProperty(name="Start", description="First frame (default: the scene's start)")
     frame_end: IntProperty(name="End", description="Last frame (default: the scene's end)")
 
-    _baker = None  # the running Baker (not an annotation: Blender reads an operator's annotations as properties)
-    _timer = None
+    baker = None  # the running Baker (not an annotation: Blender reads an operator's annotations as properties)
+    timer = None
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -39,8 +39,9 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
             return False
         return context.mode in {"OBJECT", "POSE"}
 
-    def _start(self, context: bpy.types.Context) -> bool:
-        from .bake import Baker
+    def start(self, context: bpy.types.Context) -> bool:
+        """Set up the Baker for the chosen range (default: the scene's); False after reporting why not."""
+        from ..scene.bake import Baker
 
         scene = context.scene
         for name, default in (("frame_start", scene.frame_start), ("frame_end", scene.frame_end)):
@@ -51,87 +52,92 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
             arm.manikin.live = False
             self.report({"INFO"}, "Live switched off for the bake")
         try:
-            self._baker = Baker(scene, arm, self.frame_start, self.frame_end)
+            self.baker = Baker(scene, arm, self.frame_start, self.frame_end)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return False
-        context.window_manager.progress_begin(0, len(self._baker.frames))
+        context.window_manager.progress_begin(0, len(self.baker.frames))
         return True
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        if not self._start(context):
+        if not self.start(context):
             return {"CANCELLED"}
         try:
-            while not self._baker.step(SLICE_S):
-                context.window_manager.progress_update(self._baker.done)
+            while not self.baker.step(SLICE_S):
+                context.window_manager.progress_update(self.baker.done)
         except ManikinError as exc:
-            return self._cancel(context, str(exc))
-        return self._finish(context)
+            return self.stop(context, str(exc))
+        return self.finish(context)
 
     def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
         if bpy.app.background or context.window is None:
             return self.execute(context)
-        if not self._start(context):
+        if not self.start(context):
             return {"CANCELLED"}
         wm = context.window_manager
-        self._timer = wm.event_timer_add(0.001, window=context.window)
+        self.timer = wm.event_timer_add(0.001, window=context.window)
         wm.modal_handler_add(self)
-        self._status(context)
+        self.show_status(context)
         return {"RUNNING_MODAL"}
 
     def modal(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
         if event.type == "ESC":
-            return self._cancel(context, f"Bake cancelled at frame {self._current()}; nothing keyed")
+            return self.stop(context, f"Bake cancelled at frame {self.current_frame()}; nothing keyed")
         if event.type in VIEW_EVENTS:
             return {"PASS_THROUGH"}  # the view may turn and zoom while the bake runs
         if event.type != "TIMER":
             return {"RUNNING_MODAL"}  # but the scene must not change under it
         try:
-            finished = self._baker.step(SLICE_S)
+            finished = self.baker.step(SLICE_S)
         except ManikinError as exc:
-            return self._cancel(context, str(exc))
-        context.window_manager.progress_update(self._baker.done)
+            return self.stop(context, str(exc))
+        context.window_manager.progress_update(self.baker.done)
         if finished:
-            return self._finish(context)
-        self._baker.show_progress()  # the manikin follows the bake on screen
-        self._status(context)
+            return self.finish(context)
+        self.baker.show_progress()  # the manikin follows the bake on screen
+        self.show_status(context)
         return {"RUNNING_MODAL"}
 
-    def _current(self) -> int:
-        baker = self._baker
+    def current_frame(self) -> int:
+        """The frame being solved (the last solved one)."""
+        baker = self.baker
         return baker.records[-1].frame if baker.records else baker.frames[0]
 
-    def _status(self, context: bpy.types.Context) -> None:
-        baker = self._baker
+    def show_status(self, context: bpy.types.Context) -> None:
+        """The progress line in the status bar."""
+        baker = self.baker
         if context.workspace is not None:
             failed = len(baker.not_converged())
             note = f", {failed} not converged" if failed else ""
             context.workspace.status_text_set(
-                f"Baking motion: frame {self._current()} ({baker.done}/{len(baker.frames)}{note}). Esc to cancel"
+                f"Baking motion: frame {self.current_frame()} ({baker.done}/{len(baker.frames)}{note}). Esc to cancel"
             )
 
-    def _cleanup(self, context: bpy.types.Context) -> None:
+    def cleanup(self, context: bpy.types.Context) -> None:
+        """Remove the timer, the progress cursor and the status line."""
         wm = context.window_manager
-        if self._timer is not None:
-            wm.event_timer_remove(self._timer)
-            self._timer = None
+        if self.timer is not None:
+            wm.event_timer_remove(self.timer)
+            self.timer = None
         wm.progress_end()
         if context.workspace is not None:
             context.workspace.status_text_set(None)
 
-    def _cancel(self, context: bpy.types.Context, message: str) -> set[str]:
-        self._baker.cancel()
-        self._cleanup(context)
+    def stop(self, context: bpy.types.Context, message: str) -> set[str]:
+        """Cancel the bake (nothing keyed) and report ``message``."""
+        self.baker.cancel()
+        self.cleanup(context)
         self.report({"WARNING"} if message.startswith("Bake cancelled") else {"ERROR"}, message)
         return {"CANCELLED"}
 
-    def _finish(self, context: bpy.types.Context) -> set[str]:
-        baker = self._baker
+    def finish(self, context: bpy.types.Context) -> set[str]:
+        """Key the solved frames and report the frames that did not converge."""
+        baker = self.baker
         try:
             baker.write()
         except ManikinError as exc:
-            return self._cancel(context, f"Solved {baker.done} frames but could not key them: {exc}")
-        self._cleanup(context)
+            return self.stop(context, f"Solved {baker.done} frames but could not key them: {exc}")
+        self.cleanup(context)
         failed = baker.not_converged()
         n = len(baker.frames)
         if not failed:

@@ -11,13 +11,13 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ..solver.bodies import load_body
-from ..solver.ergonomics.worksheet import STRENGTH_BANDS
-from ..solver.errors import ManikinError
-from ..solver.model import Model
-from .body_mesh import build_body_mesh
-from .rig import RigLayout
-from .schema import FILE_KEY, PRESET_KEY, TCP_KEY, TCP_PREFIX, X_KEY
+from ...solver.bodies import load_body
+from ...solver.ergonomics.worksheet import STRENGTH_BANDS
+from ...solver.errors import ManikinError
+from ...solver.model import Model
+from ..rigging.body_mesh import build_body_mesh
+from ..rigging.bones import RigLayout
+from .schema import FILE_KEY, PRESET_KEY, SKIN_MATERIAL, TCP_KEY, TCP_PREFIX, X_KEY, body_name
 
 _models: dict[tuple, Model] = {}
 _layouts: dict[int, RigLayout] = {}
@@ -107,13 +107,13 @@ def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigL
 
 def _build_body(arm: bpy.types.Object, layout: RigLayout, collection: bpy.types.Collection, name: str) -> None:
     body = build_body_mesh(layout)
-    mesh = bpy.data.meshes.new(f"{name}.body")
+    mesh = bpy.data.meshes.new(body_name(name))
     mesh.from_pydata(body.vertices.tolist(), [], body.faces)
     mesh.shade_smooth()
-    material = bpy.data.materials.get("manikin.skin") or bpy.data.materials.new("manikin.skin")
+    material = bpy.data.materials.get(SKIN_MATERIAL) or bpy.data.materials.new(SKIN_MATERIAL)
     material.diffuse_color = (0.8, 0.62, 0.5, 1.0)
     mesh.materials.append(material)
-    obj = bpy.data.objects.new(f"{name}.body", mesh)
+    obj = bpy.data.objects.new(body_name(name), mesh)
     obj.parent = arm
     obj.hide_select = True  # clicks go to the bones and empties, not the skin
     collection.objects.link(obj)

@@ -2,7 +2,7 @@
 
 Each exporter gets the manikin's armature (active) and its body mesh (selected), the bake's frame range as the
 scene range, and its settings for a sampled, unsimplified skeletal animation: every frame is written as the
-armature has it, so a re-import reproduces the joint rotations and positions (tests/test_bake.py checks BVH and
+armature has it, so a re-import reproduces the joint rotations and positions (tests/blender/test_bake.py checks BVH and
 glTF). The scene's selection and frame range are restored afterwards.
 """
 
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import bpy
 
-from ..solver.errors import ManikinError
+from ...solver.errors import ManikinError
 from .compat import call_known
 
 FORMATS = {".fbx": "FBX", ".bvh": "BVH", ".glb": "glTF binary", ".gltf": "glTF (separate .bin)"}

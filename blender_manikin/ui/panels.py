@@ -4,8 +4,8 @@ import math
 
 import bpy
 
-from ..solver.options import AXES
-from .schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_bake, last_result, rig_of
+from ...solver.options import AXES
+from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_bake, last_result, rig_of
 
 SHOWN_FAILURES = 6  # frames listed in the Motion panel
 _UNITS = {

@@ -1,6 +1,6 @@
 """A picture of a posed manikin, rendered headless (Cycles on the CPU), from the built extension as a user has it:
 
-    python -m blender_manikin.snapshot [-o out/manikin.png] [--scenario presets/scenarios/box_lift.toml]
+    python -m blender_manikin.dev.snapshot [-o out/manikin.png] [--scenario presets/scenarios/box_lift.toml]
                                        [--size 640] [--samples 16]
 
 builds the zip, installs it into a throwaway user directory, imports the scenario (default: the box lift) onto a
@@ -21,11 +21,11 @@ from .build import ROOT, build, install, this_platform
 DEFAULT_SCENARIO = ROOT / "presets" / "scenarios" / "box_lift.toml"
 
 
-def _stage(bpy, size: int, samples: int) -> None:
+def _stage(bpy, size: int, samples: int, body_suffix: str) -> None:
     """Floor, sun, camera (front-left, looking at the hips), Cycles on the CPU."""
     scene = bpy.context.scene
     for ob in list(scene.objects):
-        if ob.type in {"MESH", "LIGHT", "CAMERA"} and not ob.name.endswith(".body"):
+        if ob.type in {"MESH", "LIGHT", "CAMERA"} and not ob.name.endswith(body_suffix):
             bpy.data.objects.remove(ob, do_unlink=True)
     bpy.ops.mesh.primitive_plane_add(size=4.0)
     floor = bpy.context.active_object
@@ -71,8 +71,10 @@ def snapshot(output: Path, scenario: Path = DEFAULT_SCENARIO, size: int = 640, s
     os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp(prefix="manikin-user-")
     import bpy
 
-    compat = importlib.import_module(install(zip_path) + ".blender_manikin.compat")  # the installed copy
-    _stage(bpy, size, samples)
+    module = install(zip_path)
+    compat = importlib.import_module(module + ".blender_manikin.scene.compat")  # the installed copy
+    schema = importlib.import_module(module + ".blender_manikin.scene.schema")
+    _stage(bpy, size, samples, schema.BODY_SUFFIX)
     bpy.ops.manikin.import_scenario(filepath=str(scenario))
     bpy.ops.manikin.solve_pose()
     _materials(bpy, compat.node_tree)
@@ -84,7 +86,7 @@ def snapshot(output: Path, scenario: Path = DEFAULT_SCENARIO, size: int = 640, s
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m blender_manikin.snapshot", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m blender_manikin.dev.snapshot", description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "out" / "manikin.png")
     parser.add_argument("--scenario", type=Path, default=DEFAULT_SCENARIO)
     parser.add_argument("--size", type=int, default=640, help="image width and height, pixels")

@@ -14,21 +14,17 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ..solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
-from ..solver.contacts import support_polygon
-from ..solver.ergonomics import ErgoOptions
-from ..solver.ergonomics.loads import percent_of_strength
-from ..solver.ergonomics.report import evaluate
-from ..solver.reduction import DEFAULT_GROUPS
-from ..solver.scenario import result_to_dict
+from ...solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
+from ...solver.contacts import support_polygon
+from ...solver.ergonomics import ErgoOptions
+from ...solver.ergonomics.loads import percent_of_strength
+from ...solver.ergonomics.report import evaluate
+from ...solver.reduction import DEFAULT_GROUPS
+from ...solver.scenario import result_to_dict
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .schema import ERROR_KEY, RESULT_KEY, members
 
 TOP_LOADS = 5
-
-
-
-
 
 
 def _frame(m: Matrix) -> tuple[np.ndarray, np.ndarray]:

@@ -18,11 +18,11 @@ from dataclasses import asdict, dataclass, field
 import bpy
 import numpy as np
 
-from ..solver import ManikinError, Problem, Result
-from ..solver.motion import MotionLimits, solve_frames
-from ..solver.scenario import result_to_dict
-from ..solver.spatial import matrix_to_quat
-from . import keyframes, scene_io
+from ...solver import ManikinError, Problem, Result
+from ...solver.motion import MotionLimits, solve_frames
+from ...solver.scenario import result_to_dict
+from ...solver.spatial import matrix_to_quat
+from . import keyframes, problem_io
 from .armature import layout_of, model_of, read_x, write_pose
 from .schema import BAKE_KEY
 
@@ -70,7 +70,7 @@ class Baker:
         self.original_x = read_x(arm)
         scene.frame_set(frame_start)
         try:
-            first = scene_io.read_problem(arm)  # raises ManikinError naming the empty at fault
+            first = problem_io.read_problem(arm)  # raises ManikinError naming the empty at fault
         except ManikinError:
             scene.frame_set(self.original[0], subframe=self.original[1])
             raise
@@ -98,7 +98,7 @@ class Baker:
             problem, self._first = self._first, None
             return problem
         self.scene.frame_set(frame)
-        problem = scene_io.read_problem(self.arm).problem
+        problem = problem_io.read_problem(self.arm).problem
         if problem.n_x != self.n_x:
             raise ManikinError(f"frame {frame}: the supports changed during the range; bake the parts separately")
         return problem
@@ -165,7 +165,7 @@ class Baker:
         arm[BAKE_KEY] = json.dumps(self.summary())
         self.scene.frame_set(self.original[0], subframe=self.original[1])
         if self.shown is not None:  # the pose there is the keyed one; the sidebar shows its result
-            scene_io.write_result(arm, self.shown)
+            problem_io.write_result(arm, self.shown)
         return seconds
 
     def _quaternion_bones(self, thetas: np.ndarray) -> dict[int, np.ndarray]:

@@ -8,7 +8,7 @@ import gpu
 from gpu_extras.batch import batch_for_shader
 from mathutils import Matrix, Vector
 
-from .schema import RESULT_KEY, is_manikin, last_result, tcp_empty
+from ..scene.schema import RESULT_KEY, is_manikin, last_result, tcp_empty
 
 FORCE_SCALE = 0.001  # m of arrow per N: body weight (~700 N) draws about 0.7 m
 COM_COLOR = (1.0, 0.85, 0.1, 1.0)
@@ -54,7 +54,8 @@ def _cross(center: Vector) -> list[Vector]:
     return out
 
 
-def _geometry(arm: bpy.types.Object, data: dict) -> dict[str, list[Vector]]:
+def geometry(arm: bpy.types.Object, data: dict) -> dict[str, list[Vector]]:
+    """World-space line pairs to draw for a result summary: keys com, polygon, contact and load."""
     m: Matrix = arm.matrix_world
     com = Vector(data["com"])
     floor = Vector((com.x, com.y, 0.0))
@@ -86,7 +87,7 @@ def draw() -> None:
         data = _result(arm)
         if data is None:
             continue
-        geo = _geometry(arm, data)
+        geo = geometry(arm, data)
         lines_shader.uniform_float("viewportSize", (viewport[2], viewport[3]))
         lines_shader.uniform_float("lineWidth", 2.0)
         for key, color in (("com", COM_COLOR), ("polygon", POLYGON_COLOR), ("contact", CONTACT_COLOR),

@@ -5,7 +5,8 @@ On the armature object: ``manikin_preset`` (preset name, or "" for a body file),
 ""), ``manikin_x`` (the last solution: joint values, then contact-edge weights), ``manikin_result`` (JSON summary
 of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
 that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
-(its TCP's name). Settings live in the ``Object.manikin`` / ``Object.manikin_target`` property groups (props.py).
+(its TCP's name). Settings live in the ``Object.manikin`` / ``Object.manikin_target`` property groups
+(``ui/properties.py``).
 """
 
 from __future__ import annotations
@@ -24,6 +25,21 @@ TCP_KEY = "manikin_tcp"
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
 PREFIXES = {"TARGET": "target.", "LOOP": "loop.", "LOAD": "load."}  # the empties a user moves, by role
+BODY_SUFFIX = ".body"  # <armature>.body: the mesh (and its object) riding on the bones
+SKIN_MATERIAL = "manikin.skin"  # the bodies' material, shared by every manikin
+PICTURE_PREFIX = "picture."  # picture.floor, picture.sun, ...: the key-pose picture's staging, removed afterwards
+PICTURE_COLLECTION = "manikin.picture"  # the collection holding that staging
+OUR_MATERIALS = ("manikin.", PICTURE_PREFIX)  # name prefixes of the materials we make (a user's stay untouched)
+
+
+def member_name(role: str, tcp: str) -> str:
+    """The name of a new empty of ``role`` (TARGET, LOOP or LOAD) for ``tcp``: ``target.hand_r``, ..."""
+    return PREFIXES[role] + tcp
+
+
+def body_name(arm_name: str) -> str:
+    """The name of a manikin's body mesh and object."""
+    return arm_name + BODY_SUFFIX
 
 
 def is_manikin(obj: bpy.types.Object | None) -> bool:
