@@ -6,7 +6,6 @@ Files are read by :func:`solver.load_scenario` (``solver/io/scenario_read.py``) 
 
 from __future__ import annotations
 
-import importlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -48,18 +47,3 @@ class Scenario:
         if not self.tracks:
             return self.problem
         return self.problem.with_targets(targets_at(self.problem.all_targets, self.tracks, frame))
-
-
-# Deprecated homes of the file functions, kept until blender_manikin imports them from solver (see solver.io).
-_MOVED = {
-    "load_scenario": "io.scenario_read",
-    "scenario_to_dict": "io.scenario_write",
-    "dumps_scenario": "io.scenario_write",
-    "result_to_dict": "io.result_write",
-}
-
-
-def __getattr__(name: str) -> object:
-    if name not in _MOVED:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f".{_MOVED[name]}", __package__), name)

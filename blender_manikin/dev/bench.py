@@ -87,13 +87,13 @@ def run(output: Path, runs: int = 3) -> str:
 
     ext, registered = load_extension()
     job = importlib.import_module(f"{ext.__name__}.blender_manikin.headless.job")
-    scenario = importlib.import_module(f"{ext.__name__}.solver.scenario")
+    solver = importlib.import_module(f"{ext.__name__}.solver")
     bench = importlib.import_module(f"{ext.__name__}.solver.bench.scenarios")
     with tempfile.TemporaryDirectory(prefix="manikin-bench-") as tmp:
         path = Path(tmp) / "box_lift_240.toml"
-        path.write_text(scenario.dumps_scenario(ping_pong()), encoding="utf-8")
+        path.write_text(solver.dumps_scenario(ping_pong()), encoding="utf-8")
         arm = job.open_scene(job.Job(scenario=path, quiet=True))
-        start = scenario.load_scenario(path).start
+        start = solver.load_scenario(path).start
     rows = [_row(label, [_bake_once(ext, arm, start, comfort) for _ in range(runs)]) for label, comfort in SETTINGS]
     if registered:
         ext.unregister()  # bpy 4.5 hangs at exit with the add-on still registered

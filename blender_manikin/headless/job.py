@@ -17,8 +17,8 @@ from pathlib import Path
 
 import bpy
 
+from ... import solver
 from ...solver import ManikinError
-from ...solver.scenario import load_scenario
 from ..scene import exports, keyframes, motion_keys
 from ..scene.bake import Baker
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
@@ -60,7 +60,7 @@ def open_scene(job: Job) -> bpy.types.Object:
             raise ManikinError(f"{job.blend}: cannot open ({str(exc).strip()})") from None
     if job.scenario is None:
         return find_manikin(job.manikin)
-    frames = load_scenario(job.scenario).frames  # validates first: a bad file is one ScenarioError line
+    frames = solver.load_scenario(job.scenario).frames  # validates first: a bad file is one ScenarioError line
     for ob in bpy.context.view_layer.objects:
         ob.select_set(False)
     bpy.context.view_layer.objects.active = None  # so the scenario goes onto a new manikin
@@ -126,7 +126,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
     body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
     report = None
     if job.report is not None or job.picture is not None or job.plots is not None:
-        ergo = evaluate_motion(baker, body, job.report or Path("report.json"))
+        ergo = evaluate_motion(baker, body)
         report = motion_report(baker, source, body, ergo)
     if job.plots is not None:
         from ...solver.ergonomics.plots import write_plots
@@ -138,7 +138,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
         for line in summary_lines(report):
             _say(job, "  " + line)
     if job.result is not None:
-        _say(job, f"wrote {write_json(dict(scenario=source['scenario'], frames=baker.results), job.result)}")
+        _say(job, f"wrote {solver.write_result(job.result, baker.results, scenario=source['scenario'])}")
     if job.out is not None:
         path = job.out.resolve()
         path.parent.mkdir(parents=True, exist_ok=True)

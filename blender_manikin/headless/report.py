@@ -2,8 +2,8 @@
 
 Each frame holds ``frame``, ``converged``, ``iterations``, ``time_s`` (solver), ``wall_s`` (with reading the
 scene), ``unmet``, ``notes``, ``residuals`` (per constraint in its own units) and ``ergonomics`` (posture, joint
-loads, RULA, REBA, OWAS, worksheet, NIOSH at that frame: :func:`solver.ergonomics.report.evaluate` on the
-frames' result dictionaries). Top level: the source, the manikin, the range, the frames that did not converge,
+loads, RULA, REBA, OWAS, worksheet, NIOSH at that frame: :func:`solver.evaluate` on the frames' results).
+Top level: the source, the manikin, the range, the frames that did not converge,
 timing and the NIOSH lift from the first to the last frame.
 """
 
@@ -16,8 +16,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ... import solver
 from ...solver.ergonomics import ErgoOptions
-from ...solver.ergonomics.report import clean, evaluate
+from ...solver.ergonomics.report import clean
 
 if TYPE_CHECKING:
     from ..scene.bake import Baker
@@ -25,10 +26,10 @@ if TYPE_CHECKING:
 ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet", "niosh")
 
 
-def evaluate_motion(baker: Baker, body: str, path: Path) -> dict:
-    """The ergonomics of every baked frame (the format of ``python -m solver ergo``, which its plots draw);
-    ``body`` is the preset name or body file, ``path`` where the report goes (relative files resolve there)."""
-    return evaluate(dict(scenario=None, frames=baker.results), ErgoOptions(manikin=body or None), Path(path))
+def evaluate_motion(baker: Baker, body: str) -> dict:
+    """The ergonomics of every baked frame (the format of ``python -m solver ergo``, which its plots draw), with
+    the strengths of the baked manikin (``body``, its preset name or body file, only names it in the report)."""
+    return solver.evaluate(baker.results, ErgoOptions(manikin=body or None), model=baker.model)
 
 
 def motion_report(baker: Baker, source: dict, body: str, ergo: dict) -> dict:

@@ -20,7 +20,6 @@ import numpy as np
 
 from ...solver import ManikinError, Problem, Result
 from ...solver.motion import MotionLimits, solve_frames
-from ...solver.scenario import result_to_dict
 from ...solver.spatial import matrix_to_quat
 from . import keyframes, problem_io
 from .armature import layout_of, model_of, read_x, write_pose
@@ -50,7 +49,7 @@ def limits_of(arm: bpy.types.Object) -> MotionLimits | None:
 class Baker:
     """Solves ``frame_start..frame_end`` for ``arm`` in steps, then writes the keys (or cancels: nothing written).
 
-    ``keep_results`` keeps each frame's full result dictionary (the result-file format) for reports.
+    ``keep_results`` keeps each frame's (frame, Result) for reports and the result file.
     """
 
     def __init__(
@@ -78,7 +77,7 @@ class Baker:
         self._first: Problem | None = first.problem
         self.thetas = np.zeros((len(self.frames), self.model.n))
         self.records: list[FrameRecord] = []
-        self.results: list[dict] = []
+        self.results: list[tuple[int, Result]] = []
         self.shown: Result | None = None  # the result at the frame the scene returns to, if baked (sidebar)
         self.last_x = first.x0  # the latest solution (joints, forces), to show progress
         self._solving: Iterator[tuple[int, Result]] = solve_frames(
@@ -124,7 +123,7 @@ class Baker:
                 )
             )
             if self.keep_results:
-                self.results.append(result_to_dict(result, frame))
+                self.results.append((frame, result))
             if frame == self.original[0]:
                 self.shown = result
             self.last_x = result.x

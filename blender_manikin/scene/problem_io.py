@@ -8,19 +8,17 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
-from pathlib import Path
 
 import bpy
 import numpy as np
 from mathutils import Matrix
 
+from ... import solver
 from ...solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
 from ...solver.contacts import support_polygon
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
-from ...solver.ergonomics.report import evaluate
 from ...solver.reduction import DEFAULT_GROUPS
-from ...solver.scenario import result_to_dict
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .schema import ERROR_KEY, RESULT_KEY, members
 
@@ -149,12 +147,9 @@ def summarize(result: Result) -> dict:
     )
 
 
-def scores(result: Result) -> dict | None:
+def scores(result: Result) -> dict:
     """RULA, REBA, OWAS, L4/L5 compression and the worksheet's worst level of this pose (solver.ergonomics)."""
-    try:
-        frame = evaluate({"frames": [result_to_dict(result, 1)]}, ErgoOptions(), Path("."))["frames"][0]
-    except (ManikinError, KeyError, ValueError):
-        return None
+    frame = solver.evaluate(result, ErgoOptions())["frames"][0]
     levels = [item.get("level") for item in frame["worksheet"].values() if isinstance(item, dict)]
     worst = next((lv for lv in ("red", "yellow", "green") if lv in levels), None)
     return dict(

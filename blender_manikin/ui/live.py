@@ -75,7 +75,7 @@ def solve_pending() -> None:
 
 
 def _solve(arm: bpy.types.Object) -> None:
-    from ...solver.iteration import solve
+    from ...solver import solve
     from ..scene import problem_io
 
     try:

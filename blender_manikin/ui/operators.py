@@ -156,7 +156,7 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ...solver.iteration import solve
+        from ...solver import solve
         from ..scene import problem_io
 
         arm = _active_rig(context)

@@ -1,6 +1,6 @@
 """Scenario files: the scene's targets, loops, loads and settings to and from the solver's scenario TOML.
 
-Import reads with :func:`solver.scenario.load_scenario` (all validation lives there) and builds the empties;
+Import reads with :func:`solver.load_scenario` (all validation lives there) and builds the empties;
 export reads the scene into a Problem exactly as Solve does and writes it with ``dumps_scenario``. Keyed targets
 become keyed empties and back (``scene.motion_keys``); general operator rows and custom soles have no UI and are
 reported.
@@ -61,11 +61,11 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ...solver.scenario import load_scenario
+        from ... import solver
         from ..scene import armature
 
         try:
-            sc = load_scenario(self.filepath)
+            sc = solver.load_scenario(self.filepath)
             source = body_source(sc.model)
             arm = rig_of(context.active_object)
             if arm is None or _rig_source(arm) != source:
@@ -145,7 +145,7 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
         return rig_of(context.active_object) is not None
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ...solver.scenario import dumps_scenario, scenario_to_dict
+        from ...solver import dumps_scenario, scenario_to_dict
         from ..scene import motion_keys, problem_io
 
         arm = rig_of(context.active_object)

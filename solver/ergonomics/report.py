@@ -12,11 +12,10 @@ import numpy as np
 
 from ..io.files import write_json as write_file
 from ..io.frame import Frame
-from ..io.result_read import result_from_dict
 from ..model import Model
 from . import niosh, postures
 from .loads import joint_loads
-from .manikin import resolve_model, strengths, working_area
+from .manikin import strengths, working_area
 from .options import ErgoOptions
 from .owas import owas
 from .reba import reba
@@ -102,14 +101,6 @@ def evaluate_frames(
             frames=out,
         )
     )
-
-
-def evaluate(data: dict, options: ErgoOptions, result_path: Path) -> dict:
-    """Deprecated (kept for blender_manikin until it calls :func:`solver.evaluate`): the evaluation of a parsed
-    result file ``data`` (JSON dict) found at ``result_path``."""
-    read = result_from_dict(data, result_path)
-    model, note = resolve_model(options.manikin, read.scenario, result_path.parent)
-    return evaluate_frames(read.frames, options, model, note, str(result_path), read.scenario)
 
 
 def write_json(report: dict, path: Path) -> None:
