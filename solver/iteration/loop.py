@@ -56,6 +56,7 @@ def run_phase(
     memory = CurvatureMemory(tuning.memory) if comfort_on else None
     watch = StagnationWatch(tuning, comfort_on)
     previous: tuple[Trial, Linearization, Step] | None = None
+    move_limit = np.where(problem.model.prismatic, tuning.max_slide, tuning.max_turn)
     for iteration in range(1, budget + 1):
         lin = _linearize(problem, at, comfort_on, keep_off_limits)
         if memory is not None and previous is not None and at.worst <= tuning.comfort_slack:
@@ -68,7 +69,7 @@ def run_phase(
         ctl.hovering = ctl.hovering + 1 if 1.0 < at.worst <= tuning.comfort_slack else 0
         if comfort_on and ctl.hovering > tuning.hover_limit:
             return PhaseEnd(at, iteration, StopReason.HOVERING)
-        outcome = LineSearch(evaluate, at, f, lin, step, tuning).run()
+        outcome = LineSearch(evaluate, at, f, lin, step, tuning, move_limit).run()
         settled = _adapt(ctl, outcome, at, f, step, negligible, tuning)
         if outcome.trial is not None:
             at, f = outcome.trial, outcome.cost

@@ -22,7 +22,7 @@ from .trial import Trial
 from .tuning import Tuning
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Linearization:
     """The models a step is computed from, at one iterate (scaled variables, rows in tolerances)."""
 

@@ -17,9 +17,9 @@ if TYPE_CHECKING:
 COST_KEY = "iteration cost"  # where f = -h of a state is kept in its cache
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Trial:
-    """One evaluated point: solver variables, state, scaled error and its measures."""
+    """One evaluated point: solver variables, state, scaled error and its measures (never modified)."""
 
     x: np.ndarray  # solver variables
     state: State
@@ -53,7 +53,7 @@ class Evaluator:
         return f
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Outcome:
     """What the line search found: the accepted trial (None if every try failed) and how it was reached."""
 
@@ -71,8 +71,12 @@ class LineSearch:
     then the task part alone with a safeguarded quadratic backtracking.
     """
 
-    def __init__(self, evaluate: Evaluator, at: Trial, f: float, lin: Linearization, step: Step, tuning: Tuning):
+    def __init__(
+        self, evaluate: Evaluator, at: Trial, f: float, lin: Linearization, step: Step, tuning: Tuning, move_limit
+    ) -> None:
+        """``move_limit``: per joint, the largest change of a step far from the constraints (rad or m)."""
         self.evaluate, self.at, self.f, self.lin, self.step, self.tuning = evaluate, at, f, lin, step, tuning
+        self.move_limit = move_limit
         self.problem = evaluate.problem
         self.near = at.worst <= tuning.comfort_slack
         self.task_change = 0.0  # f's predicted rise from the task part alone: a ride-along need not undo it
@@ -101,8 +105,7 @@ class LineSearch:
         step, problem = self.step, self.problem
         direction = step.task + step.comfort if with_comfort else step.task
         if not self.near:  # far away, a joint turns at most max_turn per step: the linear model holds about that far
-            limit = np.where(problem.model.prismatic, self.tuning.max_slide, self.tuning.max_turn)
-            move = np.abs(problem.joint_change(self.at.state, direction * problem.scale)) / limit
+            move = np.abs(problem.joint_change(self.at.state, direction * problem.scale)) / self.move_limit
             direction = direction / max(float(np.max(move, initial=0.0)), 1.0)
         return direction
 
