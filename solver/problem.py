@@ -193,10 +193,9 @@ class Problem:
                 self.loops,
                 self.load_specs,
                 self.balance,
-                self.comfort.weights or DEFAULT_COMFORT,
-                self.reduction_groups,
-                self.extra_constraints,
-                self.comfort,
+                reduction=self.reduction_groups,
+                extra_constraints=self.extra_constraints,
+                comfort=self.comfort,
             )
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
