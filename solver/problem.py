@@ -18,6 +18,7 @@ from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, F
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
+from .priorities import PRIORITIES, default_priority
 from .reduction import build_reduction
 from .state import State
 from .statics import Load, StaticsLayout
@@ -29,6 +30,8 @@ class Target:
 
     ``lock`` lists the constrained axes of the target frame; ``operator`` (k x 6) replaces it when given.
     A ``support`` target also carries contact forces (friction coefficient ``friction``, optional sole).
+    ``priority`` 1 must hold, 2 is met as closely as it can be (:mod:`solver.priorities`); None: 1 for a
+    support, 2 otherwise.
     """
 
     tcp: str
@@ -41,6 +44,12 @@ class Target:
     friction: float = 0.6
     sole: np.ndarray | None = None
     enabled: bool = True
+    priority: int | None = None
+
+    @property
+    def effective_priority(self) -> int:
+        """1 (must hold) or 2 (reach: as close as possible)."""
+        return self.priority if self.priority is not None else default_priority(self.support)
 
 
 @dataclass(frozen=True)
@@ -111,6 +120,9 @@ def validate(model: Model, targets, loops, loads) -> None:
         what = f"target {t.tcp}"
         model.tcp(t.tcp)
         _check_frame(what, t.position, t.rotation, t.lock, t.operator, t.weight)
+        if t.priority is not None and t.priority not in PRIORITIES:
+            expected = "1 (must hold) or 2 (as close as possible)"
+            raise ManikinError(f"{what}: priority must be {expected}, got {t.priority!r}")
         if not (np.isfinite(t.friction) and t.friction >= 0):
             raise ManikinError(f"{what}: friction must be a non-negative number")
         if t.sole is not None:
@@ -204,6 +216,13 @@ class Problem:
         moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
         return moved
 
+    def with_frames(self, targets: list[FrameConstraint], comfort: Comfort) -> Problem:
+        """The same problem with only ``targets`` (some of this one's target constraints) and another comfort."""
+        ranked = copy.copy(self)
+        ranked.comfort = comfort
+        ranked._set_constraints(targets)
+        return ranked
+
     def with_bounds(self, bounds: Bounds) -> Problem:
         """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
         narrowed = copy.copy(self)
@@ -240,6 +259,7 @@ class Problem:
     def _set_constraints(self, target_constraints: list[FrameConstraint]) -> None:
         """The stacked constraints: targets and loops as one frame group, balance, the extra constraints; and the
         row scaling."""
+        self.target_constraints = list(target_constraints)
         frames = [*target_constraints, *self.loop_constraints]
         self.frames = FrameGroup(frames) if frames else None
         rows = [c for c in (self.frames, self.balance_constraint, *self.extra_constraints) if c is not None]
@@ -348,6 +368,14 @@ class Problem:
             return red.times_basis(grad), red.times_basis(curv, squared=True)
         dphi = self.reduction_jacobian(state)
         return dphi.T @ grad, (dphi * dphi).T @ curv
+
+    def comfort_rows(self, state: State) -> np.ndarray | None:
+        """Low-rank curvature rows of -h (k, n_var) in the solver variables v, None when comfort has none."""
+        rows = self.comfort.curvature_rows(state)
+        if rows is None or self.reduction is None:
+            return rows
+        red = self.reduction
+        return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
 
     def residuals(self, state: State) -> dict[str, float]:
         out: dict[str, float] = {}

@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .priorities import hard_unmet, shortfalls
+
 if TYPE_CHECKING:
     from .iteration import StopReason
     from .problem import Problem
@@ -30,23 +32,29 @@ class Result:
     com: np.ndarray
     notes: list[str] = field(default_factory=list)
     stop: StopReason | None = None  # why the iteration ended (None for a pose that was not solved)
+    broken: list[str] = field(default_factory=list)  # unmet constraints of priority 1 (supports, loops, balance)
+    # unmet reach targets: how far each is off, {"position_m": .., "rotation_deg": ..}
+    shortfall: dict[str, dict[str, float]] = field(default_factory=dict)
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
         unmet = problem.unmet(state)
         parts = problem.comfort.parts(state)
+        residuals = problem.residuals(state)
         return cls(
             problem=problem,
             x=state.x.copy(),
             converged=not unmet,
             iterations=iterations,
             time_s=time_s,
-            residuals=problem.residuals(state),
+            residuals=residuals,
             unmet=unmet,
             comfort=problem.comfort.total(parts),
             comfort_parts=parts,
             contacts=problem.contacts.wrenches(state.kin, state.w),
             com=state.kin.body_com(),
+            broken=hard_unmet(problem, unmet),
+            shortfall=shortfalls(problem, unmet, residuals),
         )
 
     @property
@@ -69,6 +77,12 @@ class Result:
             lines.append(f"  stopped: {self.stop.value} ({self.stop.describe()})")
         if self.unmet:
             lines.append("  unmet: " + ", ".join(self.unmet))
+        if self.broken:
+            lines.append("  NOT held (priority 1): " + ", ".join(self.broken))
+        elif self.unmet:
+            lines.append("  held: supports, loops and balance (priority 1)")
+        for name, parts in self.shortfall.items():
+            lines.append(f"  short: {name} by " + ", ".join(_shortfall_text(k, v) for k, v in parts.items()))
         lines.extend(f"  note: {note}" for note in self.notes)
         for name, value in self.residuals.items():
             unit = _unit(name)
@@ -84,6 +98,11 @@ class Result:
         lines.append(f"  comfort {self.comfort:.4f} ({parts})")
         lines.append(f"  center of mass [{self.com[0]:.3f} {self.com[1]:.3f} {self.com[2]:.3f}] m")
         return "\n".join(lines)
+
+
+def _shortfall_text(part: str, value: float) -> str:
+    shown = {"position_m": f"{value * 1e3:.1f} mm", "rotation_deg": f"{value:.2f} deg"}
+    return shown.get(part, f"{value:.4g} (combined)")
 
 
 def _unit(name: str) -> str:

@@ -159,6 +159,8 @@ def check_physics(result) -> None:
         f = np.asarray(c["force"], float)
         f_n = float(f @ normal)
         f_t = float(np.linalg.norm(f - f_n * normal))
+        if np.linalg.norm(f) < 1e-6 and np.linalg.norm(c["moment"]) < 1e-6:
+            continue  # an unloaded support (the other foot carries everything): allowed, nothing more to check
         if not f_n > 0.0:
             failures.append(f"contact {t.tcp}: normal force {f_n:.3f} N does not push")
             continue
@@ -289,15 +291,17 @@ def test_one_hand_reach(male50, load_kg):
 
 
 def test_unreachable_target_stops_early_with_the_best_compromise(male50):
-    """A hand target 3 m up: the error stops falling long before the iteration limit; the solver says so."""
+    """A hand target 3 m up: the error stops falling long before the iteration limit, the ranked solve then holds the
+    feet and balance with the hand as close as it gets; the solver says so."""
     far = np.array([0.0, -0.3, 3.0])
     result = solve(reach_problem(male50, far))
     assert not result.converged and "hand_r" in result.unmet
-    assert result.iterations < DEFAULT_OPTIONS.max_iterations
+    assert result.iterations < 2 * DEFAULT_OPTIONS.max_iterations and result.stop is StopReason.CLOSEST
+    assert result.unmet == ["hand_r"] and not result.broken
     kin = male50.forward(result.theta)
     reach = np.linalg.norm(_tcp_frame(male50, kin, "hand_r")[1] - far)
     start = np.linalg.norm(_tcp_frame(male50, male50.forward(male50.zero_pose()), "hand_r")[1] - far)
-    assert reach < start - 0.5  # reached up towards it (a least-squares compromise with the other rows)
+    assert reach < start - 0.5  # reached up towards it
     assert all(np.isfinite(v) for v in result.residuals.values())
 
 
@@ -468,9 +472,11 @@ def test_restart_pose_moves_the_joints_at_a_limit_to_the_other_side(male50):
     assert np.array_equal(again[others], x[others]) and len(x) > n
 
 
-def test_a_failed_solve_starts_again_from_the_other_side_of_its_limits(male50):
+def test_a_failed_solve_starts_again_from_the_other_side_of_its_limits(male50, monkeypatch):
     """A Max Dev = pi trial of the random benchmark where the hand's orientation was reached the wrong way round:
-    one restart meets the constraints; the result counts the iterations of both attempts."""
+    one restart meets the constraints; the result counts the iterations of both attempts. (Without the ranked
+    solve after a failure, which would meet them too.)"""
+    monkeypatch.setattr("solver.iteration.phases.ranked", lambda problem: None)
     box = random_targets.workspace_box(male50)
     targets = random_targets.draw_targets(male50, box, random_targets.LEVELS[5], 502015)
     problem = random_targets.trial_problem(male50, targets, True, random_targets.DEFAULT_GROUPS)
@@ -532,13 +538,13 @@ def test_lightly_loaded_contact_edges_rarely_need_a_clamping_re_solve(monkeypatc
 
 
 def test_the_result_says_why_the_iteration_stopped(male50):
-    """A met reach ends CONVERGED; a hand target 3.5 m high ends when the error stops falling (or the budget runs out),
-    and the summary prints the reason."""
+    """A met reach ends CONVERGED; a hand target 3.5 m high ends CLOSEST (feet and balance held, the hand as near as
+    it gets); the summary prints the reason."""
     met = solve(reach_problem(male50, np.array([0.25, -0.35, 1.1])))
     assert met.converged and met.stop is StopReason.CONVERGED
     far = solve(reach_problem(male50, np.array([0.0, -0.3, 3.5])), options=SolverOptions(restarts=0))
     assert not far.converged
-    assert far.stop in (StopReason.STAGNATED, StopReason.NO_PROGRESS, StopReason.ITERATION_LIMIT)
+    assert far.stop is StopReason.CLOSEST and not far.broken and "hand_r" in far.shortfall
     assert f"stopped: {far.stop.value}" in far.summary()
     budget = solve(reach_problem(male50, np.array([0.0, -0.3, 3.5])), options=SolverOptions(max_iterations=0))
     assert budget.stop is StopReason.NOT_RUN and budget.iterations == 0

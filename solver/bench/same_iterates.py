@@ -50,8 +50,13 @@ def compare(path: str) -> str:
     same_ok = sum(ref[k][1] == v[1] for k, v in now.items())
     dx = max(float(np.max(np.abs(ref[k][3:] - v[3:]))) for k, v in now.items())
     ok_now, ok_ref = sum(v[1] for v in now.values()), sum(ref[k][1] for k in now)
+    both = [k for k, v in now.items() if v[1] and ref[k][1]]
+    it_ref, it_now = sum(ref[k][0] for k in both), sum(now[k][0] for k in both)
+    comfort = np.array([now[k][2] - ref[k][2] for k in both])
     return (f"{len(now)} trials: same iterations {same_it}, same success {same_ok}, max |dx| {dx:.3g}, "
-            f"successes {ok_now:.0f} (before {ok_ref:.0f})")  # fmt: skip
+            f"successes {ok_now:.0f} (before {ok_ref:.0f}); converged in both: iterations {it_now:.0f} (before "
+            f"{it_ref:.0f}), comfort higher in {int((comfort > 1e-9).sum())}, lower in {int((comfort < -1e-9).sum())}, "
+            f"mean change {comfort.mean():+.4f}")  # fmt: skip
 
 
 def speed(old_root: str, repeats: int = 2) -> str:

@@ -55,6 +55,10 @@ class Comfort:
             out += weight * parts[term.name]
         return -out
 
+    def relative_size(self, parts: dict[str, float]) -> float:
+        """The weighted cost of the terms that set the relative comfort tolerance (>= 0), from :meth:`parts`."""
+        return sum(weight * parts[term.name] for weight, term in self.terms if term.relative)
+
     def value(self, state: State) -> float:
         """h(x) (<= 0; larger is more comfortable)."""
         return self.total(self.parts(state))
@@ -70,6 +74,12 @@ class Comfort:
                 grad -= g
                 curv += c
         return grad, curv
+
+    def curvature_rows(self, state: State) -> np.ndarray | None:
+        """The terms' low-rank curvature rows stacked (k, n_x), None when no term has any."""
+        rows = [term.curvature_rows(state, weight) for weight, term in self.terms if weight]
+        rows = [r for r in rows if r is not None]
+        return np.concatenate(rows) if rows else None
 
     def gradient(self, state: State) -> np.ndarray:
         """dh/dx, shape (n_x,)."""

@@ -13,6 +13,7 @@ class ComfortTerm(ABC):
     """A cost c(x) >= 0 (0 = comfortable); comfort h = -sum of weight x cost over the terms."""
 
     name: str  # the key of this term in reports (``Result.comfort_parts``)
+    relative: bool = True  # its size sets the scale of the solver's relative comfort tolerance
 
     @abstractmethod
     def cost(self, state: State) -> float:
@@ -21,3 +22,7 @@ class ComfortTerm(ABC):
     @abstractmethod
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
         """(d(weight c)/dx (n_x,), a positive diagonal curvature model of weight c (n_x,))."""
+
+    def curvature_rows(self, state: State, weight: float) -> np.ndarray | None:
+        """Rows R (k, n_x) whose R^T R is curvature of weight c beyond the diagonal model (None: there is none)."""
+        return None

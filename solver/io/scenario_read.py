@@ -16,6 +16,7 @@ from ..errors import ManikinError, ScenarioError
 from ..model import GRAVITY, Model
 from ..motion import Key, Track, targets_at
 from ..options import AXES, DEFAULT_OPTIONS, MotionLimits, SolverOptions
+from ..priorities import PRIORITIES
 from ..problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
 from ..reduction import DEFAULT_GROUPS, GROUPS
 from ..scenario import Scenario
@@ -25,7 +26,7 @@ from .table_reader import TableReader
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
             "description"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
-               "name", "keys"}  # fmt: skip
+               "priority", "name", "keys"}  # fmt: skip
 LOOP_KEYS = {"tcp", "other", "offset_position", "offset_rotation", "lock", "operator", "weight"}
 
 
@@ -161,8 +162,19 @@ def _read_target(t: TableReader, model: Model) -> tuple[Target, tuple[Key, ...]]
         friction=t.number("friction", 0.6, 0.0, 10.0),
         sole=sole,
         enabled=t.boolean("enabled", True),
+        priority=_priority(t),
     )
     return target, keys
+
+
+def _priority(t: TableReader) -> int | None:
+    """``priority``: 1 (must hold) or 2 (as close as possible); absent: by the target's kind."""
+    if "priority" not in t.data:
+        return None
+    value = t.get("priority")
+    if isinstance(value, bool) or value not in PRIORITIES:
+        raise t.fail("priority", "1 (must hold) or 2 (as close as possible)", value)
+    return int(value)
 
 
 def _read_keys(t: TableReader) -> tuple[Key, ...]:

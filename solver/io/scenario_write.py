@@ -78,6 +78,8 @@ def _target_table(t: Target) -> dict:
     table.update(weight=float(t.weight), support=bool(t.support), friction=float(t.friction), enabled=bool(t.enabled))
     if t.sole is not None:
         table["sole"] = [floats(p) for p in np.asarray(t.sole, dtype=float)]
+    if t.priority is not None:
+        table["priority"] = int(t.priority)
     return table
 
 

@@ -33,6 +33,7 @@ class _Controls:
     rejected: int = 0  # iterations in a row without an accepted step
     hovering: int = 0  # iterations in a row just outside the constraints
     quiet: int = 0  # feasible iterations in a row that gained negligible comfort
+    gained: float = 0.0  # what the last accepted step gained in f
 
 
 def run_phase(
@@ -63,10 +64,11 @@ def run_phase(
             _remember(memory, problem, previous, at, lin)
         step = compute_step(problem, at, lin, ctl.mu, ctl.radius, tuning, memory)
         previous = (at, lin, step)
-        negligible = options.comfort_tolerance * max(f, 1.0)
-        if at.worst <= 1.0 and (step.predicted_gain <= negligible or ctl.quiet >= 2):
+        negligible = options.comfort_tolerance * max(evaluate.size(at.state), 1.0)
+        if at.worst <= 1.0 and (step.gain_left <= negligible or ctl.quiet >= 2):
             return PhaseEnd(at, iteration, StopReason.CONVERGED)
-        ctl.hovering = ctl.hovering + 1 if 1.0 < at.worst <= tuning.comfort_slack else 0
+        hovers = 1.0 < at.worst <= tuning.comfort_slack and ctl.gained < tuning.hover_gain * negligible
+        ctl.hovering = ctl.hovering + 1 if hovers else 0
         if comfort_on and ctl.hovering > tuning.hover_limit:
             return PhaseEnd(at, iteration, StopReason.HOVERING)
         outcome = LineSearch(evaluate, at, f, lin, step, tuning, move_limit).run()
@@ -88,7 +90,9 @@ def _linearize(problem: Problem, at: Trial, comfort_on: bool, keep_off_limits: b
     zeros = np.zeros(problem.n_var)
     if comfort_on:
         grad_h, curv = problem.comfort_derivatives(at.state)
-        return Linearization(jac, -grad_h * problem.scale, curv * problem.scale**2, True)
+        rows = problem.comfort_rows(at.state)
+        rows = None if rows is None else rows * problem.scale
+        return Linearization(jac, -grad_h * problem.scale, curv * problem.scale**2, True, rows)
     if keep_off_limits:
         return Linearization(jac, zeros, problem.comfort_derivatives(at.state)[1] * problem.scale**2, False)
     return Linearization(jac, zeros, np.zeros(problem.n_var), False)
@@ -101,7 +105,10 @@ def _remember(memory: CurvatureMemory, problem: Problem, previous, at: Trial, li
     if before.x is at.x:
         return
     change = lin.grad_f - lin_before.grad_f + (lin.jac - lin_before.jac).T @ step_before.multipliers
-    memory.add((at.x - before.x) / problem.scale, change)
+    step = (at.x - before.x) / problem.scale
+    if lin.rows is not None:  # the exact low-rank curvature is in the model already: learn only the rest
+        change = change - lin.rows.T @ (lin.rows @ step)
+    memory.add(step, change)
 
 
 def _adapt(ctl: _Controls, outcome: Outcome, at: Trial, f: float, step: Step, negligible: float, tuning: Tuning):
@@ -121,14 +128,17 @@ def _adapt(ctl: _Controls, outcome: Outcome, at: Trial, f: float, step: Step, ne
             ctl.mu *= factor
     ctl.mu = float(np.clip(ctl.mu, 1e-8, 1e8))
     if outcome.trial is None:
+        ctl.gained = 0.0
         ctl.rejected += 1
         ctl.radius = max(ctl.radius / 4, 1e-6)
         return False
     new = outcome.trial
     gained = f - outcome.cost
-    ctl.quiet = ctl.quiet + 1 if (new.worst <= 1.0 and gained < negligible) else 0
+    quiet = new.worst <= 1.0 and abs(gained) < negligible and (outcome.with_comfort or step.gain_left <= negligible)
+    ctl.quiet = ctl.quiet + 1 if quiet else 0
+    ctl.gained = gained
     ctl.rejected = 0
     ctl.radius = min(2 * ctl.radius, tuning.max_step) if outcome.alpha == 1.0 else ctl.radius
-    small = step.predicted_gain < tuning.final_gain * negligible
+    small = step.gain_left < tuning.final_gain * negligible
     confirmed = gained < negligible and step.predicted_gain < 2 * tuning.final_gain * negligible
     return outcome.with_comfort and outcome.alpha == 1.0 and new.worst <= 1.0 and (small or confirmed)

@@ -7,6 +7,7 @@ import time
 import numpy as np
 
 from ..options import DEFAULT_OPTIONS, SolverOptions
+from ..priorities import ranked, soft_shortfall
 from ..problem import Problem
 from ..result import Result
 from .loop import PhaseEnd, run_phase
@@ -28,26 +29,52 @@ def solve(
     iterate keeps hovering just outside them), the last iterations restore them with comfort switched off
     (but still in its curvature metric, which keeps joints off their limits). A phase ends early when, far
     from the constraints, the error has stopped falling (unreachable targets: the best compromise, sooner).
-    A solve that still fails starts again (up to ``options.restarts`` times) from :func:`restart_pose`; the
-    result is the first that meets the constraints, else the one with the smallest worst error, with the
-    iterations and time of all attempts and the reason its last phase stopped (``Result.stop``).
+    A solve that still fails starts again (up to ``options.restarts`` times) from :func:`restart_pose`. If
+    every row cannot be met, the problem is solved again ranked (:mod:`solver.priorities`): supports, loops
+    and balance held, reach targets as close as they get. The result is the first that meets everything, else
+    the one that holds the most of priority 1 and then comes closest to the rest, with the iterations and
+    time of all attempts and the reason its last phase stopped (``Result.stop``).
     """
     t0 = time.perf_counter()
-    best = attempt(problem, problem.start(x0), options, tuning)
+    start = problem.start(x0)
+    best, used = _with_restarts(problem, start, options, tuning)
+    was_ranked = False
+    fallback = ranked(problem) if best.trial.worst > 1.0 else None
+    if fallback is not None:
+        again, more = _with_restarts(fallback, start, options, tuning)
+        used += more
+        if _ranking_key(fallback, again) < _ranking_key(fallback, best):
+            best, was_ranked = again, True
+    result = Result.from_state(problem, best.trial.state, used, time.perf_counter() - t0)
+    settled = best.reason in (StopReason.CONVERGED, StopReason.NO_PROGRESS) and best.trial.worst <= 1.0
+    result.stop = StopReason.CLOSEST if (was_ranked and settled) else best.reason
+    if was_ranked and result.shortfall:
+        result.notes.append("out of reach: " + ", ".join(result.shortfall) + " (as close as the supports, loops and "
+                            "balance allow)")  # fmt: skip
+    return result
+
+
+def _with_restarts(problem: Problem, start: np.ndarray, options: SolverOptions, tuning: Tuning):
+    """(the best attempt, iterations of all) from ``start`` and up to ``options.restarts`` restart poses."""
+    best = attempt(problem, start, options, tuning)
     used = best.iterations
     for _ in range(options.restarts):
         if best.trial.worst <= 1.0:
             break
-        start = restart_pose(problem, best.trial.state.x, tuning)
-        if start is None:
+        again_from = restart_pose(problem, best.trial.state.x, tuning)
+        if again_from is None:
             break
-        again = attempt(problem, problem.start(start), options, tuning)
+        again = attempt(problem, problem.start(again_from), options, tuning)
         used += again.iterations
         if again.trial.worst < best.trial.worst:
             best = again
-    result = Result.from_state(problem, best.trial.state, used, time.perf_counter() - t0)
-    result.stop = best.reason
-    return result
+    return best, used
+
+
+def _ranking_key(ranked_problem: Problem, end: PhaseEnd) -> tuple[float, float]:
+    """(how far priority 1 is off, beyond its tolerance; the soft targets' squared shortfall), at ``end``."""
+    trial = Evaluator(ranked_problem, False)(end.trial.x)
+    return max(trial.worst, 1.0), soft_shortfall(ranked_problem, trial.state)
 
 
 def attempt(problem: Problem, x: np.ndarray, options: SolverOptions, tuning: Tuning = TUNING) -> PhaseEnd:

@@ -30,6 +30,7 @@ class Linearization:
     grad_f: np.ndarray  # gradient of f = -h (zeros without comfort)
     curv_f: np.ndarray  # diagonal curvature model of f (zeros when no metric is wanted)
     comfort_on: bool  # whether the step carries a comfort part
+    rows: np.ndarray | None = None  # R (k, n) with exact low-rank curvature R^T R of f beyond curv_f
 
 
 @dataclass
@@ -43,6 +44,12 @@ class Step:
     least_squares: LeastSquares  # the factors of the free variables' Jacobian, in the metric
     root_metric: np.ndarray  # square root of the metric on the free variables
     free_gradient: np.ndarray  # grad f on the free variables, in the metric
+    saturated_gain: float = 0.0  # first-order comfort gain of the variables the step saturated on a bound
+
+    @property
+    def gain_left(self) -> float:
+        """What the step still expects to gain: the comfort part's model gain plus the saturated variables'."""
+        return self.predicted_gain + self.saturated_gain
 
     def correction(self, err: np.ndarray) -> np.ndarray:
         """Second-order correction: the task step for a new error, reusing this step's factors."""
@@ -93,7 +100,7 @@ def compute_step(
     outward = jac.T @ err + grad_f  # descent of both pushes along -outward
     free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
     root = np.sqrt(metric(problem, x, lin, free, mu, tuning))
-    compact = memory.compact(lin.curv_f + 1e-12) if memory is not None else None
+    compact = _curvature_model(memory, lin) if memory is not None else None
     fixed = np.zeros_like(x)
     for round_ in range(tuning.clamping_rounds):
         task, comfort, lsq = _free_step(problem, at, lin, free, fixed, root, radius, compact, tuning)
@@ -114,8 +121,29 @@ def compute_step(
     if not (np.isfinite(task).all() and np.isfinite(comfort).all()):
         task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
     gain = _predicted_gain(lin, comfort, compact)
+    # The first-order gain of the variables saturated on a bound: part of the task step, yet moved for comfort;
+    # without it a phase whose progress is all on bounds (a motion's per-frame limits) would look finished.
+    saturated = (~free) & (fixed != 0.0)
+    saturated_gain = max(-float(grad_f[saturated] @ fixed[saturated]), 0.0) if lin.comfort_on else 0.0
     r_free = root[free]
-    return Step(task, comfort, gain, free, lsq, r_free, grad_f[free] / r_free)
+    return Step(task, comfort, gain, free, lsq, r_free, grad_f[free] / r_free, saturated_gain)
+
+
+def _curvature_model(memory: CurvatureMemory, lin: Linearization) -> tuple[np.ndarray, np.ndarray] | None:
+    """(U, M) with the model B = diag(curv_f) - U M^-1 U^T: the quasi-Newton pairs and the exact rows R
+    (block M = -I, so that R^T R is added)."""
+    compact = memory.compact(lin.curv_f + 1e-12)
+    if lin.rows is None or not len(lin.rows):
+        return compact
+    k = len(lin.rows)
+    if compact is None:
+        return lin.rows.T.copy(), -np.eye(k)
+    u, middle = compact
+    m = len(middle)
+    both = np.zeros((m + k, m + k))
+    both[:m, :m] = middle
+    both[m:, m:] = -np.eye(k)
+    return np.concatenate((u, lin.rows.T), axis=1), both
 
 
 def _free_step(problem, at, lin, free, fixed, root, radius, compact, tuning):

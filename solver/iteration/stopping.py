@@ -16,6 +16,7 @@ class StopReason(Enum):
     STAGNATED = "stagnated"  # far from the constraints the error stopped falling: targets out of reach
     ITERATION_LIMIT = "iteration limit"  # the iteration budget was used up
     NOT_RUN = "not run"  # no iteration ran (no budget): the start itself
+    CLOSEST = "closest"  # not everything could be met: priority 1 met, the reach targets as close as they get
 
     def describe(self) -> str:
         """One sentence for a person."""
@@ -26,6 +27,7 @@ class StopReason(Enum):
             StopReason.STAGNATED: "the error stopped falling far from the constraints: a target is out of reach",
             StopReason.ITERATION_LIMIT: "the iteration budget ran out",
             StopReason.NOT_RUN: "no iteration ran",
+            StopReason.CLOSEST: "supports, loops and balance met, the other targets as close as they can get",
         }[self]
 
 

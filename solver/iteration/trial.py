@@ -45,12 +45,21 @@ class Evaluator:
 
     def cost(self, state: State) -> float:
         """f = -h at ``state`` (0 without comfort), computed once per state."""
+        return self._cost_and_size(state)[0]
+
+    def size(self, state: State) -> float:
+        """The part of f whose size sets the relative comfort tolerance (see ``ComfortTerm.relative``)."""
+        return self._cost_and_size(state)[1]
+
+    def _cost_and_size(self, state: State) -> tuple[float, float]:
         if not self.comfort_on:
-            return 0.0
-        f = state.cache.get(COST_KEY)
-        if f is None:
-            f = state.cache[COST_KEY] = -self.problem.comfort.value(state)
-        return f
+            return 0.0, 0.0
+        both = state.cache.get(COST_KEY)
+        if both is None:
+            comfort = self.problem.comfort
+            parts = comfort.parts(state)
+            both = state.cache[COST_KEY] = (-comfort.total(parts), comfort.relative_size(parts))
+        return both
 
 
 @dataclass(slots=True)

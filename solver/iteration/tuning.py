@@ -37,6 +37,7 @@ class Tuning:
     # Stopping
     final_gain: float = 2.0  # a full feasible comfort step predicted to gain < this x tolerance ends the phase
     hover_limit: int = 12  # comfort iterations just outside the constraints before the restoring phase
+    hover_gain: float = 1e3  # ... not counting those whose step gained more than this x tolerance
     stagnation_window: int = 10  # iterations over which the error must fall (far from the constraints)
     restore_stagnation_window: int = 3  # the same for the sum of squares when restoring without comfort
     stagnation_gain: float = 0.02  # the fraction by which it must fall over that window
