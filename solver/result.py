@@ -69,6 +69,15 @@ class Result:
     def joint_values(self) -> dict[str, float]:
         return dict(zip(self.problem.model.joint_names, map(float, self.theta), strict=True))
 
+    def verdict(self) -> str:
+        """One line: converged, or what is short and by how much, or what could not be held."""
+        if self.converged:
+            return "converged"
+        short = "; ".join(f"{name} short by " + shortfall_text(parts) for name, parts in self.shortfall.items())
+        if self.broken:
+            return "NOT held (priority 1): " + ", ".join(self.broken) + (f"; {short}" if short else "")
+        return f"out of reach: {short} (supports, loops and balance held)" if short else "not converged"
+
     def summary(self) -> str:
         """A few lines a person can read: status, each constraint's residual, contacts, comfort."""
         status = "converged" if self.converged else "NOT converged"
@@ -82,7 +91,7 @@ class Result:
         elif self.unmet:
             lines.append("  held: supports, loops and balance (priority 1)")
         for name, parts in self.shortfall.items():
-            lines.append(f"  short: {name} by " + ", ".join(_shortfall_text(k, v) for k, v in parts.items()))
+            lines.append(f"  short: {name} by " + shortfall_text(parts))
         lines.extend(f"  note: {note}" for note in self.notes)
         for name, value in self.residuals.items():
             unit = _unit(name)
@@ -100,9 +109,13 @@ class Result:
         return "\n".join(lines)
 
 
-def _shortfall_text(part: str, value: float) -> str:
-    shown = {"position_m": f"{value * 1e3:.1f} mm", "rotation_deg": f"{value:.2f} deg"}
-    return shown.get(part, f"{value:.4g} (combined)")
+def shortfall_text(parts: dict[str, float]) -> str:
+    """ "12.3 mm, 4.56 deg" for a target's shortfall parts (m and deg)."""
+    shown = []
+    for part, value in parts.items():
+        units = {"position_m": f"{value * 1e3:.1f} mm", "rotation_deg": f"{value:.2f} deg"}
+        shown.append(units.get(part, f"{value:.4g} (combined)"))
+    return ", ".join(shown)
 
 
 def _unit(name: str) -> str:

@@ -364,7 +364,7 @@ def test_cli_ergo_writes_json_csv_and_plots(box_lift: Path, tmp_path: Path) -> N
     assert lift["load_kg"] == pytest.approx(10.0) and lift["origin"]["FM"] == 0.91 and lift["origin"]["CM"] == 1.0
     assert lift["LI"] == pytest.approx(10.0 / lift["RWL"])
     header = out.with_suffix(".csv").read_text().splitlines()[0].split(",")
-    assert header[:4] == ["frame", "converged", "rula", "reba"] and "pct_shoulder_r_flexion" in header
+    assert header[:5] == ["frame", "converged", "status", "rula", "reba"] and "pct_shoulder_r_flexion" in header
 
 
 def test_cli_ergo_snake_has_loads_but_no_posture(tmp_path: Path) -> None:

@@ -180,3 +180,28 @@ def test_the_scenario_file_reads_and_writes_priority(tmp_path):
     path.write_text(text.replace('tcp = "hand_r"', 'tcp = "hand_r"\npriority = "high"', 1))
     with pytest.raises(ScenarioError, match=r"priority: expected 1 \(must hold\) or 2"):
         load_scenario(path)
+
+
+def test_ergo_flags_frames_that_did_not_converge(male50, tmp_path):
+    """ergo scores the closest pose but says, in the JSON, the CSV and its summary, that it is not a converged one;
+    where balance broke it calls the loads not physical instead of printing them."""
+    from solver import write_result
+    from solver.ergonomics import ErgoOptions, run
+    from solver.ergonomics.report import summary_lines
+
+    short = solve(reach(male50, [-0.2, -1.6, 1.0]))
+    loaded = reach(male50, [-0.2, -0.5, 1.0])
+    broken = solve(Problem(male50, loaded.targets, loads=[ExternalLoad("hand_r", np.array([0.0, -5000.0, 0.0]))]))
+    fine = solve(reach(male50, [-0.25, -0.45, 1.1]))
+    path = write_result(tmp_path / "r.json", [(1, fine), (2, short), (3, broken)])
+    report = run(path, tmp_path / "r_ergo.json", ErgoOptions(), plots=False)
+    assert report["not_converged"] == [2, 3] and report["not_held"] == [3]
+    status = [f["status"] for f in report["frames"]]
+    assert status[:2] == ["converged", "out of reach: hand_r"]
+    assert status[2].startswith("NOT held: ") and "balance" in status[2]
+    csv_text = (tmp_path / "r_ergo.csv").read_text()
+    assert ",out of reach: hand_r," in csv_text and ',"NOT held: ' in csv_text
+    lines = summary_lines(report)
+    assert "[NOT converged: out of reach: hand_r]" in lines[1]
+    assert "L4/L5 not physical" in lines[2]
+    assert any(line.startswith("NOT converged: 2 of 3 frames [2, 3]") for line in lines)

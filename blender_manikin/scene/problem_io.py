@@ -19,6 +19,7 @@ from ...solver.contacts import support_polygon
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
 from ...solver.reduction import DEFAULT_GROUPS
+from ...solver.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .schema import ERROR_KEY, RESULT_KEY, members
 
@@ -83,8 +84,9 @@ def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
         rot, pos = _frame(to_local @ ob.matrix_world)
         if s.role == "TARGET":
             targets.append(
-                Target(s.tcp, pos, rot, s.locked_axes(), None, s.weight, s.support, s.friction, None, s.enabled)
-            )
+                Target(s.tcp, pos, rot, s.locked_axes(), None, s.weight, s.support, s.friction, None, s.enabled,
+                       s.priority_number())
+            )  # fmt: skip
             given = (pos, rot)
         elif s.role == "LOOP" and s.enabled:
             other_rot, other_pos = kin0.tcp_frame(model.tcp(s.other))
@@ -95,7 +97,8 @@ def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
             loads.append(ExternalLoad(s.tcp, *given))
         else:
             continue
-        labels.append((ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight))
+        labels.append((ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
+                       s.priority))  # fmt: skip
         numbers.extend(np.ravel(v) for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
@@ -131,6 +134,8 @@ def summarize(result: Result) -> dict:
         iterations=int(result.iterations),
         time_ms=1e3 * float(result.time_s),
         unmet=list(result.unmet),
+        broken=list(result.broken),
+        shortfall={name: shortfall_text(parts) for name, parts in result.shortfall.items()},
         residuals={k: float(v) for k, v in result.residuals.items()},
         comfort=float(result.comfort),
         comfort_parts={k: float(v) for k, v in result.comfort_parts.items()},

@@ -171,7 +171,7 @@ class MANIKIN_OT_solve_pose(_RigOperator):
         if result.converged:
             self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms)")
         else:
-            self.report({"WARNING"}, "Not converged; unmet: " + ", ".join(result.unmet))
+            self.report({"WARNING"}, "Not converged: " + result.verdict())
         return {"FINISHED"}
 
 

@@ -106,6 +106,7 @@ class MANIKIN_PT_target(_SidebarPanel):
             sub = layout.row()
             sub.active = s.support
             sub.prop(s, "friction")
+            layout.prop(s, "priority")
         layout.prop(s, "enabled")
 
 
@@ -127,7 +128,12 @@ class MANIKIN_PT_result(_SidebarPanel):
             icon="CHECKMARK" if ok else "ERROR",
         )
         for name in data["unmet"]:
-            layout.label(text=f"unmet: {name}", icon="X")
+            if name in data.get("shortfall", {}):
+                layout.label(text=f"{name}: short by {data['shortfall'][name]}", icon="X")
+            elif name in data.get("broken", ()):
+                layout.label(text=f"{name}: NOT held (priority 1)", icon="ERROR")
+            else:
+                layout.label(text=f"unmet: {name}", icon="X")
         box = layout.box()
         box.label(text="Residuals")
         for name, value in data["residuals"].items():

@@ -28,6 +28,12 @@ ROLES = (
     ("LOAD", "Load", "A force (e.g. a carried mass) acting at the TCP"),
 )
 
+PRIORITY_ITEMS = (
+    ("AUTO", "Auto", "A support must hold; any other target is met as closely as it can be"),
+    ("1", "Must hold", "Priority 1: held like a support, with loops and balance"),
+    ("2", "As close as possible", "Priority 2: when it cannot be met, it ends as close as the priority-1 rows allow"),
+)
+
 
 def _resolve_live(rig: bpy.types.Object | None) -> None:
     """A setting changed: re-solve if the manikin is live (property edits do not reach the depsgraph handler)."""
@@ -78,6 +84,7 @@ class MANIKIN_PG_target(bpy.types.PropertyGroup):
     weight: FloatProperty(
         name="Weight", default=1.0, min=1e-6, soft_max=100.0, description="Relative weight", update=_target_changed
     )
+    priority: EnumProperty(name="Priority", items=PRIORITY_ITEMS, default="AUTO", update=_target_changed)
     enabled: BoolProperty(name="Enabled", default=True, update=_target_changed)
     force: FloatVectorProperty(
         name="Force",
@@ -90,6 +97,10 @@ class MANIKIN_PG_target(bpy.types.PropertyGroup):
 
     def locked_axes(self) -> tuple[str, ...]:
         return tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
+
+    def priority_number(self) -> int | None:
+        """1, 2, or None (by the target's kind)."""
+        return None if self.priority == "AUTO" else int(self.priority)
 
 
 class MANIKIN_PG_rig(bpy.types.PropertyGroup):

@@ -106,6 +106,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             rot = t.rotation if t.rotation is not None else zero.tcp_frame(sc.model.tcp(t.tcp))[0]
             ob.matrix_world = _world(arm, rot, t.position)
             ob.manikin_target.weight, ob.manikin_target.enabled = t.weight, t.enabled
+            ob.manikin_target.priority = "AUTO" if t.priority is None else str(t.priority)
             self._warn_unsupported(f"target {t.tcp}", t.operator, t.sole)
         for lp in problem.loops:
             ob = targets.add_loop(arm, lp.tcp, lp.other, lp.lock)

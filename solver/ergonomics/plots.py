@@ -82,7 +82,7 @@ def plot_loads(report: dict, path: Path) -> Path:
         ax2.set_ylim(0, c_top)
         ax2.set_ylabel("compression, N (estimate)")
         ax2.set_title("L4/L5 disc compression\n(NIOSH limits 3400 / 6400 N)")
-    return _save(fig, path)
+    return _save(fig, path, report)
 
 
 def plot_scores(report: dict, path: Path) -> Path:
@@ -110,7 +110,7 @@ def plot_scores(report: dict, path: Path) -> Path:
             ax.set_xlabel("frame")
         ax.set_ylim(0.5, edges[-1])
         ax.set_ylabel("score")
-    return _save(fig, path)
+    return _save(fig, path, report)
 
 
 def plot_back(report: dict, path: Path) -> Path:
@@ -143,14 +143,40 @@ def plot_back(report: dict, path: Path) -> Path:
         ax.set_ylim(low, high)
         ax.set_ylabel("degrees")
     fig.suptitle("Back, neck and shoulders (bands: ISO 11226 / EN 1005-4)", fontsize=11)
-    return _save(fig, path)
+    return _save(fig, path, report)
 
 
-def _save(fig, path: Path) -> Path:
+def _flag_unconverged(fig, report: dict) -> None:
+    """Hatch the frames that did not converge on every time axis, and say so in the title: their scores describe
+    the solver's best compromise (or, where priority 1 broke, a pose whose loads are not physical)."""
+    frames = report["frames"]
+    missed = [f["frame"] for f in frames if f.get("converged") is False]
+    if not missed:
+        return
+    runs: list[list[int]] = []
+    for n in missed:  # consecutive frames as one span
+        if runs and n == runs[-1][1] + 1:
+            runs[-1][1] = n
+        else:
+            runs.append([n, n])
+    for ax in fig.axes:
+        if ax.get_xlabel() == "frame":
+            for lo, hi in runs:
+                ax.axvspan(lo - 0.5, hi + 0.5, facecolor="none", edgecolor="#555555", hatch="//", lw=0, zorder=1)
+    held = sum(1 for f in frames if f.get("converged") is False and not str(f.get("status", "")).startswith("NOT"))
+    what = "1 frame" if len(frames) == 1 else f"{len(missed)} of {len(frames)} frames (hatched)"
+    fig.text(0.5, 0.01, f"NOT converged: {what}; {held} with supports and balance held, "
+             f"{len(missed) - held} without (loads not physical)", ha="center", va="bottom", color="#c8372d",
+             fontsize=10)  # fmt: skip
+
+
+def _save(fig, path: Path, report: dict) -> Path:
     for ax in fig.axes:
         if ax.get_xlabel() == "frame":
             ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-    fig.tight_layout()
+    flagged = any(f.get("converged") is False for f in report["frames"])
+    fig.tight_layout(rect=(0, 0.05 if flagged else 0, 1, 1))
+    _flag_unconverged(fig, report)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     return path

@@ -79,6 +79,7 @@ def evaluate_frames(
             dict(
                 frame=f.number,
                 converged=f.converged,
+                status=f.status(),
                 posture=posture if "reason" in posture else postures.rounded(posture),
                 joint_loads=loads,
                 rula=rula(posture, load_kg, options),
@@ -98,6 +99,8 @@ def evaluate_frames(
             options=asdict(options),
             sources=SOURCES,
             niosh=lift,
+            not_converged=[f.number for f in frames if f.converged is False],
+            not_held=[f.number for f in frames if f.broken],
             frames=out,
         )
     )
@@ -127,7 +130,7 @@ def csv_rows(report: dict) -> tuple[list[str], list[list]]:
     ]  # fmt: skip
     angles = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
     angles += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
-    header = ["frame", "converged", "rula", "reba", "reba_risk", "owas_code", "owas_category"]
+    header = ["frame", "converged", "status", "rula", "reba", "reba_risk", "owas_code", "owas_category"]
     header += ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in angles]
     header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
     header += [f"ws_{k}" for k in items] + ["ws_overall", "niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
@@ -136,8 +139,8 @@ def csv_rows(report: dict) -> tuple[list[str], list[list]]:
     for f in frames:
         ws = f["worksheet"]
         strength = ws.get("joint_strength", {})
-        row = [f["frame"], f["converged"], f["rula"]["score"], f["reba"]["score"], f["reba"].get("risk"),
-               f["owas"].get("code"), f["owas"].get("action_category")]  # fmt: skip
+        row = [f["frame"], f["converged"], f.get("status"), f["rula"]["score"], f["reba"]["score"],
+               f["reba"].get("risk"), f["owas"].get("code"), f["owas"].get("action_category")]  # fmt: skip
         row += [_get(f["posture"], *a) for a in angles]
         l45 = f["joint_loads"]["l4_l5"]
         row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
@@ -156,3 +159,39 @@ def write_csv(report: dict, path: Path) -> None:
         w.writerow(header)
         for row in rows:
             w.writerow(["" if v is None else round(v, 4) if isinstance(v, float) else v for v in row])
+
+
+def summary_lines(report: dict) -> list[str]:
+    """What ``ergo`` prints: a line per frame (the first and last of a long motion), the frames that did not
+    converge, the NIOSH lift and the files written."""
+    frames = report["frames"]
+    shown = frames if len(frames) <= 10 else [frames[0], frames[-1]]
+    lines = []
+    for f in shown:
+        c = f["joint_loads"]["l4_l5"].get("compression")
+        broken = str(f.get("status", "")).startswith("NOT held")
+        disc = "n/a" if c is None else ("not physical" if broken else f"{c:.0f} N")
+        flag = "" if f["converged"] is not False else f"  [NOT converged: {f['status']}]"
+        lines.append(f"frame {f['frame']}: RULA {f['rula']['score']}, REBA {f['reba']['score']}, "
+                     f"OWAS {f['owas'].get('code')}, L4/L5 {disc}, worksheet {f['worksheet']['overall']}"
+                     + flag)  # fmt: skip
+    if len(frames) > len(shown):
+        trusted = [f for f in frames if f["converged"] is not False] or frames
+        worst = max(trusted, key=lambda f: f["reba"]["score"] or 0)
+        lines.append(f"... {len(frames)} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}"
+                     + (" (of the converged frames)" if len(trusted) < len(frames) else ""))  # fmt: skip
+    missed, held = report.get("not_converged", []), report.get("not_held", [])
+    if missed:
+        lines.append(f"NOT converged: {len(missed)} of {len(frames)} frames {_frame_list(missed)}; their scores "
+                     f"describe the solver's closest pose" + (f"; supports or balance NOT held in "
+                     f"{_frame_list(held)}: loads there are not physical" if held else ""))  # fmt: skip
+    lift = report["niosh"]
+    if lift.get("LI") is not None:
+        lines.append(f"NIOSH lift: RWL {lift['RWL']:.1f} kg, load {lift['load_kg']:.1f} kg, LI {lift['LI']:.2f}")
+    lines.append("wrote " + ", ".join(report["written"]))
+    return lines
+
+
+def _frame_list(numbers: list[int], shown: int = 8) -> str:
+    text = ", ".join(map(str, numbers[:shown]))
+    return f"[{text}{', ...' if len(numbers) > shown else ''}]"

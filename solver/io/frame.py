@@ -44,6 +44,8 @@ class Frame:
     gravity: np.ndarray
     contacts: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]  # (tcp, point, force, moment about the point)
     loads: list[tuple[str, np.ndarray, np.ndarray]]  # (tcp, point, force)
+    unmet: tuple[str, ...] = ()  # constraints the solve left unmet (reach targets short, or priority 1 broken)
+    broken: tuple[str, ...] = ()  # the unmet ones of priority 1 (supports, loops, balance): loads not physical
     below: np.ndarray = field(init=False)  # (L, L) bool
     index: dict[str, int] = field(init=False)  # joint name -> index
 
@@ -63,6 +65,17 @@ class Frame:
 
     def value(self, name: str) -> float:
         return float(self.joint_value[self.index[name]])
+
+    def status(self) -> str:
+        """ "converged", "out of reach: ..." (priority 1 held: a real, balanced pose), "NOT held: ..." (its loads
+        are not physical) or "unknown" (a file without the solve's status)."""
+        if self.converged is None:
+            return "unknown"
+        if self.converged:
+            return "converged"
+        if self.broken:
+            return "NOT held: " + ", ".join(self.broken)
+        return "out of reach: " + ", ".join(self.unmet)
 
 
 def frame_of_result(result: Result, number: int = 1) -> Frame:
@@ -93,4 +106,6 @@ def frame_of_result(result: Result, number: int = 1) -> Frame:
         gravity=np.asarray(GRAVITY, dtype=float).copy(),
         contacts=[(c["tcp"], c["point"], c["force"], c["moment"]) for c in result.contacts],
         loads=[(ld.tcp.name, p, ld.force) for ld, p in zip(problem.loads, state.statics.load_points, strict=True)],
+        unmet=tuple(result.unmet),
+        broken=tuple(result.broken),
     )

@@ -89,7 +89,14 @@ def _frame(t: TableReader) -> Frame:
         gravity=t.vector("gravity", 3, list(GRAVITY)),
         contacts=contacts,
         loads=loads,
+        unmet=_names(t.get("unmet")),
+        broken=_names(t.get("broken")),
     )
+
+
+def _names(value) -> tuple[str, ...]:
+    """A list of constraint names from the file (anything else: none)."""
+    return tuple(v for v in value if isinstance(v, str)) if isinstance(value, list) else ()
 
 
 def _links(links: list[TableReader]) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:

@@ -78,6 +78,20 @@ seen["reset_channels"] = max(max(map(abs, pb.location)) + max(map(abs, pb.rotati
 seen["reset_result_gone"] = "manikin_result" not in arm
 bpy.ops.manikin.solve_pose()
 
+# Priorities: the hand target moved 2 m up, out of reach, ends short with the feet and balance held; as "Must hold"
+# it is reported as not held instead.
+hand_target = bpy.data.objects["target.hand_r"]
+hand_target.location.z += 2.0
+seen["far_solve"] = sorted(bpy.ops.manikin.solve_pose())
+far = json.loads(arm["manikin_result"])
+seen["far"] = dict(converged=far["converged"], broken=far["broken"], shortfall=far["shortfall"], unmet=far["unmet"])
+hand_target.manikin_target.priority = "1"
+bpy.ops.manikin.solve_pose()
+seen["far_must_hold"] = json.loads(arm["manikin_result"])["broken"]
+hand_target.location.z -= 2.0
+hand_target.manikin_target.priority = "AUTO"
+bpy.ops.manikin.solve_pose()
+
 # The overlay, drawn with a stand-in for gpu: which builtin shaders it asks for, and how many line batches.
 overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
 asked: list[str] = []

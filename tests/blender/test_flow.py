@@ -34,6 +34,14 @@ def test_reset_stands_the_manikin_up_again(session: dict) -> None:
     assert session["reset"] == ["FINISHED"] and session["reset_channels"] < 1e-6 and session["reset_result_gone"]
 
 
+def test_a_target_out_of_reach_ends_short_with_the_feet_held(session: dict) -> None:
+    """The sidebar's result names the short target and its shortfall; a "Must hold" target is reported not held."""
+    far = session["far"]
+    assert session["far_solve"] == ["FINISHED"] and not far["converged"]
+    assert far["unmet"] == ["hand_r"] and far["broken"] == [] and " mm" in far["shortfall"]["hand_r"]
+    assert "hand_r" in session["far_must_hold"]
+
+
 def test_overlay_uses_shaders_this_blender_has(session: dict) -> None:
     overlay = session["overlay"]
     assert overlay["asked"] == ["POLYLINE_UNIFORM_COLOR"] and overlay["known"]["POLYLINE_UNIFORM_COLOR"], overlay
