@@ -49,8 +49,7 @@ def solve(
     settled = best.reason in (StopReason.CONVERGED, StopReason.NO_PROGRESS) and best.trial.worst <= 1.0
     result.stop = StopReason.CLOSEST if (was_ranked and settled) else best.reason
     if was_ranked and result.shortfall:
-        result.notes.append("out of reach: " + ", ".join(result.shortfall) + " (as close as the supports, loops and "
-                            "balance allow)")  # fmt: skip
+        result.notes.append(result.verdict())
     return result
 
 
