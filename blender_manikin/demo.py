@@ -1,6 +1,6 @@
 """The demo: a 10 kg box lifted from a low shelf onto a table over 60 frames, baked headlessly.
 
-    python -m blender_manikin.demo [--out-dir out] [--frames START END]
+    python -m blender_manikin.demo [--out-dir out] [--frames START END] [-q]
 
 runs ``batch.py`` on presets/scenarios/box_lift_motion.toml and writes ``box_lift.blend`` (the keyed manikin and
 its animated targets: open it in Blender 4.2+ with the extension), ``box_lift.glb`` and ``box_lift.bvh`` (the
@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 import tempfile
 from pathlib import Path
 
@@ -22,28 +21,31 @@ SCENARIO = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
 NAME = "box_lift"
 
 
-def batch_args(out_dir: Path, frames: list[int] | None = None) -> list[str]:
+def batch_args(out_dir: Path, frames: list[int] | None = None, quiet: bool = False) -> list[str]:
     """The batch.py arguments of the demo."""
     out = out_dir / NAME
     args = ["--scenario", str(SCENARIO), "--out", f"{out}.blend", "--export", f"{out}.glb"]
     args += ["--export", f"{out}.bvh", "--report", f"{out}_report.json", "--picture", f"{out}_key_poses.png"]
-    return args + (["--frames", *map(str, frames)] if frames else [])
+    return args + (["--frames", *map(str, frames)] if frames else []) + (["-q"] if quiet else [])
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m blender_manikin.demo", description=__doc__.splitlines()[0])
     parser.add_argument("--out-dir", type=Path, default=Path("out"), help="where the files go (default: out/)")
     parser.add_argument("--frames", type=int, nargs=2, metavar=("START", "END"), help="bake part of the motion")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="manikin-demo-user-") as user:
         os.environ.setdefault("BLENDER_USER_RESOURCES", user)  # read before bpy is imported (in batch.main)
         from .batch import main as batch
 
-        code = batch(batch_args(args.out_dir, args.frames))
-    if code != 2:
+        code = batch(batch_args(args.out_dir, args.frames, args.quiet))
+    if code != 2 and not args.quiet:
         print(f"look at {args.out_dir / (NAME + '_key_poses.png')}; open {args.out_dir / (NAME + '.blend')} in Blender")
     return code
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from .batch import exit_process  # as batch.py ends: bpy 4.2 would crash at a normal exit after a glTF export
+
+    exit_process(main())

@@ -4,12 +4,12 @@ The public API (every name loads its module on first use, PEP 562, so ``import s
 ``solver.options`` and ``solver.presets`` cost nothing: the Blender add-on enables without NumPy or SciPy)::
 
     model = solver.load_preset("male_50")            # or a body TOML path -> Model
-    scenario = solver.load_scenario("scene.toml")    # -> Scenario (model, problem, options, start, frames)
-    result = solver.solve(scenario.problem, scenario.start, scenario.options)        # -> Result
+    scenario = solver.load_scenario("scene.toml")    # -> Scenario (model, problem, options, start, frames, limits)
+    solved = list(solver.solve_motion(scenario))     # [(frame, Result), ...]: what python -m solver solve does
+    result = solver.solve(scenario.problem_at(frame), scenario.start, scenario.options)  # one pose -> Result
     motion = solver.load_motion("lift.toml")         # a Scenario that has keyed targets or a frame range
-    solved = list(solver.solve_motion(motion))       # [(frame, Result), ...], each warm-started
     report = solver.evaluate(result)                 # ergonomics: loads, RULA, REBA, OWAS, NIOSH, worksheet
-    solver.write_result("result.json", solved, motion.path)   # the result file (README "result JSON")
+    solver.write_result("result.json", solved, scenario.path)   # the result file (README "result JSON")
     frames = solver.read_result("result.json")       # -> ResultFile: its typed frames; solver.evaluate takes it
     text = solver.dumps_scenario(solver.scenario_to_dict(problem, {"preset": "male_50"}))  # scenario TOML
 

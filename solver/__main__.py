@@ -92,9 +92,18 @@ def _presets(args: argparse.Namespace) -> int:
     from .bodies import PRESETS_DIR, list_presets
 
     print("manikins: " + ", ".join(list_presets()))
-    scenarios = sorted(p.name for p in (PRESETS_DIR / "scenarios").glob("*.toml"))
-    print("scenarios: " + ", ".join(f"presets/scenarios/{s}" for s in scenarios))
+    scenarios = sorted((PRESETS_DIR / "scenarios").glob("*.toml"))
+    print("scenarios: " + ", ".join(_from_here(p) for p in scenarios))
     return EXIT_OK
+
+
+def _from_here(path: Path) -> str:
+    """``path`` as a user types it here: relative to the working directory inside it (presets/... at the checkout's
+    root), else absolute (the command runs from anywhere)."""
+    try:
+        return path.relative_to(Path.cwd().resolve()).as_posix()
+    except ValueError:
+        return str(path)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -4,7 +4,8 @@ The scene comes from a scenario file (a new manikin with keyed target empties) a
 frame range is baked as Bake Motion does, then the requested files are written: the .blend, exports (FBX,
 BVH, glTF), a JSON report (per frame: converged, iterations, times, residuals, and the ergonomics of
 ``solver.ergonomics``), the result JSON of ``python -m solver solve`` and a picture of key poses. Bad input
-raises ManikinError with one line; a frame that does not converge makes :func:`run` return 3.
+raises ManikinError with one line; a frame that does not converge makes :func:`run` return 3. Blender's operators
+run through :func:`.quiet.quietly`, so only our own lines (what was baked and written) reach the console.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from ...solver import ManikinError
 from ..scene import exports, keyframes, motion_keys
 from ..scene.bake import Baker
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
+from .quiet import quietly
 from .report import captions, choose_frames, evaluate_motion, motion_report, summary_lines, write_json
 
 EXIT_OK, EXIT_NOT_CONVERGED = 0, 3
@@ -55,7 +57,7 @@ def open_scene(job: Job) -> bpy.types.Object:
         if not job.blend.is_file():
             raise ManikinError(f"{job.blend}: file not found")
         try:
-            bpy.ops.wm.open_mainfile(filepath=str(job.blend.resolve()), load_ui=False)
+            quietly(bpy.ops.wm.open_mainfile, filepath=str(job.blend.resolve()), load_ui=False)
         except RuntimeError as exc:
             raise ManikinError(f"{job.blend}: cannot open ({str(exc).strip()})") from None
     if job.scenario is None:
@@ -68,7 +70,7 @@ def open_scene(job: Job) -> bpy.types.Object:
         for ob in list(bpy.data.objects):
             bpy.data.objects.remove(ob, do_unlink=True)
     try:
-        bpy.ops.manikin.import_scenario(filepath=str(job.scenario.resolve()))
+        quietly(bpy.ops.manikin.import_scenario, filepath=str(job.scenario.resolve()))
     except RuntimeError as exc:
         raise ManikinError(str(exc).strip().removeprefix("Error: ")) from None
     scene = bpy.context.scene
@@ -121,7 +123,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
     """Every requested file; each written path is printed."""
     start, end = baker.frames[0], baker.frames[-1]
     for path in job.exports:
-        _say(job, f"wrote {exports.export(arm, path, start, end)}")
+        _say(job, f"wrote {quietly(exports.export, arm, path, start, end)}")
     source = dict(scenario=str(job.scenario) if job.scenario else None, blend=str(job.blend) if job.blend else None)
     body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
     report = None
@@ -142,7 +144,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
     if job.out is not None:
         path = job.out.resolve()
         path.parent.mkdir(parents=True, exist_ok=True)
-        bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+        quietly(bpy.ops.wm.save_as_mainfile, filepath=str(path), copy=True)
         _say(job, f"wrote {path}")
     if job.picture is not None:
         from .picture import render_key_poses
@@ -153,7 +155,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
             f"{len(baker.not_converged())} not converged" if baker.not_converged() else "all converged"
         )
         _say(job, f"rendering frames {', '.join(map(str, frames))} (Cycles, CPU) ...")
-        _say(job, f"wrote {render_key_poses(arm, frames, job.picture, captions(report), title)}")
+        _say(job, f"wrote {quietly(render_key_poses, arm, frames, job.picture, captions(report), title)}")
 
 
 def _title(job: Job, arm: bpy.types.Object) -> str:

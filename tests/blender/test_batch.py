@@ -6,6 +6,7 @@ installed extension running from its own folder.
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 from pathlib import Path
 
@@ -115,6 +116,40 @@ def test_batch_runs_from_an_installed_extension(tmp_path: Path, run, user: Path)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     report = json.loads((tmp_path / "report.json").read_text(encoding="utf-8"))
     assert report["converged"] and len(report["frames"]) == 3
+
+
+BLENDER_SAYS = ("Info:", "INFO", "Exported", "export", "bpy.data", "Saved", "Read blend", "Draco", "| ")
+OUR_LINES = re.compile(r"(baking |  frame |baked |wrote |  \S|rendering frames |done in )")
+
+
+@pytest.mark.parametrize("quiet", [True, False], ids=["quiet", "normal"])
+def test_batch_prints_only_its_own_lines(tmp_path: Path, run, quiet: bool) -> None:
+    """Blender's exporters, saving and rendering print their own lines (glTF log, FBX debug tuple, "Info: Saved
+    copy", "BVH Exported", "Saved: ...png"); -q shows nothing at all, a normal run only what we did and wrote."""
+    names = ["s.glb", "s.gltf", "s.bvh", "s.fbx"]
+    args = ["--scenario", SNAKE, "--frames", 1, 3, "--out", "s.blend", "--report", "r.json", "--picture", "p.png"]
+    done = run(args + [a for name in names for a in ("--export", name)] + (["-q"] if quiet else []), tmp_path)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert all((tmp_path / name).is_file() for name in [*names, "s.blend", "r.json", "p.png"])
+    assert done.stderr == ""
+    if quiet:
+        assert done.stdout == ""
+        return
+    lines = done.stdout.splitlines()
+    assert [line for line in lines if not OUR_LINES.match(line)] == [], done.stdout
+    assert [line for line in lines if any(s in line for s in BLENDER_SAYS)] == [], done.stdout
+    written = {Path(line.removeprefix("wrote ")).name for line in lines if line.startswith("wrote ")}
+    assert written == {*names, "s.blend", "r.json", "p.png"}
+
+
+def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: Path) -> None:
+    """``python -m blender_manikin.demo -q``: every file written, not a line printed."""
+    args = ["-m", "blender_manikin.demo", "--out-dir", tmp_path, "--frames", 1, 3, "-q"]
+    done = run_python(blender_python, args, user, cwd=ROOT)
+    assert (done.returncode, done.stdout, done.stderr) == (0, "", "")
+    written = sorted(p.name for p in tmp_path.iterdir())
+    assert written == ["box_lift.blend", "box_lift.bvh", "box_lift.glb", "box_lift_key_poses.png",
+                       "box_lift_report.json"]  # fmt: skip
 
 
 def test_batch_without_the_wheels_says_what_is_missing(tmp_path: Path, blender_python: Path) -> None:

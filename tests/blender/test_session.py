@@ -38,10 +38,9 @@ def _frames(pose: dict, key: str) -> dict[str, np.ndarray]:
 
 def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> None:
     names = zipfile.ZipFile(session["zip"]).namelist()
-    needed_files = ("__init__.py", "blender_manifest.toml", "blender_manikin/ui/operators.py",
-                    "solver/iteration/phases.py", "presets/manikins/male_50.toml", "presets/scenarios/box_lift.toml",
-                    "LICENSE")  # fmt: skip
-    for needed in needed_files:
+    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/ui/operators.py",
+                   "solver/iteration/phases.py", "presets/manikins/male_50.toml", "presets/scenarios/box_lift.toml",
+                   "LICENSE"):  # fmt: skip
         assert needed in names
     wheels = [n.removeprefix("wheels/") for n in names if n.startswith("wheels/")]
     assert {w.split("-")[0] for w in wheels} >= {"scipy", "matplotlib", "pillow", "kiwisolver", "contourpy"}
