@@ -103,7 +103,7 @@ def _replacing(path: Path, binary: bool) -> Iterator[IO]:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=path.parent)
     try:
-        os.fchmod(fd, _mode_for(path))
+        os.chmod(tmp, _mode_for(path))  # mkstemp's 0600 would make every output private (os.fchmod: not on Windows)
         with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as fh:
             yield fh
         os.replace(tmp, path)

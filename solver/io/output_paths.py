@@ -63,9 +63,10 @@ def _check_lengths(path: Path, where: str) -> None:
 
 
 def _limit(folder: Path, name: str, default: int) -> int:
+    """The file system's limit ``name`` at ``folder`` (os.pathconf), else ``default`` (Windows has no pathconf)."""
     try:
         return int(os.pathconf(folder, name))
-    except (OSError, ValueError):
+    except (AttributeError, OSError, ValueError, TypeError):
         return default
 
 

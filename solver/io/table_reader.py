@@ -132,7 +132,7 @@ class TableReader:
         """``size`` finite numbers, each within +-``limit`` (``unit`` for the message, e.g. "m")."""
         value = self.data.get(key, default)
         if not (isinstance(value, list) and len(value) == size and all(is_number(v) for v in value)):
-            raise self.fail(key, f"{size} finite numbers" + unit_of(unit), value)
+            raise self.fail(key, f"{size} finite numbers" + (f" ({unit})" if unit else ""), value)
         if any(abs(v) > limit for v in value):
             raise self.fail(key, f"{size} numbers within +-{limit:g}" + unit_of(unit), value)
         return np.asarray(value, dtype=float)
