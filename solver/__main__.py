@@ -127,6 +127,12 @@ def check_paths(args: argparse.Namespace) -> None:
         check_distinct(derived, [("", args.result)])
 
 
+def keep_stdout_for_the_file(args: argparse.Namespace) -> None:
+    """``-o -``: standard output carries the result JSON (or URDF), so the summary is left out (as with -q)."""
+    if getattr(args, "output", None) == STDOUT and args.command in ("solve", "urdf"):
+        args.quiet = True
+
+
 def _presets(args: argparse.Namespace) -> int:
     from .bodies import PRESETS_DIR, list_presets
 
@@ -191,8 +197,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         check_paths(args)
-        if getattr(args, "output", None) == STDOUT and args.command in ("solve", "urdf"):
-            args.quiet = True  # standard output carries the file: no summary may mix into it
+        keep_stdout_for_the_file(args)
         return args.run(args)
     except ManikinError as exc:
         print(f"error: {exc}", file=sys.stderr)
