@@ -31,29 +31,27 @@ PACKAGE = "manikin"
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
 
 
-def _usage_error() -> type[Exception]:
-    """``solver.errors.UsageError``: of the package this file belongs to, or (run as a script, outside any package)
-    loaded from ``solver/errors.py`` beside it, which imports nothing."""
+def _errors() -> ModuleType:
+    """``solver.errors``: of the package this file belongs to, or (run as a script, outside any package) loaded
+    from ``solver/errors.py`` beside it, which imports nothing heavy."""
     if __package__:
         root = __package__.rpartition(".")[0]
-        return importlib.import_module(f"{root}.solver.errors" if root else "solver.errors").UsageError
+        return importlib.import_module(f"{root}.solver.errors" if root else "solver.errors")
     spec = importlib.util.spec_from_file_location("_manikin_batch_errors", ROOT / "solver" / "errors.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.UsageError
+    return module
 
 
-class BadInput(_usage_error()):
+ERRORS = _errors()
+
+
+class BadInput(ERRORS.UsageError):
     """A user error: reported as one line, exit code 2 (a ``solver.errors.UsageError``, so a ``ManikinError``)."""
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # argparse would print usage and exit; we want one line and code 2
-        raise BadInput(message)
-
-
 def parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="batch.py", description=__doc__.splitlines()[0])
+    p = ERRORS.ArgumentParser(prog="batch.py", description=__doc__.splitlines()[0])  # a bad argument: one line
     p.add_argument("--scenario", type=Path, help="scenario TOML: creates the manikin and its (keyed) targets")
     p.add_argument("--blend", type=Path, help="open this .blend first (its manikin and animated targets)")
     p.add_argument("--manikin", help="the armature to bake when the scene has several manikins")
@@ -75,7 +73,7 @@ def parser() -> argparse.ArgumentParser:
 
 
 def parse(argv: list[str]) -> argparse.Namespace:
-    """Parsed arguments; BadInput with one line for anything wrong."""
+    """Parsed arguments; a UsageError (BadInput) with one line for anything wrong."""
     args = parser().parse_args(argv)
     if args.out is not None and args.out.suffix.lower() != ".blend":
         raise BadInput(f"--out {args.out}: expected a .blend file")
@@ -167,8 +165,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run with this script's arguments (default: from sys.argv); the exit code."""
     try:
         args = parse(script_args(sys.argv) if argv is None else argv)
-    except BadInput as exc:
-        print(f"error: {_one_line(exc)} (see --help)", file=sys.stderr)
+    except ERRORS.UsageError as exc:
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     registered = False
     try:

@@ -11,7 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from .errors import ManikinError, UsageError
+from .errors import ArgumentParser, ManikinError, UsageError
+from .io.files import STDOUT
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
 
@@ -51,8 +52,7 @@ def _ergo(args: argparse.Namespace) -> int:
         frequency=args.frequency, duration=args.duration, destination_control=args.destination_control,
         travel=args.travel, origin=args.origin, destination=args.destination, manikin=args.manikin,
     )  # fmt: skip
-    output = Path(args.output) if args.output else Path(args.result).with_name(Path(args.result).stem + "_ergo.json")
-    report = run(args.result, output, options, plots=not args.no_plots)
+    report = run(args.result, _ergo_output(args), options, plots=not args.no_plots)
     if not args.quiet:
         print("\n".join(summary_lines(report)))
     return EXIT_OK
@@ -76,16 +76,49 @@ def _bench(args: argparse.Namespace) -> int:
 
 def _urdf(args: argparse.Namespace) -> int:
     from .bodies import load_body
+    from .io.files import write_text
     from .urdf import model_to_urdf, write_urdf
 
     if (args.preset is None) == (args.file is None):
         raise UsageError("urdf needs a manikin preset name or --file BODY.toml (one of them)")
     model = load_body(preset=args.preset, file=args.file)
-    if args.output:
+    if args.output and args.output != STDOUT:
         print(f"wrote {write_urdf(model, args.output)} ({model.n} joints, {len(model.tcps)} TCP frames)")
     else:
-        sys.stdout.write(model_to_urdf(model))
+        write_text(STDOUT, model_to_urdf(model))
     return EXIT_OK
+
+
+def _ergo_output(args: argparse.Namespace) -> Path:
+    """The report file: -o, else RESULT_ergo.json beside the result."""
+    if args.output is not None:
+        return Path(args.output)
+    return Path(args.result).with_name(Path(args.result).stem + "_ergo.json")
+
+
+def check_paths(args: argparse.Namespace) -> None:
+    """Every file the command will write, checked before any work: one UsageError line for the first problem."""
+    from .io.output_paths import check_distinct, check_output
+
+    if args.command in ("solve", "urdf") and args.output is not None:
+        check_output(args.output, "-o", stdout=True)
+        check_distinct([("-o", args.output)], [("", args.scenario if args.command == "solve" else args.file)])
+    elif args.command == "ergo":
+        from .ergonomics import output_files
+
+        output = _ergo_output(args)
+        check_output(output if args.output is None else args.output, "-o", suffixes=(".json",))
+        files = output_files(output, not args.no_plots)
+        derived = [("-o" if i == 0 else "-o (beside it)", p) for i, p in enumerate(files)]
+        for flag, path in derived[1:]:
+            check_output(path, flag)
+        check_distinct(derived, [("", args.result)])
+
+
+def keep_stdout_for_the_file(args: argparse.Namespace) -> None:
+    """``-o -``: standard output carries the result JSON (or URDF), so the summary is left out (as with -q)."""
+    if getattr(args, "output", None) == STDOUT and args.command in ("solve", "urdf"):
+        args.quiet = True
 
 
 def _presets(args: argparse.Namespace) -> int:
@@ -106,8 +139,9 @@ def _from_here(path: Path) -> str:
         return str(path)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m solver", description="Manikin pose prediction solver")
+def build_parser() -> argparse.ArgumentParser:
+    """The command line's parser; a bad argument raises one UsageError line instead of printing the usage."""
+    parser = ArgumentParser(prog="python -m solver", description="Manikin pose prediction solver")
     sub = parser.add_subparsers(dest="command", required=True)
     p_solve = sub.add_parser("solve", help="solve a scenario TOML and write the result JSON")
     p_solve.add_argument("scenario", help="scenario file (TOML)")
@@ -152,8 +186,15 @@ def main(argv: list[str] | None = None) -> int:
     p_urdf.set_defaults(run=_urdf)
     p_presets = sub.add_parser("presets", help="list the manikin and scenario presets")
     p_presets.set_defaults(run=_presets)
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run one command; its exit code (bad input: one line on stderr starting ``error:``, exit 2)."""
     try:
+        args = build_parser().parse_args(argv)
+        check_paths(args)
+        keep_stdout_for_the_file(args)
         return args.run(args)
     except ManikinError as exc:
         print(f"error: {exc}", file=sys.stderr)

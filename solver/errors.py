@@ -9,8 +9,12 @@
     └── UsageError          a command's or job's arguments and options (``blender_manikin.batch.BadInput``)
 
 Readers name the file, the key and what was expected: ``scene.toml: targets[0].position: expected 3 finite
-numbers, got [1, 2]``. This module imports nothing heavy (the Blender add-on loads it when it enables).
+numbers, got [1, 2]``. :class:`ArgumentParser` is the command lines' parser (``python -m solver`` and
+``blender_manikin/batch.py``): a bad argument is one UsageError line, not argparse's usage text. This module
+imports nothing heavy (the Blender add-on loads it when it enables; ``batch.py`` loads it by its path).
 """
+
+import argparse
 
 
 class ManikinError(Exception):
@@ -31,3 +35,11 @@ class ResultFileError(ManikinError):
 
 class UsageError(ManikinError):
     """A command or job was given invalid arguments or options (a bad flag, a wrong file suffix, ...)."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse's parser, except that a bad argument raises one UsageError line (``... (see PROG --help)``)
+    instead of printing the usage and exiting; subcommands' parsers are of this class too."""
+
+    def error(self, message: str) -> None:
+        raise UsageError(f"{' '.join(message.split())} (see {self.prog} --help)")

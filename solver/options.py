@@ -6,6 +6,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")  # the error components of a frame target: position, then rotation vector
+MAX_FRAME = 1048574  # the largest frame number (Blender's): a scenario's frames become a Blender scene's
+MAX_FRAMES = 100000  # frames in one motion
+MIN_WEIGHT, MAX_WEIGHT = 1e-6, 100.0  # relative weights of targets, loops and comfort terms (beyond: ill-conditioned)
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from .constraints import AXES, BalanceConstraint, Constraint, FrameConstraint, F
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
+from .options import MAX_WEIGHT, MIN_WEIGHT
 from .priorities import PRIORITIES, default_priority
 from .reduction import build_reduction
 from .state import State
@@ -104,14 +105,16 @@ def _check_relaxation(what: str, lock, operator) -> None:
     op = np.asarray(operator, dtype=float)
     if op.ndim != 2 or op.shape[1] != 6 or op.shape[0] == 0 or not np.isfinite(op).all():
         raise ManikinError(f"{what}: operator must be k x 6 finite numbers")
+    if not (np.abs(op).max(axis=1) >= 1e-6).all():
+        raise ManikinError(f"{what}: operator rows must not be zero (largest |entry| >= 1e-06)")
 
 
 def _check_frame(what: str, position, rotation, lock, operator, weight: float) -> None:
     _check_vector(f"{what} position", position, 3, MAX_DISTANCE)
     _check_rotation(f"{what} rotation", rotation)
     _check_relaxation(what, lock, operator)
-    if not (np.isfinite(weight) and weight > 0):
-        raise ManikinError(f"{what}: weight must be a positive number")
+    if not (np.isfinite(weight) and MIN_WEIGHT <= weight <= MAX_WEIGHT):
+        raise ManikinError(f"{what}: weight must be a number in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {weight!r}")
 
 
 def validate(model: Model, targets, loops, loads) -> None:

@@ -10,6 +10,7 @@ run through :func:`.quiet.quietly`, so only our own lines (what was baked and wr
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 import tomllib
@@ -20,6 +21,9 @@ import bpy
 
 from ... import solver
 from ...solver import ManikinError
+from ...solver.ergonomics.report import plot_paths
+from ...solver.io.output_paths import check_distinct, check_output
+from ...solver.options import MAX_FRAME, MAX_FRAMES
 from ..scene import exports, keyframes, motion_keys
 from ..scene.bake import Baker
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
@@ -176,12 +180,29 @@ def _carried(arm: bpy.types.Object) -> str:
     return f", {kg:.0f} kg carried" if kg >= 0.5 else ""
 
 
-def run(job: Job) -> int:
-    """Do the job; 0 when every frame converged, 3 when some did not (the files are written either way)."""
+def check_job(job: Job) -> None:
+    """The frame range and every output path, before the scene is opened: a bad path never costs a bake."""
+    if job.frames is not None:
+        first, last = job.frames
+        if last < first:
+            raise ManikinError(f"--frames {first} {last}: the end comes before the start")
+        if not -MAX_FRAME <= first <= last <= MAX_FRAME or last - first >= MAX_FRAMES:
+            raise ManikinError(f"--frames {first} {last}: expected frames in [{-MAX_FRAME}, {MAX_FRAME}], "
+                               f"at most {MAX_FRAMES} of them")  # fmt: skip
     for path in job.exports:
         exports.check_path(path)
-    if job.frames is not None and job.frames[1] < job.frames[0]:
-        raise ManikinError(f"--frames {job.frames[0]} {job.frames[1]}: the end comes before the start")
+    plots = plot_paths(Path(os.path.abspath(job.plots))) if job.plots is not None else []
+    outputs = [("--out", job.out), *(("--export", p) for p in job.exports), ("--report", job.report),
+               ("--result", job.result), ("--picture", job.picture), *(("--plots", p) for p in plots)]  # fmt: skip
+    for flag, path in outputs:
+        if path is not None:
+            check_output(path, flag)
+    check_distinct(outputs, [("--scenario", job.scenario), ("--blend", job.blend)])
+
+
+def run(job: Job) -> int:
+    """Do the job; 0 when every frame converged, 3 when some did not (the files are written either way)."""
+    check_job(job)
     t0 = time.perf_counter()
     arm = open_scene(job)
     if arm is None or rig_of(arm) is None:

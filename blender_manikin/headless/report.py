@@ -9,7 +9,7 @@ timing and the NIOSH lift from the first to the last frame.
 
 from __future__ import annotations
 
-import json
+import os
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -19,6 +19,7 @@ import numpy as np
 from ... import solver
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.report import clean
+from ...solver.io.files import write_json as write_file
 
 if TYPE_CHECKING:
     from ..scene.bake import Baker
@@ -63,13 +64,9 @@ def motion_report(baker: Baker, source: dict, body: str, ergo: dict) -> dict:
 
 
 def write_json(data: dict, path: Path) -> Path:
-    """Write ``data`` atomically (a half-written file never stays behind); the resolved path."""
-    path = Path(path).resolve()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=1, allow_nan=False), encoding="utf-8")
-    tmp.replace(path)
-    return path
+    """Write ``data`` as :func:`solver.io.files.open_output` does (atomic for files, devices in place); the
+    absolute path."""
+    return Path(write_file(Path(os.path.abspath(path)), data, allow_nan=False))
 
 
 def _worst(report: dict, *keys: str) -> tuple[float | None, int | None]:

@@ -18,7 +18,7 @@ from bpy.props import (
     StringProperty,
 )
 
-from ...solver.options import AXES, DEFAULT_LIMITS
+from ...solver.options import AXES, DEFAULT_LIMITS, MAX_WEIGHT, MIN_WEIGHT
 from ..scene.schema import is_manikin
 
 ROLES = (
@@ -82,7 +82,12 @@ class MANIKIN_PG_target(bpy.types.PropertyGroup):
         name="Friction", default=0.6, min=0.0, max=10.0, description="Friction coefficient", update=_target_changed
     )
     weight: FloatProperty(
-        name="Weight", default=1.0, min=1e-6, soft_max=100.0, description="Relative weight", update=_target_changed
+        name="Weight",
+        default=1.0,
+        min=MIN_WEIGHT,
+        max=MAX_WEIGHT,
+        description="Relative weight",
+        update=_target_changed,
     )
     priority: EnumProperty(name="Priority", items=PRIORITY_ITEMS, default="AUTO", update=_target_changed)
     enabled: BoolProperty(name="Enabled", default=True, update=_target_changed)
@@ -131,13 +136,28 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
         name="Live iterations", default=30, min=1, max=1000, description="Iteration limit of each live re-solve"
     )
     comfort_range: FloatProperty(
-        name="Range", default=1.0, min=0.0, description="Weight: joints near limits", update=_rig_changed
+        name="Range",
+        default=1.0,
+        min=0.0,
+        max=MAX_WEIGHT,
+        description="Weight: joints near limits",
+        update=_rig_changed,
     )
     comfort_load: FloatProperty(
-        name="Load", default=1.0, min=0.0, description="Weight: joint moments / strength", update=_rig_changed
+        name="Load",
+        default=1.0,
+        min=0.0,
+        max=MAX_WEIGHT,
+        description="Weight: joint moments / strength",
+        update=_rig_changed,
     )
     comfort_contact: FloatProperty(
-        name="Contact", default=0.01, min=0.0, description="Weight: even contact forces", update=_rig_changed
+        name="Contact",
+        default=0.01,
+        min=0.0,
+        max=MAX_WEIGHT,
+        description="Weight: even contact forces",
+        update=_rig_changed,
     )
     live: BoolProperty(
         name="Live",

@@ -17,10 +17,11 @@ Presets live in ``presets/manikins/<name>.toml`` at the repository (extension) r
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 
 from ..errors import ModelError
+from ..io.files import read_toml
+from ..io.table_reader import TableReader
 from ..model import Model
 from ..presets import MANIKINS_DIR, PRESETS_DIR, list_presets
 from .human import build_human, validate_human
@@ -73,13 +74,7 @@ def load_body(preset: str | None = None, file: str | Path | None = None) -> Mode
         if not path.is_file():
             raise ModelError(f"body file not found: {path}")
         name = path.stem
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"{path}: malformed TOML: {exc}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ModelError(f"{path}: cannot read the body file: {exc}") from None
-    return body_from_dict(data, where=str(path), name=name)
+    return body_from_dict(read_toml(path, ModelError), where=str(path), name=name)
 
 
 def body_from_dict(data: dict, where: str = "body", name: str = "body") -> Model:
@@ -87,6 +82,7 @@ def body_from_dict(data: dict, where: str = "body", name: str = "body") -> Model
     body = data.get("body") if isinstance(data, dict) else None
     if not isinstance(body, dict):
         raise ModelError(f'{where}: missing table [body] (with kind = "human" or "snake")')
+    TableReader(where, data, error=ModelError).known({"body"})  # a stray [joints] table must not pass silently
     kind = body.get("kind")
     if kind not in _KEYS:
         raise ModelError(f'{where}: [body] kind must be "human" or "snake", got {kind!r}')

@@ -20,15 +20,18 @@ BASE_HEIGHT = 0.04  # m: seg1's joints sit this high on the base
 FLOOR_HALF_SIDE = 0.1  # m: the floor TCP's square sole is +-0.1 m
 SEGMENT_LIMIT = math.radians(90.0)
 SEGMENT_STRENGTH = 100.0  # N*m per joint and direction, estimate
+MAX_LENGTH, MAX_MASS = 10.0, 1000.0  # m, kg per segment: the bounds of a body file's values
 
 
 def validate_snake(segments: int, segment_length: float, segment_mass: float) -> None:
-    """Raise ModelError unless segments is an int in [1, 100] and length (m) and mass (kg) are finite and > 0."""
+    """Raise ModelError unless segments is an int in [1, 100], length in (0, 10] m and mass in (0, 1000] kg."""
     if isinstance(segments, bool) or not isinstance(segments, int) or not 1 <= segments <= 100:
         raise ModelError(f"segments must be an integer in [1, 100], got {segments!r}")
-    for key, value, unit in (("segment_length", segment_length, "m"), ("segment_mass", segment_mass, "kg")):
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
-            raise ModelError(f"{key} must be a finite number > 0 {unit}, got {value!r}")
+    for key, value, high, unit in (("segment_length", segment_length, MAX_LENGTH, "m"),
+                                   ("segment_mass", segment_mass, MAX_MASS, "kg")):  # fmt: skip
+        number = not isinstance(value, bool) and isinstance(value, int | float) and math.isfinite(value)
+        if not number or not 0 < value <= high:
+            raise ModelError(f"{key} must be a number in (0, {high:g}] {unit}, got {value!r}")
 
 
 def build_snake(

@@ -17,11 +17,11 @@ from ..io.frame import Frame, frame_of_result
 from ..io.result_read import ResultFile, read_result
 from ..model import Model
 from ..result import Result
-from .manikin import resolve_model
+from .manikin import check_fits, resolve_model
 from .options import ErgoOptions
-from .report import evaluate_frames, write_csv, write_json
+from .report import evaluate_frames, output_files, write_csv, write_json
 
-__all__ = ["ErgoOptions", "evaluate", "run"]
+__all__ = ["ErgoOptions", "evaluate", "output_files", "run"]
 
 Source = Result | ResultFile | Iterable[Frame] | Iterable[tuple[int, Result]]
 
@@ -35,12 +35,15 @@ def evaluate(source: Source, options: ErgoOptions | None = None, model: Model | 
     """
     options = checked(options)
     frames, own, scenario, path = _frames_of(source)
+    check_frame_numbers(frames, options)
     if model is not None:
         note = f"model {model.name}"
     elif own is not None and not options.manikin:
         model, note = own, f"model {own.name} of the result"
     else:
         model, note = resolve_model(options.manikin, scenario, path.parent if path else Path("."))
+        if options.manikin and frames:
+            check_fits(model, frames[0], options.manikin)
     return evaluate_frames(frames, options, model, note, str(path) if path else None, scenario)
 
 
@@ -52,6 +55,15 @@ def checked(options: ErgoOptions | None) -> ErgoOptions:
     except ValueError as exc:
         raise UsageError(f"options: {exc}") from None
     return options
+
+
+def check_frame_numbers(frames: list[Frame], options: ErgoOptions) -> None:
+    """Refuse a NIOSH origin or destination that is not a frame of the result (one UsageError line)."""
+    numbers = [f.number for f in frames]
+    listed = ", ".join(map(str, numbers)) if len(numbers) <= 6 else f"{numbers[0]}, {numbers[1]}, ..., {numbers[-1]}"
+    for what, value in (("origin", options.origin), ("destination", options.destination)):
+        if value is not None and value not in numbers:
+            raise UsageError(f"{what} {value}: not a frame of the result (its frames: {listed})")
 
 
 def _frames_of(source: Source) -> tuple[list[Frame], Model | None, str | None, Path | None]:
@@ -69,14 +81,13 @@ def run(result: str | Path, output: str | Path, options: ErgoOptions | None = No
     ``plots``, the PNGs ``<stem>_loads.png``, ``<stem>_scores.png`` and ``<stem>_back.png``. Returns the report and
     the written paths under ``"written"``."""
     options = checked(options)
-    output = Path(output)
+    written = output_files(output, plots)
     report = evaluate(read_result(result), options)
-    write_json(report, output)
-    written = [output, output.with_suffix(".csv")]
+    write_json(report, written[0])
     write_csv(report, written[1])
     if plots:
         from .plots import write_plots
 
-        written += write_plots(report, output.with_suffix(""))
+        write_plots(report, written[0].with_suffix(""))
     report["written"] = [str(p) for p in written]
     return report

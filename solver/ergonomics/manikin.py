@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import is_body_file, load_preset
-from ..errors import ManikinError
+from ..errors import ManikinError, UsageError
 from ..io.frame import Frame
 from ..model import Model
 
@@ -107,15 +107,28 @@ def resolve_model(manikin: str | None, scenario: str | None, result_dir: Path) -
 
     Returns (model or None, a note saying where it came from or why there is none).
     """
+    if manikin:
+        try:
+            model = load_preset(manikin)
+        except ManikinError as exc:  # asked for by name: an error, not a note
+            raise UsageError(f"manikin {manikin!r}: {exc}") from None
+        return model, f"{'body file' if is_body_file(manikin) else 'preset'} {manikin}"
     try:
-        if manikin:
-            kind = "body file" if is_body_file(manikin) else "preset"
-            return load_preset(manikin), f"{kind} {manikin}"
         if scenario:
             return _scenario_manikin(Path(scenario), result_dir), f"manikin of scenario {scenario}"
     except ManikinError as exc:
         return None, f"no manikin: {exc}"
     return None, "no manikin: the result names no scenario and no --manikin was given"
+
+
+def check_fits(model: Model, frame: Frame, name: str) -> None:
+    """Refuse a manikin (asked for as ``name``) that lacks joints of the result's frame: another kind of body."""
+    missing = [j for j in frame.joint_names if j not in set(model.joint_names)]
+    if missing:
+        raise UsageError(
+            f"manikin {name!r}: not the body of this result ({len(missing)} of its {len(frame.joint_names)} joints, "
+            f"e.g. {missing[0]!r}, are not joints of {model.name}); give a manikin of the same kind"
+        )
 
 
 def strengths(frame: Frame, model: Model | None) -> tuple[np.ndarray, str]:

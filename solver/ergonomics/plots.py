@@ -12,6 +12,8 @@ from pathlib import Path
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from ..io.files import open_output
+from .report import plot_paths
 from .worksheet import STRENGTH_BANDS
 
 GREEN, YELLOW, RED = "#cfe8cf", "#fbeeb8", "#f6c9c4"
@@ -177,15 +179,12 @@ def _save(fig, path: Path, report: dict) -> Path:
     flagged = any(f.get("converged") is False for f in report["frames"])
     fig.tight_layout(rect=(0, 0.05 if flagged else 0, 1, 1))
     _flag_unconverged(fig, report)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    with open_output(path, binary=True) as fh:
+        fig.savefig(fh, format="png", dpi=110)
     return path
 
 
 def write_plots(report: dict, stem: Path) -> list[Path]:
-    """``<stem>_loads.png``, ``<stem>_scores.png``, ``<stem>_back.png``."""
-    return [
-        plot_loads(report, stem.with_name(stem.name + "_loads.png")),
-        plot_scores(report, stem.with_name(stem.name + "_scores.png")),
-        plot_back(report, stem.with_name(stem.name + "_back.png")),
-    ]
+    """``<stem>_loads.png``, ``<stem>_scores.png``, ``<stem>_back.png`` (:func:`.report.plot_paths`)."""
+    loads, scores, back = plot_paths(stem)
+    return [plot_loads(report, loads), plot_scores(report, scores), plot_back(report, back)]

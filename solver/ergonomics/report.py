@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.files import open_output
 from ..io.files import write_json as write_file
 from ..io.frame import Frame
 from ..model import Model
@@ -151,10 +152,20 @@ def csv_rows(report: dict) -> tuple[list[str], list[list]]:
     return header, rows
 
 
+def plot_paths(stem: Path) -> list[Path]:
+    """The PNG plots of a report: ``<stem>_loads.png``, ``<stem>_scores.png``, ``<stem>_back.png``."""
+    return [stem.with_name(f"{stem.name}_{name}.png") for name in ("loads", "scores", "back")]
+
+
+def output_files(output: str | Path, plots: bool = True) -> list[Path]:
+    """What a report ``output`` (JSON) comes with: [the JSON, the CSV beside it (same stem), the plots if asked]."""
+    output = Path(output)
+    return [output, output.with_suffix(".csv")] + (plot_paths(output.with_suffix("")) if plots else [])
+
+
 def write_csv(report: dict, path: Path) -> None:
     header, rows = csv_rows(report)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="", encoding="utf-8") as fh:
+    with open_output(path) as fh:
         w = csv.writer(fh)
         w.writerow(header)
         for row in rows:

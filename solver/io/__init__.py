@@ -1,7 +1,8 @@
 """The file formats, apart from the math: scenario TOML in and out, result JSON out and back into typed frames.
 
-One module per job: ``files`` (reading and atomic writing with one-line errors), ``table_reader`` (typed access to
-parsed TOML/JSON tables whose every error names the file and the key), ``scenario_read`` (TOML -> Scenario),
+One module per job: ``files`` (reading and atomic writing with one-line errors), ``output_paths`` (output paths
+checked before any work), ``table_reader`` (typed access to parsed TOML/JSON tables whose every error names the
+file and the key), ``scenario_read`` (TOML -> Scenario),
 ``toml_write`` (dict -> TOML text), ``scenario_write`` (Problem -> scenario dict), ``frame`` (the typed frame:
 a solved pose as world-space arrays), ``result_write`` (Result -> JSON) and ``result_read`` (JSON -> frames).
 The public names are re-exported by the package ``solver`` (``solver.load_scenario``, ``solver.read_result``,

@@ -1,22 +1,48 @@
-"""Reading text and JSON files and writing them atomically, every failure one line naming the file."""
+"""Reading text, TOML and JSON files and writing outputs safely, every failure one line naming the file.
+
+Writing (:func:`open_output`): ``"-"`` is standard output; a path that exists and is not a regular file (a
+device such as ``/dev/null``, a FIFO, ``/dev/stdout``) is written in place and never replaced; anything else is
+written to a temporary file beside it that then replaces it, so a reader never sees half a file, and a failed
+write leaves the old file and no temporary file behind.
+"""
 
 from __future__ import annotations
 
 import json
+import os
+import stat
+import sys
+import tempfile
+import tomllib
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from ..errors import ManikinError
 
+STDOUT = "-"  # the output path that means standard output
+
 
 def read_text(path: Path, error: type[ManikinError] = ManikinError) -> str:
-    """A text file's content; a missing or unreadable file raises ``error`` with one line naming it."""
+    """A text file's content (a UTF-8 byte-order mark dropped); a missing or unreadable file raises ``error``."""
     try:
-        return path.read_text(encoding="utf-8")
+        return Path(path).read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise error(f"{path}: file not found") from None
+    except IsADirectoryError:
+        raise error(f"{path}: is a directory, expected a file") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise error(f"{path}: cannot read ({exc})") from None
+        raise error(f"{path}: cannot read ({_reason(exc)})") from None
+
+
+def read_toml(path: Path, error: type[ManikinError] = ManikinError) -> dict:
+    """A TOML file's tables (the one TOML reader: scenarios and bodies); malformed TOML raises ``error``."""
+    text = read_text(path, error)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: malformed TOML ({exc})") from None
 
 
 def read_json(path: Path, error: type[ManikinError]) -> Any:
@@ -25,17 +51,89 @@ def read_json(path: Path, error: type[ManikinError]) -> Any:
         return json.loads(read_text(path, error))
     except json.JSONDecodeError as exc:
         raise error(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:
+        raise error(f"{path}: not JSON (nested too deeply)") from None
 
 
-def write_text(path: Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file beside it (a reader never sees half a file)."""
+def writes_in_place(path: Path) -> bool:
+    """Whether ``path`` is written where it is rather than replaced: it exists and is not a regular file, or it is
+    an open file of this process (``/dev/stdout`` redirected to a file is the shell's file, /proc/self/fd/N)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not stat.S_ISREG(mode) or _is_open_file(path)
+
+
+def _is_open_file(path: Path) -> bool:
+    """Whether ``path`` or a symbolic link on its way is a /proc or /dev/fd entry (a file descriptor)."""
+    p = os.path.abspath(path)
+    for _ in range(40):  # the kernel's own limit on links followed
+        if p.startswith(("/proc/", "/dev/fd/")):
+            return True
+        if not os.path.islink(p):
+            return False
+        p = os.path.normpath(os.path.join(os.path.dirname(p), os.readlink(p)))
+    return False
+
+
+@contextmanager
+def open_output(path: str | Path, binary: bool = False) -> Iterator[IO]:
+    """A stream to write ``path`` with (see the module docstring); an OSError becomes one ManikinError line."""
+    if str(path) == STDOUT:
+        stream = sys.stdout.buffer if binary else sys.stdout
+        yield stream
+        stream.flush()
+        return
+    path = Path(path)
+    try:
+        if writes_in_place(path):
+            with open(path, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as fh:
+                yield fh
+        else:
+            with _replacing(Path(os.path.realpath(path)), binary) as fh:
+                yield fh
+    except OSError as exc:
+        raise ManikinError(f"{path}: cannot write ({_reason(exc)})") from None
+
+
+@contextmanager
+def _replacing(path: Path, binary: bool) -> Iterator[IO]:
+    """Write a temporary file in ``path``'s folder, then rename it onto ``path``; on any failure remove it."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    fd, tmp = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=path.parent)
+    try:
+        os.chmod(tmp, _mode_for(path))  # mkstemp's 0600 would make every output private (os.fchmod: not on Windows)
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as fh:
+            yield fh
+        os.replace(tmp, path)
+    except BaseException:
+        with suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
 
 
-def write_json(path: Path, data: Any, allow_nan: bool = True) -> Path:
-    """Write ``data`` as indented JSON (one space per level), atomically; ``allow_nan=False`` refuses NaN/inf."""
+def _mode_for(path: Path) -> int:
+    """The permissions of the file being replaced, else those a new file gets (0666 less the umask)."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
+def _reason(exc: OSError | UnicodeDecodeError) -> str:
+    return getattr(exc, "strerror", None) or str(exc)
+
+
+def write_text(path: str | Path, text: str) -> Path | str:
+    """Write ``text`` to ``path`` with :func:`open_output`; returns ``path``."""
+    with open_output(path) as fh:
+        fh.write(text)
+    return path if str(path) == STDOUT else Path(path)
+
+
+def write_json(path: str | Path, data: Any, allow_nan: bool = True) -> Path | str:
+    """Write ``data`` as indented JSON (one space per level); ``allow_nan=False`` refuses NaN/inf."""
     return write_text(path, json.dumps(data, indent=1, allow_nan=allow_nan))

@@ -21,6 +21,9 @@ from .files import read_json
 from .frame import Frame
 from .table_reader import TableReader
 
+# bounds of a result file's values, far beyond any pose but small enough that products of them stay finite
+LENGTH, FORCE, MASS, ANGLE = 1e4, 1e7, 1e4, 1e4  # m (positions), N and N*m, kg (a link), rad or m (joint values)
+
 
 @dataclass
 class ResultFile:
@@ -61,22 +64,24 @@ def _frame(t: TableReader) -> Frame:
     joints = _joints(t.named_tables("joints"), lindex)
     tcp_position, tcp_rotation, tcp_link = {}, {}, {}
     for name, tcp in t.named_tables("tcps").items():
-        tcp_position[name] = tcp.vector("position", 3)
+        tcp_position[name] = tcp.vector("position", 3, limit=LENGTH, unit="m")
         tcp_rotation[name] = tcp.rotation("rotation", [1.0, 0.0, 0.0, 0.0])
         tcp_link[name] = lindex[tcp.choice("link", lindex, "one of the links' names")]
     contacts = []
     for name, c in t.named_tables("contacts").items():
         if name not in tcp_link:
             raise t.fail(f"contacts.{name}", "a contact at one of the TCPs: " + ", ".join(sorted(tcp_link)))
-        moment = c.vector("moment", 3, [0.0, 0.0, 0.0])
-        contacts.append((name, c.vector("point", 3), c.vector("force", 3), moment))
+        moment = c.vector("moment", 3, [0.0, 0.0, 0.0], limit=FORCE, unit="N*m")
+        contacts.append(
+            (name, c.vector("point", 3, limit=LENGTH, unit="m"), c.vector("force", 3, limit=FORCE, unit="N"), moment)
+        )
     loads = []
     for ld in t.table_list("loads"):
         tcp = ld.choice("tcp", tcp_link, "a TCP name")
-        loads.append((tcp, ld.vector("point", 3), ld.vector("force", 3)))
+        loads.append((tcp, ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")))
     converged = t.get("converged")
     return Frame(
-        number=int(t.number("frame", 1)),
+        number=t.integer("frame", 1, -1e9, 1e9, "a whole frame number"),
         converged=converged if isinstance(converged, bool) else None,
         **joints,
         link_names=link_names,
@@ -86,7 +91,7 @@ def _frame(t: TableReader) -> Frame:
         tcp_position=tcp_position,
         tcp_rotation=tcp_rotation,
         tcp_link=tcp_link,
-        gravity=t.vector("gravity", 3, list(GRAVITY)),
+        gravity=t.vector("gravity", 3, list(GRAVITY), limit=1e3, unit="m/s^2"),
         contacts=contacts,
         loads=loads,
         unmet=_names(t.get("unmet")),
@@ -104,8 +109,8 @@ def _links(links: list[TableReader]) -> tuple[list[str], np.ndarray, np.ndarray,
     names = [lk.string("name") for lk in links]
     index = {n: i for i, n in enumerate(names)}
     parent = np.array([index.get(lk.get("parent"), -1) for lk in links], dtype=int)
-    mass = np.array([lk.number("mass", low=0.0) for lk in links])
-    com = np.array([lk.vector("com", 3) for lk in links]).reshape(-1, 3)
+    mass = np.array([lk.number("mass", low=0.0, high=MASS, unit="kg") for lk in links])
+    com = np.array([lk.vector("com", 3, limit=LENGTH, unit="m") for lk in links]).reshape(-1, 3)
     return names, parent, mass, com
 
 
@@ -114,10 +119,10 @@ def _joints(joints: dict[str, TableReader], lindex: dict[str, int]) -> dict[str,
     names, values, ranges, positions, axes, prismatic, links, strengths = [], [], [], [], [], [], [], []
     for name, jt in joints.items():
         names.append(name)
-        values.append(jt.number("value", 0.0))
-        ranges.append([jt.limit("min", -math.inf), jt.limit("max", math.inf)])
-        positions.append(jt.vector("position", 3))
-        axis = jt.vector("axis", 3)
+        values.append(jt.number("value", 0.0, -ANGLE, ANGLE))
+        ranges.append([jt.limit("min", -math.inf, ANGLE), jt.limit("max", math.inf, ANGLE)])
+        positions.append(jt.vector("position", 3, limit=LENGTH, unit="m"))
+        axis = jt.vector("axis", 3, limit=LENGTH)
         if np.linalg.norm(axis) < 1e-9:
             raise jt.fail("axis", "a non-zero vector", axis.tolist())
         axes.append(axis / np.linalg.norm(axis))
@@ -145,4 +150,4 @@ def _strength(jt: TableReader) -> list[float]:
     if not isinstance(value, list) or len(value) != 2:
         raise jt.fail("strength", "[negative, positive] capacities (numbers or null)", value)
     pair = jt.sub("strength", {"negative": value[0], "positive": value[1]})
-    return [pair.limit("negative", math.inf), pair.limit("positive", math.inf)]
+    return [pair.limit(side, math.inf, FORCE, "N*m") for side in ("negative", "positive")]

@@ -5,7 +5,6 @@ The format is the README's "Scenario files". Units: m, rad, N, kg; rotations are
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -15,30 +14,32 @@ from ..comfort import ComfortWeights
 from ..errors import ManikinError, ScenarioError
 from ..model import GRAVITY, Model
 from ..motion import Key, Track, targets_at
-from ..options import AXES, DEFAULT_OPTIONS, MotionLimits, SolverOptions
+from ..options import AXES, DEFAULT_OPTIONS, MAX_FRAME, MAX_FRAMES, MAX_WEIGHT, MIN_WEIGHT, MotionLimits, SolverOptions
 from ..priorities import PRIORITIES
 from ..problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
 from ..reduction import DEFAULT_GROUPS, GROUPS
 from ..scenario import Scenario
 from .files import read_text
+from .files import read_toml as read_toml_file
 from .table_reader import TableReader
 
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
             "description"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
                "priority", "name", "keys"}  # fmt: skip
+FRAME = "a whole frame number"
+MAX_LOAD_MASS = 1e5  # kg, a load's mass (MAX_FORCE / g, rounded)
+MAX_SOLE = 10.0  # m, a sole corner's distance from its TCP
+MAX_TURN = 4 * np.pi  # rad, a start value (two turns either way; values outside the joint's range are clipped)
 LOOP_KEYS = {"tcp", "other", "offset_position", "offset_rotation", "lock", "operator", "weight"}
 
 
 def read_toml(path: Path) -> TableReader:
     """A reader of the TOML file ``path``; an empty, missing or malformed file is one ScenarioError line."""
-    text = read_text(path, ScenarioError)
-    if not text.strip():
+    data = read_toml_file(path, ScenarioError)
+    if not data and not read_text(path, ScenarioError).strip():
         raise ScenarioError(f"{path}: the file is empty; expected a scenario with [manikin] and [[targets]]")
-    try:
-        return TableReader(path, tomllib.loads(text), error=ScenarioError)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{path}: malformed TOML ({exc})") from None
+    return TableReader(path, data, error=ScenarioError)
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -50,9 +51,8 @@ def load_scenario(path: str | Path) -> Scenario:
     balance, reduction, options = _read_solver(root.table("solver"))
     comfort = root.table("comfort")
     comfort.known({"range", "load", "contact"})
-    weights = ComfortWeights(
-        comfort.number("range", 1.0, 0.0), comfort.number("load", 1.0, 0.0), comfort.number("contact", 0.01, 0.0)
-    )
+    weights = ComfortWeights(*(comfort.number(k, d, 0.0, MAX_WEIGHT) for k, d in (("range", 1.0), ("load", 1.0),
+                                                                                ("contact", 0.01))))  # fmt: skip
     read = [_read_target(t, model) for t in root.table_list("targets")]
     targets = [target for target, _ in read]
     tracks = [Track(i, keys) for i, (_, keys) in enumerate(read) if keys]
@@ -104,9 +104,9 @@ def _read_solver(t: TableReader) -> tuple[bool, tuple[str, ...], SolverOptions]:
     """[solver]: balance, the reduction groups and the iteration options."""
     t.known({"balance", "reduction", "max_iterations", "comfort", "restarts"})
     options = SolverOptions(
-        max_iterations=int(t.number("max_iterations", DEFAULT_OPTIONS.max_iterations, 1, 100000)),
+        max_iterations=t.integer("max_iterations", DEFAULT_OPTIONS.max_iterations, 1, 100000),
         optimize_comfort=t.boolean("comfort", True),
-        restarts=int(t.number("restarts", DEFAULT_OPTIONS.restarts, 0, 10)),
+        restarts=t.integer("restarts", DEFAULT_OPTIONS.restarts, 0, 10),
     )
     return t.boolean("balance", True), _read_reduction(t), options
 
@@ -126,16 +126,16 @@ def _read_motion(root: TableReader, tracks: list[Track]) -> tuple[list[int], Mot
     motion = root.table("motion")
     motion.known({"start", "end", "step", "max_joint_change", "max_root_shift", "bounded"})
     keyed = [k.frame for track in tracks for k in track.keys]
-    first = int(root.number("frame", 1, -1e9, 1e9)) if not keyed else min(keyed)
-    start = int(motion.number("start", first, -1e9, 1e9))
-    end = int(motion.number("end", max(keyed) if keyed else start, start, 1e9))
-    step = int(motion.number("step", 1, 1, 1e6))
+    first = root.integer("frame", 1, -MAX_FRAME, MAX_FRAME, FRAME) if not keyed else min(keyed)
+    start = motion.integer("start", first, -MAX_FRAME, MAX_FRAME, FRAME)
+    end = motion.integer("end", max(keyed) if keyed else start, start, MAX_FRAME, FRAME)
+    step = motion.integer("step", 1, 1, MAX_FRAMES)
     frames = list(range(start, end + 1, step))
-    if len(frames) > 100000:
-        raise motion.fail("end", "at most 100000 frames")
+    if len(frames) > MAX_FRAMES:
+        raise motion.fail("end", f"at most {MAX_FRAMES} frames (end - start) / step + 1", len(frames))
     limits = MotionLimits(
-        motion.number("max_joint_change", MotionLimits.max_joint_change, 1e-6, 10.0),
-        motion.number("max_root_shift", MotionLimits.max_root_shift, 1e-6, 100.0),
+        motion.number("max_joint_change", MotionLimits.max_joint_change, 1e-6, 10.0, "rad"),
+        motion.number("max_root_shift", MotionLimits.max_root_shift, 1e-6, 100.0, "m"),
     )
     return frames, limits if motion.boolean("bounded", True) else None
 
@@ -143,23 +143,26 @@ def _read_motion(root: TableReader, tracks: list[Track]) -> tuple[list[int], Mot
 def _read_target(t: TableReader, model: Model) -> tuple[Target, tuple[Key, ...]]:
     """One [[targets]] entry and its keys (empty unless the target is keyed)."""
     t.known(TARGET_KEYS)
+    _lock_or_operator(t)
     sole = None
     if "sole" in t.data:
         sole = t.points("sole", 2, "a list of [x, y] corners in the TCP frame, m")
+        if np.abs(sole).max() > MAX_SOLE:
+            raise t.fail("sole", f"corners within +-{MAX_SOLE:g} m of the TCP", t.get("sole"))
     keys = _read_keys(t)
     if keys and "position" not in t.data:
         position, rotation = keys[0].position, keys[0].rotation
     else:
-        position, rotation = t.vector("position", 3, limit=MAX_DISTANCE), t.rotation("rotation")
+        position, rotation = t.vector("position", 3, limit=MAX_DISTANCE, unit="m"), t.rotation("rotation")
     target = Target(
         tcp=t.choice("tcp", model.tcps, "a TCP of the manikin"),
         position=position,
         rotation=rotation,
         lock=t.lock("lock", AXES),
         operator=t.operator("operator"),
-        weight=t.number("weight", 1.0, 1e-6),
+        weight=t.number("weight", 1.0, MIN_WEIGHT, MAX_WEIGHT),
         support=t.boolean("support", False),
-        friction=t.number("friction", 0.6, 0.0, 10.0),
+        friction=t.number("friction", 0.6, 0.0, 10.0, "(friction coefficient)"),
         sole=sole,
         enabled=t.boolean("enabled", True),
         priority=_priority(t),
@@ -182,10 +185,8 @@ def _read_keys(t: TableReader) -> tuple[Key, ...]:
     keys = []
     for k in t.table_list("keys"):
         k.known({"frame", "position", "rotation"})
-        frame = k.number("frame", low=-1e9, high=1e9)
-        if frame != int(frame):
-            raise k.fail("frame", "a whole frame number", frame)
-        keys.append(Key(int(frame), k.vector("position", 3, limit=MAX_DISTANCE), k.rotation("rotation")))
+        frame = k.integer("frame", None, -MAX_FRAME, MAX_FRAME, FRAME)
+        keys.append(Key(frame, k.vector("position", 3, limit=MAX_DISTANCE, unit="m"), k.rotation("rotation")))
     frames = [k.frame for k in keys]
     if len(set(frames)) != len(frames):
         raise t.fail("keys", "distinct frame numbers", frames)
@@ -196,23 +197,24 @@ def _read_load(t: TableReader, model: Model) -> ExternalLoad:
     """One [[loads]] entry: a force (N) or a mass (kg) held at a TCP."""
     t.known({"tcp", "force", "mass"})
     if t.exactly_one("force", "mass", "exactly one of force = [fx, fy, fz] (N) or mass = kg") == "force":
-        force = t.vector("force", 3, limit=MAX_FORCE)
+        force = t.vector("force", 3, limit=MAX_FORCE, unit="N")
     else:
-        force = t.number("mass", low=0.0, high=MAX_FORCE / 9.81) * GRAVITY
+        force = t.number("mass", low=0.0, high=MAX_LOAD_MASS, unit="kg") * GRAVITY
     return ExternalLoad(t.choice("tcp", model.tcps, "a TCP of the manikin"), force)
 
 
 def _read_loop(t: TableReader, model: Model) -> Loop:
     """One [[loops]] entry: a TCP held on another TCP's frame."""
     t.known(LOOP_KEYS)
+    _lock_or_operator(t)
     return Loop(
         tcp=t.choice("tcp", model.tcps, "a TCP of the manikin"),
         other=t.choice("other", model.tcps, "a TCP of the manikin"),
-        offset_position=t.vector("offset_position", 3, [0.0, 0.0, 0.0], limit=MAX_DISTANCE),
+        offset_position=t.vector("offset_position", 3, [0.0, 0.0, 0.0], limit=MAX_DISTANCE, unit="m"),
         offset_rotation=t.rotation("offset_rotation"),
         lock=t.lock("lock", ("x", "y", "z")),
         operator=t.operator("operator"),
-        weight=t.number("weight", 1.0, 1e-6),
+        weight=t.number("weight", 1.0, MIN_WEIGHT, MAX_WEIGHT),
     )
 
 
@@ -224,5 +226,13 @@ def _read_start(t: TableReader, model: Model, problem: Problem) -> np.ndarray:
     for name in joints.data:
         if name not in model.joint_names:
             raise joints.fail(name, "a joint name of the manikin (unknown joint)")
-        theta[model.joint_index(name)] = joints.number(name)
+        i = model.joint_index(name)
+        limit, unit = (MAX_DISTANCE, "m") if model.prismatic[i] else (MAX_TURN, "rad")
+        theta[i] = joints.number(name, None, -limit, limit, unit)  # outside the joint's range: clipped into it
     return problem.to_x(problem.start(theta))
+
+
+def _lock_or_operator(t: TableReader) -> None:
+    """Refuse a target or loop that gives both: the operator would silently replace the lock."""
+    if "lock" in t.data and "operator" in t.data:
+        raise t.fail("lock", "either lock or operator, not both (an operator replaces the lock)")

@@ -22,11 +22,29 @@ from ..options import AXES
 from ..spatial import quat_to_matrix
 
 _MISSING = object()
+QUATERNION_LIMIT = 1e6  # a quaternion's components: normalised when read, but beyond this its norm overflows
+OPERATOR_RANGE = (1e-6, 1e3)  # an operator row's largest |entry|: its scale cancels in its tolerance, but a zero
+# row has no tolerance and a huge one overflows
 
 
 def is_number(value: Any) -> bool:
     """A finite int or float (not a bool)."""
     return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def span(low: float, high: float) -> str:
+    """ "a number in [low, high]", or ">= low" / "<= high" when the other end is open."""
+    if high == -low == math.inf:
+        return "a finite number"
+    if high == math.inf:
+        return f"a number >= {low:g}"
+    if low == -math.inf:
+        return f"a number <= {high:g}"
+    return f"a number in [{low:g}, {high:g}]"
+
+
+def unit_of(unit: str) -> str:
+    return f" {unit}" if unit else ""
 
 
 class TableReader:
@@ -66,20 +84,30 @@ class TableReader:
     def get(self, key: str, default: Any = None) -> Any:
         return self.data.get(key, default)
 
-    def number(self, key: str, default: float | None = None, low: float = -math.inf, high: float = math.inf) -> float:
-        """A finite number in [low, high]; ``default`` when absent (None: required)."""
+    def number(
+        self, key: str, default: float | None = None, low: float = -math.inf, high: float = math.inf, unit: str = ""
+    ) -> float:
+        """A finite number in [low, high] (``unit`` for the message, e.g. "kg"); ``default`` when absent (None:
+        required)."""
         value = self.data.get(key, default)
         if value is None:
             raise self.fail(key, "a number (missing)")
-        if not is_number(value):
-            raise self.fail(key, "a finite number", value)
-        if not low <= value <= high:
-            raise self.fail(key, f"a number in [{low}, {high}]", value)
+        if not is_number(value) or not low <= value <= high:
+            raise self.fail(key, span(low, high) + unit_of(unit), value)
         return float(value)
 
-    def limit(self, key: str, unlimited: float) -> float:
-        """A finite number, or ``unlimited`` (an infinity) when the key is absent or null."""
-        return unlimited if self.data.get(key) is None else self.number(key)
+    def integer(self, key: str, default: int | None, low: float, high: float, what: str = "a whole number") -> int:
+        """A whole number in [low, high] (``what`` says which, e.g. "a whole frame number")."""
+        value = self.data.get(key, default)
+        if value is None:
+            raise self.fail(key, f"{what} (missing)")
+        if not is_number(value) or value != int(value) or not low <= value <= high:
+            raise self.fail(key, f"{what} in [{low:.0f}, {high:.0f}]", value)
+        return int(value)
+
+    def limit(self, key: str, unlimited: float, bound: float = math.inf, unit: str = "") -> float:
+        """A number within +-``bound``, or ``unlimited`` (an infinity) when the key is absent or null."""
+        return unlimited if self.data.get(key) is None else self.number(key, None, -bound, bound, unit)
 
     def boolean(self, key: str, default: bool) -> bool:
         value = self.data.get(key, default)
@@ -100,13 +128,13 @@ class TableReader:
             raise self.fail(key, f"{what}: " + ", ".join(sorted(options)), value)
         return value
 
-    def vector(self, key: str, size: int, default: Any = None, limit: float = math.inf) -> np.ndarray:
-        """``size`` finite numbers, each within +-``limit``."""
+    def vector(self, key: str, size: int, default: Any = None, limit: float = math.inf, unit: str = "") -> np.ndarray:
+        """``size`` finite numbers, each within +-``limit`` (``unit`` for the message, e.g. "m")."""
         value = self.data.get(key, default)
         if not (isinstance(value, list) and len(value) == size and all(is_number(v) for v in value)):
-            raise self.fail(key, f"{size} finite numbers", value)
+            raise self.fail(key, f"{size} finite numbers" + (f" ({unit})" if unit else ""), value)
         if any(abs(v) > limit for v in value):
-            raise self.fail(key, f"{size} numbers within +-{limit:g}", value)
+            raise self.fail(key, f"{size} numbers within +-{limit:g}" + unit_of(unit), value)
         return np.asarray(value, dtype=float)
 
     def points(self, key: str, dimension: int, what: str) -> np.ndarray:
@@ -122,7 +150,7 @@ class TableReader:
         """The rotation matrix of the quaternion [w, x, y, z] at ``key``; None when absent and no default."""
         if key not in self.data and default is None:
             return None
-        q = self.vector(key, 4, default)
+        q = self.vector(key, 4, default, limit=QUATERNION_LIMIT)
         if np.linalg.norm(q) < 1e-9:
             raise self.fail(key, "a non-zero quaternion [w, x, y, z]", self.data.get(key, default))
         return quat_to_matrix(q)
@@ -143,8 +171,12 @@ class TableReader:
             op = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
             raise self.fail(key, "a list of rows of 6 numbers", value) from None
-        if op.ndim != 2 or op.shape[1] != 6 or op.shape[0] == 0 or not np.isfinite(op).all():
-            raise self.fail(key, "a list of rows of 6 finite numbers", value)
+        if op.ndim != 2 or op.shape[1] != 6 or not 1 <= op.shape[0] <= 6 or not np.isfinite(op).all():
+            raise self.fail(key, "1 to 6 rows of 6 finite numbers", value)
+        for i, row in enumerate(np.abs(op)):
+            if not OPERATOR_RANGE[0] <= row.max() <= OPERATOR_RANGE[1]:
+                low, high = OPERATOR_RANGE
+                raise self.fail(f"{key}[{i}]", f"a row whose largest |entry| is in [{low:g}, {high:g}]", value[i])
         return op
 
     def table(self, key: str) -> TableReader:

@@ -108,6 +108,41 @@ def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
 
 
+LONG = "a" * 300 + ".json"  # longer than any file system's names
+
+
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["--report", "adir"], "--report adir: is a directory"),
+        (["--export", "adir.fbx"], "--export adir.fbx: is a directory"),
+        (["--result", LONG], "file name too long (305 bytes, at most 255)"),
+        (["--report", "r.json", "--result", "r.json"], "--result r.json: the same file as --report r.json"),
+        (["--report", "s.toml"], "--report s.toml: the same file as the input --scenario s.toml"),
+        (["--picture", "/proc/poses.png"], "cannot write in /proc"),
+        (["--plots", "adir/" + "b" * 250], "--plots"),
+        (["--report", "-"], "cannot write to standard output"),
+        (["--frames", 1, 2000000], "at most 100000"),
+    ],
+    ids=["report_dir", "export_dir", "long_name", "same_twice", "onto_input", "proc", "plots_long", "stdout", "frames"],
+)
+def test_batch_refuses_bad_output_paths_before_the_bake(tmp_path: Path, args: list, says: str, run) -> None:
+    """A bad output path is one line and exit 2 before anything is baked; the .blend the run would have replaced and
+    every input stay as they were (the issue: --report to a bad path failed after the bake and lost the .blend)."""
+    (tmp_path / "adir").mkdir()
+    (tmp_path / "adir.fbx").mkdir()
+    (tmp_path / "s.toml").write_bytes(SNAKE.read_bytes())
+    (tmp_path / "keep.blend").write_bytes(b"keep me")
+    before = {p.name: p.read_bytes() if p.is_file() else None for p in tmp_path.iterdir()}
+    done = run(["--scenario", "s.toml", "--frames", 1, 3, "--out", "keep.blend", *args], tmp_path)
+    assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
+    assert "baking" not in done.stdout, "the bad path was found only after the bake"
+    after = {p.name: p.read_bytes() if p.is_file() else None for p in tmp_path.iterdir() if p.name != "user"}
+    assert after == before
+
+
 def test_batch_runs_from_an_installed_extension(tmp_path: Path, run, user: Path) -> None:
     """The batch script inside the installed extension's folder loads that copy:
     ``blender --background --python <extension>/blender_manikin/batch.py -- ...``."""
