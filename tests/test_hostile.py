@@ -39,6 +39,7 @@ SOLVE = [
     ("lock_and_operator", ["{in}/lock_and_operator.toml"], ["targets[1].lock", "not both"]),
     ("loop_lock_and_operator", ["{in}/loop_lock_and_operator.toml"], ["loops[0].lock", "not both"]),
     ("friction_100", ["{in}/friction_100.toml"], ["targets[0].friction", "[0, 10]", "100"]),
+    ("priority_3", ["{in}/priority_3.toml"], ["targets[1].priority", "1 (must hold) or 2", "3"]),
     ("sole_1000_m", ["{in}/sole_1000_m.toml"], ["targets[0].sole", "+-10 m"]),
     ("position_1e308", ["{in}/position_1e308.toml"], ["targets[1].position", "+-1000 m"]),
     ("position_nan", ["{in}/position_nan.toml"], ["targets[1].position", "finite"]),
