@@ -27,10 +27,15 @@ def read_json(path: Path, error: type[ManikinError]) -> Any:
         raise error(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
 
 
+def temporary_beside(path: Path) -> Path:
+    """The temporary file a write to ``path`` goes into before it is renamed onto ``path``."""
+    return path.with_name(path.name + ".tmp")
+
+
 def write_text(path: Path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file beside it (a reader never sees half a file)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
+    tmp = temporary_beside(path)
     tmp.write_text(text, encoding="utf-8")
     tmp.replace(path)
     return path

@@ -1,0 +1,112 @@
+"""Result files written frame by frame, so memory stays flat however long the motion: each frame is turned into
+text and appended as it is solved, into ``NAME.tmp`` beside the file, which is renamed onto it at the end.
+
+The result JSON is written as ``{"scenario": ..., "frames": [`` then one frame per line, then ``]}``; the compact
+format (JSON Lines) as a header line and one line per frame. A run that stops early (Ctrl-C, an error) still
+ends with a valid file holding the frames solved so far and says so: ``"interrupted": {"at_frame", "solved",
+"reason"}`` (a last key of the JSON, a last line of the compact file). Ctrl-C is held while a frame is written,
+so a frame is in the file whole or not at all.
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from types import TracebackType
+
+from ..result import Result
+from .files import temporary_beside
+from .result_write import compact_frame_dict, compact_header, result_to_dict
+
+COMPACT_SUFFIXES = (".jsonl", ".ndjson")
+
+
+def is_compact_path(path: str | Path) -> bool:
+    """Whether a file of this name is written in the compact format by default (``.jsonl``)."""
+    return Path(path).suffix.lower() in COMPACT_SUFFIXES
+
+
+@contextmanager
+def interrupts_held() -> Iterator[None]:
+    """Ctrl-C (SIGINT) arriving inside the block is delivered when it ends (where signals can be blocked: the main
+    thread on POSIX); elsewhere the block runs unprotected."""
+    block = getattr(signal, "pthread_sigmask", None)
+    if block is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = block(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        block(signal.SIG_SETMASK, previous)
+
+
+class ResultWriter:
+    """Appends (frame, Result) pairs to the result file ``path``; :meth:`close` puts it in place.
+
+    ``compact``: the JSON Lines format (default: for a ``.jsonl`` path). Use as a context manager: leaving the
+    block by an exception keeps the frames written so far (marked interrupted) and re-raises.
+    """
+
+    def __init__(self, path: str | Path, scenario: str | Path | None = None, compact: bool | None = None) -> None:
+        self.path = Path(path)
+        self.compact = is_compact_path(self.path) if compact is None else compact
+        self.scenario = None if scenario is None else str(scenario)
+        self.count = 0  # frames written
+        self.last_frame: int | None = None
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._tmp = temporary_beside(self.path)
+        self._file = self._tmp.open("w", encoding="utf-8")
+        self.closed = False
+        self.written: Path | None = None  # the file once closed with frames in it
+        if not self.compact:
+            head = {} if self.scenario is None else {"scenario": self.scenario}
+            self._file.write(json.dumps(head)[:-1] + (", " if head else "") + '"frames": [')
+
+    def add(self, frame: int, result: Result) -> None:
+        """Append one frame (its text is built first, then written whole with Ctrl-C held)."""
+        if self.compact:
+            head = "" if self.count else json.dumps(compact_header(result.problem.model, self.scenario)) + "\n"
+            text = head + json.dumps(compact_frame_dict(result, frame), separators=(",", ":")) + "\n"
+        else:
+            text = ("\n" if self.count == 0 else ",\n") + json.dumps(result_to_dict(result, frame))
+        with interrupts_held():
+            self._file.write(text)
+            self._file.flush()
+            self.count += 1
+            self.last_frame = frame
+
+    def close(self, interrupted_at: int | None = None, reason: str = "interrupted") -> Path | None:
+        """Finish the file and rename it into place; returns its path. ``interrupted_at``: the frame at which the
+        run stopped (the file then says so). With no frame written, nothing replaces ``path`` (returns None)."""
+        if self.closed:
+            return self.written
+        self.closed = True
+        with interrupts_held():
+            stop = None if interrupted_at is None else dict(at_frame=interrupted_at, solved=self.count, reason=reason)
+            if self.compact:
+                self._file.write("" if stop is None else json.dumps({"interrupted": stop}) + "\n")
+            else:
+                self._file.write("\n]" + ("" if stop is None else ',\n"interrupted": ' + json.dumps(stop)) + "}\n")
+            self._file.close()
+            if self.count == 0:
+                self._tmp.unlink(missing_ok=True)
+                return None
+            self._tmp.replace(self.path)
+        self.written = self.path
+        return self.path
+
+    def __enter__(self) -> ResultWriter:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> None:
+        if not self.closed:
+            if kind is None:
+                self.close()
+            else:
+                after = None if self.last_frame is None else self.last_frame + 1
+                self.close(interrupted_at=after, reason="interrupted" if kind is KeyboardInterrupt else kind.__name__)
