@@ -90,16 +90,15 @@ def _ergo(args: argparse.Namespace) -> int:
     output = Path(args.output) if args.output else Path(args.result).with_name(Path(args.result).stem + "_ergo.json")
     report = run(args.result, output, options, plots=not args.no_plots)
     if not args.quiet:
-        frames = report["frames"]
-        shown = frames if len(frames) <= 10 else [frames[0], frames[-1]]
-        for f in shown:
+        frames, count = report["frames"], report["frame_count"]
+        for f in frames:
             c = f["joint_loads"]["l4_l5"].get("compression")
             disc = "n/a" if c is None else f"{c:.0f} N"
             print(f"frame {f['frame']}: RULA {f['rula']['score']}, REBA {f['reba']['score']}, "
                   f"OWAS {f['owas'].get('code')}, L4/L5 {disc}, worksheet {f['worksheet']['overall']}")  # fmt: skip
-        if len(frames) > len(shown):
-            worst = max(frames, key=lambda f: f["reba"]["score"] or 0)
-            print(f"... {len(frames)} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}")
+        if count > len(frames):
+            worst = report["highest_reba"]
+            print(f"... {count} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}")
         lift = report["niosh"]
         if lift.get("LI") is not None:
             print(f"NIOSH lift: RWL {lift['RWL']:.1f} kg, load {lift['load_kg']:.1f} kg, LI {lift['LI']:.2f}")

@@ -257,3 +257,23 @@ def test_ctrl_c_keeps_the_solved_frames_and_says_where_in_one_line(tmp_path: Pat
     assert read.interrupted["at_frame"] == kept + 1 and read.interrupted["solved"] == kept
     assert not (tmp_path / (name + ".tmp")).exists()
     assert np.isfinite(read.frames[-1].joint_value).all()
+
+
+def test_ergo_streams_the_same_report_as_the_whole_evaluation(motion, tmp_path: Path) -> None:
+    """``ergo`` (solver.ergonomics.run) reads the file frame by frame and writes frame by frame: the same JSON and
+    CSV as evaluating every frame in memory; it hands back only the frames a summary shows."""
+    scenario, solved = motion
+    more = solved + list(islice(solver.solve_motion(scenario), 6, 12))
+    path = solver.write_result(tmp_path / "twelve.jsonl", more, scenario.path)
+    from solver.ergonomics import run
+    from solver.ergonomics.report import csv_rows
+
+    summary = run(path, tmp_path / "ergo.json", plots=False)
+    whole = solver.evaluate(solver.read_result(path))
+    assert json.loads((tmp_path / "ergo.json").read_text(encoding="utf-8")) == json.loads(json.dumps(whole))
+    header, rows = csv_rows(whole)
+    written = (tmp_path / "ergo.csv").read_text(encoding="utf-8").splitlines()
+    assert written[0].split(",") == header and len(written) == 1 + len(rows) == 13
+    assert summary["frame_count"] == 12 and [f["frame"] for f in summary["frames"]] == [1, 12]
+    best = max(whole["frames"], key=lambda f: f["reba"]["score"] or 0)
+    assert summary["highest_reba"] == best and summary["niosh"] == whole["niosh"]

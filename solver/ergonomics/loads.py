@@ -115,11 +115,8 @@ def joint_loads(frame: Frame, strength: np.ndarray) -> tuple[dict, np.ndarray, n
     moments, tau, sub_force = joint_moments(frame)
     percent = percent_of_strength(tau, strength)
     out: dict = {}
+    rows, axis, share = moments.tolist(), tau.tolist(), percent.tolist()
     for i, name in enumerate(frame.joint_names):
-        out[name] = dict(
-            moment=[float(v) for v in moments[i]],
-            axis_moment=float(tau[i]),
-            percent_strength=_num(percent[i]),
-        )
+        out[name] = dict(moment=rows[i], axis_moment=axis[i], percent_strength=_num(share[i]))
     out["l4_l5"] = l4_l5(frame, moments, sub_force)
     return out, tau, percent

@@ -108,10 +108,16 @@ def _point(p: dict, d: float, fm: float, coupling: str) -> dict:
 
 
 def lift(frames: list[Frame], o: ErgoOptions) -> dict:
-    """RWL at origin and destination and the lifting index of the lift between two frames."""
+    """RWL at origin and destination and the lifting index of the lift between two frames of ``frames`` (the
+    options' origin and destination frame numbers, else the first and the last)."""
     by_number = {f.number: f for f in frames}
     first = by_number.get(o.origin, frames[0]) if o.origin is not None else frames[0]
     last = by_number.get(o.destination, frames[-1]) if o.destination is not None else frames[-1]
+    return lift_between(first, last, o)
+
+
+def lift_between(first: Frame, last: Frame, o: ErgoOptions) -> dict:
+    """The lift from frame ``first`` to frame ``last`` (the same object for a one-frame lift)."""
     start, end = hand_point(first), hand_point(last)
     if start is None or end is None:
         return dict(LI=None, reason="no knuckles, ankles or feet TCPs: the body is not the human manikin")
