@@ -146,3 +146,13 @@ def at_frame(frame: Frame, d: float, fm: float, coupling: str) -> dict | None:
     """H, V, A and the RWL (kg) of one frame's hand point with the lift's D and FM (None if not human)."""
     p = hand_point(frame)
     return None if p is None else _point(p, d, fm, coupling)
+
+
+def at_point(point: dict | None, lift: dict, coupling: str) -> dict | None:
+    """:func:`at_frame` for a frame's :func:`hand_point` and the motion's :func:`lift` (its D and FM; D 25 cm and
+    FM 1 when the lift has no origin)."""
+    if point is None:
+        return None
+    d = lift["origin"]["D"] if "origin" in lift else 25.0
+    fm = lift["origin"]["FM"] if "origin" in lift else 1.0
+    return _point(point, d, fm, coupling)

@@ -65,12 +65,10 @@ def clean(value):
     return value
 
 
-def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift: dict) -> tuple[dict, str]:
+def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift: dict | None) -> tuple[dict, str]:
     """The ergonomics of one frame (JSON-safe) and where its joint strengths came from. ``area``: the working
     area of ``model`` (or None); ``lift``: the motion's NIOSH lift (:func:`niosh.lift`), whose D and FM every
-    frame's NIOSH values use."""
-    d = lift["origin"]["D"] if "origin" in lift else 25.0
-    fm = lift["origin"]["FM"] if "origin" in lift else 1.0
+    frame's NIOSH values use (None: the frame's ``niosh`` is left out, for :func:`niosh.at_point` later)."""
     strength, strength_note = strengths(f, model)
     loads, _, percent = joint_loads(f, strength)
     posture = postures.measure(f)
@@ -79,14 +77,17 @@ def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift
         frame=f.number,
         converged=f.converged,
         posture=posture if "reason" in posture else postures.rounded(posture),
-        joint_loads=loads,
+        joint_loads=None,  # JSON-safe already (joint_loads): not walked by clean, the bulk of a frame's values
         rula=rula(posture, load_kg, options),
         reba=reba(posture, load_kg, options),
         owas=owas(f, posture, load_kg),
         worksheet=worksheet(f, posture, percent, loads["l4_l5"], area),
-        niosh=niosh.at_frame(f, d, fm, options.coupling),
     )
-    return clean(report), strength_note
+    if lift is not None:
+        report["niosh"] = niosh.at_point(niosh.hand_point(f), lift, options.coupling)
+    report = clean(report)
+    report["joint_loads"] = loads | {"l4_l5": clean(loads["l4_l5"])}
+    return report, strength_note
 
 
 def report_head(

@@ -17,10 +17,14 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import TracebackType
+from typing import TYPE_CHECKING
 
 from ..result import Result
 from .files import temporary_beside
 from .result_write import compact_frame_dict, compact_header, result_to_dict
+
+if TYPE_CHECKING:
+    from ..state import State
 
 COMPACT_SUFFIXES = (".jsonl", ".ndjson")
 
@@ -67,13 +71,14 @@ class ResultWriter:
             head = {} if self.scenario is None else {"scenario": self.scenario}
             self._file.write(json.dumps(head)[:-1] + (", " if head else "") + '"frames": [')
 
-    def add(self, frame: int, result: Result) -> None:
-        """Append one frame (its text is built first, then written whole with Ctrl-C held)."""
+    def add(self, frame: int, result: Result, state: State | None = None) -> None:
+        """Append one frame (its text is built first, then written whole with Ctrl-C held); ``state``: the result's
+        state if the caller has it."""
         if self.compact:
             head = "" if self.count else json.dumps(compact_header(result.problem.model, self.scenario)) + "\n"
-            text = head + json.dumps(compact_frame_dict(result, frame), separators=(",", ":")) + "\n"
+            text = head + json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":")) + "\n"
         else:
-            text = ("\n" if self.count == 0 else ",\n") + json.dumps(result_to_dict(result, frame))
+            text = ("\n" if self.count == 0 else ",\n") + json.dumps(result_to_dict(result, frame, state))
         with interrupts_held():
             self._file.write(text)
             self._file.flush()

@@ -48,16 +48,17 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
     )
 
 
-def result_to_dict(result: Result, frame: int = 1) -> dict:
-    """One frame of the result JSON: the status (:func:`frame_status`), then the pose (:func:`frame_to_dict`)."""
-    state = result.state
+def result_to_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:
+    """One frame of the result JSON: the status (:func:`frame_status`), then the pose (:func:`frame_to_dict`);
+    ``state``: the result's state if the caller has it (saves recomputing it)."""
+    state = result.state if state is None else state
     return frame_status(result, frame, state) | frame_to_dict(frame_of_result(result, frame, state))
 
 
-def compact_frame_dict(result: Result, frame: int = 1) -> dict:
+def compact_frame_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:
     """One frame of the compact file: the status, ``joint_values`` (rad or m, in the header model's joint order),
     ``contacts`` and ``loads`` as in the result JSON."""
-    state = result.state
+    state = result.state if state is None else state
     loads = zip(result.problem.loads, state.statics.load_points, strict=True)
     return frame_status(result, frame, state) | dict(
         joint_values=floats(result.theta),
