@@ -103,7 +103,7 @@ class Sinks:
         self.source = dict(scenario=str(job.scenario) if job.scenario else None,
                            blend=str(job.blend) if job.blend else None)  # fmt: skip
         self.body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
-        self.result = ResultWriter(job.result, self.source["scenario"]) if job.result is not None else None
+        self.result = ResultWriter(job.result.resolve(), self.source["scenario"]) if job.result is not None else None
         wanted = job.report is not None or job.picture is not None or job.plots is not None
         self.report = MotionReport(model, self.body, job.report, job.plots is not None) if wanted else None
 
