@@ -12,14 +12,16 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import importlib.util
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
 import time
 import tomllib
 from pathlib import Path
+
+import numpy as np
 
 from ..bodies import PRESETS_DIR
 from ..io.toml_write import dumps_toml
@@ -57,3 +59,94 @@ def measure(command: list[str], cwd: Path, env: dict | None = None) -> dict:
     wall = time.perf_counter() - t0
     lines = output.strip().splitlines()
     return dict(code=proc.returncode, wall_s=wall, peak_mb=usage.ru_maxrss / 1024.0, last=lines[-1] if lines else "")
+
+
+def cases(scenario: Path, work: Path, python: str, batch: bool) -> list[tuple[str, list[str]]]:
+    """(label, command) of every measured run; outputs go to ``work``."""
+    solve = [python, "-m", "solver", "solve", str(scenario), "-q", "-o"]
+    out = [
+        ("`solve -o R.json` (result JSON)", solve + [str(work / "r.json")]),
+        ("`solve -o R.jsonl` (compact)", solve + [str(work / "r.jsonl")]),
+        ("`ergo R.jsonl` (report JSON, CSV, plots)", [python, "-m", "solver", "ergo", str(work / "r.jsonl"), "-q",
+                                                     "-o", str(work / "ergo.json")]),
+    ]  # fmt: skip
+    if batch:
+        script = str(ROOT / "blender_manikin" / "batch.py")
+        files = ["--out", str(work / "b.blend"), "--result", str(work / "b.jsonl"), "--report", str(work / "b.json")]
+        out.append(("`batch.py --out --result R.jsonl --report`", [python, script, "--scenario", str(scenario), "-q",
+                                                                    *files]))  # fmt: skip
+    return out
+
+
+def run(output: Path, frames: int = 10000, runs: int = 3, batch: bool = True) -> str:
+    """Measure every case ``runs`` times (the cases take turns) and write the long-motion section of ``output``."""
+    from .scenarios import machine, write_section
+
+    load_before = os.getloadavg()
+    done: dict[str, list[dict]] = {}
+    sizes: dict[str, float] = {}
+    with tempfile.TemporaryDirectory(prefix="manikin-long-") as tmp:
+        work = Path(tmp)
+        scenario = write_long_motion(work / f"box_lift_{frames}.toml", frames)
+        env = dict(os.environ, PYTHONPATH=str(ROOT))
+        for i in range(runs):
+            for label, command in cases(scenario, work, sys.executable, batch):
+                result = measure(command, ROOT, env)
+                if result["code"] not in (0, 3):
+                    raise SystemExit(f"{label} failed (exit {result['code']}): {result['last']}")
+                done.setdefault(label, []).append(result)
+                print(f"run {i + 1}/{runs} {label}: {result['wall_s']:.1f} s, {result['peak_mb']:.0f} MB", flush=True)
+        sizes = {name: (work / name).stat().st_size / 1e6 for name in ("r.json", "r.jsonl", "ergo.json", "b.json")
+                 if (work / name).exists()}  # fmt: skip
+    text = section(frames, runs, done, sizes, machine(), (load_before, os.getloadavg()))
+    write_section(Path(output), "long-motion", text)
+    print(f"wrote {output}")
+    return text
+
+
+def section(frames: int, runs: int, done: dict, sizes: dict, host: str, loads: tuple) -> str:
+    """The Markdown section: per case median and p95 of wall time and peak memory, against the targets."""
+    lines = [
+        "## Long motions (issue 19)",
+        "",
+        f"Written by `python -m solver.bench.long_motion` on {datetime.date.today().isoformat()}.",
+        f"Machine: {host}; not pinned (each command runs as a user runs it, in its own process). Load average "
+        f"(1 min) {loads[0][0]:.1f} before and {loads[1][0]:.1f} after: the machine's 2 cores are shared.",
+        "",
+        f"The box-lift motion (presets/scenarios/box_lift_motion.toml) with its keys spread over {frames} frames; "
+        f"{runs} runs per command, the commands taking turns. Wall time measured around each process, peak memory"
+        " = the process's maximum resident set (`os.wait4`).",
+        "",
+        "| command | wall median s | wall p95 s | peak memory median MB | peak p95 MB | target |",
+        "|---|---:|---:|---:|---:|---|",
+    ]
+    for label, results in done.items():
+        wall = np.array([r["wall_s"] for r in results])
+        peak = np.array([r["peak_mb"] for r in results])
+        met = np.percentile(wall, 95) <= TARGET_S and np.percentile(peak, 95) <= TARGET_MB
+        target = "-" if "ergo" in label or frames < 10000 else ("met" if met else "**not met**")
+        lines.append(f"| {label} | {np.median(wall):.1f} | {np.percentile(wall, 95):.1f} | {np.median(peak):.0f} | "
+                     f"{np.percentile(peak, 95):.0f} | {target} |")  # fmt: skip
+    shown = ", ".join(f"{name} {mb:.0f} MB" for name, mb in sizes.items())
+    lines += [
+        "",
+        f"Targets: at most {TARGET_S:.0f} s and {TARGET_MB:.0f} MB for `solve` and for `batch.py` (p95 of the runs).",
+        f"File sizes: {shown}.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m solver.bench.long_motion", description=__doc__.splitlines()[0])
+    parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs" / "BENCHMARKS.md")
+    parser.add_argument("--frames", type=int, default=10000)
+    parser.add_argument("--runs", type=int, default=3, help="runs per command")
+    parser.add_argument("--no-batch", action="store_true", help="leave out batch.py (needs the bpy module)")
+    args = parser.parse_args(argv)
+    batch = not args.no_batch and importlib.util.find_spec("bpy") is not None
+    run(args.output, args.frames, args.runs, batch)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -152,8 +152,8 @@ arm = next(ob for ob in bpy.data.objects if ob.type == "ARMATURE")
 seen = {}
 for frame in frames:
     bpy.context.scene.frame_set(frame)
-    seen[frame] = {f'{b.name}.{p}[{i}]': getattr(b, p)[i] for b in arm.pose.bones for p in ("location", "rotation_euler")
-                   for i in range(3)}
+    seen[frame] = {f'{b.name}.{p}[{i}]': getattr(b, p)[i] for b in arm.pose.bones
+                   for p in ("location", "rotation_euler") for i in range(3)}
 with open(out, "w", encoding="utf-8") as fh:
     json.dump(seen, fh)
 """
@@ -191,9 +191,8 @@ def test_batch_ctrl_c_keys_and_keeps_the_solved_frames(tmp_path: Path, blender_p
     written = ", ".join(str(tmp_path / name) for name in ("r.jsonl", "report.json", "cut.blend"))
     assert stderr.strip() == f"interrupted at frame {kept + 1}; kept {kept} solved frames in {written}"
     report = json.loads((tmp_path / "report.json").read_text(encoding="utf-8"))
-    assert [f["frame"] for f in report["frames"]] == list(range(1, kept + 1)) and report["interrupted"][
-        "solved"
-    ] == kept
+    assert [f["frame"] for f in report["frames"]] == list(range(1, kept + 1))
+    assert report["interrupted"]["solved"] == kept
     assert all(f["ergonomics"]["niosh"] is not None for f in report["frames"])
     assert not (tmp_path / "never.bvh").exists() and not list(tmp_path.glob("*.tmp"))
     seen = tmp_path / "pose.json"
