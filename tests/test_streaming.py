@@ -19,7 +19,7 @@ from test_io import leaves, same_frames
 
 import solver
 from solver.bench.long_motion import write_long_motion
-from solver.errors import ResultFileError
+from solver.errors import ResultFileError, UsageError
 from solver.io import result_scan
 from solver.io.result_read import ResultStream
 from solver.io.result_stream import ResultWriter
@@ -113,6 +113,9 @@ def test_an_interrupted_writer_keeps_a_valid_file(motion, tmp_path: Path) -> Non
     empty = ResultWriter(tmp_path / "keep.json")
     assert empty.close(interrupted_at=1) is None and (tmp_path / "keep.json").read_text(encoding="utf-8") == "old"
     assert not (tmp_path / "keep.json.tmp").exists()
+    with pytest.raises(UsageError, match="no frames to write"):
+        solver.write_result(tmp_path / "keep.json", [])
+    assert (tmp_path / "keep.json").read_text(encoding="utf-8") == "old"
 
 
 def test_an_error_inside_the_writer_block_keeps_the_frames(motion, tmp_path: Path) -> None:

@@ -182,6 +182,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
     if stopped is not None:
         return written
     for path in job.exports:
+        _say(job, f"exporting {path} ({end - start + 1} frames) ...")
         wrote(exports.export(arm, path, start, end))
     if job.plots is not None:
         for path in report.plots(job.plots.resolve()):

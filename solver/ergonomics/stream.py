@@ -93,22 +93,27 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
     series, shown, last, highest, count = PlotSeries(), [], None, None, 0
     json_tmp, csv_tmp = temporary_beside(output), temporary_beside(csv_path)
     output.parent.mkdir(parents=True, exist_ok=True)
-    with json_tmp.open("w", encoding="utf-8") as out, csv_tmp.open("w", newline="", encoding="utf-8") as table:
-        out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
-        rows = csv.writer(table)
-        for f in stream:
-            report = frame_report(f, options, model, area, lift)[0]
-            if count == 0:
-                items = worksheet_items(report)
-                rows.writerow(csv_header(items, joints))
-            out.write(("\n" if count == 0 else ",\n") + json.dumps(report, allow_nan=False))
-            rows.writerow(csv_cells(csv_row(report, items, joints)))
-            series.add(report)
-            shown, last = shown + [report] if len(shown) < SHOWN else shown, report
-            if highest is None or (report["reba"]["score"] or 0) > (highest["reba"]["score"] or 0):
-                highest = report
-            count += 1
-        out.write("\n]}\n")
+    try:
+        with json_tmp.open("w", encoding="utf-8") as out, csv_tmp.open("w", newline="", encoding="utf-8") as table:
+            out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
+            rows = csv.writer(table)
+            for f in stream:
+                report = frame_report(f, options, model, area, lift)[0]
+                if count == 0:
+                    items = worksheet_items(report)
+                    rows.writerow(csv_header(items, joints))
+                out.write(("\n" if count == 0 else ",\n") + json.dumps(report, allow_nan=False))
+                rows.writerow(csv_cells(csv_row(report, items, joints)))
+                series.add(report)
+                shown, last = shown + [report] if len(shown) < SHOWN else shown, report
+                if highest is None or (report["reba"]["score"] or 0) > (highest["reba"]["score"] or 0):
+                    highest = report
+                count += 1
+            out.write("\n]}\n")
+    except BaseException:  # an error or Ctrl-C: no half report left behind, the old one (if any) kept
+        json_tmp.unlink(missing_ok=True)
+        csv_tmp.unlink(missing_ok=True)
+        raise
     json_tmp.replace(output)
     csv_tmp.replace(csv_path)
     written = [output, csv_path]

@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from ..result import Result
 from .frame import Frame, frame_of_result
 from .model_json import model_to_dict
@@ -132,4 +133,6 @@ def write_result(
     with ResultWriter(path, scenario, compact) as writer:
         for number, result in pairs:
             writer.add(number, result)
-    return writer.path
+    if writer.written is None:
+        raise UsageError(f"{path}: no frames to write (nothing written)")
+    return writer.written
