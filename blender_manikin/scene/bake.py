@@ -100,7 +100,7 @@ class Baker:
             problem, self._first = self._first, None
             return problem
         self.scene.frame_set(frame)
-        problem = problem_io.read_problem(self.arm).problem
+        problem = problem_io.read_problem(self.arm, start=False).problem
         if problem.n_x != self.n_x:
             raise ManikinError(f"frame {frame}: the supports changed during the range; bake the parts separately")
         return problem

@@ -72,9 +72,10 @@ def cases(scenario: Path, work: Path, python: str, batch: bool) -> list[tuple[st
     ]  # fmt: skip
     if batch:
         script = str(ROOT / "blender_manikin" / "batch.py")
-        files = ["--out", str(work / "b.blend"), "--result", str(work / "b.jsonl"), "--report", str(work / "b.json")]
-        out.append(("`batch.py --out --result R.jsonl --report`", [python, script, "--scenario", str(scenario), "-q",
-                                                                    *files]))  # fmt: skip
+        files = ["--out", str(work / "b.blend"), "--result", str(work / "b.jsonl")]
+        batch = [python, script, "--scenario", str(scenario), "-q", *files]
+        out.append(("`batch.py --out --result R.jsonl`", batch))
+        out.append(("`batch.py --out --result R.jsonl --report`", batch + ["--report", str(work / "b.json")]))
     return out
 
 
@@ -82,7 +83,7 @@ def run(output: Path, frames: int = 10000, runs: int = 3, batch: bool = True) ->
     """Measure every case ``runs`` times (the cases take turns) and write the long-motion section of ``output``."""
     from .scenarios import machine, write_section
 
-    load_before = os.getloadavg()
+    loads = []  # the 1-minute load average as each command starts
     done: dict[str, list[dict]] = {}
     sizes: dict[str, float] = {}
     with tempfile.TemporaryDirectory(prefix="manikin-long-") as tmp:
@@ -91,6 +92,7 @@ def run(output: Path, frames: int = 10000, runs: int = 3, batch: bool = True) ->
         env = dict(os.environ, PYTHONPATH=str(ROOT))
         for i in range(runs):
             for label, command in cases(scenario, work, sys.executable, batch):
+                loads.append(os.getloadavg()[0])
                 result = measure(command, ROOT, env)
                 if result["code"] not in (0, 3):
                     raise SystemExit(f"{label} failed (exit {result['code']}): {result['last']}")
@@ -98,7 +100,7 @@ def run(output: Path, frames: int = 10000, runs: int = 3, batch: bool = True) ->
                 print(f"run {i + 1}/{runs} {label}: {result['wall_s']:.1f} s, {result['peak_mb']:.0f} MB", flush=True)
         sizes = {name: (work / name).stat().st_size / 1e6 for name in ("r.json", "r.jsonl", "ergo.json", "b.json")
                  if (work / name).exists()}  # fmt: skip
-    text = section(frames, runs, done, sizes, machine(), (load_before, os.getloadavg()))
+    text = section(frames, runs, done, sizes, machine(), (min(loads), max(loads)))
     write_section(Path(output), "long-motion", text)
     print(f"wrote {output}")
     return text
@@ -110,8 +112,8 @@ def section(frames: int, runs: int, done: dict, sizes: dict, host: str, loads: t
         "## Long motions (issue 19)",
         "",
         f"Written by `python -m solver.bench.long_motion` on {datetime.date.today().isoformat()}.",
-        f"Machine: {host}; not pinned (each command runs as a user runs it, in its own process). Load average "
-        f"(1 min) {loads[0][0]:.1f} before and {loads[1][0]:.1f} after: the machine's 2 cores are shared.",
+        f"Machine: {host}; not pinned (each command runs as a user runs it, in its own process). The load average"
+        f" (1 min) was {loads[0]:.1f} to {loads[1]:.1f} as the commands started (other work shares the cores).",
         "",
         f"The box-lift motion (presets/scenarios/box_lift_motion.toml) with its keys spread over {frames} frames; "
         f"{runs} runs per command, the commands taking turns. Wall time measured around each process, peak memory"
