@@ -9,6 +9,7 @@ kept in the result file, which says where the run stopped).
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -68,6 +69,7 @@ def _solve(args: argparse.Namespace) -> int:
 
 def _interrupted(frames: list[int], writer: ResultWriter | None) -> int:
     """Ctrl-C in the frame loop: keep the solved frames (the file says where it stopped) and say so in one line."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the solved frames are being kept: a second Ctrl-C waits
     solved = 0 if writer is None else writer.count
     at = frames[min(solved, len(frames) - 1)]
     if writer is None:

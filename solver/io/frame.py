@@ -83,23 +83,22 @@ def frame_of_result(result: Result, number: int = 1, state: State | None = None)
     state = result.state if state is None else state
     contacts = [(c["tcp"], c["point"], c["force"], c["moment"]) for c in result.contacts]
     loads = [(ld.tcp.name, p, ld.force) for ld, p in zip(problem.loads, state.statics.load_points, strict=True)]
-    return frame_of_pose(problem.model, state.kin, number, result.converged, contacts, loads)
+    return frame_of_pose(problem.model, state.kin, dict(number=number, converged=result.converged), contacts, loads)
 
 
 def frame_of_pose(
     model: Model,
     kin: Kinematics,
-    number: int,
-    converged: bool | None,
+    status: dict,
     contacts: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]],
     loads: list[tuple[str, np.ndarray, np.ndarray]],
     gravity: np.ndarray = GRAVITY,
 ) -> Frame:
-    """The frame of ``model`` posed as ``kin`` (its forward kinematics) with these contacts and loads."""
+    """The frame of ``model`` posed as ``kin`` (its forward kinematics) with these contacts and loads; ``status``:
+    the Frame's fields about the solve (``number``, ``converged``)."""
     frames = {name: kin.tcp_frame(tcp) for name, tcp in model.tcps.items()}
     return Frame(
-        number=number,
-        converged=converged,
+        **status,
         joint_names=list(model.joint_names),
         joint_value=np.array(kin.theta, dtype=float),
         joint_range=np.column_stack([model.lower, model.upper]),

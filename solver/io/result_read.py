@@ -150,10 +150,8 @@ def _frame(t: TableReader) -> Frame:
     for ld in t.table_list("loads"):
         tcp = ld.choice("tcp", tcp_link, "a TCP name")
         loads.append((tcp, ld.vector("point", 3), ld.vector("force", 3)))
-    converged = t.get("converged")
     return Frame(
-        number=int(t.number("frame", 1)),
-        converged=converged if isinstance(converged, bool) else None,
+        **frame_status(t),
         **joints,
         link_names=link_names,
         link_parent=link_parent,
@@ -179,10 +177,14 @@ def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
     loads = []
     for ld in t.table_list("loads"):
         loads.append((ld.choice("tcp", model.tcps, "a TCP name"), ld.vector("point", 3), ld.vector("force", 3)))
-    converged = t.get("converged")
     g = GRAVITY if gravity is None else TableReader(t.path, {"gravity": gravity}, "", t.error).vector("gravity", 3)
-    return frame_of_pose(model, model.forward(values), int(t.number("frame", 1)),
-                         converged if isinstance(converged, bool) else None, contacts, loads, g)  # fmt: skip
+    return frame_of_pose(model, model.forward(values), frame_status(t), contacts, loads, g)
+
+
+def frame_status(t: TableReader) -> dict:
+    """The Frame fields about the solve, from a frame of either format: ``number``, ``converged``."""
+    converged = t.get("converged")
+    return dict(number=int(t.number("frame", 1)), converged=converged if isinstance(converged, bool) else None)
 
 
 def _links(links: list[TableReader]) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
