@@ -22,7 +22,7 @@ from solver.bench.long_motion import write_long_motion
 from solver.errors import ResultFileError, UsageError
 from solver.io import result_scan
 from solver.io.result_read import ResultStream
-from solver.io.result_stream import ResultWriter
+from solver.io.result_stream import ResultWriter, interrupts_held
 from solver.io.result_write import result_document
 from solver.progress import Progress, clock, progress_line
 
@@ -152,6 +152,28 @@ def test_neither_side_holds_the_frames(motion, tmp_path: Path, name: str) -> Non
     gc.collect()
     assert first() is None
     assert [f.number for f in stream] == [n for n, _ in solved] and stream.count == len(solved)
+
+
+def test_ctrl_c_inside_a_held_block_comes_when_it_ends() -> None:
+    import os
+
+    reached = []
+    with pytest.raises(KeyboardInterrupt):
+        with interrupts_held():
+            with interrupts_held():  # nested (a frame written inside a baked frame's bookkeeping)
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(0.05)
+                reached.append("inner")
+            reached.append("outer")
+    assert reached == ["inner", "outer"] and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    with interrupts_held():
+        pass  # nothing pending is left over from before
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with interrupts_held():
+            assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN  # another handler is left alone
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 # ---------------------------------------------------------------------------------------------- progress

@@ -4,8 +4,8 @@ text and appended as it is solved, into ``NAME.tmp`` beside the file, which is r
 The result JSON is written as ``{"scenario": ..., "frames": [`` then one frame per line, then ``]}``; the compact
 format (JSON Lines) as a header line and one line per frame. A run that stops early (Ctrl-C, an error) still
 ends with a valid file holding the frames solved so far and says so: ``"interrupted": {"at_frame", "solved",
-"reason"}`` (a last key of the JSON, a last line of the compact file). Ctrl-C is held while a frame is written,
-so a frame is in the file whole or not at all.
+"reason"}`` (a last key of the JSON, a last line of the compact file). Ctrl-C is held while a frame is written
+(:func:`interrupts_held`), so a frame is in the file whole or not at all.
 """
 
 from __future__ import annotations
@@ -34,19 +34,44 @@ def is_compact_path(path: str | Path) -> bool:
     return Path(path).suffix.lower() in COMPACT_SUFFIXES
 
 
+class _Held:
+    """Ctrl-C held by :func:`interrupts_held`: how deep the blocks are nested and whether one came meanwhile."""
+
+    depth = 0
+    pending = False
+
+
+def _hold(signum: int, frame: object) -> None:
+    _Held.pending = True
+
+
 @contextmanager
 def interrupts_held() -> Iterator[None]:
-    """Ctrl-C (SIGINT) arriving inside the block is delivered when it ends (where signals can be blocked: the main
-    thread on POSIX); elsewhere the block runs unprotected."""
-    block = getattr(signal, "pthread_sigmask", None)
-    if block is None or threading.current_thread() is not threading.main_thread():
+    """Ctrl-C (SIGINT) arriving inside the block raises KeyboardInterrupt when the block ends, not inside it.
+
+    A Python-level handler, not a signal mask: in a process with other threads (Blender's) the kernel hands the
+    signal to a thread that does not block it, and Python would still raise inside the block. Only Python's own
+    Ctrl-C handler is replaced (in the main thread); with any other (ignored, an application's) the block runs
+    as it is."""
+    outer = _Held.depth == 0
+    if outer and (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
         yield
         return
-    previous = block(signal.SIG_BLOCK, {signal.SIGINT})
+    if outer:
+        signal.signal(signal.SIGINT, _hold)
+    _Held.depth += 1
     try:
         yield
     finally:
-        block(signal.SIG_SETMASK, previous)
+        _Held.depth -= 1
+        if outer:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+            pending, _Held.pending = _Held.pending, False
+    if outer and pending:  # (an exception from the block goes on instead)
+        raise KeyboardInterrupt
 
 
 class ResultWriter:
