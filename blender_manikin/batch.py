@@ -10,9 +10,9 @@ scene's range), --out OUT.blend, --export OUT.fbx|OUT.bvh|OUT.glb|OUT.gltf (repe
 plots PREFIX_loads.png, PREFIX_scores.png, PREFIX_back.png), -q.
 
 Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input (one line
-on stderr). Run as a script, this file loads the extension it belongs to from its own location (a checkout or
-an installed extension) under the package name ``manikin`` and registers it, unless Blender already has that
-copy enabled.
+on stderr), 130 Ctrl-C (the frames solved so far are keyed and kept in the result, the report and the .blend). Run
+as a script, this file loads the extension it belongs to from its own location (a checkout or an installed
+extension) under the package name ``manikin`` and registers it, unless Blender already has that copy enabled.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from types import ModuleType
 
 ROOT = Path(__file__).resolve().parents[1]  # the extension root: blender_manifest.toml, __init__.py, solver/, ...
 PACKAGE = "manikin"
-EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
+EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
 
 
 def _errors() -> ModuleType:
@@ -159,6 +159,9 @@ def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
     except (errors.ManikinError, OSError) as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:  # outside the bake (which keeps its frames and says so itself)
+        print("interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -2,45 +2,84 @@
 ``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``.
 
 Exit codes: 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input (one line
-on stderr naming the file, the key and what was expected).
+on stderr naming the file, the key and what was expected), 130 interrupted (Ctrl-C; the frames solved so far are
+kept in the result file, which says where the run stopped).
 """
 
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .errors import ArgumentParser, ManikinError, UsageError
 from .io.files import STDOUT
 
-EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
+EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
+
+if TYPE_CHECKING:
+    from .io.result_stream import ResultWriter
 
 
 def _solve(args: argparse.Namespace) -> int:
-    from .io.result_write import write_result
+    from .io.result_stream import ResultWriter
     from .io.scenario_read import load_scenario
     from .motion import solve_motion
+    from .progress import Progress
 
     scenario = load_scenario(args.scenario)
-    solved, failed = [], []
-    for frame, result in solve_motion(scenario):
-        solved.append((frame, result))
-        if not result.converged:
-            failed.append(frame)
-        if len(scenario.frames) > 1 and not args.quiet:
-            status = "ok" if result.converged else "NOT converged: " + ", ".join(result.unmet)
-            print(f"frame {frame}: {result.iterations} iterations, {result.time_s * 1e3:.1f} ms, {status}")
+    frames = scenario.frames
+    compact = None if args.format is None else args.format == "compact"
+    writer = ResultWriter(args.output, scenario.path, compact) if args.output else None
+    progress = Progress(len(frames), enabled=len(frames) > 1 and not args.quiet)
+    failed: list[int] = []
+    last = None
+    try:
+        for done, (frame, result) in enumerate(solve_motion(scenario), 1):
+            if writer is not None:
+                writer.add(frame, result)
+            last = result
+            if not result.converged:
+                failed.append(frame)
+            progress.update(done, len(failed))
+    except KeyboardInterrupt:
+        progress.clear()
+        return _interrupted(frames, writer)
+    except BaseException as exc:
+        progress.clear()
+        if writer is not None:  # keep what was solved; the error itself is reported by main
+            writer.close(interrupted_at=frames[writer.count] if writer.count < len(frames) else None,
+                         reason=" ".join(str(exc).split()) or type(exc).__name__)  # fmt: skip
+        raise
+    progress.clear()
+    out = writer.close() if writer is not None else None
     if not args.quiet:
-        print(solved[-1][1].summary())
-        if len(solved) > 1:
-            missed = f"; not converged: {failed}" if failed else ""
-            print(f"{len(solved)} frames, {len(solved) - len(failed)} converged{missed}")
-    if args.output:
-        out = write_result(args.output, solved, scenario.path)
-        if not args.quiet:
+        print(last.summary())
+        if len(frames) > 1:
+            took = progress.elapsed()
+            shown = f"{failed[:20]}".rstrip("]") + (", ...]" if len(failed) > 20 else "]")
+            missed = f"; not converged: {len(failed)} {shown}" if failed else ""
+            print(f"{len(frames)} frames in {took:.1f} s ({len(frames) / max(took, 1e-9):.0f} frames/s), "
+                  f"{len(frames) - len(failed)} converged{missed}")  # fmt: skip
+        if out is not None:
             print(f"wrote {out}")
     return EXIT_NOT_CONVERGED if failed else EXIT_OK
+
+
+def _interrupted(frames: list[int], writer: ResultWriter | None) -> int:
+    """Ctrl-C in the frame loop: keep the solved frames (the file says where it stopped) and say so in one line."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the solved frames are being kept: a second Ctrl-C waits
+    solved = 0 if writer is None else writer.count
+    at = frames[min(solved, len(frames) - 1)]
+    if writer is None:
+        print(f"interrupted at frame {at}; nothing kept (no -o RESULT given)", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    kept = writer.close(interrupted_at=at, reason="interrupted (Ctrl-C)")
+    where = f"in {kept}" if kept is not None else f"({writer.path} not written)"
+    print(f"interrupted at frame {at}; kept {solved} solved frames {where}", file=sys.stderr)
+    return EXIT_INTERRUPTED
 
 
 def _ergo(args: argparse.Namespace) -> int:
@@ -145,8 +184,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     p_solve = sub.add_parser("solve", help="solve a scenario TOML and write the result JSON")
     p_solve.add_argument("scenario", help="scenario file (TOML)")
-    p_solve.add_argument("-o", "--output", help="result file (JSON)")
-    p_solve.add_argument("-q", "--quiet", action="store_true", help="do not print the summary")
+    p_solve.add_argument("-o", "--output", help="result file: JSON, or compact JSON Lines for a .jsonl name")
+    p_solve.add_argument("--format", choices=["json", "compact"],
+                         help="result format (default: compact for a .jsonl file, else json); compact: the model "
+                         "once, then per frame joint values, contacts and loads (for long motions)")  # fmt: skip
+    p_solve.add_argument("-q", "--quiet", action="store_true", help="print no summary and no progress")
     p_solve.set_defaults(run=_solve)
     p_ergo = sub.add_parser("ergo", help="ergonomic evaluation of a result JSON: JSON + CSV + PNG plots")
     p_ergo.add_argument("result", help="result file (JSON) written by 'solve'")
@@ -202,6 +244,9 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ run through :func:`.quiet.quietly`, so only our own lines (what was baked and wr
 from __future__ import annotations
 
 import os
+import signal
 import sys
 import time
 import tomllib
@@ -23,14 +24,16 @@ from ... import solver
 from ...solver import ManikinError
 from ...solver.ergonomics.report import plot_paths
 from ...solver.io.output_paths import check_distinct, check_output
+from ...solver.io.result_stream import ResultWriter
 from ...solver.options import MAX_FRAME, MAX_FRAMES
+from ...solver.progress import Progress
 from ..scene import exports, keyframes, motion_keys
-from ..scene.bake import Baker
+from ..scene.bake import Baker, FrameRecord
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 from .quiet import quietly
-from .report import captions, choose_frames, evaluate_motion, motion_report, summary_lines, write_json
+from .report import MotionReport, captions, choose_frames, summary_lines
 
-EXIT_OK, EXIT_NOT_CONVERGED = 0, 3
+EXIT_OK, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 3, 130
 
 
 @dataclass
@@ -98,68 +101,109 @@ def find_manikin(name: str | None) -> bpy.types.Object:
     return found[0]
 
 
-def bake(job: Job, arm: bpy.types.Object) -> Baker:
-    """Solve the frame range with progress lines, then key it."""
-    scene = bpy.context.scene
-    start, end = job.frames or (scene.frame_start, scene.frame_end)
-    keep = any(p is not None for p in (job.report, job.result, job.picture, job.plots))
-    baker = Baker(scene, arm, start, end, keep_results=keep)
+class Sinks:
+    """Where each baked frame goes as it is solved: the result file (frame by frame) and the report (its
+    ergonomics). Nothing is kept per frame but what the plots, captions and summary lines show."""
+
+    def __init__(self, job: Job, arm: bpy.types.Object, model: solver.Model) -> None:
+        self.source = dict(scenario=str(job.scenario) if job.scenario else None,
+                           blend=str(job.blend) if job.blend else None)  # fmt: skip
+        self.body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
+        self.result = ResultWriter(job.result.resolve(), self.source["scenario"]) if job.result is not None else None
+        wanted = job.report is not None or job.picture is not None or job.plots is not None
+        self.report = MotionReport(model, self.body, job.report, job.plots is not None) if wanted else None
+
+    def __call__(self, record: FrameRecord, result: solver.Result) -> None:
+        state = result.state  # the pose's kinematics and statics, computed once for both
+        if self.result is not None:
+            self.result.add(record.frame, result, state)
+        if self.report is not None:
+            self.report.add(record, result, state)
+
+    def discard(self, baker: Baker, reason: str) -> None:
+        """After an error: the frames solved so far stay in the result file, which says where and why it stopped."""
+        if self.result is not None:
+            at = baker.frames[min(baker.done, len(baker.frames) - 1)]
+            self.result.close(interrupted_at=at, reason=reason)
+        if self.report is not None:
+            self.report.discard()
+
+
+def bake(job: Job, baker: Baker) -> tuple[int | None, float]:
+    """Solve the frame range with a progress line; (None, or the frame at which Ctrl-C stopped it, seconds)."""
     n = len(baker.frames)
-    _say(job, f"baking {arm.name}: frames {start}-{end} ({n})")
-    shown = 0
-    while not baker.step(0.25):
-        if baker.done - shown >= max(10, n // 10):
-            shown = baker.done
-            _say(job, f"  frame {baker.records[-1].frame} ({baker.done}/{n})")
-    keyed = baker.write()
-    for record in baker.records:
-        if not record.converged:
-            detail = "; ".join(record.notes) or "unmet: " + ", ".join(record.unmet)
-            _say(job, f"  frame {record.frame} NOT converged: {detail}")
-    solve_s = sum(r.wall_s for r in baker.records)
-    failed = baker.not_converged()
-    state = f"{len(failed)} not converged: {failed}" if failed else "all converged"
-    _say(job, f"baked {n} frames in {solve_s + keyed:.2f} s ({n / (solve_s + keyed):.0f} frames/s), {state}")
-    return baker
+    _say(job, f"baking {baker.arm.name}: frames {baker.frames[0]}-{baker.frames[-1]} ({n})")
+    progress = Progress(n, enabled=not job.quiet, stream=sys.stdout)
+    try:
+        while not baker.step(0.25):
+            progress.update(baker.done, baker.failed)
+    except KeyboardInterrupt:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # the frames solved are being saved: a second Ctrl-C waits
+        progress.clear()
+        return baker.frames[baker.done], progress.elapsed()
+    progress.clear()
+    return None, progress.elapsed()
 
 
-def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker) -> None:
-    """Every requested file; each written path is printed."""
-    start, end = baker.frames[0], baker.frames[-1]
-    for path in job.exports:
-        _say(job, f"wrote {quietly(exports.export, arm, path, start, end)}")
-    source = dict(scenario=str(job.scenario) if job.scenario else None, blend=str(job.blend) if job.blend else None)
-    body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
-    report = None
-    if job.report is not None or job.picture is not None or job.plots is not None:
-        ergo = evaluate_motion(baker, body)
-        report = motion_report(baker, source, body, ergo)
-    if job.plots is not None:
-        from ...solver.ergonomics.plots import write_plots
+def report_bake(job: Job, baker: Baker, seconds: float) -> None:
+    """The lines after a bake (``seconds``: solving, writing each frame out and keying): frames that did not
+    converge (the first ten) and the totals."""
+    failed = [r for r in baker.records if not r.converged]
+    for record in failed[:10]:
+        detail = "; ".join(record.notes) or "unmet: " + ", ".join(record.unmet)
+        _say(job, f"  frame {record.frame} NOT converged: {detail}")
+    if len(failed) > 10:
+        _say(job, f"  ... and {len(failed) - 10} more frames not converged")
+    n = baker.done
+    state = f"{len(failed)} not converged" if failed else "all converged"
+    _say(job, f"baked {n} frames in {seconds:.2f} s ({n / max(seconds, 1e-9):.0f} frames/s), {state}")
 
-        for path in write_plots(ergo, job.plots.resolve()):
+
+def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, stopped: int | None) -> list[Path]:
+    """Every requested file, each written path printed; after Ctrl-C (``stopped``: the frame it stopped at) only
+    the result, the report and the .blend, which hold the frames solved. Returns the paths written."""
+    written: list[Path] = []
+
+    def wrote(path: Path | None) -> None:
+        if path is not None:
+            written.append(path)
             _say(job, f"wrote {path}")
-    if job.report is not None:
-        _say(job, f"wrote {write_json(report, job.report)}")
-        for line in summary_lines(report):
+
+    start, end = baker.frames[0], baker.frames[-1]
+    stop = None if stopped is None else dict(at_frame=stopped, solved=baker.done, reason="interrupted (Ctrl-C)")
+    if sinks.result is not None:
+        wrote(sinks.result.close(interrupted_at=stopped, reason="interrupted (Ctrl-C)"))
+    report = sinks.report
+    if report is not None and job.report is not None and baker.done:
+        wrote(report.write(baker, sinks.source, stop))
+        for line in summary_lines(report.summary()):
             _say(job, "  " + line)
-    if job.result is not None:
-        _say(job, f"wrote {solver.write_result(job.result, baker.results, scenario=source['scenario'])}")
+    elif report is not None:
+        report.discard()
     if job.out is not None:
         path = job.out.resolve()
         path.parent.mkdir(parents=True, exist_ok=True)
         quietly(bpy.ops.wm.save_as_mainfile, filepath=str(path), copy=True)
-        _say(job, f"wrote {path}")
+        wrote(path)
+    if stopped is not None:
+        return written
+    for path in job.exports:
+        _say(job, f"exporting {path} ({end - start + 1} frames) ...")
+        wrote(quietly(exports.export, arm, path, start, end))
+    if job.plots is not None:
+        for path in report.plots(job.plots.resolve()):
+            wrote(path)
     if job.picture is not None:
         from .picture import render_key_poses
 
         keys = {round(f) for ob in motion_keys.target_empties(arm) for f in keyframes.key_frames(ob)}
         frames = choose_frames(baker.frames, baker.thetas, sorted(keys))
-        title = f"{_title(job, arm)}: {body}{_carried(arm)}, frames {start}-{end}, " + (
+        title = f"{_title(job, arm)}: {sinks.body}{_carried(arm)}, frames {start}-{end}, " + (
             f"{len(baker.not_converged())} not converged" if baker.not_converged() else "all converged"
         )
         _say(job, f"rendering frames {', '.join(map(str, frames))} (Cycles, CPU) ...")
-        _say(job, f"wrote {quietly(render_key_poses, arm, frames, job.picture, captions(report), title)}")
+        wrote(quietly(render_key_poses, arm, frames, job.picture, captions(report.summary()), title))
+    return written
 
 
 def _title(job: Job, arm: bpy.types.Object) -> str:
@@ -201,14 +245,29 @@ def check_job(job: Job) -> None:
 
 
 def run(job: Job) -> int:
-    """Do the job; 0 when every frame converged, 3 when some did not (the files are written either way)."""
+    """Do the job; 0 when every frame converged, 3 when some did not (the files are written either way), 130 when
+    Ctrl-C stopped the bake (the frames solved are keyed and kept in the result, the report and the .blend)."""
     check_job(job)
     t0 = time.perf_counter()
     arm = open_scene(job)
     if arm is None or rig_of(arm) is None:
         raise ManikinError("the scenario did not create a manikin")
-    baker = bake(job, arm)
-    write_outputs(job, arm, baker)
+    scene = bpy.context.scene
+    start, end = job.frames or (scene.frame_start, scene.frame_end)
+    baker = Baker(scene, arm, start, end)
+    sinks = baker.on_frame = Sinks(job, arm, baker.model)
+    try:
+        stopped, seconds = bake(job, baker)
+        keyed = baker.write(thin=True)
+        report_bake(job, baker, seconds + keyed)
+        written = write_outputs(job, arm, baker, sinks, stopped)
+    except BaseException as exc:
+        sinks.discard(baker, " ".join(str(exc).split()) or type(exc).__name__)
+        raise
+    if stopped is not None:
+        kept = ", ".join(str(p) for p in written) or "no file (none requested)"
+        print(f"interrupted at frame {stopped}; kept {baker.done} solved frames in {kept}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     _say(job, f"done in {time.perf_counter() - t0:.1f} s")
     sys.stdout.flush()
     return EXIT_NOT_CONVERGED if baker.not_converged() else EXIT_OK

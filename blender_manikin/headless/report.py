@@ -2,71 +2,125 @@
 
 Each frame holds ``frame``, ``converged``, ``iterations``, ``time_s`` (solver), ``wall_s`` (with reading the
 scene), ``unmet``, ``notes``, ``residuals`` (per constraint in its own units) and ``ergonomics`` (posture, joint
-loads, RULA, REBA, OWAS, worksheet, NIOSH at that frame: :func:`solver.evaluate` on the frames' results).
-Top level: the source, the manikin, the range, the frames that did not converge,
-timing and the NIOSH lift from the first to the last frame.
+loads, RULA, REBA, OWAS, worksheet, NIOSH at that frame, as ``python -m solver ergo`` has them). Top level: the
+source, the manikin, the range, the frames that did not converge, timing, the NIOSH lift from the first to the
+last frame and, for a bake stopped by Ctrl-C, ``interrupted``. Written frame by frame (:class:`MotionReport`).
 """
 
 from __future__ import annotations
 
+import json
 import os
+import tempfile
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ... import solver
-from ...solver.ergonomics import ErgoOptions
-from ...solver.ergonomics.report import clean
-from ...solver.io.files import write_json as write_file
+from ...solver.ergonomics import ErgoOptions, checked, niosh
+from ...solver.ergonomics.manikin import working_area
+from ...solver.ergonomics.report import SOURCES, clean, frame_report
+from ...solver.ergonomics.stream import PlotSeries
+from ...solver.io.files import open_output
+from ...solver.io.frame import Frame, frame_of_result
 
 if TYPE_CHECKING:
-    from ..scene.bake import Baker
+    from ...solver import Model, Result
+    from ...solver.state import State
+    from ..scene.bake import Baker, FrameRecord
 
-ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet", "niosh")
-
-
-def evaluate_motion(baker: Baker, body: str) -> dict:
-    """The ergonomics of every baked frame (the format of ``python -m solver ergo``, which its plots draw), with
-    the strengths of the baked manikin (``body``, its preset name or body file, only names it in the report)."""
-    return solver.evaluate(baker.results, ErgoOptions(manikin=body or None), model=baker.model)
+ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet")  # then "niosh", known at the end
 
 
-def motion_report(baker: Baker, source: dict, body: str, ergo: dict) -> dict:
-    """The report of ``baker`` (baked with ``keep_results``) with its ergonomics ``ergo`` (:func:`evaluate_motion`)."""
-    frames = []
-    for record, evaluated in zip(baker.records, ergo["frames"], strict=True):
-        frames.append(dict(asdict(record), ergonomics={k: evaluated[k] for k in ERGONOMICS}))
-    wall = [r.wall_s for r in baker.records]
-    return clean(
-        dict(
-            source=source,
-            manikin=body,
-            armature=baker.arm.name,
-            frame_start=baker.frames[0],
-            frame_end=baker.frames[-1],
-            converged=not baker.not_converged(),
-            not_converged=baker.not_converged(),
-            timing=dict(
-                solve_s=sum(r.time_s for r in baker.records),
-                wall_s=sum(wall),
-                median_frame_ms=1e3 * float(np.median(wall)),
-                p95_frame_ms=1e3 * float(np.percentile(wall, 95)),
-            ),
-            niosh_lift=ergo["niosh"],
-            working_area=ergo["working_area"],
-            ergonomics_options=ergo["options"],
-            ergonomics_sources=ergo["sources"],
-            frames=frames,
+class MotionReport:
+    """The report of a motion, built as it is baked (:meth:`add` per frame): each frame's record and ergonomics
+    go to ``NAME.frames.tmp`` beside the report; :meth:`write` adds the NIOSH values of the lift from the first to
+    the last frame and writes the report. Kept per frame only what the plots, captions and summary lines show.
+
+    ``body`` (the manikin's preset name or body file) only names it; the strengths are those of ``model``.
+    """
+
+    def __init__(self, model: Model, body: str, path: Path | None, plots: bool) -> None:
+        self.options = checked(ErgoOptions(manikin=body or None))
+        self.model, self.body, self.area = model, body, working_area(model)
+        self.series = PlotSeries() if plots else None
+        self.shown: list[tuple] = []  # per frame: the scores, trunk bend and L4/L5 compression (captions, summary)
+        self.points: list[dict | None] = []  # per frame: the hands' NIOSH point
+        self.ends: list[Frame] = []  # the first and the latest frame: the lift's origin and destination
+        self.path = None if path is None else Path(os.path.abspath(path))  # a device path stays itself
+        # each frame's part, kept in a temporary file until the lift (and so every frame's NIOSH) is known
+        self._frames = None if self.path is None else tempfile.TemporaryFile("w+", encoding="utf-8")
+
+    def add(self, record: FrameRecord, result: Result, state: State | None = None) -> None:
+        """One baked frame (``state``: the result's, if the caller has it): its ergonomics, appended to the frames
+        file."""
+        f = frame_of_result(result, record.frame, state)
+        ergo = frame_report(f, self.options, self.model, self.area, None)[0]
+        self.ends = [self.ends[0] if self.ends else f, f]
+        self.points.append(niosh.hand_point(f))
+        if self.series is not None:
+            self.series.add(ergo)
+        compression = ergo["joint_loads"]["l4_l5"].get("compression")
+        trunk = ergo["posture"].get("trunk_flexion")
+        self.shown.append((record.frame, record.converged, ergo["reba"]["score"], ergo["rula"]["score"], trunk,
+                           compression))  # fmt: skip
+        if self._frames is not None:
+            frame = clean(asdict(record)) | {"ergonomics": {k: ergo[k] for k in ERGONOMICS}}
+            self._frames.write(json.dumps(frame, allow_nan=False)[:-2] + "\n")  # open: "niosh" comes at the end
+
+    def lift(self) -> dict:
+        """The NIOSH lift from the first to the last frame added."""
+        return niosh.lift_between(self.ends[0], self.ends[-1], self.options)
+
+    def summary(self) -> dict:
+        """What :func:`captions` and :func:`summary_lines` read: per frame the scores, trunk bend and L4/L5
+        compression, and the lift."""
+        frames = [
+            dict(frame=frame, converged=converged, ergonomics=dict(
+                reba={"score": reba}, rula={"score": rula}, posture={"trunk_flexion": trunk},
+                joint_loads={"l4_l5": {"compression": compression}}))
+            for frame, converged, reba, rula, trunk, compression in self.shown
+        ]  # fmt: skip
+        return dict(frames=frames, niosh_lift=self.lift())
+
+    def write(self, baker: Baker, source: dict, interrupted: dict | None = None) -> Path:
+        """Write the report of the frames added (``interrupted``: where the bake stopped); its path."""
+        lift, records = self.lift(), baker.records
+        wall = np.array([r.wall_s for r in records])
+        failed = [r.frame for r in records if not r.converged]
+        timing = dict(
+            solve_s=sum(r.time_s for r in records),
+            wall_s=float(wall.sum()),
+            median_frame_ms=1e3 * float(np.median(wall)),
+            p95_frame_ms=1e3 * float(np.percentile(wall, 95)),
         )
-    )
+        head = clean(dict(
+            source=source, manikin=self.body, armature=baker.arm.name, frame_start=baker.frames[0],
+            frame_end=baker.frames[-1], converged=not failed, not_converged=failed, timing=timing,
+            niosh_lift=lift, working_area=self.area.as_dict() if self.area is not None else None,
+            ergonomics_options=asdict(self.options), ergonomics_sources=SOURCES,
+        ) | ({} if interrupted is None else {"interrupted": interrupted}))  # fmt: skip
+        frames = self._frames
+        frames.seek(0)
+        with frames, open_output(self.path) as out:
+            out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
+            for i, (line, point) in enumerate(zip(frames, self.points, strict=True)):
+                at = json.dumps(clean(niosh.at_point(point, lift, self.options.coupling)), allow_nan=False)
+                out.write(("\n" if i == 0 else ",\n") + line.rstrip("\n") + ', "niosh": ' + at + "}}")
+            out.write("\n]}\n")
+        return self.path
 
+    def plots(self, prefix: Path) -> list[Path]:
+        """The ergonomics plots of ``python -m solver ergo`` (``PREFIX_loads.png``, ...)."""
+        from ...solver.ergonomics.plots import write_plots
 
-def write_json(data: dict, path: Path) -> Path:
-    """Write ``data`` as :func:`solver.io.files.open_output` does (atomic for files, devices in place); the
-    absolute path."""
-    return Path(write_file(Path(os.path.abspath(path)), data, allow_nan=False))
+        return write_plots(self.series.report(), prefix)
+
+    def discard(self) -> None:
+        """Drop the frames kept so far (a run that ends without a report)."""
+        if self._frames is not None:
+            self._frames.close()
 
 
 def _worst(report: dict, *keys: str) -> tuple[float | None, int | None]:

@@ -5,20 +5,22 @@ animated them), the scene is read into a solver problem exactly as Solve Pose re
 :func:`solver.motion.solve_frames` solves it warm-started from the previous frame within the per-frame change
 bound (a frame that would need a jump does not converge and its notes say which target moved too far). The
 solutions are buffered; :meth:`Baker.write` keys every joint's bone channel at once, so a cancelled bake leaves
-the scene as it was. :class:`Baker` works in steps so a modal operator can show progress and listen for Esc.
+the scene as it was. :class:`Baker` works in steps so a modal operator can show progress and listen for Esc; the
+batch script streams each solved frame into its files (``on_frame``) and, after a Ctrl-C, keys the frames solved.
 """
 
 from __future__ import annotations
 
 import json
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, field
 
 import bpy
 import numpy as np
 
 from ...solver import ManikinError, Problem, Result
+from ...solver.io.result_stream import interrupts_held
 from ...solver.motion import MotionLimits, solve_frames
 from ...solver.spatial import matrix_to_quat
 from . import keyframes, problem_io
@@ -49,7 +51,8 @@ def limits_of(arm: bpy.types.Object) -> MotionLimits | None:
 class Baker:
     """Solves ``frame_start..frame_end`` for ``arm`` in steps, then writes the keys (or cancels: nothing written).
 
-    ``keep_results`` keeps each frame's (frame, Result) for reports and the result file.
+    ``on_frame(record, result)`` is called for each solved frame (to stream it into files and reports: the
+    Results themselves are not kept); a frame's bookkeeping and that call finish before a Ctrl-C takes effect.
     """
 
     def __init__(
@@ -58,11 +61,11 @@ class Baker:
         arm: bpy.types.Object,
         frame_start: int,
         frame_end: int,
-        keep_results: bool = False,
+        on_frame: Callable[[FrameRecord, Result], None] | None = None,
     ) -> None:
         if frame_end < frame_start:
             raise ManikinError(f"frame range {frame_start}..{frame_end} is empty (end before start)")
-        self.scene, self.arm, self.keep_results = scene, arm, keep_results
+        self.scene, self.arm, self.on_frame = scene, arm, on_frame
         self.frames = list(range(frame_start, frame_end + 1))
         self.model = model_of(arm)
         self.original = (scene.frame_current, scene.frame_subframe)
@@ -77,7 +80,7 @@ class Baker:
         self._first: Problem | None = first.problem
         self.thetas = np.zeros((len(self.frames), self.model.n))
         self.records: list[FrameRecord] = []
-        self.results: list[tuple[int, Result]] = []
+        self.failed = 0  # frames that did not converge
         self.shown: Result | None = None  # the result at the frame the scene returns to, if baked (sidebar)
         self.last_x = first.x0  # the latest solution (joints, forces), to show progress
         self._solving: Iterator[tuple[int, Result]] = solve_frames(
@@ -97,7 +100,7 @@ class Baker:
             problem, self._first = self._first, None
             return problem
         self.scene.frame_set(frame)
-        problem = problem_io.read_problem(self.arm).problem
+        problem = problem_io.read_problem(self.arm, start=False).problem
         if problem.n_x != self.n_x:
             raise ManikinError(f"frame {frame}: the supports changed during the range; bake the parts separately")
         return problem
@@ -108,22 +111,22 @@ class Baker:
         while not self.finished:
             t0 = time.perf_counter()
             frame, result = next(self._solving)
-            i = self.done
-            self.thetas[i] = result.theta
-            self.records.append(
-                FrameRecord(
-                    frame,
-                    bool(result.converged),
-                    int(result.iterations),
-                    float(result.time_s),
-                    time.perf_counter() - t0,
-                    list(result.unmet),
-                    list(result.notes),
-                    {k: float(v) for k, v in result.residuals.items()},
-                )
+            record = FrameRecord(
+                frame,
+                bool(result.converged),
+                int(result.iterations),
+                float(result.time_s),
+                time.perf_counter() - t0,
+                list(result.unmet),
+                list(result.notes),
+                {k: float(v) for k, v in result.residuals.items()},
             )
-            if self.keep_results:
-                self.results.append((frame, result))
+            with interrupts_held():  # the frame is in every output or in none
+                self.thetas[self.done] = result.theta
+                self.records.append(record)
+                self.failed += not record.converged
+                if self.on_frame is not None:
+                    self.on_frame(record, result)
             if frame == self.original[0]:
                 self.shown = result
             self.last_x = result.x
@@ -143,9 +146,11 @@ class Baker:
     def not_converged(self) -> list[int]:
         return [r.frame for r in self.records if not r.converged]
 
-    def write(self) -> float:
+    def write(self, thin: bool = False) -> float:
         """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone), store the report
-        on the armature and return the scene to its frame. Returns the seconds spent keying."""
+        on the armature and return the scene to its frame. Returns the seconds spent keying. ``thin``: a joint is
+        keyed where it changes (inner keys of runs of equal values left out: the same curves, for long motions
+        far fewer keys, each held twice in memory once the scene is evaluated)."""
         t0 = time.perf_counter()
         arm, layout = self.arm, layout_of(self.model)
         frames = np.array([r.frame for r in self.records], dtype=float)
@@ -155,11 +160,11 @@ class Baker:
             base = f'pose.bones["{bpy.utils.escape_identifier(bone.name)}"]'
             for c in bone.channels:
                 fc = keyframes.fcurve(arm, f"{base}.{c.prop}", c.index, bone.name)
-                keyframes.replace_keys(fc, frames, c.sign * thetas[:, c.joint])
+                keyframes.replace_keys(fc, frames, c.sign * thetas[:, c.joint], thin)
             if b in quats:
                 for k in range(4):
                     fc = keyframes.fcurve(arm, f"{base}.rotation_quaternion", k, bone.name)
-                    keyframes.replace_keys(fc, frames, quats[b][:, k])
+                    keyframes.replace_keys(fc, frames, quats[b][:, k], thin)
         seconds = time.perf_counter() - t0
         arm[BAKE_KEY] = json.dumps(self.summary())
         self.scene.frame_set(self.original[0], subframe=self.original[1])

@@ -62,17 +62,30 @@ def _read_keys(points: bpy.types.FCurveKeyframePoints) -> dict[str, np.ndarray]:
     return data
 
 
-def replace_keys(fc: bpy.types.FCurve, frames: np.ndarray, values: np.ndarray) -> None:
+def without_flat_runs(frames: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The keys left when the inner keys of each run of equal values are dropped: linear interpolation between the
+    run's first and last key gives exactly the same curve (the values are compared as stored, single precision)."""
+    values = np.asarray(values, dtype=np.float32)
+    keep = np.ones(len(values), dtype=bool)
+    keep[1:-1] = (values[1:-1] != values[:-2]) | (values[1:-1] != values[2:])
+    return np.asarray(frames)[keep], values[keep]
+
+
+def replace_keys(fc: bpy.types.FCurve, frames: np.ndarray, values: np.ndarray, thin: bool = False) -> None:
     """Key ``values`` at ``frames`` (linear interpolation); keys between the first and last frame are replaced,
-    keys outside that range keep everything (value, handles, interpolation, easing, selection)."""
+    keys outside that range keep everything (value, handles, interpolation, easing, selection). ``thin``: leave
+    out the inner keys of runs of equal values (:func:`without_flat_runs`; the same curve with fewer keys)."""
     frames = np.asarray(frames, dtype=np.float32)
+    span = (frames.min(), frames.max())
+    if thin:
+        frames, values = without_flat_runs(frames, values)
     co = np.column_stack([frames, np.asarray(values, dtype=np.float32)]).ravel()
     points = fc.keyframe_points
     kept: dict[str, np.ndarray] = {}
     if len(points):
         old = _read_keys(points)
         x = old["co"][0::2]
-        keep = (x < frames.min() - 1e-4) | (x > frames.max() + 1e-4)
+        keep = (x < span[0] - 1e-4) | (x > span[1] + 1e-4)
         kept = {k: v.reshape(len(x), -1)[keep].ravel() for k, v in old.items()}
         points.clear()
     n_old = len(kept["co"]) // 2 if kept else 0

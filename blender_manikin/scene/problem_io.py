@@ -61,20 +61,22 @@ class SceneProblem:
     inputs it came from."""
 
     problem: Problem
-    x0: np.ndarray
+    x0: np.ndarray | None
     options: SolverOptions
     inputs: Inputs
 
 
-def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
-    """The targets, loops and loads of ``arm`` as a solver Problem; raises ManikinError naming the empty."""
+def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) -> SceneProblem:
+    """The targets, loops and loads of ``arm`` as a solver Problem; raises ManikinError naming the empty.
+    ``start``: also read the pose as the start point (a bake, which starts each frame from the previous one's
+    solution, does without: ``x0`` is then None)."""
     _check_upright(arm)
     model = model_of(arm)
     settings = arm.manikin
     to_local = arm.matrix_world.inverted()
     arm_rot = np.array(arm.matrix_world.to_3x3())
-    x0 = read_x(arm)
-    kin0 = model.forward(x0[: model.n])
+    x0 = read_x(arm) if start else None
+    kin0 = None  # the pose's kinematics, for loop offsets only
     targets, loops, loads, labels, numbers = [], [], [], [], []
     for ob in members(arm):
         s = ob.manikin_target
@@ -89,6 +91,8 @@ def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
             )  # fmt: skip
             given = (pos, rot)
         elif s.role == "LOOP" and s.enabled:
+            if kin0 is None:
+                kin0 = model.forward((read_x(arm) if x0 is None else x0)[: model.n])
             other_rot, other_pos = kin0.tcp_frame(model.tcp(s.other))
             given = (other_rot.T @ (pos - other_pos), other_rot.T @ rot)  # the offset, unchanged by posing
             loops.append(Loop(s.tcp, s.other, *given, s.locked_axes(), None, s.weight))
@@ -115,7 +119,7 @@ def read_problem(arm: bpy.types.Object, live: bool = False) -> SceneProblem:
     )
     labels.append((settings.balance, settings.comfort, settings.reduction, weights, options))
     inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
-    warm = x0 if len(x0) == problem.n_x else x0[: model.n]  # remembered forces only fit the same supports
+    warm = x0 if x0 is None or len(x0) == problem.n_x else x0[: model.n]  # remembered forces fit the same supports
     return SceneProblem(problem, warm, options, inputs)
 
 

@@ -14,12 +14,12 @@ from pathlib import Path
 
 from ..errors import UsageError
 from ..io.frame import Frame, frame_of_result
-from ..io.result_read import ResultFile, read_result
+from ..io.result_read import ResultFile
 from ..model import Model
 from ..result import Result
 from .manikin import check_fits, resolve_model
 from .options import ErgoOptions
-from .report import evaluate_frames, output_files, write_csv, write_json
+from .report import evaluate_frames, output_files
 
 __all__ = ["ErgoOptions", "evaluate", "output_files", "run"]
 
@@ -77,17 +77,12 @@ def _frames_of(source: Source) -> tuple[list[Frame], Model | None, str | None, P
 
 
 def run(result: str | Path, output: str | Path, options: ErgoOptions | None = None, plots: bool = True) -> dict:
-    """Evaluate the result file ``result`` and write ``output`` (JSON), the CSV beside it (same stem) and, if
-    ``plots``, the PNGs ``<stem>_loads.png``, ``<stem>_scores.png`` and ``<stem>_back.png``. Returns the report and
-    the written paths under ``"written"``."""
-    options = checked(options)
-    written = output_files(output, plots)
-    report = evaluate(read_result(result), options)
-    write_json(report, written[0])
-    write_csv(report, written[1])
-    if plots:
-        from .plots import write_plots
+    """Evaluate the result file ``result`` (either format) frame by frame and write ``output`` (JSON), the CSV
+    beside it (same stem) and, if ``plots``, the PNGs ``<stem>_loads.png``, ``<stem>_scores.png`` and
+    ``<stem>_back.png``. Returns the report's entries but its frames, with ``frames`` = the frames a summary shows
+    (all of up to 10 frames, else the first and the last), ``frame_count``, ``highest_reba`` (that frame's
+    report), ``not_converged`` and ``not_held`` (frame numbers) and the written paths under ``"written"``
+    (:func:`.stream.evaluate_file`)."""
+    from .stream import evaluate_file
 
-        write_plots(report, written[0].with_suffix(""))
-    report["written"] = [str(p) for p in written]
-    return report
+    return evaluate_file(result, Path(output), checked(options), plots)

@@ -111,15 +111,15 @@ def _num(v: float) -> float | None:
 
 
 def joint_loads(frame: Frame, strength: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
-    """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``; also returns (tau, percent) arrays."""
+    """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``; also returns (tau, percent) arrays. The
+    per-joint values are plain floats, null where not finite (JSON-safe as they are)."""
     moments, tau, sub_force = joint_moments(frame)
     percent = percent_of_strength(tau, strength)
     out: dict = {}
+    rows, axis, share = moments.tolist(), tau.tolist(), percent.tolist()
+    if not (np.isfinite(moments).all() and np.isfinite(tau).all()):
+        rows, axis = [[_num(v) for v in row] for row in rows], [_num(v) for v in axis]
     for i, name in enumerate(frame.joint_names):
-        out[name] = dict(
-            moment=[float(v) for v in moments[i]],
-            axis_moment=float(tau[i]),
-            percent_strength=_num(percent[i]),
-        )
+        out[name] = dict(moment=rows[i], axis_moment=axis[i], percent_strength=_num(share[i]))
     out["l4_l5"] = l4_l5(frame, moments, sub_force)
     return out, tau, percent

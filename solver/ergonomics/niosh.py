@@ -108,10 +108,16 @@ def _point(p: dict, d: float, fm: float, coupling: str) -> dict:
 
 
 def lift(frames: list[Frame], o: ErgoOptions) -> dict:
-    """RWL at origin and destination and the lifting index of the lift between two frames."""
+    """RWL at origin and destination and the lifting index of the lift between two frames of ``frames`` (the
+    options' origin and destination frame numbers, else the first and the last)."""
     by_number = {f.number: f for f in frames}
     first = by_number.get(o.origin, frames[0]) if o.origin is not None else frames[0]
     last = by_number.get(o.destination, frames[-1]) if o.destination is not None else frames[-1]
+    return lift_between(first, last, o)
+
+
+def lift_between(first: Frame, last: Frame, o: ErgoOptions) -> dict:
+    """The lift from frame ``first`` to frame ``last`` (the same object for a one-frame lift)."""
     start, end = hand_point(first), hand_point(last)
     if start is None or end is None:
         return dict(LI=None, reason="no knuckles, ankles or feet TCPs: the body is not the human manikin")
@@ -140,3 +146,13 @@ def at_frame(frame: Frame, d: float, fm: float, coupling: str) -> dict | None:
     """H, V, A and the RWL (kg) of one frame's hand point with the lift's D and FM (None if not human)."""
     p = hand_point(frame)
     return None if p is None else _point(p, d, fm, coupling)
+
+
+def at_point(point: dict | None, lift: dict, coupling: str) -> dict | None:
+    """:func:`at_frame` for a frame's :func:`hand_point` and the motion's :func:`lift` (its D and FM; D 25 cm and
+    FM 1 when the lift has no origin)."""
+    if point is None:
+        return None
+    d = lift["origin"]["D"] if "origin" in lift else 25.0
+    fm = lift["origin"]["FM"] if "origin" in lift else 1.0
+    return _point(point, d, fm, coupling)

@@ -39,8 +39,20 @@ SOURCES = {
 }
 
 
+_PLAIN = (str, int, bool, type(None))  # JSON values clean keeps as they are
+
+
 def clean(value):
     """JSON-safe copy: numpy scalars to Python, non-finite floats to None."""
+    kind = type(value)
+    if kind is float:  # the common cases first, by exact type: a long motion cleans millions of values
+        return value if math.isfinite(value) else None
+    if kind is dict:
+        return {k if type(k) is str else str(k): clean(v) for k, v in value.items()}
+    if kind is list or kind is tuple:
+        return [clean(v) for v in value]
+    if kind in _PLAIN:
+        return value
     if isinstance(value, dict):
         return {str(k): clean(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -52,6 +64,56 @@ def clean(value):
     if isinstance(value, np.bool_):
         return bool(value)
     return value
+
+
+def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift: dict | None) -> tuple[dict, str]:
+    """The ergonomics of one frame (JSON-safe) and where its joint strengths came from. ``area``: the working
+    area of ``model`` (or None); ``lift``: the motion's NIOSH lift (:func:`niosh.lift`), whose D and FM every
+    frame's NIOSH values use (None: the frame's ``niosh`` is left out, for :func:`niosh.at_point` later)."""
+    strength, strength_note = strengths(f, model)
+    loads, _, percent = joint_loads(f, strength)
+    posture = postures.measure(f)
+    load_kg = options.load_mass if options.load_mass is not None else niosh.hand_load_kg(f)
+    report = dict(
+        frame=f.number,
+        converged=f.converged,
+        status=f.status(),
+        posture=posture if "reason" in posture else postures.rounded(posture),
+        joint_loads=None,  # JSON-safe already (joint_loads): not walked by clean, the bulk of a frame's values
+        rula=rula(posture, load_kg, options),
+        reba=reba(posture, load_kg, options),
+        owas=owas(f, posture, load_kg),
+        worksheet=worksheet(f, posture, percent, loads["l4_l5"], area),
+    )
+    if lift is not None:
+        report["niosh"] = niosh.at_point(niosh.hand_point(f), lift, options.coupling)
+    report = clean(report)
+    report["joint_loads"] = loads | {"l4_l5": clean(loads["l4_l5"])}
+    return report, strength_note
+
+
+def report_head(
+    options: ErgoOptions,
+    model_note: str,
+    strength_note: str,
+    area,
+    lift: dict,
+    result: str | None = None,
+    scenario: str | None = None,
+) -> dict:
+    """The report's entries other than its frames (see :func:`evaluate_frames`), JSON-safe."""
+    return clean(
+        dict(
+            result=result,
+            scenario=scenario,
+            manikin=model_note,
+            strength=strength_note,
+            working_area=area.as_dict() if area is not None else None,
+            options=asdict(options),
+            sources=SOURCES,
+            niosh=lift,
+        )
+    )
 
 
 def evaluate_frames(
@@ -67,43 +129,14 @@ def evaluate_frames(
     name the files the report is about."""
     area = working_area(model) if model is not None else None
     lift = niosh.lift(frames, options)
-    d = lift["origin"]["D"] if "origin" in lift else 25.0
-    fm = lift["origin"]["FM"] if "origin" in lift else 1.0
-    strength_note = ""
-    out = []
+    out, strength_note = [], ""
     for f in frames:
-        strength, strength_note = strengths(f, model)
-        loads, _, percent = joint_loads(f, strength)
-        posture = postures.measure(f)
-        load_kg = options.load_mass if options.load_mass is not None else niosh.hand_load_kg(f)
-        out.append(
-            dict(
-                frame=f.number,
-                converged=f.converged,
-                status=f.status(),
-                posture=posture if "reason" in posture else postures.rounded(posture),
-                joint_loads=loads,
-                rula=rula(posture, load_kg, options),
-                reba=reba(posture, load_kg, options),
-                owas=owas(f, posture, load_kg),
-                worksheet=worksheet(f, posture, percent, loads["l4_l5"], area),
-                niosh=niosh.at_frame(f, d, fm, options.coupling),
-            )
-        )
-    return clean(
-        dict(
-            result=result,
-            scenario=scenario,
-            manikin=model_note,
-            strength=strength_note,
-            working_area=area.as_dict() if area is not None else None,
-            options=asdict(options),
-            sources=SOURCES,
-            niosh=lift,
-            not_converged=[f.number for f in frames if f.converged is False],
-            not_held=[f.number for f in frames if f.broken],
-            frames=out,
-        )
+        report, strength_note = frame_report(f, options, model, area, lift)
+        out.append(report)
+    return report_head(options, model_note, strength_note, area, lift, result, scenario) | dict(
+        frames=out,
+        not_converged=[f.number for f in frames if f.converged is False],
+        not_held=[f.number for f in frames if f.broken],
     )
 
 
@@ -120,36 +153,53 @@ def _get(d: dict | None, *keys):
     return d
 
 
+ANGLES = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
+ANGLES += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
+
+
+def csv_header(items: list[str], joints: list[str]) -> list[str]:
+    """The CSV's columns for the worksheet ``items`` and the ``joints`` whose percent of strength is shown."""
+    header = ["frame", "converged", "status", "rula", "reba", "reba_risk", "owas_code", "owas_category"]
+    header += ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in ANGLES]
+    header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
+    header += [f"ws_{k}" for k in items] + ["ws_overall", "niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
+    return header + [f"pct_{j}" for j in joints]
+
+
+def csv_row(f: dict, items: list[str], joints: list[str]) -> list:
+    """One frame's row (as :func:`csv_header`), from its report."""
+    ws = f["worksheet"]
+    strength = ws.get("joint_strength", {})
+    row = [f["frame"], f["converged"], f.get("status"), f["rula"]["score"], f["reba"]["score"],
+           f["reba"].get("risk"), f["owas"].get("code"), f["owas"].get("action_category")]  # fmt: skip
+    row += [_get(f["posture"], *a) for a in ANGLES]
+    l45 = f["joint_loads"]["l4_l5"]
+    row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
+    row += [ws[k]["level"] for k in items] + [ws["overall"]]
+    row += [_get(f["niosh"], k) for k in ("H", "V", "A", "RWL")]
+    return row + [f["joint_loads"][j]["percent_strength"] for j in joints]
+
+
+def csv_cells(row: list) -> list:
+    """A row as written: None empty, floats rounded to 4 decimals."""
+    return ["" if v is None else round(v, 4) if isinstance(v, float) else v for v in row]
+
+
+def worksheet_items(f: dict) -> list[str]:
+    """The worksheet items of a frame's report (its CSV columns)."""
+    return [k for k in f["worksheet"] if k != "overall"]
+
+
 def csv_rows(report: dict) -> tuple[list[str], list[list]]:
     """Header and rows: one row per frame with scores, body angles, L4/L5, worksheet levels, NIOSH and the
     percent of strength of every joint that has a strength."""
     frames = report["frames"]
-    items = [k for k in (frames[0]["worksheet"] if frames else {}) if k != "overall"]
+    items = worksheet_items(frames[0]) if frames else []
     joints = [
         j for j in (frames[0]["joint_loads"] if frames else {})
         if j != "l4_l5" and any(f["joint_loads"][j]["percent_strength"] is not None for f in frames)
     ]  # fmt: skip
-    angles = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
-    angles += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
-    header = ["frame", "converged", "status", "rula", "reba", "reba_risk", "owas_code", "owas_category"]
-    header += ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in angles]
-    header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
-    header += [f"ws_{k}" for k in items] + ["ws_overall", "niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
-    header += [f"pct_{j}" for j in joints]
-    rows = []
-    for f in frames:
-        ws = f["worksheet"]
-        strength = ws.get("joint_strength", {})
-        row = [f["frame"], f["converged"], f.get("status"), f["rula"]["score"], f["reba"]["score"],
-               f["reba"].get("risk"), f["owas"].get("code"), f["owas"].get("action_category")]  # fmt: skip
-        row += [_get(f["posture"], *a) for a in angles]
-        l45 = f["joint_loads"]["l4_l5"]
-        row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
-        row += [ws[k]["level"] for k in items] + [ws["overall"]]
-        row += [_get(f["niosh"], k) for k in ("H", "V", "A", "RWL")]
-        row += [f["joint_loads"][j]["percent_strength"] for j in joints]
-        rows.append(row)
-    return header, rows
+    return csv_header(items, joints), [csv_row(f, items, joints) for f in frames]
 
 
 def plot_paths(stem: Path) -> list[Path]:
@@ -169,13 +219,15 @@ def write_csv(report: dict, path: Path) -> None:
         w = csv.writer(fh)
         w.writerow(header)
         for row in rows:
-            w.writerow(["" if v is None else round(v, 4) if isinstance(v, float) else v for v in row])
+            w.writerow(csv_cells(row))
 
 
 def summary_lines(report: dict) -> list[str]:
     """What ``ergo`` prints: a line per frame (the first and last of a long motion), the frames that did not
-    converge, the NIOSH lift and the files written."""
+    converge, the NIOSH lift and the files written. ``report``: what :func:`solver.ergonomics.run` returns (its
+    ``frames`` are the ones shown; ``frame_count`` and ``highest_reba`` cover them all) or a whole report."""
     frames = report["frames"]
+    count = report.get("frame_count", len(frames))
     shown = frames if len(frames) <= 10 else [frames[0], frames[-1]]
     lines = []
     for f in shown:
@@ -186,14 +238,13 @@ def summary_lines(report: dict) -> list[str]:
         lines.append(f"frame {f['frame']}: RULA {f['rula']['score']}, REBA {f['reba']['score']}, "
                      f"OWAS {f['owas'].get('code')}, L4/L5 {disc}, worksheet {f['worksheet']['overall']}"
                      + flag)  # fmt: skip
-    if len(frames) > len(shown):
-        trusted = [f for f in frames if f["converged"] is not False] or frames
-        worst = max(trusted, key=lambda f: f["reba"]["score"] or 0)
-        lines.append(f"... {len(frames)} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}"
-                     + (" (of the converged frames)" if len(trusted) < len(frames) else ""))  # fmt: skip
     missed, held = report.get("not_converged", []), report.get("not_held", [])
+    if count > len(shown):
+        worst = report.get("highest_reba") or max(frames, key=lambda f: f["reba"]["score"] or 0)
+        lines.append(f"... {count} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}"
+                     + (" (of the converged frames)" if missed and len(missed) < count else ""))  # fmt: skip
     if missed:
-        lines.append(f"NOT converged: {len(missed)} of {len(frames)} frames {_frame_list(missed)}; their scores "
+        lines.append(f"NOT converged: {len(missed)} of {count} frames {_frame_list(missed)}; their scores "
                      f"describe the solver's closest pose" + (f"; supports or balance NOT held in "
                      f"{_frame_list(held)}: loads there are not physical" if held else ""))  # fmt: skip
     lift = report["niosh"]

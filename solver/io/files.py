@@ -77,40 +77,69 @@ def _is_open_file(path: Path) -> bool:
     return False
 
 
+class OutputFile:
+    """An output being written (see the module docstring): write to ``stream``, then :meth:`commit` puts it in place
+    or :meth:`discard` drops it (a file being replaced keeps its old content). An OSError is one ManikinError line."""
+
+    def __init__(self, path: str | Path, binary: bool = False) -> None:
+        self.path = path
+        self._tmp: str | None = None
+        self._target: Path | None = None
+        self._own = str(path) != STDOUT
+        mode, text = ("wb", {}) if binary else ("w", {"encoding": "utf-8"})
+        try:
+            if not self._own:
+                self.stream: IO = sys.stdout.buffer if binary else sys.stdout
+            elif writes_in_place(Path(path)):
+                self.stream = open(path, mode, **text)  # noqa: SIM115 (closed by commit or discard)
+            else:
+                self._target = Path(os.path.realpath(path))
+                self._target.parent.mkdir(parents=True, exist_ok=True)
+                fd, self._tmp = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=self._target.parent)
+                os.chmod(self._tmp, _mode_for(self._target))  # mkstemp's 0600 would make every output private
+                self.stream = os.fdopen(fd, mode, **text)
+        except OSError as exc:
+            self.discard()
+            raise ManikinError(f"{path}: cannot write ({_reason(exc)})") from None
+
+    def commit(self) -> None:
+        """Finish the output: flush and close it, and rename a temporary file onto the path."""
+        try:
+            if self._own:
+                self.stream.close()
+            else:
+                self.stream.flush()
+            if self._tmp is not None:
+                os.replace(self._tmp, self._target)
+                self._tmp = None
+        except OSError as exc:
+            self.discard()
+            raise ManikinError(f"{self.path}: cannot write ({_reason(exc)})") from None
+
+    def discard(self) -> None:
+        """Drop the output: close it and remove a temporary file (a device or standard output keeps what it got)."""
+        if self._own and hasattr(self, "stream"):
+            with suppress(OSError):
+                self.stream.close()
+        if self._tmp is not None:
+            with suppress(FileNotFoundError):
+                os.unlink(self._tmp)
+            self._tmp = None
+
+
 @contextmanager
 def open_output(path: str | Path, binary: bool = False) -> Iterator[IO]:
-    """A stream to write ``path`` with (see the module docstring); an OSError becomes one ManikinError line."""
-    if str(path) == STDOUT:
-        stream = sys.stdout.buffer if binary else sys.stdout
-        yield stream
-        stream.flush()
-        return
-    path = Path(path)
+    """A stream to write ``path`` with, put in place when the block ends (see :class:`OutputFile`)."""
+    out = OutputFile(path, binary)
     try:
-        if writes_in_place(path):
-            with open(path, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as fh:
-                yield fh
-        else:
-            with _replacing(Path(os.path.realpath(path)), binary) as fh:
-                yield fh
+        yield out.stream
     except OSError as exc:
+        out.discard()
         raise ManikinError(f"{path}: cannot write ({_reason(exc)})") from None
-
-
-@contextmanager
-def _replacing(path: Path, binary: bool) -> Iterator[IO]:
-    """Write a temporary file in ``path``'s folder, then rename it onto ``path``; on any failure remove it."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=path.parent)
-    try:
-        os.chmod(tmp, _mode_for(path))  # mkstemp's 0600 would make every output private (os.fchmod: not on Windows)
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as fh:
-            yield fh
-        os.replace(tmp, path)
     except BaseException:
-        with suppress(FileNotFoundError):
-            os.unlink(tmp)
+        out.discard()
         raise
+    out.commit()
 
 
 def _mode_for(path: Path) -> int:

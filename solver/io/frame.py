@@ -8,6 +8,7 @@ contact wrenches and external loads. Units: m, N, N*m, kg, rad.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -16,7 +17,9 @@ from ..model import GRAVITY
 from ..tree import descendants
 
 if TYPE_CHECKING:
+    from ..model import Kinematics, Model
     from ..result import Result
+    from ..state import State
 
 
 @dataclass
@@ -50,7 +53,7 @@ class Frame:
     index: dict[str, int] = field(init=False)  # joint name -> index
 
     def __post_init__(self) -> None:
-        self.below = descendants(self.link_parent)
+        self.below = _below(tuple(int(p) for p in self.link_parent))
         self.index = {n: i for i, n in enumerate(self.joint_names)}
 
     def joint(self, name: str) -> int | None:
@@ -78,18 +81,40 @@ class Frame:
         return "out of reach: " + ", ".join(self.unmet)
 
 
-def frame_of_result(result: Result, number: int = 1) -> Frame:
-    """The frame of a solve's result (what its result file would hold, without writing it)."""
+@lru_cache(maxsize=16)
+def _below(parent: tuple[int, ...]) -> np.ndarray:
+    """The subtree matrix of a tree, shared read-only by every frame of a motion (it is O(L^2) to build)."""
+    below = descendants(np.array(parent, dtype=int))
+    below.setflags(write=False)
+    return below
+
+
+def frame_of_result(result: Result, number: int = 1, state: State | None = None) -> Frame:
+    """The frame of a solve's result (what its result file would hold, without writing it); ``state`` is the
+    result's state when the caller has it already."""
     problem = result.problem
-    model = problem.model
-    state = result.state
-    kin = state.kin
+    state = result.state if state is None else state
+    contacts = [(c["tcp"], c["point"], c["force"], c["moment"]) for c in result.contacts]
+    loads = [(ld.tcp.name, p, ld.force) for ld, p in zip(problem.loads, state.statics.load_points, strict=True)]
+    status = dict(number=number, converged=result.converged, unmet=tuple(result.unmet), broken=tuple(result.broken))
+    return frame_of_pose(problem.model, state.kin, status, contacts, loads)
+
+
+def frame_of_pose(
+    model: Model,
+    kin: Kinematics,
+    status: dict,
+    contacts: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]],
+    loads: list[tuple[str, np.ndarray, np.ndarray]],
+    gravity: np.ndarray = GRAVITY,
+) -> Frame:
+    """The frame of ``model`` posed as ``kin`` (its forward kinematics) with these contacts and loads; ``status``:
+    the Frame's fields about the solve (``number``, ``converged``, and optionally ``unmet``, ``broken``)."""
     frames = {name: kin.tcp_frame(tcp) for name, tcp in model.tcps.items()}
     return Frame(
-        number=number,
-        converged=result.converged,
+        **status,
         joint_names=list(model.joint_names),
-        joint_value=result.theta.copy(),
+        joint_value=np.array(kin.theta, dtype=float),
         joint_range=np.column_stack([model.lower, model.upper]),
         joint_position=kin.position.copy(),
         joint_axis=kin.axis.copy(),
@@ -103,9 +128,7 @@ def frame_of_result(result: Result, number: int = 1) -> Frame:
         tcp_position={name: pos for name, (_, pos) in frames.items()},
         tcp_rotation={name: rot for name, (rot, _) in frames.items()},
         tcp_link={name: tcp.link for name, tcp in model.tcps.items()},
-        gravity=np.asarray(GRAVITY, dtype=float).copy(),
-        contacts=[(c["tcp"], c["point"], c["force"], c["moment"]) for c in result.contacts],
-        loads=[(ld.tcp.name, p, ld.force) for ld, p in zip(problem.loads, state.statics.load_points, strict=True)],
-        unmet=tuple(result.unmet),
-        broken=tuple(result.broken),
+        gravity=np.asarray(gravity, dtype=float).copy(),
+        contacts=contacts,
+        loads=loads,
     )

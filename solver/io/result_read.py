@@ -1,24 +1,28 @@
-"""Result file (JSON) -> typed :class:`~solver.io.frame.Frame` objects; every problem one ResultFileError line.
+"""Result file (JSON or compact) -> typed :class:`~solver.io.frame.Frame` objects; every problem one ResultFileError
+line. :class:`ResultStream` reads one frame at a time, :func:`read_result` all of them.
 
 Only what the file holds is used (README "result JSON"): joints (``value``, ``min``, ``max``, ``type``,
 ``link``, ``strength``, world ``position`` and ``axis``), links (``name``, ``parent``, ``mass``, world ``com``),
 TCPs (``position``, ``rotation`` (w, x, y, z), ``link``), ``gravity``, contacts (``point``, ``force``,
-``moment`` about the point) and loads (``tcp``, ``point``, ``force``). Units: m, N, N*m, kg, rad.
+``moment`` about the point) and loads (``tcp``, ``point``, ``force``). A compact file holds the model once and per
+frame the joint values; its world positions are those of the model's forward kinematics. Units: m, N, N*m, kg, rad.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import ResultFileError
-from ..model import GRAVITY
-from .files import read_json
-from .frame import Frame
+from ..errors import ManikinError, ResultFileError
+from ..model import GRAVITY, Model
+from .frame import Frame, frame_of_pose
+from .model_json import model_from_dict
+from .result_scan import is_compact, scan
 from .table_reader import TableReader
 
 # bounds of a result file's values, far beyond any pose but small enough that products of them stay finite
@@ -27,17 +31,88 @@ LENGTH, FORCE, MASS, ANGLE = 1e4, 1e7, 1e4, 1e4  # m (positions), N and N*m, kg 
 
 @dataclass
 class ResultFile:
-    """A read result file: where it is, the scenario it names (if any) and its frames."""
+    """A read result file: where it is, the scenario it names (if any), its frames and, for a run that was
+    stopped early, the file's ``interrupted`` entry ({"at_frame", "solved", "reason"})."""
 
     path: Path | None
     scenario: str | None
     frames: list[Frame]
+    interrupted: dict | None = None
+
+
+class ResultStream:
+    """A result file (either format) read frame by frame: iterating it parses one frame at a time, so a long
+    motion is never in memory at once; each iteration reads the file again. ``scenario`` and ``interrupted`` are
+    known once the frames have been read (the writers put the scenario first, so it is known at once for them)."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        self.scenario: str | None = None
+        self.interrupted: dict | None = None
+        self.count: int | None = None  # frames, after a whole pass
+        self._model: Model | None = None
+        self._gravity: list | None = None
+        self.compact = is_compact(self.path, ResultFileError)
+        for kind, key, _ in self._parts():
+            if kind == "frame" or key == "frames":
+                break
+
+    def _parts(self) -> Iterator[tuple[str, Any, Any]]:
+        """The file's parts (:func:`~solver.io.result_scan.scan`), its top-level entries taken in on the way."""
+        for kind, key, value in scan(self.path, ResultFileError):
+            if kind == "key":
+                self._entry(key, value)
+            yield kind, key, value
+
+    def _entry(self, key: str, value: Any) -> None:
+        if key == "scenario":
+            self.scenario = value if isinstance(value, str) else None
+        elif key == "interrupted":
+            self.interrupted = value if isinstance(value, dict) else None
+        elif key == "frames":
+            raise TableReader(self.path, {}, error=ResultFileError).fail("frames", "a non-empty array of tables", value)
+        elif key == "model" and self.compact:
+            try:
+                self._model = model_from_dict(value)
+            except ManikinError as exc:
+                raise ResultFileError(f"{self.path}: model: {exc}") from None
+        elif key == "gravity" and self.compact:
+            self._gravity = value
+
+    def raw(self) -> Iterator[tuple[int, dict]]:
+        """(index, raw frame object) of every frame, without building frames (for a quick pass)."""
+        count = 0
+        for kind, index, value in self._parts():
+            if kind == "frame":
+                count += 1
+                yield index, value
+        if not count:
+            raise TableReader(self.path, {}, error=ResultFileError).fail("frames", "a non-empty array of tables", [])
+        self.count = count
+
+    def frame(self, index: int, raw: Any) -> Frame:
+        """The checked frame of a raw frame object (from :meth:`raw`)."""
+        where = f"frames[{index}]."
+        if not isinstance(raw, dict):
+            raise ResultFileError(f"{self.path}: {where[:-1]}: expected a result frame (an object), got {raw!r:.60}")
+        t = TableReader(self.path, raw, where, ResultFileError)
+        if not self.compact:
+            return _frame(t)
+        if self._model is None:
+            raise ResultFileError(f"{self.path}: model: expected the manikin's model in the header line (missing)")
+        return compact_frame(t, self._model, self._gravity)
+
+    def __iter__(self) -> Iterator[Frame]:
+        for index, raw in self.raw():
+            yield self.frame(index, raw)
 
 
 def read_result(path: str | Path) -> ResultFile:
-    """Read and check a result file (written by ``python -m solver solve`` or :func:`solver.write_result`)."""
-    path = Path(path)
-    return result_from_dict(read_json(path, ResultFileError), path)
+    """Read and check a result file (written by ``python -m solver solve`` or :func:`solver.write_result`, either
+    format) with all its frames; :class:`ResultStream` reads a long motion one frame at a time."""
+    stream = ResultStream(path)
+    frames = list(stream)
+    return ResultFile(stream.path, stream.scenario, frames, stream.interrupted)
 
 
 def result_from_dict(data: Any, path: str | Path = "result") -> ResultFile:
@@ -47,7 +122,8 @@ def result_from_dict(data: Any, path: str | Path = "result") -> ResultFile:
     root = TableReader(path, data, error=ResultFileError)
     frames = [_frame(t) for t in root.table_list("frames", non_empty=True)]
     scenario = data.get("scenario") if isinstance(data.get("scenario"), str) else None
-    return ResultFile(Path(path) if isinstance(path, Path) else None, scenario, frames)
+    interrupted = data.get("interrupted") if isinstance(data.get("interrupted"), dict) else None
+    return ResultFile(Path(path) if isinstance(path, Path) else None, scenario, frames, interrupted)
 
 
 def frame_from_dict(raw: Any, where: str = "frame") -> Frame:
@@ -79,10 +155,8 @@ def _frame(t: TableReader) -> Frame:
     for ld in t.table_list("loads"):
         tcp = ld.choice("tcp", tcp_link, "a TCP name")
         loads.append((tcp, ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")))
-    converged = t.get("converged")
     return Frame(
-        number=t.integer("frame", 1, -1e9, 1e9, "a whole frame number"),
-        converged=converged if isinstance(converged, bool) else None,
+        **frame_status(t),
         **joints,
         link_names=link_names,
         link_parent=link_parent,
@@ -94,6 +168,33 @@ def _frame(t: TableReader) -> Frame:
         gravity=t.vector("gravity", 3, list(GRAVITY), limit=1e3, unit="m/s^2"),
         contacts=contacts,
         loads=loads,
+    )
+
+
+def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
+    """A frame of the compact format: the model posed by its ``joint_values``, with its contacts and loads."""
+    values = t.vector("joint_values", model.n, limit=ANGLE, unit="rad or m")
+    contacts = []
+    for name, c in t.named_tables("contacts").items():
+        if name not in model.tcps:
+            raise t.fail(f"contacts.{name}", "a contact at one of the TCPs: " + ", ".join(sorted(model.tcps)))
+        point, force = c.vector("point", 3, limit=LENGTH, unit="m"), c.vector("force", 3, limit=FORCE, unit="N")
+        contacts.append((name, point, force, c.vector("moment", 3, [0.0, 0.0, 0.0], limit=FORCE, unit="N*m")))
+    loads = []
+    for ld in t.table_list("loads"):
+        point, force = ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")
+        loads.append((ld.choice("tcp", model.tcps, "a TCP name"), point, force))
+    g = GRAVITY if gravity is None else TableReader(t.path, {"gravity": gravity}, "", t.error).vector("gravity", 3)
+    return frame_of_pose(model, model.forward(values), frame_status(t), contacts, loads, g)
+
+
+def frame_status(t: TableReader) -> dict:
+    """The Frame fields about the solve, from a frame of either format: ``number``, ``converged``, ``unmet``,
+    ``broken``."""
+    converged = t.get("converged")
+    return dict(
+        number=t.integer("frame", 1, -1e9, 1e9, "a whole frame number"),
+        converged=converged if isinstance(converged, bool) else None,
         unmet=_names(t.get("unmet")),
         broken=_names(t.get("broken")),
     )

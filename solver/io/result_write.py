@@ -1,24 +1,39 @@
-"""Result -> the result file (JSON, README "result JSON"): enough to recompute balance and loads from it alone."""
+"""Result -> the result file (README "result JSON"): enough to recompute balance and loads from it alone.
+
+Two formats, both written frame by frame (:mod:`.result_stream`): the result JSON (``{"scenario", "frames"}``,
+each frame its status and its whole pose) and the compact JSON Lines file for long motions (a header line with
+the manikin's model once, then per frame the status, the joint values, contacts and loads). A frame's status is
+built in one place, :func:`frame_status`, for both.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from ..result import Result
-from .files import write_json
 from .frame import Frame, frame_of_result
+from .model_json import model_to_dict
 from .values import finite_or_none, floats, quaternion
 
+if TYPE_CHECKING:
+    from ..model import Model
+    from ..state import State
 
-def result_to_dict(result: Result, frame: int = 1) -> dict:
-    """One frame of the result file: the solve's status and residuals, then the pose (:func:`frame_to_dict`)."""
-    state = result.state
+COMPACT_FORMAT = "manikin-result-lines"  # the "format" of a compact file's header line
+COMPACT_VERSION = 1
+
+
+def frame_status(result: Result, frame: int, state: State) -> dict:
+    """How the solve of one frame went (every field of a result frame that is not the pose): frame, converged,
+    stop, iterations, time_s, unmet, notes, targets (world frames), residuals, comfort, comfort_terms, com."""
     targets = {
         name: dict(position=floats(pos), rotation=quaternion(rot))
         for name, (rot, pos) in result.problem.target_frames(state).items()
     }
-    status = dict(
+    return dict(
         frame=frame,
         converged=result.converged,
         stop=None if result.stop is None else result.stop.value,
@@ -34,32 +49,58 @@ def result_to_dict(result: Result, frame: int = 1) -> dict:
         comfort_terms=result.comfort_parts,
         com=floats(result.com),
     )
-    return status | frame_to_dict(frame_of_result(result, frame))
+
+
+def result_to_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:
+    """One frame of the result JSON: the status (:func:`frame_status`), then the pose (:func:`frame_to_dict`);
+    ``state``: the result's state if the caller has it (saves recomputing it)."""
+    state = result.state if state is None else state
+    return frame_status(result, frame, state) | frame_to_dict(frame_of_result(result, frame, state))
+
+
+def compact_frame_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:
+    """One frame of the compact file: the status, ``joint_values`` (rad or m, in the header model's joint order),
+    ``contacts`` and ``loads`` as in the result JSON."""
+    state = result.state if state is None else state
+    loads = zip(result.problem.loads, state.statics.load_points, strict=True)
+    return frame_status(result, frame, state) | dict(
+        joint_values=floats(result.theta),
+        contacts={c["tcp"]: dict(point=floats(c["point"]), force=floats(c["force"]), moment=floats(c["moment"]))
+                  for c in result.contacts},
+        loads=[dict(tcp=ld.tcp.name, point=floats(p), force=floats(ld.force)) for ld, p in loads],
+    )  # fmt: skip
+
+
+def compact_header(model: Model, scenario: str | Path | None) -> dict:
+    """The first line of a compact file: its format and version, the scenario (if any) and the model."""
+    from ..model import GRAVITY
+
+    return dict(format=COMPACT_FORMAT, version=COMPACT_VERSION, scenario=None if scenario is None else str(scenario),
+                gravity=floats(GRAVITY), model=model_to_dict(model))  # fmt: skip
 
 
 def frame_to_dict(f: Frame) -> dict:
     """The pose part of a result frame: gravity, joints, tcps, links, contacts and loads."""
+    ranges = [[finite_or_none(lo), finite_or_none(hi)] for lo, hi in f.joint_range.tolist()]
+    strength = None if f.joint_strength is None else f.joint_strength.tolist()
+    position, axis, value = f.joint_position.tolist(), f.joint_axis.tolist(), f.joint_value.tolist()
+    kinds = ["prismatic" if p else "revolute" for p in f.prismatic.tolist()]
     joints = {}
     for i, name in enumerate(f.joint_names):
-        joints[name] = dict(
-            value=float(f.joint_value[i]),
-            min=finite_or_none(f.joint_range[i, 0]),
-            max=finite_or_none(f.joint_range[i, 1]),
-            type="prismatic" if f.prismatic[i] else "revolute",
-            link=f.link_names[f.joint_link[i]],
-        )
-        if f.joint_strength is not None:
-            joints[name]["strength"] = [finite_or_none(s) for s in f.joint_strength[i]]
-        joints[name].update(position=floats(f.joint_position[i]), axis=floats(f.joint_axis[i]))
+        joints[name] = dict(value=value[i], min=ranges[i][0], max=ranges[i][1], type=kinds[i],
+                            link=f.link_names[f.joint_link[i]])  # fmt: skip
+        if strength is not None:
+            joints[name]["strength"] = [finite_or_none(s) for s in strength[i]]
+        joints[name].update(position=position[i], axis=axis[i])
     tcps = {
         name: dict(position=floats(p), rotation=quaternion(f.tcp_rotation[name]), link=f.link_names[f.tcp_link[name]])
         for name, p in f.tcp_position.items()
     }
+    parents, masses, coms = f.link_parent.tolist(), f.link_mass.tolist(), f.link_com.tolist()
     links = [
-        dict(name=name, parent=None if f.link_parent[i] < 0 else f.link_names[f.link_parent[i]],
-             mass=float(f.link_mass[i]), com=floats(f.link_com[i]))
+        dict(name=name, parent=None if parents[i] < 0 else f.link_names[parents[i]], mass=masses[i], com=coms[i])
         for i, name in enumerate(f.link_names)
-    ]  # fmt: skip
+    ]
     return dict(
         gravity=floats(f.gravity),
         joints=joints,
@@ -71,16 +112,29 @@ def frame_to_dict(f: Frame) -> dict:
 
 
 def result_document(frames: Iterable[tuple[int, Result]], scenario: str | Path | None = None) -> dict:
-    """The whole result file: {"scenario": path of the scenario (if any), "frames": [...]}."""
+    """The whole result JSON in memory: {"scenario": path of the scenario (if any), "frames": [...]} (for a few
+    frames; files are written frame by frame by :func:`write_result`)."""
     document: dict = {} if scenario is None else {"scenario": str(scenario)}
     document["frames"] = [result_to_dict(result, number) for number, result in frames]
     return document
 
 
 def write_result(
-    path: str | Path, results: Result | Iterable[tuple[int, Result]], scenario: str | Path | None = None
+    path: str | Path,
+    results: Result | Iterable[tuple[int, Result]],
+    scenario: str | Path | None = None,
+    compact: bool | None = None,
 ) -> Path:
-    """Write a result file: one Result (frame 1) or (frame, Result) pairs as :func:`solver.solve_motion` yields;
-    ``scenario`` names the scenario file (the ergonomics finds the manikin there). Atomic; returns the path."""
+    """Write a result file: one Result (frame 1) or (frame, Result) pairs as :func:`solver.solve_motion` yields them
+    (an iterator is written as it goes, holding one frame at a time); ``scenario`` names the scenario file (the
+    ergonomics finds the manikin there). ``compact``: the JSON Lines format (default: for a ``.jsonl`` path).
+    Atomic; returns the path."""
+    from .result_stream import ResultWriter
+
     pairs = [(1, results)] if isinstance(results, Result) else results
-    return write_json(Path(path), result_document(pairs, scenario))
+    with ResultWriter(path, scenario, compact) as writer:
+        for number, result in pairs:
+            writer.add(number, result)
+    if writer.written is None:
+        raise UsageError(f"{path}: no frames to write (nothing written)")
+    return writer.written

@@ -11,7 +11,7 @@ from ..spatial import matrix_to_quat
 
 def floats(v: np.ndarray) -> list[float]:
     """A vector as a list of Python floats."""
-    return [float(a) for a in v]
+    return np.asarray(v, dtype=float).tolist()
 
 
 def quaternion(rotation: np.ndarray) -> list[float]:
