@@ -18,11 +18,26 @@ def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.einsum("...i,...i->...", x, y)
 
 
+def cross(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of 3-vectors (np.cross does the same, several times slower on small arrays)."""
+    out = np.empty(np.broadcast_shapes(x.shape, y.shape))
+    x0, x1, x2, y0, y1, y2 = x[..., 0], x[..., 1], x[..., 2], y[..., 0], y[..., 1], y[..., 2]
+    out[..., 0] = x1 * y2 - x2 * y1
+    out[..., 1] = x2 * y0 - x0 * y2
+    out[..., 2] = x0 * y1 - x1 * y0
+    return out
+
+
+def clip01(x: np.ndarray) -> np.ndarray:
+    """x clamped to [0, 1] (np.clip does the same, slower on small arrays)."""
+    return np.minimum(np.maximum(x, 0.0), 1.0)
+
+
 def unit(v: np.ndarray, fallback: np.ndarray) -> np.ndarray:
     """``v`` scaled to unit length along the last axis; rows of (near) zero length take ``fallback`` (unit)."""
     length = np.sqrt(dot(v, v))[..., None]
     ok = length > 1e-300
-    return np.where(ok, v / np.where(ok, length, 1.0), fallback)
+    return np.where(ok, v / np.maximum(length, 1e-300), fallback)
 
 
 def perpendicular(u: np.ndarray) -> np.ndarray:
@@ -32,15 +47,13 @@ def perpendicular(u: np.ndarray) -> np.ndarray:
     smallest = np.argmin(np.abs(u), axis=-1)
     np.put_along_axis(axis, smallest[..., None], 1.0, axis=-1)
     ez = np.broadcast_to(np.array([0.0, 0.0, 1.0]), u.shape)
-    return unit(np.cross(u, axis), ez)
+    return unit(cross(u, axis), ez)
 
 
 def point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Parameter t (...) and point (..., 3) on the segment a-b closest to p."""
+    """Parameter t (...) and point (..., 3) on the segment a-b closest to p (t = 0 for a zero-length segment)."""
     u = b - a
-    uu = dot(u, u)
-    t = np.clip(dot(p - a, u) / np.where(uu > TINY, uu, 1.0), 0.0, 1.0)
-    t = np.where(uu > TINY, t, 0.0)
+    t = clip01(dot(p - a, u) / np.maximum(dot(u, u), TINY))
     return t, a + t[..., None] * u
 
 
@@ -53,19 +66,14 @@ def segment_segment(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarr
     d1, d2, r = p1 - p0, q1 - q0, p0 - q0
     a, e, b, c, f = dot(d1, d1), dot(d2, d2), dot(d1, d2), dot(d1, r), dot(d2, r)
     a_zero, e_zero = a <= TINY, e <= TINY
-    safe_a, safe_e = np.where(a_zero, 1.0, a), np.where(e_zero, 1.0, e)
+    safe_a, safe_e = np.maximum(a, TINY), np.maximum(e, TINY)
     denom = a * e - b * b
     skew = denom > PARALLEL * a * e
-    s = np.where(skew, np.clip((b * f - c * e) / np.where(skew, denom, 1.0), 0.0, 1.0), 0.0)
-    s = np.where(e_zero, np.clip(-c / safe_a, 0.0, 1.0), s)
-    s = np.where(a_zero, 0.0, s)
-    t = np.where(e_zero, 0.0, (b * s + f) / safe_e)
-    below, above = t < 0.0, t > 1.0
-    t = np.clip(t, 0.0, 1.0)
-    s = np.where(below, np.clip(-c / safe_a, 0.0, 1.0), s)
-    s = np.where(above, np.clip((b - c) / safe_a, 0.0, 1.0), s)
-    s = np.where(a_zero, 0.0, s)
-    return s, t
+    s = clip01((b * f - c * e) / np.maximum(denom, 1e-300)) * skew  # 0 when parallel (clip01 keeps it finite)
+    s = np.where(e_zero, clip01(-c / safe_a), s)
+    t = (b * s + f) / safe_e * ~e_zero
+    s = np.where(t < 0.0, clip01(-c / safe_a), np.where(t > 1.0, clip01((b - c) / safe_a), s))
+    return s * ~a_zero, clip01(t)
 
 
 def _barycentric(p: np.ndarray, a: np.ndarray, ab: np.ndarray, ac: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -75,7 +83,7 @@ def _barycentric(p: np.ndarray, a: np.ndarray, ab: np.ndarray, ac: np.ndarray) -
     d20, d21 = dot(ap, ab), dot(ap, ac)
     den = d00 * d11 - d01 * d01
     ok = den > PARALLEL * d00 * d11
-    safe = np.where(ok, den, 1.0)
+    safe = np.maximum(den, 1e-300)
     v = (d11 * d20 - d01 * d21) / safe
     w = (d00 * d21 - d01 * d20) / safe
     inside = ok & (v >= 0.0) & (w >= 0.0) & (v + w <= 1.0)
@@ -87,8 +95,8 @@ def point_triangle(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -
     inside, else the closest point of the three edges."""
     ab, ac = b - a, c - a
     v, w, inside = _barycentric(p, a, ab, ac)
-    starts = np.stack([a, b, c], axis=-2)
-    ends = np.stack([b, c, a], axis=-2)
+    starts = np.stack(np.broadcast_arrays(a, b, c), axis=-2)
+    ends = np.stack(np.broadcast_arrays(b, c, a), axis=-2)
     _, on_edges = point_segment(p[..., None, :], starts, ends)
     gap = on_edges - p[..., None, :]
     best = np.argmin(dot(gap, gap), axis=-1)
@@ -107,30 +115,39 @@ def segment_triangle(
     for a segment parallel to the plane, and then an end or an edge crossing is as close; an end whose projection
     falls outside is beaten by that edge), so the best of 2 end projections and 3 segment-edge pairs is exact.
     """
+    shape = np.broadcast_shapes(p0.shape, p1.shape, a.shape, b.shape, c.shape)
+    if len(shape) != 2 or any(x.shape != shape for x in (p0, p1, a, b, c)):
+        p0, p1, a, b, c = (np.broadcast_to(x, shape).reshape(-1, 3) for x in (p0, p1, a, b, c))
     u, ab, ac = p1 - p0, b - a, c - a
-    n = np.cross(ab, ac)
+    n = cross(ab, ac)
     nn = dot(n, n)
+    inv = 1.0 / np.maximum(nn, 1e-300)
     h0, h1 = dot(n, p0 - a), dot(n, p1 - a)  # heights above the plane, times |n|
     crosses = (h0 * h1 <= 0.0) & (h0 != h1)
-    tx = np.where(crosses, h0 / np.where(crosses, h0 - h1, 1.0), 0.0)
-    ends = np.stack([p0, p0 + tx[..., None] * u, p1], axis=-2)  # end 0, the plane crossing, end 1
-    heights = np.stack([h0, np.zeros_like(h0), h1], axis=-1) / np.where(nn > 0, nn, 1.0)[..., None]
-    on_plane = ends - heights[..., None] * n[..., None, :]
-    _, _, over = _barycentric(on_plane, a[..., None, :], ab[..., None, :], ac[..., None, :])
-    over[..., 1] &= crosses
-    plane_d2 = np.where(over, heights**2 * nn[..., None], np.inf)
-    plane_d2[..., 1] = np.where(over[..., 1], 0.0, np.inf)
-    starts = np.stack([a, b, c], axis=-2)
-    dirs = np.stack([ab, c - b, -ac], axis=-2)
-    s, r = segment_segment(p0[..., None, :], p1[..., None, :], starts, starts + dirs)
-    edge_x = p0[..., None, :] + s[..., None] * u[..., None, :]
-    edge_y = starts + r[..., None] * dirs
-    gap = edge_x - edge_y
-    cand_t = np.concatenate([np.stack([np.zeros_like(tx), tx, np.ones_like(tx)], axis=-1), s], axis=-1)
-    cand_x = np.concatenate([ends, edge_x], axis=-2)
-    cand_y = np.concatenate([on_plane, edge_y], axis=-2)
-    best = np.argmin(np.concatenate([plane_d2, dot(gap, gap)], axis=-1), axis=-1)[..., None]
-    t = np.take_along_axis(cand_t, best, axis=-1)[..., 0]
-    xs = np.take_along_axis(cand_x, best[..., None], axis=-2)[..., 0, :]
-    ys = np.take_along_axis(cand_y, best[..., None], axis=-2)[..., 0, :]
-    return t, xs, ys
+    tx = h0 / np.where(crosses, h0 - h1, 1.0) * crosses
+    m = len(p0)
+    ends = np.empty((m, 6, 3))  # candidates on the segment: end 0, the plane crossing, end 1, 3 near edges
+    ends[:, 0], ends[:, 1], ends[:, 2] = p0, p0 + tx[:, None] * u, p1
+    heights = np.stack([h0, np.zeros(m), h1], axis=1) * inv[:, None]
+    near = np.empty((m, 6, 3))  # the paired candidates on the triangle
+    near[:, :3] = ends[:, :3] - heights[..., None] * n[:, None]
+    ap = near[:, :3] - a[:, None]
+    d20, d21 = dot(ap, ab[:, None]), dot(ap, ac[:, None])
+    d00, d01, d11 = (dot(x, y)[:, None] for x, y in ((ab, ab), (ab, ac), (ac, ac)))
+    v, w = (d11 * d20 - d01 * d21) * inv[:, None], (d00 * d21 - d01 * d20) * inv[:, None]
+    over = (v >= 0.0) & (w >= 0.0) & (v + w <= 1.0) & (nn[:, None] > PARALLEL * d00 * d11)
+    over[:, 1] &= crosses
+    d2 = np.empty((m, 6))
+    d2[:, :3] = np.where(over, heights**2 * nn[:, None], np.inf)
+    starts, dirs = np.empty((m, 3, 3)), np.empty((m, 3, 3))
+    starts[:, 0], starts[:, 1], starts[:, 2] = a, b, c
+    dirs[:, 0], dirs[:, 1], dirs[:, 2] = ab, c - b, -ac
+    s, r = segment_segment(p0[:, None], p1[:, None], starts, starts + dirs)
+    ends[:, 3:] = p0[:, None] + s[..., None] * u[:, None]
+    near[:, 3:] = starts + r[..., None] * dirs
+    gap = ends[:, 3:] - near[:, 3:]
+    d2[:, 3:] = dot(gap, gap)
+    params = np.concatenate([np.zeros((m, 1)), tx[:, None], np.ones((m, 1)), s], axis=1)
+    rows, best = np.arange(m), np.argmin(d2, axis=1)
+    lead = shape[:-1]
+    return params[rows, best].reshape(lead), ends[rows, best].reshape(shape), near[rows, best].reshape(shape)

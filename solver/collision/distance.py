@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .closest import dot, perpendicular, point_segment, segment_segment, unit
+from .closest import cross, dot, perpendicular, point_segment, segment_segment, unit
 from .mesh_distance import mesh_distance
 from .mesh_index import MeshIndex
 from .proximity import PairProximity, Proximity
@@ -48,7 +48,7 @@ def _segments(p0, p1, q0, q1) -> tuple[np.ndarray, ...]:
     s, t = segment_segment(p0, p1, q0, q1)
     u, v = p1 - p0, q1 - q0
     w, q = p0 + s[:, None] * u, q0 + t[:, None] * v
-    across = unit(np.cross(u, v), perpendicular(np.where(dot(u, u)[:, None] > 0, u, v)))
+    across = unit(cross(u, v), perpendicular(np.where(dot(u, u)[:, None] > 0, u, v)))
     return s, w, t, q, unit(w - q, across)
 
 

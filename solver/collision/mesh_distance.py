@@ -29,23 +29,18 @@ def _exact(p0, p1, seg, tri, index: MeshIndex) -> tuple[np.ndarray, ...]:
 
 
 def _closest_triangles(p0, p1, reach, index: MeshIndex) -> tuple[np.ndarray, ...]:
-    """Per segment: the nearest triangle within reach (-1 if none), the distance (inf if none), t and the points,
-    from exact distances to each segment's first guess and to the candidates that may beat it."""
+    """Per segment: the nearest triangle within reach (-1 if none), the distance (inf if none), t and the points."""
     k = len(p0)
-    first, seg, tri, _ = index.candidates(p0, p1, reach)
-    rows = np.flatnonzero(first >= 0)
-    d, t, x, y = _exact(p0, p1, np.concatenate([rows, seg]), np.concatenate([first[rows], tri]), index)
-    which, dist = np.full(k, -1, dtype=np.int64), np.full(k, np.inf)
-    t_best, x_best, y_best = np.zeros(k), p0.copy(), p0.copy()
-    m = len(rows)
-    which[rows], dist[rows], t_best[rows], x_best[rows], y_best[rows] = first[rows], d[:m], t[:m], x[:m], y[:m]
-    best = group_argmin(seg, d[m:], k)
-    better = np.flatnonzero(best >= 0)
-    pick = best[better] + m
-    better, pick = better[d[pick] < dist[better]], pick[d[pick] < dist[better]]
-    which[better], dist[better], t_best[better] = tri[pick - m], d[pick], t[pick]
-    x_best[better], y_best[better] = x[pick], y[pick]
-    return which, dist, t_best, x_best, y_best
+    which, dist, t, x, y = np.full(k, -1), np.full(k, np.inf), np.zeros(k), p0.copy(), p0.copy()
+    seg, tri = index.candidates(p0, p1, reach)
+    if seg.size:
+        tt, xx, yy = segment_triangle(p0[seg], p1[seg], index.a[tri], index.b[tri], index.c[tri])
+        d = np.sqrt(dot(xx - yy, xx - yy))
+        best = group_argmin(seg, d, k)
+        rows = np.flatnonzero(best >= 0)
+        pick = best[rows]
+        which[rows], dist[rows], t[rows], x[rows], y[rows] = tri[pick], d[pick], tt[pick], xx[pick], yy[pick]
+    return which, dist, t, x, y
 
 
 def _depth_inside(p0, p1, rows, index: MeshIndex):
@@ -64,11 +59,9 @@ def _depth_inside(p0, p1, rows, index: MeshIndex):
     return ts[k], pts[m, k], near[m, k], depth[m, k]
 
 
-def mesh_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, index: MeshIndex, margin: float) -> Proximity:
-    """Capsules p0-p1 (k, 3) m with ``radii`` (k,) m vs an indexed mesh; see the module docstring."""
-    p0, p1 = np.atleast_2d(np.asarray(p0, dtype=float)), np.atleast_2d(np.asarray(p1, dtype=float))
+def _signed(p0, p1, radii, margin: float, index: MeshIndex) -> Proximity:
+    """mesh_distance for capsules near the mesh's box."""
     k = len(p0)
-    radii = np.broadcast_to(np.asarray(radii, dtype=float), (k,))
     which, axis, t, w, near = _closest_triangles(p0, p1, radii + margin, index)
     found = np.flatnonzero(which >= 0)
     face = np.zeros((k, 3))
@@ -91,7 +84,24 @@ def mesh_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, index: Mesh
             t[r], w[r], near[r] = ts[deep], pts[deep], surface[deep]
             normal[r] = unit(surface[deep] - pts[deep], normal[r])
             normal[rows[~deep]] = face[rows[~deep]]  # touching only: the outward face normal
-    d = axis - radii
-    far = d > margin
-    d[far], t[far], w[far], near[far], normal[far] = np.inf, 0.0, p0[far], p0[far], 0.0
+    return Proximity(axis - radii, t, w, normal, near)
+
+
+def mesh_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, index: MeshIndex, margin: float) -> Proximity:
+    """Capsules p0-p1 (k, 3) m with ``radii`` (k,) m vs an indexed mesh; see the module docstring. Capsules
+    farther than ``margin`` (m) get distance +inf, t = 0, point = closest = p0 and a zero normal."""
+    p0, p1 = np.atleast_2d(np.asarray(p0, dtype=float)), np.atleast_2d(np.asarray(p1, dtype=float))
+    k = len(p0)
+    radii = np.broadcast_to(np.asarray(radii, dtype=float), (k,))
+    reach = (radii + margin)[:, None]
+    live = np.flatnonzero(
+        np.all((np.maximum(p0, p1) + reach >= index.lo) & (np.minimum(p0, p1) - reach <= index.hi), 1)
+    )
+    d, t, w, normal, near = np.full(k, np.inf), np.zeros(k), p0.copy(), np.zeros((k, 3)), p0.copy()
+    if live.size:
+        got = _signed(p0[live], p1[live], radii[live], margin, index)
+        close = live[got.distance <= margin]
+        keep = got.distance <= margin
+        d[close], t[close], w[close] = got.distance[keep], got.t[keep], got.point[keep]
+        normal[close], near[close] = got.normal[keep], got.closest[keep]
     return Proximity(d, t, w, normal, near)

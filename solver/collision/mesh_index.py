@@ -11,7 +11,7 @@ import numpy as np
 from .closest import dot, point_segment, point_triangle, unit
 from .grid import UniformGrid
 from .shapes import Mesh
-from .tree import TriangleTree, group_argmin
+from .tree import TriangleTree, group_argmin, group_min
 
 TIE = 1e-12  # m: distances closer than this to the best found count as ties
 
@@ -69,6 +69,7 @@ class MeshIndex:
         self.centroid = tri.mean(axis=1)
         self.bound = np.sqrt(np.max(np.sum((tri - self.centroid[:, None]) ** 2, axis=2), axis=1))
         self.tree = TriangleTree(self.a, self.b, self.c)
+        self.lo, self.hi = mesh.vertices.min(axis=0), mesh.vertices.max(axis=0)
         self.closed = mesh.is_closed()
         outward = -1.0 if self.closed and mesh.signed_volume() < 0 else 1.0
         raw = np.cross(self.b - self.a, self.c - self.a) * outward
@@ -85,65 +86,51 @@ class MeshIndex:
     def _bounds(self, p0: np.ndarray, p1: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds (m) of the distances between segments p0-p1 and triangles ``tri`` (pairs).
 
-        Lower: the bounding sphere, and the plane when both ends are on one side. Upper: the distance to the
-        centroid, or to the plane from the nearer end or the point nearest the centroid if its projection falls
-        inside the triangle."""
-        c, n = self.centroid[tri], self.plane[tri]
+        Lower: the bounding sphere, and the plane when both ends are on one side. Upper: the distance from the
+        segment point nearest the centroid to the centroid, or to the plane if its projection falls inside."""
+        c, n, offset = self.centroid[tri], self.plane[tri], self.offset[tri]
         _, near = point_segment(c, p0, p1)
         upper = np.sqrt(dot(near - c, near - c))
-        h0, h1 = dot(n, p0) - self.offset[tri], dot(n, p1) - self.offset[tri]
+        h0, h1, h = dot(n, p0) - offset, dot(n, p1) - offset, dot(n, near) - offset
         lower = np.maximum(upper - self.bound[tri], np.where(h0 * h1 > 0, np.minimum(np.abs(h0), np.abs(h1)), 0.0))
-        # project the nearer end and the segment point nearest the centroid onto the plane
-        h_near = dot(n, near) - self.offset[tri]
-        h = np.stack([np.where(np.abs(h0) <= np.abs(h1), h0, h1), h_near], axis=1)
-        ends = np.stack([np.where((np.abs(h0) <= np.abs(h1))[:, None], p0, p1), near], axis=1)
-        ap = ends - h[..., None] * n[:, None] - self.a[tri][:, None]
-        d20, d21 = dot(ap, self.ab[tri][:, None]), dot(ap, self.ac[tri][:, None])
-        d00, d01, d11, inv = (g[:, None] for g in self.gram[tri].T)
+        ap = near - h[:, None] * n - self.a[tri]
+        d20, d21 = dot(ap, self.ab[tri]), dot(ap, self.ac[tri])
+        d00, d01, d11, inv = self.gram[tri].T
         v, w = (d11 * d20 - d01 * d21) * inv, (d00 * d21 - d01 * d20) * inv
         over = (v >= 0) & (w >= 0) & (v + w <= 1)
-        upper = np.minimum(upper, np.min(np.where(over, np.abs(h), np.inf), axis=1))
-        return lower, upper
+        return lower, np.where(over, np.minimum(upper, np.abs(h)), upper)
 
-    def candidates(self, p0: np.ndarray, p1: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, ...]:
-        """Triangles that may be a segment's nearest within ``reach`` (k,) m: (first (k,), the triangle with the
-        best upper bound per segment or -1; pairs (segment index, triangle index) grouped by segment of the
-        others that may be closer, with their lower bounds (m)).
-
-        A greedy walk down the tree gives each segment a leaf whose triangles bound the answer from above; the
-        search then keeps the triangles whose lower bound is within the reach and below that bound by more than
-        TIE (a triangle at most TIE closer than the first may be missed)."""
-        k = len(p0)
-        seg, slot = self.tree.descend(p0, p1)
+    def candidates(self, p0: np.ndarray, p1: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs (segment index, triangle index), grouped by segment, among which is each segment's nearest
+        triangle if one lies within ``reach`` (k,) m: the tree's leaves within reach, minus the triangles whose
+        lower bound is not below the segment's best upper bound by more than TIE (ties may be dropped: the
+        answer is then another triangle at most TIE farther)."""
+        seg, slot = self.tree.search(p0, p1, reach)
         tri = self.tree.order[slot]
-        _, upper = self._bounds(p0[seg], p1[seg], tri)
-        first = group_argmin(seg, upper, k)
-        has = first >= 0
-        cut = reach.astype(float).copy()
-        cut[has] = np.minimum(cut[has], upper[first[has]] - TIE)
-        first = np.where(has, tri[np.maximum(first, 0)], -1)
-        seg, slot = self.tree.search(p0, p1, cut)
-        tri = self.tree.order[slot]
-        lower, _ = self._bounds(p0[seg], p1[seg], tri)
-        keep = (lower <= cut[seg]) & (tri != first[seg])
-        return first, seg[keep], tri[keep], lower[keep]
+        lower, upper = self._bounds(p0[seg], p1[seg], tri)
+        best = reach.astype(float).copy()
+        group_min(seg, upper, best)
+        cut = best[seg]
+        keep = (lower < cut - TIE) | (upper <= cut)
+        return seg[keep], tri[keep]
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """True (k,) for points strictly inside a closed mesh (odd crossings of an upward ray); all False for an
         open mesh. Points on the surface may go either way."""
         points = np.atleast_2d(np.asarray(points, dtype=float))
+        inside = np.zeros(len(points), dtype=bool)
         if self._column is None:
-            return np.zeros(len(points), dtype=bool)
-        return self._column.crossings(points) % 2 == 1
+            return inside
+        box = np.flatnonzero(np.all((points >= self.lo) & (points <= self.hi), axis=1))
+        if box.size:
+            inside[box] = self._column.crossings(points[box]) % 2 == 1
+        return inside
 
     def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The nearest surface point of every point (k, 3): (distance (k,) m, point (k, 3), triangle (k,))."""
         points = np.atleast_2d(np.asarray(points, dtype=float))
         k = len(points)
-        first, seg, tri, _ = self.candidates(points, points, np.full(k, np.inf))
-        seg, tri = np.concatenate([np.arange(k), seg]), np.concatenate([first, tri])
-        order = np.argsort(seg, kind="stable")
-        seg, tri = seg[order], tri[order]
+        seg, tri = self.candidates(points, points, np.full(k, np.inf))
         y = point_triangle(points[seg], self.a[tri], self.b[tri], self.c[tri])
         d = np.sqrt(dot(y - points[seg], y - points[seg]))
         best = group_argmin(seg, d, k)  # every point has a candidate: the search keeps the best leaf
