@@ -14,8 +14,8 @@ PARALLEL = 1e-12  # relative: segments with sin^2(angle) below this are treated 
 
 
 def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Row-wise dot product over the last axis."""
-    return np.einsum("...i,...i->...", x, y)
+    """Row-wise dot product of 3-vectors (last axis); faster than einsum on the arrays met here."""
+    return x[..., 0] * y[..., 0] + x[..., 1] * y[..., 1] + x[..., 2] * y[..., 2]
 
 
 def cross(x: np.ndarray, y: np.ndarray) -> np.ndarray:

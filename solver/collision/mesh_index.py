@@ -105,10 +105,10 @@ class MeshIndex:
         triangle if one lies within ``reach`` (k,) m: the tree's leaves within reach, minus the triangles whose
         lower bound is not below the segment's best upper bound by more than TIE (ties may be dropped: the
         answer is then another triangle at most TIE farther)."""
-        seg, slot = self.tree.search(p0, p1, reach)
+        best = reach.astype(float).copy()
+        seg, slot = self.tree.search(p0, p1, best)
         tri = self.tree.order[slot]
         lower, upper = self._bounds(p0[seg], p1[seg], tri)
-        best = reach.astype(float).copy()
         group_min(seg, upper, best)
         cut = best[seg]
         keep = (lower < cut - TIE) | (upper <= cut)

@@ -2,9 +2,10 @@
 
 Triangles are put in k-d tree order by their centroids, so runs of neighbours in the order are compact in
 space; 8 consecutive triangles form a leaf and 8 consecutive nodes a parent, up to a top level of at most TOP
-nodes. Every node keeps its box. A search walks down level by level for all segments together, keeping a node
-only while its lower bound (bounding sphere and box gap) does not exceed a cut-off per segment, so the work
-follows the nodes near the answer.
+nodes. Every node keeps its box and one surface point under it. A search walks down level by level for all
+segments together, keeping a node only while its lower bound (bounding sphere and box gap) does not exceed the
+best upper bound so far (the distance to a node's surface point, or the reach), so the work follows the nodes
+near the answer.
 """
 
 from __future__ import annotations
@@ -63,37 +64,51 @@ FAR = 1e30  # m: where padding nodes sit (finite, so that no arithmetic on them 
 
 
 def _pad(level: tuple[np.ndarray, ...], size: int) -> tuple[np.ndarray, ...]:
-    """A level's arrays (lo, hi, center, radius) extended with far-away empty nodes to ``size`` entries."""
+    """A level's arrays (lo, hi, center, radius, point) extended with far-away empty nodes to ``size`` entries."""
     extra = size - len(level[0])
     return tuple(np.concatenate([x, np.full((extra, *x.shape[1:]), FAR if x.ndim > 1 else 0.0)]) for x in level)
 
 
+def _nearest_to_centers(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Of each run of BRANCH points (N, 3), the one nearest the center of its box lo..hi (one row per run)."""
+    pad = (-len(points)) % BRANCH
+    runs = np.concatenate([points, np.full((pad, 3), FAR)]).reshape(-1, BRANCH, 3)
+    gap = runs - 0.5 * (lo + hi)[:, None]
+    return runs[np.arange(len(runs)), np.argmin(dot(gap, gap), axis=1)]
+
+
 class TriangleTree:
     """The tree over triangles a, b, c (F, 3); ``order`` maps tree slots to triangle indices. Every level but the
-    top is padded so that node i's children are exactly BRANCH * i + (0..BRANCH-1)."""
+    top is padded so that node i's children are exactly BRANCH * i + (0..BRANCH-1). A level is (lo, hi, center,
+    radius, surface point): the box, its bounding sphere and the centroid of one triangle under the node."""
 
     def __init__(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> None:
         self.order = kd_order((a + b + c) / 3.0)
         tri = np.stack([a, b, c], axis=1)[self.order]
-        lo, hi = tri.min(axis=1), tri.max(axis=1)
+        lo, hi, point = tri.min(axis=1), tri.max(axis=1), tri.mean(axis=1)
         levels: list[tuple[np.ndarray, ...]] = []
         while len(lo) > TOP or not levels:
             starts = np.arange(0, len(lo), BRANCH)
             lo, hi = np.minimum.reduceat(lo, starts), np.maximum.reduceat(hi, starts)
-            levels.append((lo, hi, 0.5 * (lo + hi), 0.5 * np.sqrt(dot(hi - lo, hi - lo))))
+            point = _nearest_to_centers(point, lo, hi)
+            levels.append((lo, hi, 0.5 * (lo + hi), 0.5 * np.sqrt(dot(hi - lo, hi - lo)), point))
         levels.reverse()  # top first; the last level's children are triangle slots
         self.levels = [levels[0]] + [_pad(lv, BRANCH * len(up[0])) for up, lv in zip(levels, levels[1:], strict=False)]
         self.size = len(a)
 
-    def _lower(self, depth: int, p0, p1, seg, node) -> tuple[np.ndarray, np.ndarray]:
-        """Lower bounds (m) of the distance from segments to the nodes (bounding sphere and box gap), and the
-        distances to the nodes' centers."""
-        lo, hi, center, radius = self.levels[depth]
-        _, near = point_segment(center[node], p0[seg], p1[seg])
+    def _bounds(self, depth: int, p0, p1, seg, node) -> tuple[np.ndarray, np.ndarray]:
+        """Lower bounds (m) of the distance from segments to the nodes (bounding sphere and box gap), and upper
+        bounds (the distance to the node's surface point)."""
+        lo, hi, center, radius, point = self.levels[depth]
+        a, b = p0[seg], p1[seg]
+        _, near = point_segment(center[node], a, b)
         gap = near - center[node]
-        box = np.maximum(np.maximum(lo[node] - np.maximum(p0, p1)[seg], np.minimum(p0, p1)[seg] - hi[node]), 0.0)
-        to_center = np.sqrt(dot(gap, gap))
-        return np.maximum(to_center - radius[node], np.sqrt(dot(box, box))), to_center
+        box = np.maximum(np.maximum(lo[node] - np.maximum(a, b), np.minimum(a, b) - hi[node]), 0.0)
+        _, on = point_segment(point[node], a, b)
+        to_point = on - point[node]
+        return np.maximum(np.sqrt(dot(gap, gap)) - radius[node], np.sqrt(dot(box, box))), np.sqrt(
+            dot(to_point, to_point)
+        )
 
     def _leaves(self, seg: np.ndarray, node: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         slot = (node[:, None] * BRANCH + np.arange(BRANCH)).ravel()
@@ -101,27 +116,17 @@ class TriangleTree:
         real = slot < self.size
         return seg[real], slot[real]
 
-    def descend(self, p0: np.ndarray, p1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Pairs (segment, triangle slot): the triangles of one promising leaf per segment, found by always taking
-        the child whose center is nearest (a guess that gives a first upper bound, not a search)."""
-        k = len(p0)
-        top = len(self.levels[0][0])
-        node = np.tile(np.arange(top), (k, 1))
-        for depth in range(len(self.levels)):
-            seg = np.repeat(np.arange(k), node.shape[1])
-            to_center = self._lower(depth, p0, p1, seg, node.ravel())[1].reshape(node.shape)
-            best = node[np.arange(k), np.argmin(to_center, axis=1)]
-            node = best[:, None] * BRANCH + np.arange(BRANCH)
-        return self._leaves(np.arange(k), best)
-
-    def search(self, p0: np.ndarray, p1: np.ndarray, cut: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def search(self, p0: np.ndarray, p1: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pairs (segment, triangle slot), grouped by segment, under every node whose lower bound is at most
-        ``cut`` (k,) m for that segment."""
+        ``upper`` (k,) m for that segment; ``upper`` is lowered in place to the distance of the nearest node surface
+        point seen (its triangle is then among the pairs, so the nearest triangle within the cut-off stays)."""
         k = len(p0)
         top = len(self.levels[0][0])
         seg, node = np.repeat(np.arange(k), top), np.tile(np.arange(top), k)
         for depth in range(len(self.levels)):
-            keep = self._lower(depth, p0, p1, seg, node)[0] <= cut[seg]
+            lower, to_point = self._bounds(depth, p0, p1, seg, node)
+            group_min(seg, to_point, upper)
+            keep = lower <= upper[seg]
             seg, node = seg[keep], node[keep]
             if depth + 1 < len(self.levels):
                 seg, node = np.repeat(seg, BRANCH), (node[:, None] * BRANCH + np.arange(BRANCH)).ravel()
