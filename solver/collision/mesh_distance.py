@@ -1,7 +1,7 @@
 """Capsules vs a triangle mesh: exact distance outside, a measured depth inside a closed mesh.
 
 Outside (and for any capsule that does not touch the surface and is not enclosed): the exact closest points of
-the axis segment and the candidate triangles of the grid within ``radius + margin``; capsules with nothing within
+the axis segment and the candidate triangles of the tree within ``radius + margin``; capsules with nothing within
 the margin get +inf. A closed mesh also has an inside: a capsule whose axis touches the surface or lies inside
 (ray parity) gets the signed distance at the deepest of SAMPLES evenly spaced axis points, -(distance to the
 surface), with the normal towards that nearest surface point (the way out); if no sample is inside, the touching
