@@ -57,6 +57,18 @@ def point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarr
     return t, a + t[..., None] * u
 
 
+def distances_to_segments(points: tuple[np.ndarray, ...], a: np.ndarray, b: np.ndarray) -> list[np.ndarray]:
+    """Distances (m) from each array of points (..., 3) to the segments a-b (..., 3), sharing the segments' set-up."""
+    u = b - a
+    inv = 1.0 / np.maximum(dot(u, u), TINY)
+    out = []
+    for p in points:
+        w = p - a
+        gap = w - clip01(dot(w, u) * inv)[..., None] * u
+        out.append(np.sqrt(dot(gap, gap)))
+    return out
+
+
 def segment_segment(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Parameters (s, t) of the closest points p0 + s (p1 - p0) and q0 + t (q1 - q0) of two segments.
 

@@ -74,10 +74,15 @@ class MeshIndex:
         outward = -1.0 if self.closed and mesh.signed_volume() < 0 else 1.0
         raw = np.cross(self.b - self.a, self.c - self.a) * outward
         self.normals = unit(raw, np.array([0.0, 0.0, 1.0]))
-        self.plane, self.offset = self.normals, dot(self.normals, self.a)  # for bounds (sign irrelevant)
-        self.ab, self.ac = self.b - self.a, self.c - self.a
-        d00, d01, d11 = dot(self.ab, self.ab), dot(self.ab, self.ac), dot(self.ac, self.ac)
-        self.gram = np.stack([d00, d01, d11, 1.0 / (d00 * d11 - d01 * d01)], axis=1)  # barycentric coordinates
+        ab, ac = self.b - self.a, self.c - self.a
+        d00, d01, d11 = dot(ab, ab), dot(ab, ac), dot(ac, ac)
+        offset = dot(self.normals, self.a)
+        # one row per triangle for the bounds: centroid, unit normal, plane offset, bounding radius, corner a,
+        # edges ab and ac, and their Gram entries with the inverse determinant (barycentric coordinates)
+        inv = 1.0 / (d00 * d11 - d01 * d01)
+        self._rows = np.column_stack(
+            [self.centroid, self.normals, offset, self.bound, self.a, ab, ac, d00, d01, d11, inv]
+        )
         self._column = _Column(mesh.vertices, mesh.faces) if self.closed else None
 
     def __len__(self) -> int:
@@ -88,14 +93,15 @@ class MeshIndex:
 
         Lower: the bounding sphere, and the plane when both ends are on one side. Upper: the distance from the
         segment point nearest the centroid to the centroid, or to the plane if its projection falls inside."""
-        c, n, offset = self.centroid[tri], self.plane[tri], self.offset[tri]
+        row = self._rows[tri]
+        c, n, offset, bound = row[:, 0:3], row[:, 3:6], row[:, 6], row[:, 7]
         _, near = point_segment(c, p0, p1)
         upper = np.sqrt(dot(near - c, near - c))
         h0, h1, h = dot(n, p0) - offset, dot(n, p1) - offset, dot(n, near) - offset
-        lower = np.maximum(upper - self.bound[tri], np.where(h0 * h1 > 0, np.minimum(np.abs(h0), np.abs(h1)), 0.0))
-        ap = near - h[:, None] * n - self.a[tri]
-        d20, d21 = dot(ap, self.ab[tri]), dot(ap, self.ac[tri])
-        d00, d01, d11, inv = self.gram[tri].T
+        lower = np.maximum(upper - bound, np.where(h0 * h1 > 0, np.minimum(np.abs(h0), np.abs(h1)), 0.0))
+        ap = near - h[:, None] * n - row[:, 8:11]
+        d20, d21 = dot(ap, row[:, 11:14]), dot(ap, row[:, 14:17])
+        d00, d01, d11, inv = row[:, 17], row[:, 18], row[:, 19], row[:, 20]
         v, w = (d11 * d20 - d01 * d21) * inv, (d00 * d21 - d01 * d20) * inv
         over = (v >= 0) & (w >= 0) & (v + w <= 1)
         return lower, np.where(over, np.minimum(upper, np.abs(h)), upper)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .closest import dot, point_segment
+from .closest import distances_to_segments, dot
 
 BRANCH = 8
 TOP = 64
@@ -93,22 +93,19 @@ class TriangleTree:
             point = _nearest_to_centers(point, lo, hi)
             levels.append((lo, hi, 0.5 * (lo + hi), 0.5 * np.sqrt(dot(hi - lo, hi - lo)), point))
         levels.reverse()  # top first; the last level's children are triangle slots
-        self.levels = [levels[0]] + [_pad(lv, BRANCH * len(up[0])) for up, lv in zip(levels, levels[1:], strict=False)]
+        levels = [levels[0]] + [_pad(lv, BRANCH * len(up[0])) for up, lv in zip(levels, levels[1:], strict=False)]
+        # one row per node (lo, hi, center, point, radius): a search gathers a node's data in one indexing
+        self.levels = [np.column_stack([lo, hi, center, point, radius]) for lo, hi, center, radius, point in levels]
         self.size = len(a)
 
     def _bounds(self, depth: int, p0, p1, seg, node) -> tuple[np.ndarray, np.ndarray]:
         """Lower bounds (m) of the distance from segments to the nodes (bounding sphere and box gap), and upper
         bounds (the distance to the node's surface point)."""
-        lo, hi, center, radius, point = self.levels[depth]
+        row = self.levels[depth][node]
         a, b = p0[seg], p1[seg]
-        _, near = point_segment(center[node], a, b)
-        gap = near - center[node]
-        box = np.maximum(np.maximum(lo[node] - np.maximum(a, b), np.minimum(a, b) - hi[node]), 0.0)
-        _, on = point_segment(point[node], a, b)
-        to_point = on - point[node]
-        return np.maximum(np.sqrt(dot(gap, gap)) - radius[node], np.sqrt(dot(box, box))), np.sqrt(
-            dot(to_point, to_point)
-        )
+        to_center, to_point = distances_to_segments((row[:, 6:9], row[:, 9:12]), a, b)
+        box = np.maximum(np.maximum(row[:, 0:3] - np.maximum(a, b), np.minimum(a, b) - row[:, 3:6]), 0.0)
+        return np.maximum(to_center - row[:, 12], np.sqrt(dot(box, box))), to_point
 
     def _leaves(self, seg: np.ndarray, node: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         slot = (node[:, None] * BRANCH + np.arange(BRANCH)).ravel()
@@ -121,7 +118,7 @@ class TriangleTree:
         ``upper`` (k,) m for that segment; ``upper`` is lowered in place to the distance of the nearest node surface
         point seen (its triangle is then among the pairs, so the nearest triangle within the cut-off stays)."""
         k = len(p0)
-        top = len(self.levels[0][0])
+        top = len(self.levels[0])
         seg, node = np.repeat(np.arange(k), top), np.tile(np.arange(top), k)
         for depth in range(len(self.levels)):
             lower, to_point = self._bounds(depth, p0, p1, seg, node)
