@@ -391,3 +391,19 @@ def test_no_nan_for_any_finite_input(p0, p1, same, radius):
         assert np.allclose(along[finite], got.distance[finite] + radius, atol=1e-9)
     pairs = capsule_pairs(p0s, p1s, radius, [0, 1, 2], [1, 2, 0])
     assert np.isfinite(pairs.distance).all() and np.allclose(np.linalg.norm(pairs.normal, axis=1), 1.0)
+
+
+def test_a_segment_piercing_a_triangle_meets_it_at_the_crossing():
+    a, b, c = np.array([0.0, 0.0, 0.0]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    t, x, y = segment_triangle(np.array([0.2, 0.3, -0.25]), np.array([0.2, 0.3, 0.75]), a, b, c)
+    assert t == pytest.approx(0.25) and np.allclose(x, [0.2, 0.3, 0.0]) and np.allclose(y, x)
+    t, x, y = segment_triangle(np.array([0.2, 0.3, 0.5]), np.array([0.6, 0.7, 0.5]), a, b, c)  # parallel, over
+    assert np.linalg.norm(x - y) == pytest.approx(0.5) and y[2] == 0.0
+
+
+def test_an_axis_through_an_open_sheet_is_pushed_to_the_side_with_more_of_it():
+    sheet = MeshIndex(Mesh(*height_field([-1.0, -1.0, 0.0], [2.0, 2.0], (4, 4), lambda x, y: 0 * x)))
+    mostly_above = obstacle_distance(np.array([[0.1, 0.1, -0.1]]), np.array([[0.1, 0.1, 0.3]]), 0.05, sheet, 0.1)
+    mostly_below = obstacle_distance(np.array([[0.1, 0.1, 0.1]]), np.array([[0.1, 0.1, -0.3]]), 0.05, sheet, 0.1)
+    assert mostly_above.distance[0] == pytest.approx(-0.05) and np.allclose(mostly_above.normal[0], [0, 0, 1])
+    assert mostly_below.distance[0] == pytest.approx(-0.05) and np.allclose(mostly_below.normal[0], [0, 0, -1])
