@@ -1,5 +1,5 @@
-"""Benchmarks that write docs/BENCHMARKS.md: preset scenarios (``scenarios``) and random targets
-(``random_targets``, thesis §6.1.2)."""
+"""Benchmarks that write docs/BENCHMARKS.md: preset scenarios (``scenarios``), random targets
+(``random_targets``, thesis §6.1.2) and collision distance queries (``collision``)."""
 
 import os
 import sys

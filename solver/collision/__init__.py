@@ -1,0 +1,43 @@
+"""Collision geometry: obstacle shapes, mesh files, and signed distances from the body's capsules to obstacles and
+between capsules (pure NumPy).
+
+Conventions: world coordinates in m; a capsule is a segment p0-p1 swept by a ball of radius r; distances are
+surface to surface (negative = penetration); the normal points from the obstacle to the capsule and is the
+gradient of the distance with respect to the witness point on the capsule's axis.
+"""
+
+from .distance import (
+    box_distance,
+    capsule_distance,
+    capsule_pairs,
+    halfspace_distance,
+    obstacle_distance,
+    sphere_distance,
+)
+from .mesh_distance import mesh_distance
+from .mesh_files import read_mesh, write_obj
+from .mesh_index import MeshIndex
+from .proximity import PairProximity, Proximity
+from .shapes import Box, Capsule, HalfSpace, Mesh, Obstacle, Sphere, degenerate_faces
+
+__all__ = [
+    "Box",
+    "Capsule",
+    "HalfSpace",
+    "Mesh",
+    "MeshIndex",
+    "Obstacle",
+    "PairProximity",
+    "Proximity",
+    "Sphere",
+    "box_distance",
+    "capsule_distance",
+    "capsule_pairs",
+    "degenerate_faces",
+    "halfspace_distance",
+    "mesh_distance",
+    "obstacle_distance",
+    "read_mesh",
+    "sphere_distance",
+    "write_obj",
+]

@@ -1,0 +1,33 @@
+"""What a distance query returns: per capsule (or per pair of capsules) the distance, witnesses and normal."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Proximity(NamedTuple):
+    """Per capsule (k rows): ``distance`` (k,) m surface to surface (negative = penetration, +inf = nothing within
+    the margin), ``t`` (k,) the witness parameter on the axis, ``point`` (k, 3) the witness p0 + t (p1 - p0),
+    ``normal`` (k, 3) unit from the obstacle to the capsule (zero where the distance is +inf) and ``closest``
+    (k, 3) the obstacle's surface point paired with the witness (= point - (distance + radius) * normal)."""
+
+    distance: np.ndarray
+    t: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    closest: np.ndarray
+
+
+class PairProximity(NamedTuple):
+    """Per pair (i, j) of capsules: ``distance`` (m) surface to surface, witnesses ``point`` = p0[i] + t (p1[i] -
+    p0[i]) and ``point_other`` = p0[j] + t_other (p1[j] - p0[j]) on the two axes, and ``normal`` unit from j to i:
+    dd/dpoint = normal, dd/dpoint_other = -normal."""
+
+    distance: np.ndarray
+    t: np.ndarray
+    point: np.ndarray
+    t_other: np.ndarray
+    point_other: np.ndarray
+    normal: np.ndarray
