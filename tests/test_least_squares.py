@@ -97,3 +97,26 @@ def test_trust_region_step_is_the_levenberg_marquardt_step_of_that_length(shrink
     reference = col_scale * _damped_step(jac, err, lm)
     cosine = short @ reference / (np.linalg.norm(short) * np.linalg.norm(reference))
     assert cosine > 0.995, cosine
+
+
+def test_rows_without_entries_take_no_part():
+    """A met one-sided constraint has a zero Jacobian row: the factors are those of the other rows (Cholesky, not the
+    eigendecomposition a singular J J^T would need), the step and basis are theirs, its multiplier is 0."""
+    rng = np.random.default_rng(8)
+    jac = rng.standard_normal((6, 25))
+    padded = np.zeros((9, 25))
+    rows = [0, 2, 3, 5, 6, 8]
+    padded[rows] = jac
+    err = np.zeros(9)
+    err[rows] = rng.standard_normal(6)
+    grad = rng.standard_normal(25)
+    alone, both = LeastSquares(jac, TUNING.max_damping), LeastSquares(padded, TUNING.max_damping)
+    assert not both.uses_eigendecomposition
+    np.testing.assert_allclose(both.step(err), alone.step(err[rows]), atol=1e-12)
+    np.testing.assert_allclose(both.step_within(err, np.ones(25), 0.1), alone.step_within(err[rows], np.ones(25), 0.1))
+    np.testing.assert_allclose(_projector(both.basis), _projector(alone.basis), atol=1e-12)
+    multipliers = both.multipliers(grad)
+    np.testing.assert_allclose(multipliers[rows], alone.multipliers(grad), atol=1e-12)
+    assert not multipliers[[1, 4, 7]].any()
+    nothing = LeastSquares(np.zeros((3, 25)), TUNING.max_damping)
+    assert not nothing.step(np.zeros(3)).any() and nothing.basis.shape == (0, 25)

@@ -21,6 +21,12 @@ class LeastSquares:
     """
 
     def __init__(self, jac: np.ndarray, max_damping: float) -> None:
+        self._rows = jac.shape[0]
+        # rows without any entry (a one-sided constraint while it is met) take no part: kept, they would make G
+        # singular and send every step down the eigendecomposition path
+        self._active = None if jac.size == 0 or jac.any(axis=1).all() else np.flatnonzero(jac.any(axis=1))
+        if self._active is not None:
+            jac = jac[self._active]
         self._jac = jac
         m = jac.shape[0]
         gram = jac @ jac.T
@@ -58,12 +64,17 @@ class LeastSquares:
             self._factors[shift] = factor
         return lapack.dpotrs(factor, rhs, lower=1)[0]
 
+    def _own(self, err: np.ndarray) -> np.ndarray:
+        """``err`` on the rows that take part."""
+        return err if self._active is None else err[self._active]
+
     def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
         """-J^T (G + d^2 I)^-1 err (plus ``extra2``, a squared LM damping)."""
-        return -self._jac.T @ self._solve(err, extra2)
+        return -self._jac.T @ self._solve(self._own(err), extra2)
 
     def step_within(self, err: np.ndarray, col_scale: np.ndarray, radius: float) -> np.ndarray:
         """The step, in variables ``col_scale * y``, with LM damping raised until its 2-norm <= radius."""
+        err = self._own(err)
         z = self._solve(err)
         scaled = self._jac * col_scale  # the step is -scaled^T z
         out = -scaled.T @ z
@@ -88,8 +99,13 @@ class LeastSquares:
         return out * (radius / size) if size > radius else out
 
     def multipliers(self, g: np.ndarray) -> np.ndarray:
-        """lambda with g + J^T lambda ~ 0 (damped least squares)."""
-        return -self._solve(self._jac @ g)
+        """lambda with g + J^T lambda ~ 0 (damped least squares); 0 on rows that take no part."""
+        own = -self._solve(self._jac @ g)
+        if self._active is None:
+            return own
+        out = np.zeros(self._rows)
+        out[self._active] = own
+        return out
 
     @property
     def uses_eigendecomposition(self) -> bool:
