@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import minimize, minimize_scalar
 
@@ -374,6 +374,8 @@ OBSTACLES = [
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(p0=vector, p1=vector, same=st.booleans(), radius=st.sampled_from([0.0, 0.05]))
+@example(p0=np.array([-1.0, -1.0, 7.8e-162]), p1=np.array([-1.0, -1.0, -1.0]), same=False, radius=0.0)  # subnormal
+@example(p0=np.array([-1.0, -1.0, -1.0]), p1=np.array([-0.5, 0.0, 7.8e-162]), same=False, radius=0.05)
 def test_no_nan_for_any_finite_input(p0, p1, same, radius):
     if same:
         p1 = p0

@@ -36,8 +36,8 @@ def clip01(x: np.ndarray) -> np.ndarray:
 def unit(v: np.ndarray, fallback: np.ndarray) -> np.ndarray:
     """``v`` scaled to unit length along the last axis; rows of (near) zero length take ``fallback`` (unit)."""
     length = np.sqrt(dot(v, v))[..., None]
-    ok = length > 1e-300
-    return np.where(ok, v / np.maximum(length, 1e-300), fallback)
+    ok = length > 1e-150  # below, |v|^2 is subnormal and its square root too imprecise to normalise by
+    return np.where(ok, v / np.maximum(length, 1e-150), fallback)
 
 
 def perpendicular(u: np.ndarray) -> np.ndarray:
