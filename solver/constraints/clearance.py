@@ -1,0 +1,99 @@
+"""Clearance: the body's capsules keep at least each obstacle's clearance from it (one-sided rows, m).
+
+Rows: for a half-space (the floor) one per capsule end, g = n.(end - point) - radius, exact and smooth (a capsule's
+lowest point is one of its ends, and a capsule lying flat needs both to stay down); for any other obstacle one per
+capsule, g = the signed surface distance of :func:`solver.collision.obstacle_distance`. The Jacobian of a row is
+n . (velocity of the witness point on the capsule's axis), the point carried by the capsule's link (the distance's
+gradient with respect to that point is the unit normal n; the envelope theorem drops the witness's own motion).
+Rows farther than ``margin`` are met and cost nothing; every row ranks with supports and balance (priority 1).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..collision import HalfSpace, Mesh, MeshIndex, Obstacle, obstacle_distance
+from ..collision.body import BodyCapsules
+from ..model import Model
+from ..state import State
+from .inequality import Inequality
+
+TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
+
+
+class Clearance(Inequality):
+    """Capsules ``capsules`` of ``model`` against ``obstacles``; ``exclude`` lists capsule names that may touch an
+    obstacle (none by default: a standing foot's capsule rests on the floor at distance 0)."""
+
+    name = "clearance"
+
+    def __init__(
+        self, model: Model, capsules: BodyCapsules, obstacles: list[Obstacle], n_x: int, margin: float = 0.05
+    ) -> None:
+        self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
+        self.obstacles = list(obstacles)
+        self._queries = [MeshIndex(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
+        k = len(capsules)
+        self._labels: list[str] = []
+        floors = []
+        for ob in self.obstacles:
+            ends = ("start", "end") if isinstance(ob, HalfSpace) else ("",)
+            for end in ends:
+                self._labels += [f"{name}{'.' + end if end else ''} vs {ob.name}" for name in capsules.names]
+                floors.append(np.full(k, ob.clearance))
+        self.floor = np.concatenate(floors) if floors else np.zeros(0)
+        self._tolerance = np.full(len(self.floor), TOLERANCE)
+
+    @property
+    def rows(self) -> int:
+        return len(self.floor)
+
+    def tolerance(self) -> np.ndarray:
+        return self._tolerance
+
+    def _evaluate(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(distance (rows,) m, witness points (rows, 3), normals (rows, 3), capsule of each row), once per state."""
+        cached = state.cache.get(self)
+        if cached is not None:
+            return cached
+        caps = self.capsules
+        p0, p1 = caps.world(state.kin)
+        index = np.arange(len(caps))
+        parts = []
+        for ob, query in zip(self.obstacles, self._queries, strict=True):
+            if isinstance(ob, HalfSpace):
+                for end in (p0, p1):
+                    height = (end - ob.point) @ ob.normal - caps.radius
+                    parts.append((height, end, np.broadcast_to(ob.normal, end.shape), index))
+            else:
+                got = obstacle_distance(p0, p1, caps.radius, query, self.margin)
+                far = ~np.isfinite(got.distance)
+                distance = np.where(far, max(self.margin, ob.clearance) + 1.0, got.distance)
+                parts.append((distance, got.point, got.normal, index))
+        if parts:
+            cached = tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
+        else:
+            cached = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int))
+        state.cache[self] = cached
+        return cached
+
+    def value(self, state: State) -> np.ndarray:
+        return self._evaluate(state)[0]
+
+    def value_jacobian(self, state: State) -> np.ndarray:
+        _, points, normals, capsule = self._evaluate(state)
+        mask = self.model.descendant[:, self.capsules.link[capsule]].T.astype(float)  # joints moving each link
+        out = np.zeros((self.rows, self.n_x))
+        out[:, : self.model.n] = state.kin.jacobian_rows(points, normals, np.zeros_like(normals), mask)
+        return out
+
+    def unmet(self, state: State) -> list[str]:
+        """One name per capsule and obstacle below its clearance, e.g. "hand_r vs floor"."""
+        met = self.met_rows(state)
+        return sorted({self._labels[i].replace(".start", "").replace(".end", "") for i in np.flatnonzero(~met)})
+
+    def closest(self, state: State) -> list[tuple[str, float]]:
+        """(row label, distance m) of the rows within the margin, nearest first."""
+        distance = self.value(state)
+        near = np.flatnonzero(distance < self.margin)
+        return [(self._labels[i], float(distance[i])) for i in near[np.argsort(distance[near])]]

@@ -1,0 +1,68 @@
+"""Clearance rows (issue 20, the solver side): exact Jacobians against finite differences, and the floor keeping a
+manikin standing when a hand target lies 1 m below it (without the floor it "converged" upside down)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import finite_difference
+
+from solver import solve
+from solver.bodies import load_body
+from solver.collision import Box, HalfSpace
+from solver.collision.body import body_capsules
+from solver.constraints.clearance import Clearance
+from solver.problem import Problem, Target
+
+FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")
+
+
+@pytest.fixture(scope="module")
+def male50():
+    return load_body(preset="male_50")
+
+
+def reach_below(model, obstacles: list) -> tuple[Problem, Clearance | None]:
+    zero = model.forward(model.zero_pose())
+    targets = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
+    targets.append(Target("hand_r", np.array([-0.2, -0.4, -1.0]), lock=("x", "y", "z")))
+    if not obstacles:
+        return Problem(model, targets), None
+    clearance = Clearance(model, body_capsules(model), obstacles, Problem(model, targets).n_x)
+    return Problem(model, targets, extra_constraints=[clearance]), clearance
+
+
+def test_clearance_jacobian_matches_finite_differences(male50):
+    """A crouched, twisted pose that puts capsules through the floor and through a box at the right hand."""
+    box = Box([-0.3, -0.3, 0.5], [0.4, 0.4, 0.4], name="box")
+    problem, clearance = reach_below(male50, [FLOOR, box])
+    rng = np.random.default_rng(11)
+    x = problem.start() + np.r_[rng.uniform(-0.5, 0.5, male50.n), np.zeros(problem.n_x - male50.n)]
+    x[2] = -0.45  # root lowered: the legs and hips go through the floor
+    state = problem.state_of_x(x)
+    value = clearance.value(state)
+    assert (value < 0).sum() >= 4 and np.isfinite(value).all()
+    jac = clearance.value_jacobian(state)
+    numeric = finite_difference(lambda v: clearance.value(problem.state_of_x(v)), x, 1e-7)
+    np.testing.assert_allclose(jac, numeric, atol=1e-5 * max(1.0, np.abs(jac).max()))
+    assert clearance.unmet(state) and all(" vs " in name for name in clearance.unmet(state))
+
+
+def test_the_floor_keeps_the_manikin_standing(male50):
+    """A hand target 1 m below the floor: without the floor the solve 'converges' with the pelvis at the floor;
+    with it the hand ends short, nothing goes more than 1 mm below z = 0 (recomputed from the capsules), the feet
+    and balance hold."""
+    free, _ = reach_below(male50, [])
+    sunk = solve(free)
+    pelvis = male50.forward(sunk.theta).tcp_frame(male50.tcp("pelvis"))[1][2]
+    assert sunk.converged and pelvis < 0.3
+    problem, clearance = reach_below(male50, [FLOOR])
+    result = solve(problem)
+    assert not result.converged and result.unmet == ["hand_r"] and result.broken == []
+    kin = male50.forward(result.theta)
+    capsules = body_capsules(male50)
+    p0, p1 = capsules.world(kin)
+    lowest = np.minimum(p0[:, 2], p1[:, 2]) - capsules.radius
+    assert lowest.min() > -1e-3
+    assert kin.tcp_frame(male50.tcp("pelvis"))[1][2] > 0.5
+    assert result.shortfall["hand_r"]["position_m"] > 1.0
