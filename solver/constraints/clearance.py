@@ -22,14 +22,23 @@ TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 
 
 class Clearance(Inequality):
-    """Capsules ``capsules`` of ``model`` against ``obstacles``; ``exclude`` lists capsule names that may touch an
-    obstacle (none by default: a standing foot's capsule rests on the floor at distance 0)."""
+    """Capsules ``capsules`` of ``model`` against ``obstacles``, but those named in ``exclude``: a support's capsule,
+    held on its plane by its own target (its rows would repeat the target's and make the step's rows dependent)."""
 
     name = "clearance"
 
     def __init__(
-        self, model: Model, capsules: BodyCapsules, obstacles: list[Obstacle], n_x: int, margin: float = 0.05
+        self,
+        model: Model,
+        capsules: BodyCapsules,
+        obstacles: list[Obstacle],
+        n_x: int,
+        margin: float = 0.05,
+        exclude: tuple[str, ...] = (),
     ) -> None:
+        keep = np.array([name not in exclude for name in capsules.names], dtype=bool)
+        capsules = BodyCapsules(tuple(n for n, k in zip(capsules.names, keep, strict=True) if k), capsules.link[keep],
+                                capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         self._queries = [MeshIndex(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
@@ -81,10 +90,20 @@ class Clearance(Inequality):
         return self._evaluate(state)[0]
 
     def value_jacobian(self, state: State) -> np.ndarray:
-        _, points, normals, capsule = self._evaluate(state)
-        mask = self.model.descendant[:, self.capsules.link[capsule]].T.astype(float)  # joints moving each link
+        return self._jacobian_of(state, np.arange(self.rows))
+
+    def jacobian(self, state: State) -> np.ndarray:
+        """d error / dx: only the rows inside their clearance (the others are met, their rows zero)."""
+        return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < 0.0))
+
+    def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
+        """(rows, n_x) with d g / dx on ``rows`` and zeros elsewhere."""
         out = np.zeros((self.rows, self.n_x))
-        out[:, : self.model.n] = state.kin.jacobian_rows(points, normals, np.zeros_like(normals), mask)
+        if rows.size:
+            _, points, normals, capsule = self._evaluate(state)
+            mask = self.model.descendant[:, self.capsules.link[capsule[rows]]].T.astype(float)  # joints moving each
+            normal = normals[rows]
+            out[rows, : self.model.n] = state.kin.jacobian_rows(points[rows], normal, np.zeros_like(normal), mask)
         return out
 
     def unmet(self, state: State) -> list[str]:

@@ -16,9 +16,10 @@ from ..model import GRAVITY, Model
 from ..motion import Key, Track, targets_at
 from ..options import AXES, DEFAULT_OPTIONS, MAX_FRAME, MAX_FRAMES, MAX_WEIGHT, MIN_WEIGHT, MotionLimits, SolverOptions
 from ..priorities import PRIORITIES
-from ..problem import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Problem, Target
+from ..problem import Problem
 from ..reduction import DEFAULT_GROUPS, GROUPS
 from ..scenario import Scenario
+from ..specs import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Target
 from .files import read_text
 from .files import read_toml as read_toml_file
 from .table_reader import TableReader
