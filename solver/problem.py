@@ -14,6 +14,7 @@ import numpy as np
 from .bounds import Bounds
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
+from .constraints.clearance import floor_clearance
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
@@ -37,9 +38,11 @@ class Problem:
         reduction: tuple[str, ...] = (),
         extra_constraints: list[Constraint] = (),
         comfort: Comfort | None = None,
+        floor: bool = True,
     ) -> None:
         """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
-        ``comfort`` replaces the standard terms weighted by ``comfort_weights``."""
+        ``comfort`` replaces the standard terms weighted by ``comfort_weights``; ``floor`` keeps every body part
+        above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`)."""
         validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
@@ -62,6 +65,8 @@ class Problem:
         self.n_x = n + n_w
         self.loop_constraints = [self._loop_constraint(lp) for lp in self.loops]
         self.balance_constraint = BalanceConstraint(self.n_x) if balance else None
+        self.floor = floor
+        self.floor_constraint = floor_clearance(model, self.targets, self.n_x) if floor else None
         self.extra_constraints = list(extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
         self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
@@ -92,6 +97,7 @@ class Problem:
                 reduction=self.reduction_groups,
                 extra_constraints=self.extra_constraints,
                 comfort=self.comfort,
+                floor=self.floor,
             )
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
@@ -146,7 +152,8 @@ class Problem:
         self.target_constraints = list(target_constraints)
         frames = [*target_constraints, *self.loop_constraints]
         self.frames = FrameGroup(frames) if frames else None
-        rows = [c for c in (self.frames, self.balance_constraint, *self.extra_constraints) if c is not None]
+        rows = [self.frames, self.balance_constraint, self.floor_constraint, *self.extra_constraints]
+        rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
         self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)

@@ -28,9 +28,9 @@ def reach_below(model, obstacles: list) -> tuple[Problem, Clearance | None]:
     targets = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
     targets.append(Target("hand_r", np.array([-0.2, -0.4, -1.0]), lock=("x", "y", "z")))
     if not obstacles:
-        return Problem(model, targets), None
+        return Problem(model, targets, floor=False), None
     clearance = Clearance(model, body_capsules(model), obstacles, Problem(model, targets).n_x, exclude=FEET)
-    return Problem(model, targets, extra_constraints=[clearance]), clearance
+    return Problem(model, targets, extra_constraints=[clearance], floor=False), clearance
 
 
 def test_clearance_jacobian_matches_finite_differences(male50):
@@ -51,14 +51,14 @@ def test_clearance_jacobian_matches_finite_differences(male50):
 
 def test_the_floor_keeps_the_manikin_standing(male50):
     """A hand target 1 m below the floor: without the floor the solve 'converges' with the pelvis at the floor;
-    with it the hand ends short, nothing goes more than 1 mm below z = 0 (recomputed from the capsules), the feet
-    and balance hold."""
+    with it (the default) the hand ends short, nothing goes more than 1 mm below z = 0 (recomputed from the
+    capsules), the feet and balance hold."""
     free, _ = reach_below(male50, [])
     sunk = solve(free)
     pelvis = male50.forward(sunk.theta).tcp_frame(male50.tcp("pelvis"))[1][2]
     assert sunk.converged and pelvis < 0.3
-    problem, clearance = reach_below(male50, [FLOOR])
-    result = solve(problem)
+    result = solve(Problem(male50, free.targets))
+    assert result.problem.floor_constraint is not None
     assert not result.converged and result.unmet == ["hand_r"] and result.broken == []
     kin = male50.forward(result.theta)
     capsules = body_capsules(male50)
@@ -67,3 +67,19 @@ def test_the_floor_keeps_the_manikin_standing(male50):
     assert lowest.min() > -1e-3
     assert kin.tcp_frame(male50.tcp("pelvis"))[1][2] > 0.5
     assert result.shortfall["hand_r"]["position_m"] > 1.0
+
+
+def test_the_scenario_file_turns_the_floor_off_and_writes_it(tmp_path):
+    from solver import dumps_scenario, load_scenario, scenario_to_dict
+    from solver.errors import ScenarioError
+
+    text = open("presets/scenarios/box_lift.toml", encoding="utf-8").read()
+    assert load_scenario("presets/scenarios/box_lift.toml").problem.floor  # on by default
+    path = tmp_path / "s.toml"
+    path.write_text(text + "\n[floor]\nenabled = false\n", encoding="utf-8")
+    scenario = load_scenario(path)
+    assert not scenario.problem.floor and scenario.problem.floor_constraint is None
+    assert "[floor]\nenabled = false" in dumps_scenario(scenario_to_dict(scenario.problem, {"preset": "male_50"}))
+    path.write_text(text + "\n[floor]\nenabled = \"yes\"\n", encoding="utf-8")
+    with pytest.raises(ScenarioError, match="floor.enabled"):
+        load_scenario(path)

@@ -296,7 +296,8 @@ def test_unreachable_target_stops_early_with_the_best_compromise(male50):
     far = np.array([0.0, -0.3, 3.0])
     result = solve(reach_problem(male50, far))
     assert not result.converged and "hand_r" in result.unmet
-    assert result.iterations < 2 * DEFAULT_OPTIONS.max_iterations and result.stop is StopReason.CLOSEST
+    assert result.iterations < 2 * DEFAULT_OPTIONS.max_iterations
+    assert result.stop in (StopReason.CLOSEST, StopReason.ITERATION_LIMIT)  # the ranked solve's, feet held
     assert result.unmet == ["hand_r"] and not result.broken
     kin = male50.forward(result.theta)
     reach = np.linalg.norm(_tcp_frame(male50, kin, "hand_r")[1] - far)

@@ -176,7 +176,7 @@ class MANIKIN_PT_settings(_SidebarPanel):
         settings = rig_of(context.active_object).manikin
         layout = self.layout
         layout.use_property_split = True
-        for name in ("balance", "comfort", "reduction", "max_iterations", "restarts", "live_iterations"):
+        for name in ("balance", "floor", "comfort", "reduction", "max_iterations", "restarts", "live_iterations"):
             layout.prop(settings, name)
         col = layout.column(heading="Comfort weights", align=True)
         for name in ("comfort_range", "comfort_load", "comfort_contact"):

@@ -114,6 +114,9 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     balance: BoolProperty(
         name="Balance", default=True, description="Static balance with unknown contact forces", update=_rig_changed
     )
+    floor: BoolProperty(
+        name="Floor", default=True, description="Keep every body part above the floor (z = 0)", update=_rig_changed
+    )
     comfort: BoolProperty(
         name="Comfort", default=True, description="Maximise comfort in the constraints' null space", update=_rig_changed
     )

@@ -91,6 +91,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             bpy.data.objects.remove(ob, do_unlink=True)
         problem, settings = sc.problem, arm.manikin
         settings.balance = problem.balance
+        settings.floor = problem.floor
         settings.reduction = bool(problem.reduction_groups)
         settings.comfort = sc.options.optimize_comfort
         settings.max_iterations = sc.options.max_iterations

@@ -122,7 +122,7 @@ def trial_problem(model: Model, targets: dict, balance: bool, groups: tuple[str,
         for f in ("foot_l", "foot_r")
     ]
     hands = [Target(f"hand_{s}", targets[s][0], targets[s][1]) for s in ("r", "l")]
-    return Problem(model, [*feet, *hands], balance=balance, reduction=groups)
+    return Problem(model, [*feet, *hands], balance=balance, reduction=groups, floor=False)  # the thesis's: no floor
 
 
 _MODEL: Model | None = None

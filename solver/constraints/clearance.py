@@ -10,15 +10,37 @@ Rows farther than ``margin`` are met and cost nothing; every row ranks with supp
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..collision import HalfSpace, Mesh, MeshIndex, Obstacle, obstacle_distance
-from ..collision.body import BodyCapsules
+from ..collision.body import BodyCapsules, body_capsules
 from ..model import Model
 from ..state import State
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
+FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
+
+
+@lru_cache(maxsize=8)
+def capsules_of(model: Model) -> BodyCapsules:
+    """The body's capsules of ``model``, built once per model."""
+    return body_capsules(model)
+
+
+def floor_clearance(model: Model, targets: list, n_x: int) -> Clearance:
+    """Every capsule above the floor z = 0, but those of links that a target holds on its plane: a support, or a
+    sole whose height the target locks (its rows would repeat the target's)."""
+    held = set()
+    for t in targets:
+        tcp = model.tcp(t.tcp)
+        if t.support or (tcp.sole is not None and t.operator is None and "z" in t.lock):
+            held.add(tcp.link)
+    capsules = capsules_of(model)
+    exclude = tuple(name for name, link in zip(capsules.names, capsules.link, strict=True) if link in held)
+    return Clearance(model, capsules, [FLOOR], n_x, exclude=exclude)
 
 
 class Clearance(Inequality):

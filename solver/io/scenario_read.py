@@ -25,7 +25,7 @@ from .files import read_toml as read_toml_file
 from .table_reader import TableReader
 
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
-            "description"}  # fmt: skip
+            "description", "floor"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
                "priority", "name", "keys"}  # fmt: skip
 FRAME = "a whole frame number"
@@ -65,7 +65,8 @@ def load_scenario(path: str | Path) -> Scenario:
         raise root.fail("targets", "a target with support = true when [solver] balance = true")
     frames, limits = _read_motion(root, tracks)
     try:
-        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction)
+        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
+                          floor=_read_floor(root))  # fmt: skip
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
@@ -169,6 +170,15 @@ def _read_target(t: TableReader, model: Model) -> tuple[Target, tuple[Key, ...]]
         priority=_priority(t),
     )
     return target, keys
+
+
+def _read_floor(root: TableReader) -> bool:
+    """[floor] enabled: every body part stays above z = 0 (default true)."""
+    if "floor" not in root.data:
+        return True
+    t = root.table("floor")
+    t.known({"enabled"})
+    return t.boolean("enabled", True)
 
 
 def _priority(t: TableReader) -> int | None:

@@ -43,6 +43,7 @@ def scenario_to_dict(
         data["solver"]["reduction"] = list(problem.reduction_groups)
     w = problem.comfort.weights
     data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
+    data["floor"] = dict(enabled=problem.floor)
     if start is not None:
         joints = {n: float(v) for n, v in zip(model.joint_names, start[: model.n], strict=True) if abs(v) > 1e-12}
         if joints:
