@@ -80,6 +80,6 @@ def test_the_scenario_file_turns_the_floor_off_and_writes_it(tmp_path):
     scenario = load_scenario(path)
     assert not scenario.problem.floor and scenario.problem.floor_constraint is None
     assert "[floor]\nenabled = false" in dumps_scenario(scenario_to_dict(scenario.problem, {"preset": "male_50"}))
-    path.write_text(text + "\n[floor]\nenabled = \"yes\"\n", encoding="utf-8")
+    path.write_text(text + '\n[floor]\nenabled = "yes"\n', encoding="utf-8")
     with pytest.raises(ScenarioError, match="floor.enabled"):
         load_scenario(path)
