@@ -83,3 +83,21 @@ def test_the_scenario_file_turns_the_floor_off_and_writes_it(tmp_path):
     path.write_text(text + '\n[floor]\nenabled = "yes"\n', encoding="utf-8")
     with pytest.raises(ScenarioError, match="floor.enabled"):
         load_scenario(path)
+
+
+def test_the_result_file_holds_the_capsules_and_the_closest_pairs(male50, tmp_path):
+    """From the result JSON alone: every capsule (link, world end points, radius) of the solved pose, none more than
+    1 mm below the floor, and the pairs within the margin, nearest first."""
+    import json
+
+    from solver import write_result
+
+    free, _ = reach_below(male50, [])
+    result = solve(Problem(male50, free.targets))
+    frame = json.loads(write_result(tmp_path / "r.json", [(1, result)]).read_text(encoding="utf-8"))["frames"][0]
+    shapes = frame["collision_shapes"]
+    assert len(shapes) == len(body_capsules(male50)) and {s["link"] for s in shapes} >= {"hand_r", "head"}
+    lowest = min(min(s["start"][2], s["end"][2]) - s["radius"] for s in shapes)
+    assert lowest > -1e-3
+    distances = [pair["distance"] for pair in frame["closest"]]
+    assert distances == sorted(distances) and distances[0] < 0.01  # the reaching arm rests on the floor

@@ -14,6 +14,7 @@ Massless links (fingers, toes, the exterior root) get no capsule.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -72,6 +73,12 @@ def body_capsules(model: Model) -> BodyCapsules:
         tuple(names), np.array(links, dtype=int), np.array(starts).reshape(-1, 3), np.array(ends).reshape(-1, 3),
         np.array(radii),
     )  # fmt: skip
+
+
+@lru_cache(maxsize=8)
+def capsules_of(model: Model) -> BodyCapsules:
+    """:func:`body_capsules` of ``model``, built once per model."""
+    return body_capsules(model)
 
 
 def _over_sole(tcp: Tcp, radius: float) -> tuple[np.ndarray, np.ndarray, float]:

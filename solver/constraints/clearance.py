@@ -10,24 +10,16 @@ Rows farther than ``margin`` are met and cost nothing; every row ranks with supp
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from ..collision import HalfSpace, Mesh, MeshIndex, Obstacle, obstacle_distance
-from ..collision.body import BodyCapsules, body_capsules
+from ..collision.body import BodyCapsules, capsules_of
 from ..model import Model
 from ..state import State
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
-
-
-@lru_cache(maxsize=8)
-def capsules_of(model: Model) -> BodyCapsules:
-    """The body's capsules of ``model``, built once per model."""
-    return body_capsules(model)
 
 
 def floor_clearance(model: Model, targets: list, n_x: int) -> Clearance:

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..collision.body import capsules_of
 from ..model import GRAVITY
 from ..tree import descendants
 
@@ -49,6 +50,9 @@ class Frame:
     loads: list[tuple[str, np.ndarray, np.ndarray]]  # (tcp, point, force)
     unmet: tuple[str, ...] = ()  # constraints the solve left unmet (reach targets short, or priority 1 broken)
     broken: tuple[str, ...] = ()  # the unmet ones of priority 1 (supports, loops, balance): loads not physical
+    collision_shapes: list[tuple[str, np.ndarray, np.ndarray, float]] = field(
+        default_factory=list
+    )  # (link, ends m, r m)
     below: np.ndarray = field(init=False)  # (L, L) bool
     index: dict[str, int] = field(init=False)  # joint name -> index
 
@@ -111,6 +115,9 @@ def frame_of_pose(
     """The frame of ``model`` posed as ``kin`` (its forward kinematics) with these contacts and loads; ``status``:
     the Frame's fields about the solve (``number``, ``converged``, and optionally ``unmet``, ``broken``)."""
     frames = {name: kin.tcp_frame(tcp) for name, tcp in model.tcps.items()}
+    capsules = capsules_of(model)
+    ends = capsules.world(kin)
+    shapes = [(n, a, b, float(r)) for n, a, b, r in zip(capsules.names, *ends, capsules.radius, strict=True)]
     return Frame(
         **status,
         joint_names=list(model.joint_names),
@@ -131,4 +138,5 @@ def frame_of_pose(
         gravity=np.asarray(gravity, dtype=float).copy(),
         contacts=contacts,
         loads=loads,
+        collision_shapes=shapes,
     )

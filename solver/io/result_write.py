@@ -28,7 +28,8 @@ COMPACT_VERSION = 1
 
 def frame_status(result: Result, frame: int, state: State) -> dict:
     """How the solve of one frame went (every field of a result frame that is not the pose): frame, converged,
-    stop, iterations, time_s, unmet, notes, targets (world frames), residuals, comfort, comfort_terms, com."""
+    stop, iterations, time_s, unmet, notes, targets (world frames), residuals, comfort, comfort_terms, com, and the
+    closest pairs within the clearance rows' margin ({pair: "hand_r vs floor", distance: m}, nearest first)."""
     targets = {
         name: dict(position=floats(pos), rotation=quaternion(rot))
         for name, (rot, pos) in result.problem.target_frames(state).items()
@@ -48,7 +49,9 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
         comfort=result.comfort,
         comfort_terms=result.comfort_parts,
         com=floats(result.com),
-    )
+        closest=[dict(pair=pair, distance=d) for c in result.problem.constraints if hasattr(c, "closest")
+                 for pair, d in c.closest(state)],
+    )  # fmt: skip
 
 
 def result_to_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:
@@ -80,7 +83,8 @@ def compact_header(model: Model, scenario: str | Path | None) -> dict:
 
 
 def frame_to_dict(f: Frame) -> dict:
-    """The pose part of a result frame: gravity, joints, tcps, links, contacts and loads."""
+    """The pose part of a result frame: gravity, joints, tcps, links, contacts, loads and the body's collision
+    shapes (capsules: link, world end points m, radius m)."""
     ranges = [[finite_or_none(lo), finite_or_none(hi)] for lo, hi in f.joint_range.tolist()]
     strength = None if f.joint_strength is None else f.joint_strength.tolist()
     position, axis, value = f.joint_position.tolist(), f.joint_axis.tolist(), f.joint_value.tolist()
@@ -108,7 +112,9 @@ def frame_to_dict(f: Frame) -> dict:
         links=links,
         contacts={tcp: dict(point=floats(p), force=floats(fc), moment=floats(m)) for tcp, p, fc, m in f.contacts},
         loads=[dict(tcp=tcp, point=floats(p), force=floats(fc)) for tcp, p, fc in f.loads],
-    )
+        collision_shapes=[dict(link=name, start=a.tolist(), end=b.tolist(), radius=r)
+                          for name, a, b, r in f.collision_shapes],
+    )  # fmt: skip
 
 
 def result_document(frames: Iterable[tuple[int, Result]], scenario: str | Path | None = None) -> dict:
