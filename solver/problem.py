@@ -12,9 +12,11 @@ import copy
 import numpy as np
 
 from .bounds import Bounds
+from .collision import Obstacle
+from .collision.body import capsules_of
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
-from .constraints.clearance import floor_clearance
+from .constraints.clearance import Clearance, floor_clearance
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
@@ -39,10 +41,12 @@ class Problem:
         extra_constraints: list[Constraint] = (),
         comfort: Comfort | None = None,
         floor: bool = True,
+        obstacles: list[Obstacle] = (),
     ) -> None:
         """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
         ``comfort`` replaces the standard terms weighted by ``comfort_weights``; ``floor`` keeps every body part
-        above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`)."""
+        above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`); the body keeps each of ``obstacles``
+        (:mod:`solver.collision` shapes) at its clearance."""
         validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
@@ -67,6 +71,8 @@ class Problem:
         self.balance_constraint = BalanceConstraint(self.n_x) if balance else None
         self.floor = floor
         self.floor_constraint = floor_clearance(model, self.targets, self.n_x) if floor else None
+        self.obstacles = list(obstacles)
+        self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if obstacles else None
         self.extra_constraints = list(extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
         self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
@@ -98,6 +104,7 @@ class Problem:
                 extra_constraints=self.extra_constraints,
                 comfort=self.comfort,
                 floor=self.floor,
+                obstacles=self.obstacles,
             )
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
@@ -152,7 +159,8 @@ class Problem:
         self.target_constraints = list(target_constraints)
         frames = [*target_constraints, *self.loop_constraints]
         self.frames = FrameGroup(frames) if frames else None
-        rows = [self.frames, self.balance_constraint, self.floor_constraint, *self.extra_constraints]
+        rows = [self.frames, self.balance_constraint, self.floor_constraint, self.obstacle_constraint]
+        rows += self.extra_constraints
         rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)

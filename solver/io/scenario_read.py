@@ -22,10 +22,11 @@ from ..scenario import Scenario
 from ..specs import MAX_DISTANCE, MAX_FORCE, ExternalLoad, Loop, Target
 from .files import read_text
 from .files import read_toml as read_toml_file
+from .obstacle_io import read_obstacles
 from .table_reader import TableReader
 
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
-            "description", "floor"}  # fmt: skip
+            "description", "floor", "obstacles"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
                "priority", "name", "keys"}  # fmt: skip
 FRAME = "a whole frame number"
@@ -64,9 +65,10 @@ def load_scenario(path: str | Path) -> Scenario:
     if balance and not any(t.support and t.enabled for t in targets):
         raise root.fail("targets", "a target with support = true when [solver] balance = true")
     frames, limits = _read_motion(root, tracks)
+    obstacles = read_obstacles(root.table_list("obstacles"), path.parent)
     try:
         problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
-                          floor=_read_floor(root))  # fmt: skip
+                          floor=_read_floor(root), obstacles=obstacles)  # fmt: skip
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)

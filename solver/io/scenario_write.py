@@ -15,6 +15,7 @@ from ..errors import ScenarioError
 from ..options import DEFAULT_OPTIONS, SolverOptions
 from ..problem import Loop, Problem, Target
 from .files import write_text
+from .obstacle_io import obstacle_table
 from .toml_write import dumps_toml
 from .values import floats, quaternion
 
@@ -44,6 +45,8 @@ def scenario_to_dict(
     w = problem.comfort.weights
     data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
     data["floor"] = dict(enabled=problem.floor)
+    if problem.obstacles:
+        data["obstacles"] = [obstacle_table(ob) for ob in problem.obstacles]
     if start is not None:
         joints = {n: float(v) for n, v in zip(model.joint_names, start[: model.n], strict=True) if abs(v) > 1e-12}
         if joints:
