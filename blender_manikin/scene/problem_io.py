@@ -21,6 +21,7 @@ from ...solver.ergonomics.loads import percent_of_strength
 from ...solver.reduction import DEFAULT_GROUPS
 from ...solver.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
+from .obstacles import scene_obstacles
 from .schema import ERROR_KEY, RESULT_KEY, members
 
 TOP_LOADS = 5
@@ -109,7 +110,10 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
     weights = ComfortWeights(settings.comfort_range, settings.comfort_load, settings.comfort_contact)
     try:
         groups = DEFAULT_GROUPS if settings.reduction else ()
-        problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor)
+        obstacles, shapes = scene_obstacles(arm)
+        numbers += shapes
+        problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor,
+                          obstacles=obstacles)  # fmt: skip
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
     options = SolverOptions(

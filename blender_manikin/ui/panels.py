@@ -110,6 +110,26 @@ class MANIKIN_PT_target(_SidebarPanel):
         layout.prop(s, "enabled")
 
 
+class MANIKIN_PT_obstacle(_SidebarPanel):
+    bl_label = "Obstacle"
+    bl_parent_id = "MANIKIN_PT_main"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        ob = context.active_object
+        return ob is not None and ob.type == "MESH" and ob.manikin_target.role == "NONE"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        s = context.active_object.manikin_obstacle
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(s, "enabled")
+        row = layout.row()
+        row.active = s.enabled
+        row.prop(s, "clearance")
+        layout.label(text='(or put it in a collection named "Obstacles")')
+
+
 class MANIKIN_PT_result(_SidebarPanel):
     bl_label = "Result"
     bl_parent_id = "MANIKIN_PT_main"
@@ -223,4 +243,5 @@ class MANIKIN_PT_motion(_SidebarPanel):
             box.label(text=f"... and {len(failed) - SHOWN_FAILURES} more")
 
 
-classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_result, MANIKIN_PT_motion, MANIKIN_PT_settings)
+classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_obstacle, MANIKIN_PT_result, MANIKIN_PT_motion,
+           MANIKIN_PT_settings)  # fmt: skip

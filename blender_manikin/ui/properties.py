@@ -108,6 +108,16 @@ class MANIKIN_PG_target(bpy.types.PropertyGroup):
         return None if self.priority == "AUTO" else int(self.priority)
 
 
+class MANIKIN_PG_obstacle(bpy.types.PropertyGroup):
+    """A mesh the manikin keeps clear of (on any mesh object)."""
+
+    enabled: BoolProperty(name="Obstacle", default=False, description="The manikin keeps clear of this mesh")
+    clearance: FloatProperty(
+        name="Clearance", default=0.0, min=0.0, max=10.0, subtype="DISTANCE", unit="LENGTH",
+        description="Distance the body keeps from the mesh",
+    )  # fmt: skip
+
+
 class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     """Solver settings of one manikin (on its armature object)."""
 
@@ -194,16 +204,18 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     )
 
 
-classes = (MANIKIN_PG_target, MANIKIN_PG_rig)
+classes = (MANIKIN_PG_target, MANIKIN_PG_obstacle, MANIKIN_PG_rig)
 
 
 def attach() -> None:
-    """Give every object the two settings groups (their classes registered first)."""
+    """Give every object the settings groups (their classes registered first)."""
     bpy.types.Object.manikin_target = PointerProperty(type=MANIKIN_PG_target)
+    bpy.types.Object.manikin_obstacle = PointerProperty(type=MANIKIN_PG_obstacle)
     bpy.types.Object.manikin = PointerProperty(type=MANIKIN_PG_rig)
 
 
 def detach() -> None:
     """Remove what :func:`attach` added (before the classes are unregistered)."""
     del bpy.types.Object.manikin
+    del bpy.types.Object.manikin_obstacle
     del bpy.types.Object.manikin_target

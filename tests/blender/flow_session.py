@@ -92,6 +92,30 @@ hand_target.location.z -= 2.0
 hand_target.manikin_target.priority = "AUTO"
 bpy.ops.manikin.solve_pose()
 
+# Obstacles: a 30 cm cube around the hand target, marked as an obstacle, keeps the hand out (not held: the hand;
+# held: feet, balance and the cube's clearance); unmarked it is ignored; in a collection "Obstacles" it counts again.
+bpy.ops.mesh.primitive_cube_add(size=0.3, location=hand_target.matrix_world.translation)
+cube = bpy.context.active_object
+cube.manikin_obstacle.enabled, cube.manikin_obstacle.clearance = True, 0.01
+
+
+def solve_state() -> dict:
+    bpy.context.view_layer.objects.active = arm
+    done = sorted(bpy.ops.manikin.solve_pose())
+    result = json.loads(arm["manikin_result"])
+    return dict(done=done, converged=result["converged"], unmet=result["unmet"], broken=result["broken"])
+
+
+seen["obstacle_marked"] = solve_state()
+cube.manikin_obstacle.enabled = False
+seen["obstacle_unmarked"] = solve_state()
+collection = bpy.data.collections.new("Obstacles")
+bpy.context.scene.collection.children.link(collection)
+collection.objects.link(cube)
+seen["obstacle_collection"] = solve_state()
+bpy.data.objects.remove(cube, do_unlink=True)
+bpy.ops.manikin.solve_pose()
+
 # The overlay, drawn with a stand-in for gpu: which builtin shaders it asks for, and how many line batches.
 overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
 asked: list[str] = []

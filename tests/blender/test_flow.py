@@ -42,6 +42,14 @@ def test_a_target_out_of_reach_ends_short_with_the_feet_held(session: dict) -> N
     assert "hand_r" in session["far_must_hold"]
 
 
+def test_a_mesh_marked_as_an_obstacle_keeps_the_hand_out(session: dict) -> None:
+    marked, unmarked, collected = (session[k] for k in ("obstacle_marked", "obstacle_unmarked", "obstacle_collection"))
+    assert marked["done"] == ["FINISHED"] and not marked["converged"]
+    assert marked["unmet"] == ["hand_r"] and marked["broken"] == []
+    assert unmarked["converged"]
+    assert collected["unmet"] == ["hand_r"] and collected["broken"] == []
+
+
 def test_overlay_uses_shaders_this_blender_has(session: dict) -> None:
     overlay = session["overlay"]
     assert overlay["asked"] == ["POLYLINE_UNIFORM_COLOR"] and overlay["known"]["POLYLINE_UNIFORM_COLOR"], overlay
