@@ -76,7 +76,7 @@ class Result:
         short = "; ".join(f"{name} short by " + shortfall_text(parts) for name, parts in self.shortfall.items())
         if self.broken:
             return "NOT held (priority 1): " + ", ".join(self.broken) + (f"; {short}" if short else "")
-        return f"out of reach: {short} (supports, loops and balance held)" if short else "not converged"
+        return f"out of reach: {short} (supports, loops, balance and clearances held)" if short else "not converged"
 
     def summary(self) -> str:
         """A few lines a person can read: status, each constraint's residual, contacts, comfort."""
@@ -89,7 +89,7 @@ class Result:
         if self.broken:
             lines.append("  NOT held (priority 1): " + ", ".join(self.broken))
         elif self.unmet:
-            lines.append("  held: supports, loops and balance (priority 1)")
+            lines.append("  held: supports, loops, balance and clearances (priority 1)")
         for name, parts in self.shortfall.items():
             lines.append(f"  short: {name} by " + shortfall_text(parts))
         lines.extend(f"  note: {note}" for note in self.notes)

@@ -99,7 +99,7 @@ def test_a_reach_too_far_keeps_the_feet_and_the_balance(male50):
     assert result.shortfall["hand_r"]["position_m"] == pytest.approx(distance, abs=1e-9)
     assert 0.2 < distance < 0.6
     assert f"short: hand_r by {distance * 1e3:.1f} mm" in result.summary()
-    assert "held: supports, loops and balance" in result.summary()
+    assert "held: supports, loops, balance and clearances" in result.summary()
 
 
 def test_a_target_999_m_away_does_not_lift_the_body(male50):
