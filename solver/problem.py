@@ -276,6 +276,11 @@ class Problem:
         red = self.reduction
         return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
 
+    def closest(self, state: State) -> list[tuple[str, float]]:
+        """(pair, distance m) of the clearance rows within their margin: the floor's, the obstacles' and any extra
+        :class:`~solver.constraints.clearance.Clearance`."""
+        return [pair for c in self.constraints if isinstance(c, Clearance) for pair in c.closest(state)]
+
     def residuals(self, state: State) -> dict[str, float]:
         out: dict[str, float] = {}
         for c in self.constraints:

@@ -191,3 +191,15 @@ def test_bad_obstacles_are_one_line(tmp_path, entry: str, says: str):
         load_scenario(tmp_path / "s.toml")
     message = str(err.value)
     assert says in message and "\n" not in message and str(tmp_path / "s.toml") in message
+
+
+def test_a_mesh_read_again_is_indexed_once():
+    """Each baked frame reads the scene's obstacle meshes again: the same content reuses its index."""
+    from solver.collision import Mesh
+    from solver.collision.generate import box_mesh
+    from solver.collision.mesh_index import index_of
+
+    vertices, faces = box_mesh((0.0, 0.0, 0.5), (0.3, 0.3, 0.3), 4)
+    first = index_of(Mesh(vertices, faces, name="a"))
+    assert index_of(Mesh(vertices.copy(), faces.copy(), name="a")) is first
+    assert index_of(Mesh(vertices + 0.1, faces, name="a")) is not first

@@ -6,6 +6,8 @@ Build one :class:`MeshIndex` per obstacle (about 20 ms per 10,000 triangles) and
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 from .closest import dot, point_segment, point_triangle, unit
@@ -141,3 +143,21 @@ class MeshIndex:
         d = np.sqrt(dot(y - points[seg], y - points[seg]))
         best = group_argmin(seg, d, k)  # every point has a candidate: the search keeps the best leaf
         return d[best], y[best], tri[best]
+
+
+_INDEXES: dict[bytes, MeshIndex] = {}  # by content: the same mesh read again (each baked frame) is indexed once
+_KEPT = 8
+
+
+def index_of(mesh: Mesh) -> MeshIndex:
+    """The :class:`MeshIndex` of ``mesh``, built once per content (its vertices, faces; the last few kept)."""
+    digest = hashlib.blake2b(digest_size=16)
+    digest.update(mesh.vertices.tobytes())
+    digest.update(mesh.faces.tobytes())
+    key = digest.digest()
+    index = _INDEXES.get(key)
+    if index is None:
+        if len(_INDEXES) >= _KEPT:
+            _INDEXES.pop(next(iter(_INDEXES)))
+        index = _INDEXES[key] = MeshIndex(mesh)
+    return index

@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..collision import HalfSpace, Mesh, MeshIndex, Obstacle, obstacle_distance
+from ..collision import HalfSpace, Mesh, Obstacle, obstacle_distance
 from ..collision.body import BodyCapsules, capsules_of
+from ..collision.mesh_index import index_of
 from ..model import Model
 from ..state import State
 from .inequality import Inequality
@@ -55,14 +56,16 @@ class Clearance(Inequality):
                                 capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
-        self._queries = [MeshIndex(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
+        self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
         k = len(capsules)
-        self._labels: list[str] = []
+        self._labels: list[str] = []  # per row, naming the capsule end for a half-space: "shank_r.end vs floor"
+        self._pairs: list[str] = []  # per row, the capsule and the obstacle: "shank_r vs floor"
         floors = []
         for ob in self.obstacles:
             ends = ("start", "end") if isinstance(ob, HalfSpace) else ("",)
             for end in ends:
                 self._labels += [f"{name}{'.' + end if end else ''} vs {ob.name}" for name in capsules.names]
+                self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
         self._tolerance = np.full(len(self.floor), TOLERANCE)
@@ -123,7 +126,7 @@ class Clearance(Inequality):
     def unmet(self, state: State) -> list[str]:
         """One name per capsule and obstacle below its clearance, e.g. "hand_r vs floor"."""
         met = self.met_rows(state)
-        return sorted({self._labels[i].replace(".start", "").replace(".end", "") for i in np.flatnonzero(~met)})
+        return sorted({self._pairs[i] for i in np.flatnonzero(~met)})
 
     def closest(self, state: State) -> list[tuple[str, float]]:
         """(row label, distance m) of the rows within the margin, nearest first."""

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..collision import Box, Capsule, HalfSpace, Mesh, Obstacle, Sphere, read_mesh
 from ..errors import ScenarioError
+from ..specs import MAX_DISTANCE
 from .table_reader import TableReader
 from .values import floats, quaternion
 
@@ -29,7 +30,7 @@ KEYS = {
     "plane": {"point", "normal"},
     "mesh": {"file", "vertices", "faces"},
 }
-LIMIT = 1000.0  # m: coordinates and sizes within this (the scenario's MAX_DISTANCE)
+LIMIT = MAX_DISTANCE  # m: coordinates and sizes within this, as targets
 
 
 def read_obstacles(tables: list[TableReader], folder: Path) -> list[Obstacle]:

@@ -49,9 +49,8 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
         comfort=result.comfort,
         comfort_terms=result.comfort_parts,
         com=floats(result.com),
-        closest=[dict(pair=pair, distance=d) for c in result.problem.constraints if hasattr(c, "closest")
-                 for pair, d in c.closest(state)],
-    )  # fmt: skip
+        closest=[dict(pair=pair, distance=d) for pair, d in result.problem.closest(state)],
+    )
 
 
 def result_to_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:

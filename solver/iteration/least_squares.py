@@ -24,7 +24,8 @@ class LeastSquares:
         self._rows = jac.shape[0]
         # rows without any entry (a one-sided constraint while it is met) take no part: kept, they would make G
         # singular and send every step down the eigendecomposition path
-        self._active = None if jac.size == 0 or jac.any(axis=1).all() else np.flatnonzero(jac.any(axis=1))
+        used = jac.any(axis=1) if jac.size else None
+        self._active = None if used is None or used.all() else np.flatnonzero(used)
         if self._active is not None:
             jac = jac[self._active]
         self._jac = jac
