@@ -16,7 +16,7 @@ from .collision import Obstacle
 from .collision.body import capsules_of
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
-from .constraints.clearance import Clearance, floor_clearance
+from .constraints.clearance import Clearance, Closeness, floor_clearance
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
@@ -276,10 +276,11 @@ class Problem:
         red = self.reduction
         return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
 
-    def closest(self, state: State) -> list[tuple[str, float]]:
-        """(pair, distance m) of the clearance rows within their margin: the floor's, the obstacles' and any extra
-        :class:`~solver.constraints.clearance.Clearance`."""
-        return [pair for c in self.constraints if isinstance(c, Clearance) for pair in c.closest(state)]
+    def closest(self, state: State) -> list[Closeness]:
+        """The clearance rows within their margin (the floor's, the obstacles', the body's own and any extra
+        :class:`~solver.constraints.clearance.Clearance`), nearest first."""
+        near = [pair for c in self.constraints if isinstance(c, Clearance) for pair in c.closest(state)]
+        return sorted(near, key=lambda pair: pair.distance)
 
     def residuals(self, state: State) -> dict[str, float]:
         out: dict[str, float] = {}

@@ -166,7 +166,7 @@ def test_obstacles_read_from_the_scenario_write_back_and_hold_the_hand_at_the_ta
     assert not result.converged and "hand_r" in result.unmet and result.broken == []
     table = scenario.problem.obstacle_constraint
     state = result.state
-    distances = dict(table.closest(state))
+    distances = {pair.pair: pair.distance for pair in table.closest(state)}
     assert min(distances.values()) >= 0.01 - 1e-3  # the clearance, within the row tolerance
     assert any(label.startswith(("hand_r", "forearm_r")) and label.endswith("table") for label in distances)
 

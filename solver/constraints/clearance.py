@@ -10,6 +10,8 @@ Rows farther than ``margin`` are met and cost nothing; every row ranks with supp
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..collision import HalfSpace, Mesh, Obstacle, obstacle_distance
@@ -21,6 +23,31 @@ from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
+
+
+class Closeness(NamedTuple):
+    """One body part near something: ``part`` (a capsule's link, with ".start"/".end" for a half-space row),
+    ``other`` (an obstacle's name or another body part), the surface-to-surface ``distance`` (m, negative when they
+    overlap), the ``clearance`` it must keep (m) and the nearest surface points ``point`` on the part and
+    ``other_point`` on the other (world, m)."""
+
+    part: str
+    other: str
+    distance: float
+    clearance: float
+    point: np.ndarray
+    other_point: np.ndarray
+
+    @property
+    def pair(self) -> str:
+        """ "part vs other", e.g. "hand_r vs floor"."""
+        return f"{self.part} vs {self.other}"
+
+    def to_dict(self) -> dict:
+        """The result JSON's entry: pair, part, other, distance, clearance (m), point, other_point (m)."""
+        return dict(pair=self.pair, part=self.part, other=self.other, distance=self.distance,
+                    clearance=self.clearance, point=[float(v) for v in self.point],
+                    other_point=[float(v) for v in self.other_point])  # fmt: skip
 
 
 def floor_clearance(model: Model, targets: list, n_x: int) -> Clearance:
@@ -58,13 +85,15 @@ class Clearance(Inequality):
         self.obstacles = list(obstacles)
         self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
         k = len(capsules)
-        self._labels: list[str] = []  # per row, naming the capsule end for a half-space: "shank_r.end vs floor"
+        self._parts: list[str] = []  # per row, naming the capsule end for a half-space: "shank_r.end"
+        self._others: list[str] = []  # per row, the obstacle's name
         self._pairs: list[str] = []  # per row, the capsule and the obstacle: "shank_r vs floor"
         floors = []
         for ob in self.obstacles:
             ends = ("start", "end") if isinstance(ob, HalfSpace) else ("",)
             for end in ends:
-                self._labels += [f"{name}{'.' + end if end else ''} vs {ob.name}" for name in capsules.names]
+                self._parts += [f"{name}{'.' + end if end else ''}" for name in capsules.names]
+                self._others += [ob.name] * k
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
@@ -128,8 +157,13 @@ class Clearance(Inequality):
         met = self.met_rows(state)
         return sorted({self._pairs[i] for i in np.flatnonzero(~met)})
 
-    def closest(self, state: State) -> list[tuple[str, float]]:
-        """(row label, distance m) of the rows within the margin, nearest first."""
-        distance = self.value(state)
+    def closest(self, state: State) -> list[Closeness]:
+        """The rows within the margin, nearest first."""
+        distance, points, normals, capsule = self._evaluate(state)
         near = np.flatnonzero(distance < self.margin)
-        return [(self._labels[i], float(distance[i])) for i in near[np.argsort(distance[near])]]
+        out = []
+        for i in near[np.argsort(distance[near], kind="stable")]:
+            surface = points[i] - self.capsules.radius[capsule[i]] * normals[i]
+            out.append(Closeness(self._parts[i], self._others[i], float(distance[i]), float(self.floor[i]), surface,
+                                 surface - distance[i] * normals[i]))  # fmt: skip
+        return out

@@ -29,7 +29,8 @@ COMPACT_VERSION = 1
 def frame_status(result: Result, frame: int, state: State) -> dict:
     """How the solve of one frame went (every field of a result frame that is not the pose): frame, converged,
     stop, iterations, time_s, unmet, notes, targets (world frames), residuals, comfort, comfort_terms, com, and the
-    closest pairs within the clearance rows' margin ({pair: "hand_r vs floor", distance: m}, nearest first)."""
+    closest pairs within the clearance rows' margin (:meth:`~solver.constraints.clearance.Closeness.to_dict`: pair,
+    part, other, distance, clearance, point, other_point; nearest first)."""
     targets = {
         name: dict(position=floats(pos), rotation=quaternion(rot))
         for name, (rot, pos) in result.problem.target_frames(state).items()
@@ -49,7 +50,7 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
         comfort=result.comfort,
         comfort_terms=result.comfort_parts,
         com=floats(result.com),
-        closest=[dict(pair=pair, distance=d) for pair, d in result.problem.closest(state)],
+        closest=[pair.to_dict() for pair in result.problem.closest(state)],
     )
 
 
