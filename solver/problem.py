@@ -16,7 +16,8 @@ from .collision import Obstacle
 from .collision.body import capsules_of
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
-from .constraints.clearance import Clearance, Closeness, floor_clearance
+from .constraints.clearance import Clearance, ClearanceRows, Closeness, floor_clearance
+from .constraints.self_clearance import SelfClearance
 from .contacts import Support, build_contacts
 from .errors import ManikinError
 from .model import GRAVITY, Model
@@ -42,11 +43,13 @@ class Problem:
         comfort: Comfort | None = None,
         floor: bool = True,
         obstacles: list[Obstacle] = (),
+        self_collision: bool = True,
     ) -> None:
         """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
         ``comfort`` replaces the standard terms weighted by ``comfort_weights``; ``floor`` keeps every body part
         above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`); the body keeps each of ``obstacles``
-        (:mod:`solver.collision` shapes) at its clearance."""
+        (:mod:`solver.collision` shapes) at its clearance; ``self_collision`` keeps hands and forearms out of the
+        trunk, head and thighs and the shanks apart (:mod:`solver.collision.self_pairs`)."""
         validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
@@ -73,6 +76,10 @@ class Problem:
         self.floor_constraint = floor_clearance(model, self.targets, self.n_x) if floor else None
         self.obstacles = list(obstacles)
         self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if obstacles else None
+        self.self_collision = self_collision
+        self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if self_collision else None
+        if self.self_constraint is not None and not self.self_constraint.rows:
+            self.self_constraint = None  # a body without the named parts (the snake)
         self.extra_constraints = list(extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
         self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
@@ -105,6 +112,7 @@ class Problem:
                 comfort=self.comfort,
                 floor=self.floor,
                 obstacles=self.obstacles,
+                self_collision=self.self_collision,
             )
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
@@ -159,7 +167,8 @@ class Problem:
         self.target_constraints = list(target_constraints)
         frames = [*target_constraints, *self.loop_constraints]
         self.frames = FrameGroup(frames) if frames else None
-        rows = [self.frames, self.balance_constraint, self.floor_constraint, self.obstacle_constraint]
+        rows = [self.frames, self.balance_constraint, self.floor_constraint, self.obstacle_constraint,
+                self.self_constraint]  # fmt: skip
         rows += self.extra_constraints
         rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows
@@ -252,10 +261,17 @@ class Problem:
         if not self.constraints:
             return np.zeros((0, self.n_var))
         jac = np.concatenate([c.jacobian(state) for c in self.constraints])
-        if self.reduction is not None:
-            red = self.reduction
-            jac = red.times_basis(jac) if red.linear else jac @ self.reduction_jacobian(state)
-        return jac * self._row_scale * self.scale
+        return self._in_solver_variables(jac, state) * self._row_scale * self.scale
+
+    def _in_solver_variables(self, jac: np.ndarray, state: State) -> np.ndarray:
+        """d rows / dx (k, n_x) -> d rows / dv (k, n_var)."""
+        red = self.reduction
+        if red is None:
+            return jac
+        used = np.flatnonzero(jac.any(axis=1))  # met one-sided rows are zero: not worth carrying through phi
+        reduced = np.zeros((len(jac), self.n_var))
+        reduced[used] = red.times_basis(jac[used]) if red.linear else jac[used] @ self.reduction_jacobian(state)
+        return reduced
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """d h / d v and the diagonal curvature model of -h in the solver variables v."""
@@ -279,7 +295,7 @@ class Problem:
     def closest(self, state: State) -> list[Closeness]:
         """The clearance rows within their margin (the floor's, the obstacles', the body's own and any extra
         :class:`~solver.constraints.clearance.Clearance`), nearest first."""
-        near = [pair for c in self.constraints if isinstance(c, Clearance) for pair in c.closest(state)]
+        near = [pair for c in self.constraints if isinstance(c, ClearanceRows) for pair in c.closest(state)]
         return sorted(near, key=lambda pair: pair.distance)
 
     def residuals(self, state: State) -> dict[str, float]:

@@ -122,7 +122,8 @@ def trial_problem(model: Model, targets: dict, balance: bool, groups: tuple[str,
         for f in ("foot_l", "foot_r")
     ]
     hands = [Target(f"hand_{s}", targets[s][0], targets[s][1]) for s in ("r", "l")]
-    return Problem(model, [*feet, *hands], balance=balance, reduction=groups, floor=False)  # the thesis's: no floor
+    # the thesis's trials: no floor, no self-collision (python -m solver.bench.collision_cost measures them)
+    return Problem(model, [*feet, *hands], balance=balance, reduction=groups, floor=False, self_collision=False)
 
 
 _MODEL: Model | None = None

@@ -22,6 +22,7 @@ from ..state import State
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
+HOLD = 0.5e-3  # m: a met row this close to its clearance is held by the step (in contact)
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
 
 
@@ -60,14 +61,82 @@ def floor_clearance(model: Model, targets: list, n_x: int) -> Clearance:
             held.add(tcp.link)
     capsules = capsules_of(model)
     exclude = tuple(name for name, link in zip(capsules.names, capsules.link, strict=True) if link in held)
-    return Clearance(model, capsules, [FLOOR], n_x, exclude=exclude)
+    return Clearance(model, capsules, [FLOOR], n_x, exclude=exclude, name="floor")
 
 
-class Clearance(Inequality):
+class ClearanceRows(Inequality):
+    """Rows g = the surface distance between one of the body's capsules and something else (m), g >= floor: what
+    the floor's, the obstacles' and the body's own clearances share. A subclass fills the per-row names and
+    :meth:`_evaluate`."""
+
+    name = "clearance"  # an instance's own: "floor", "obstacles", "self_collision" (its residual's key)
+    capsules: BodyCapsules
+    margin: float  # m: rows closer than this to their floor are reported as near (closest)
+    _parts: list[str]  # per row, the body part: "hand_r", or "shank_r.end" for a half-space row
+    _others: list[str]  # per row, what it keeps clear of: an obstacle or another body part
+    _pairs: list[str]  # per row, "part vs other" without the capsule end
+
+    @property
+    def rows(self) -> int:
+        return len(self.floor)
+
+    def tolerance(self) -> np.ndarray:
+        return np.full(self.rows, TOLERANCE)
+
+    def _evaluate(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(distance (rows,) m, witness points on the part's axis (rows, 3), unit normals towards the part
+        (rows, 3), the part's capsule of each row), once per state."""
+        cached = state.cache.get(self)
+        if cached is None:
+            cached = state.cache[self] = self._distances(state)
+        return cached
+
+    def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def value(self, state: State) -> np.ndarray:
+        return self._evaluate(state)[0]
+
+    def value_jacobian(self, state: State) -> np.ndarray:
+        return self._jacobian_of(state, np.arange(self.rows))
+
+    def jacobian(self, state: State) -> np.ndarray:
+        """d error / dx on the rows inside their clearance or within ``HOLD`` of it (their error is zero: the step
+        keeps them where they are, so a comfort step slides a part along a surface instead of into it); the others
+        are met, their rows zero."""
+        return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < HOLD))
+
+    def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
+        """(rows, n_x) with d g / dx on ``rows`` and zeros elsewhere."""
+        raise NotImplementedError
+
+    def _part_rows(self, state: State, rows: np.ndarray) -> np.ndarray:
+        """(len(rows), n) n . (velocity of the witness point on the part's capsule) per joint."""
+        _, points, normals, capsule = self._evaluate(state)
+        mask = self.model.descendant[:, self.capsules.link[capsule[rows]]].T.astype(float)  # joints moving each
+        normal = normals[rows]
+        return state.kin.jacobian_rows(points[rows], normal, np.zeros_like(normal), mask)
+
+    def unmet(self, state: State) -> list[str]:
+        """One name per body part and what it keeps clear of, below the clearance, e.g. "hand_r vs floor"."""
+        met = self.met_rows(state)
+        return sorted({self._pairs[i] for i in np.flatnonzero(~met)})
+
+    def closest(self, state: State) -> list[Closeness]:
+        """The rows within the margin of their clearance, nearest first."""
+        distance, points, normals, capsule = self._evaluate(state)
+        near = np.flatnonzero(distance - self.floor < self.margin)
+        out = []
+        for i in near[np.argsort(distance[near], kind="stable")]:
+            surface = points[i] - self.capsules.radius[capsule[i]] * normals[i]
+            out.append(Closeness(self._parts[i], self._others[i], float(distance[i]), float(self.floor[i]), surface,
+                                 surface - distance[i] * normals[i]))  # fmt: skip
+        return out
+
+
+class Clearance(ClearanceRows):
     """Capsules ``capsules`` of ``model`` against ``obstacles``, but those named in ``exclude``: a support's capsule,
     held on its plane by its own target (its rows would repeat the target's and make the step's rows dependent)."""
-
-    name = "clearance"
 
     def __init__(
         self,
@@ -77,7 +146,9 @@ class Clearance(Inequality):
         n_x: int,
         margin: float = 0.05,
         exclude: tuple[str, ...] = (),
+        name: str = "obstacles",
     ) -> None:
+        self.name = name
         keep = np.array([name not in exclude for name in capsules.names], dtype=bool)
         capsules = BodyCapsules(tuple(n for n, k in zip(capsules.names, keep, strict=True) if k), capsules.link[keep],
                                 capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
@@ -85,9 +156,7 @@ class Clearance(Inequality):
         self.obstacles = list(obstacles)
         self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
         k = len(capsules)
-        self._parts: list[str] = []  # per row, naming the capsule end for a half-space: "shank_r.end"
-        self._others: list[str] = []  # per row, the obstacle's name
-        self._pairs: list[str] = []  # per row, the capsule and the obstacle: "shank_r vs floor"
+        self._parts, self._others, self._pairs = [], [], []
         floors = []
         for ob in self.obstacles:
             ends = ("start", "end") if isinstance(ob, HalfSpace) else ("",)
@@ -97,20 +166,8 @@ class Clearance(Inequality):
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
-        self._tolerance = np.full(len(self.floor), TOLERANCE)
 
-    @property
-    def rows(self) -> int:
-        return len(self.floor)
-
-    def tolerance(self) -> np.ndarray:
-        return self._tolerance
-
-    def _evaluate(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """(distance (rows,) m, witness points (rows, 3), normals (rows, 3), capsule of each row), once per state."""
-        cached = state.cache.get(self)
-        if cached is not None:
-            return cached
+    def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps = self.capsules
         p0, p1 = caps.world(state.kin)
         index = np.arange(len(caps))
@@ -121,49 +178,16 @@ class Clearance(Inequality):
                     height = (end - ob.point) @ ob.normal - caps.radius
                     parts.append((height, end, np.broadcast_to(ob.normal, end.shape), index))
             else:
-                got = obstacle_distance(p0, p1, caps.radius, query, self.margin)
-                far = ~np.isfinite(got.distance)
-                distance = np.where(far, max(self.margin, ob.clearance) + 1.0, got.distance)
+                reach = self.margin + max(ob.clearance, 0.0)  # nothing nearer than this is left out of the query
+                got = obstacle_distance(p0, p1, caps.radius, query, reach)
+                distance = np.where(np.isfinite(got.distance), got.distance, reach + 1.0)
                 parts.append((distance, got.point, got.normal, index))
-        if parts:
-            cached = tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
-        else:
-            cached = (np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int))
-        state.cache[self] = cached
-        return cached
-
-    def value(self, state: State) -> np.ndarray:
-        return self._evaluate(state)[0]
-
-    def value_jacobian(self, state: State) -> np.ndarray:
-        return self._jacobian_of(state, np.arange(self.rows))
-
-    def jacobian(self, state: State) -> np.ndarray:
-        """d error / dx: only the rows inside their clearance (the others are met, their rows zero)."""
-        return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < 0.0))
+        if not parts:
+            return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
+        return tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
-        """(rows, n_x) with d g / dx on ``rows`` and zeros elsewhere."""
         out = np.zeros((self.rows, self.n_x))
         if rows.size:
-            _, points, normals, capsule = self._evaluate(state)
-            mask = self.model.descendant[:, self.capsules.link[capsule[rows]]].T.astype(float)  # joints moving each
-            normal = normals[rows]
-            out[rows, : self.model.n] = state.kin.jacobian_rows(points[rows], normal, np.zeros_like(normal), mask)
-        return out
-
-    def unmet(self, state: State) -> list[str]:
-        """One name per capsule and obstacle below its clearance, e.g. "hand_r vs floor"."""
-        met = self.met_rows(state)
-        return sorted({self._pairs[i] for i in np.flatnonzero(~met)})
-
-    def closest(self, state: State) -> list[Closeness]:
-        """The rows within the margin, nearest first."""
-        distance, points, normals, capsule = self._evaluate(state)
-        near = np.flatnonzero(distance < self.margin)
-        out = []
-        for i in near[np.argsort(distance[near], kind="stable")]:
-            surface = points[i] - self.capsules.radius[capsule[i]] * normals[i]
-            out.append(Closeness(self._parts[i], self._others[i], float(distance[i]), float(self.floor[i]), surface,
-                                 surface - distance[i] * normals[i]))  # fmt: skip
+            out[rows, : self.model.n] = self._part_rows(state, rows)
         return out

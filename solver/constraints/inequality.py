@@ -38,4 +38,4 @@ class Inequality(Constraint):
 
     def residuals(self, state: State) -> dict[str, float]:
         """The largest shortfall below the floor (0 when met), in g's units."""
-        return {f"{self.name}.shortfall": float(-np.min(self.error(state), initial=0.0))}
+        return {f"{self.name}.shortfall": abs(float(np.min(self.error(state), initial=0.0)))}

@@ -26,7 +26,7 @@ from .obstacle_io import read_obstacles
 from .table_reader import TableReader
 
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
-            "description", "floor", "obstacles"}  # fmt: skip
+            "description", "floor", "self_collision", "obstacles"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
                "priority", "name", "keys"}  # fmt: skip
 FRAME = "a whole frame number"
@@ -68,7 +68,8 @@ def load_scenario(path: str | Path) -> Scenario:
     obstacles = read_obstacles(root.table_list("obstacles"), path.parent)
     try:
         problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
-                          floor=_read_floor(root), obstacles=obstacles)  # fmt: skip
+                          floor=_enabled(root, "floor"), obstacles=obstacles,
+                          self_collision=_enabled(root, "self_collision"))  # fmt: skip
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
@@ -174,11 +175,12 @@ def _read_target(t: TableReader, model: Model) -> tuple[Target, tuple[Key, ...]]
     return target, keys
 
 
-def _read_floor(root: TableReader) -> bool:
-    """[floor] enabled: every body part stays above z = 0 (default true)."""
-    if "floor" not in root.data:
+def _enabled(root: TableReader, name: str) -> bool:
+    """[floor] enabled (every body part stays above z = 0) or [self_collision] enabled (hands and forearms out of
+    the trunk, head and thighs, shanks apart); both default true."""
+    if name not in root.data:
         return True
-    t = root.table("floor")
+    t = root.table(name)
     t.known({"enabled"})
     return t.boolean("enabled", True)
 

@@ -45,6 +45,7 @@ def scenario_to_dict(
     w = problem.comfort.weights
     data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
     data["floor"] = dict(enabled=problem.floor)
+    data["self_collision"] = dict(enabled=problem.self_collision)
     if problem.obstacles:
         data["obstacles"] = [obstacle_table(ob) for ob in problem.obstacles]
     if start is not None:

@@ -9,7 +9,7 @@ saturated there and the step is solved again without them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -93,7 +93,35 @@ def compute_step(
     tuning: Tuning,
     memory: CurvatureMemory | None,
 ) -> Step:
-    """The step from ``at`` in the metric of :func:`metric`, inside the bounds (``memory`` None without comfort)."""
+    """The step from ``at`` in the metric of :func:`metric`, inside the bounds (``memory`` None without comfort).
+
+    Rows in contact (a clearance met within its hold band: error zero, Jacobian given) are released first; those
+    the step would then push into their clearance are held (kept where they are) and the step is solved again, so
+    a part slides along a surface or leaves it, never into it.
+    """
+    held = (at.err == 0.0) & lin.jac.any(axis=1)
+    if not held.any():
+        return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
+    released = replace(lin, jac=np.where(held[:, None], 0.0, lin.jac))
+    step = _bounded_step(problem, at, released, mu, radius, tuning, memory)
+    pushed = held & (lin.jac @ (step.task + step.comfort) < -tuning.hold_overshoot)
+    if not pushed.any():
+        return step
+    return _bounded_step(problem, at, replace(lin, jac=np.where((held & ~pushed)[:, None], 0.0, lin.jac)), mu,
+                         radius, tuning, memory)  # fmt: skip
+
+
+def _bounded_step(
+    problem: Problem,
+    at: Trial,
+    lin: Linearization,
+    mu: float,
+    radius: float,
+    tuning: Tuning,
+    memory: CurvatureMemory | None,
+) -> Step:
+    """The step on the rows of ``lin``: variables the step would push past a bound are saturated there and the
+    step solved again without them."""
     x, jac, err, grad_f = at.x, lin.jac, at.err, lin.grad_f
     lo, hi = problem.bounds.room(x)
     # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.

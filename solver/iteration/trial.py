@@ -157,7 +157,11 @@ class LineSearch:
         if bar is None:
             return trial
         problem = self.problem
-        x_soc = problem.bounds.clip(trial.x + self.step.correction(trial.err) * problem.scale)
+        change = (trial.x - self.at.x) / problem.scale + self.step.correction(trial.err)
+        if not self.near:  # the corrected step keeps the far steps' turn limit too
+            move = np.abs(problem.joint_change(self.at.state, change * problem.scale)) / self.move_limit
+            change = change / max(float(np.max(move, initial=0.0)), 1.0)
+        x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
         corrected = self.evaluate(x_soc)
         return corrected if corrected.merit < bar else trial
 

@@ -18,6 +18,7 @@ class Tuning:
     max_step: float = 1.0  # trust region: largest 2-norm of a task step
     max_comfort_step: float = 0.5  # largest entry of a comfort step
     clamping_rounds: int = 10  # re-solves without the variables a step pushed past a bound
+    hold_overshoot: float = 0.5  # scaled rows: a released contact row the step would push deeper than this is held
     fraction_near: float = 0.02  # a joint closer than this to its limit may be saturated right at it, else halfway
     force_barrier: float = 0.05  # log-barrier curvature of a contact edge weight: keeps light edges off zero
     force_floor: float = 0.01  # edge weight (/ body weight) below which the barrier stops growing

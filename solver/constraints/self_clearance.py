@@ -1,0 +1,59 @@
+"""Self-clearance: the body's own parts stay apart (hands and forearms out of the trunk, head and thighs; shank
+from shank), one row per pair of :mod:`solver.collision.self_pairs`, g = the capsules' surface distance (m).
+
+The Jacobian of a row is n . (velocity of the witness on the first capsule - velocity of the witness on the
+second), n the unit normal from the second to the first: the distance's gradient is n at one witness and -n at
+the other (the witnesses' own sliding drops out, as for obstacles). Joints that carry both parts move them
+rigidly together and cancel.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..collision.body import BodyCapsules
+from ..collision.distance import capsule_pairs
+from ..collision.proximity import PairProximity
+from ..collision.self_pairs import self_pairs
+from ..model import Model
+from ..state import State
+from .clearance import ClearanceRows
+
+
+class SelfClearance(ClearanceRows):
+    """The pairs of ``model``'s capsules that :func:`~solver.collision.self_pairs.self_pairs` names, each at least
+    its least distance apart."""
+
+    name = "self_collision"
+
+    def __init__(self, model: Model, capsules: BodyCapsules, n_x: int, margin: float = 0.05) -> None:
+        self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
+        self.pairs = self_pairs(model, capsules)
+        names = capsules.names
+        self._parts = [names[i] for i in self.pairs.first]
+        self._others = [names[j] for j in self.pairs.second]
+        self._pairs = [f"{a} vs {b}" for a, b in zip(self._parts, self._others, strict=True)]
+        self.floor = self.pairs.least.copy()
+
+    def _proximity(self, state: State) -> PairProximity:
+        """Every pair's distance, witnesses and normal at ``state``, once per state."""
+        key = (self, "pairs")
+        got = state.cache.get(key)
+        if got is None:
+            p0, p1 = self.capsules.world(state.kin)
+            got = state.cache[key] = capsule_pairs(p0, p1, self.capsules.radius, self.pairs.first, self.pairs.second)
+        return got
+
+    def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        got = self._proximity(state)
+        return got.distance, got.point, got.normal, self.pairs.first
+
+    def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
+        out = np.zeros((self.rows, self.n_x))
+        if rows.size:
+            got = self._proximity(state)
+            normal = got.normal[rows]
+            mask = self.model.descendant[:, self.capsules.link[self.pairs.second[rows]]].T.astype(float)
+            away = state.kin.jacobian_rows(got.point_other[rows], normal, np.zeros_like(normal), mask)
+            out[rows, : self.model.n] = self._part_rows(state, rows) - away
+        return out
