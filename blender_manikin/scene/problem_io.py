@@ -113,7 +113,7 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
         obstacles, shapes = scene_obstacles(arm)
         numbers += shapes
         problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor,
-                          obstacles=obstacles)  # fmt: skip
+                          obstacles=obstacles, self_collision=settings.self_collision)  # fmt: skip
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
     options = SolverOptions(
@@ -121,7 +121,8 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
         optimize_comfort=settings.comfort,
         restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
     )
-    labels.append((settings.balance, settings.floor, settings.comfort, settings.reduction, weights, options))
+    labels.append((settings.balance, settings.floor, settings.self_collision, settings.comfort, settings.reduction,
+                   weights, options))  # fmt: skip
     inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
     warm = x0 if x0 is None or len(x0) == problem.n_x else x0[: model.n]  # remembered forces fit the same supports
     return SceneProblem(problem, warm, options, inputs)

@@ -196,7 +196,9 @@ class MANIKIN_PT_settings(_SidebarPanel):
         settings = rig_of(context.active_object).manikin
         layout = self.layout
         layout.use_property_split = True
-        for name in ("balance", "floor", "comfort", "reduction", "max_iterations", "restarts", "live_iterations"):
+        names = ("balance", "floor", "self_collision", "comfort", "reduction", "max_iterations", "restarts",
+                 "live_iterations")  # fmt: skip
+        for name in names:
             layout.prop(settings, name)
         col = layout.column(heading="Comfort weights", align=True)
         for name in ("comfort_range", "comfort_load", "comfort_contact"):

@@ -127,6 +127,12 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     floor: BoolProperty(
         name="Floor", default=True, description="Keep every body part above the floor (z = 0)", update=_rig_changed
     )
+    self_collision: BoolProperty(
+        name="Self-collision",
+        default=True,
+        description="Keep hands and forearms out of the trunk, head and thighs, and the shanks apart",
+        update=_rig_changed,
+    )
     comfort: BoolProperty(
         name="Comfort", default=True, description="Maximise comfort in the constraints' null space", update=_rig_changed
     )

@@ -92,6 +92,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         problem, settings = sc.problem, arm.manikin
         settings.balance = problem.balance
         settings.floor = problem.floor
+        settings.self_collision = problem.self_collision
         settings.reduction = bool(problem.reduction_groups)
         settings.comfort = sc.options.optimize_comfort
         settings.max_iterations = sc.options.max_iterations
