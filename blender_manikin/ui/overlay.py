@@ -35,6 +35,7 @@ COLORS = dict(com=COM_COLOR, polygon=POLYGON_COLOR, contact=CONTACT_COLOR, load=
 
 _handles: list[tuple[object, str]] = []  # (draw handler, its region type)
 _parsed: dict[str, tuple[str, dict]] = {}  # armature name -> (JSON text, parsed), so redraws do not re-parse
+_wires: dict[str, tuple[dict, tuple, list]] = {}  # armature name -> (parsed result, its matrix, capsule wires)
 
 
 def _result(arm: bpy.types.Object) -> dict | None:
@@ -94,9 +95,10 @@ def capsule_wire(start: Vector, end: Vector, radius: float) -> list[Vector]:
     return lines
 
 
-def geometry(arm: bpy.types.Object, data: dict) -> dict[str, list[Vector]]:
+def geometry(arm: bpy.types.Object, data: dict, capsules: bool = True) -> dict[str, list[Vector]]:
     """World-space line pairs to draw for a result summary: keys com, polygon, contact, load, near (clearance
-    pairs within their margin), below (those below their clearance) and capsules (the body's, as wires)."""
+    pairs within their margin), below (those below their clearance) and capsules (the body's, as wires; left
+    empty without ``capsules``)."""
     m: Matrix = arm.matrix_world
     com = Vector(data["com"])
     floor = Vector((com.x, com.y, 0.0))
@@ -113,11 +115,24 @@ def geometry(arm: bpy.types.Object, data: dict) -> dict[str, list[Vector]]:
         empty = tcp_empty(arm, tcp)
         if empty is not None:
             lines["load"] += _arrow(empty.matrix_world.translation, rot @ Vector(ld["force"]) * FORCE_SCALE)
-    lines["near"], lines["below"], lines["capsules"] = [], [], []
+    lines["near"], lines["below"] = [], []
     for pair in data.get("closest", []):
         lines["below" if pair.get("below") else "near"] += [m @ Vector(pair["point"]), m @ Vector(pair["other_point"])]
+    lines["capsules"] = _capsule_lines(arm, data) if capsules else []
+    return lines
+
+
+def _capsule_lines(arm: bpy.types.Object, data: dict) -> list[Vector]:
+    """The capsules' wires, remembered while the result and the armature's place stay (a few ms to make)."""
+    m: Matrix = arm.matrix_world
+    place = tuple(tuple(row) for row in m)
+    cached = _wires.get(arm.name)
+    if cached is not None and cached[0] is data and cached[1] == place:
+        return cached[2]
+    lines = []
     for c in data.get("capsules", []):
-        lines["capsules"] += capsule_wire(m @ Vector(c["start"]), m @ Vector(c["end"]), c["radius"])
+        lines += capsule_wire(m @ Vector(c["start"]), m @ Vector(c["end"]), c["radius"])
+    _wires[arm.name] = (data, place, lines)  # holding ``data`` keeps its identity from being reused
     return lines
 
 
@@ -155,10 +170,11 @@ def draw() -> None:
     gpu.state.blend_set("ALPHA")
     gpu.state.depth_test_set("NONE")
     for arm, data in _drawn_manikins():
-        geo = geometry(arm, data)
+        keys = shown(arm)
+        geo = geometry(arm, data, "capsules" in keys)
         lines_shader.uniform_float("viewportSize", (viewport[2], viewport[3]))
         lines_shader.uniform_float("lineWidth", 2.0)
-        for key in shown(arm):
+        for key in keys:
             if geo[key]:
                 lines_shader.uniform_float("color", COLORS[key])
                 batch_for_shader(lines_shader, "LINES", {"pos": geo[key]}).draw(lines_shader)
@@ -206,3 +222,4 @@ def register() -> None:
 def unregister() -> None:
     remove_handlers()
     _parsed.clear()
+    _wires.clear()

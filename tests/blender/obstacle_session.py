@@ -20,7 +20,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from session_tools import draw_panels, error_of  # noqa: E402
+from session_tools import GpuRecorder, draw_panels, error_of  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.dev.build import install  # noqa: E402
@@ -104,6 +104,16 @@ seen["shown"].append(list(overlay.shown(arm)))
 arm.manikin.show_overlay = False
 seen["shown"].append(list(overlay.shown(arm)))
 arm.manikin.show_overlay, arm.manikin.show_capsules = True, False
+recorder = GpuRecorder()  # the draw callback with each toggle: (colour, vertex count) of every batch
+real_gpu, real_batch = overlay.gpu, overlay.batch_for_shader
+overlay.gpu, overlay.batch_for_shader = recorder.gpu, recorder.batch_for_shader
+for overlay_on, capsules_on in ((True, False), (True, True), (False, False)):
+    arm.manikin.show_overlay, arm.manikin.show_capsules = overlay_on, capsules_on
+    recorder.drawn.append(("draw", 0))
+    overlay.draw()
+overlay.gpu, overlay.batch_for_shader = real_gpu, real_batch
+arm.manikin.show_overlay, arm.manikin.show_capsules = True, False
+seen["batches"] = recorder.drawn
 seen["matrix"] = mat(arm.matrix_world)
 
 texts: list = []

@@ -62,3 +62,42 @@ def draw_panels(panels, log: list) -> None:
     for panel in panels:
         if not hasattr(panel, "poll") or panel.poll(bpy.context):
             panel.draw(type("Panel", (), {"layout": Layout(log)})(), bpy.context)
+
+
+class GpuRecorder:
+    """Stands in for the ``gpu`` module and ``batch_for_shader`` (background mode draws nothing): records the
+    builtin shaders asked for (``asked``) and each batch drawn as (its colour uniform, its vertex count)."""
+
+    def __init__(self) -> None:
+        self.asked: list[str] = []
+        self.drawn: list[tuple[tuple | None, int]] = []
+        recorder = self
+
+        class Shader:
+            color: tuple | None = None
+
+            def uniform_float(self, name: str, value) -> None:
+                if name == "color":
+                    self.color = tuple(value)
+
+        class shader:  # noqa: N801  (mirrors gpu.shader)
+            @staticmethod
+            def from_builtin(name: str) -> Shader:
+                recorder.asked.append(name)
+                return Shader()
+
+        class state:  # noqa: N801  (mirrors gpu.state)
+            viewport_get = staticmethod(lambda: (0, 0, 800, 600))
+            blend_set = depth_test_set = point_size_set = staticmethod(lambda value: None)
+
+        self.gpu = type("gpu", (), {"shader": shader, "state": state})
+
+    def batch_for_shader(self, shader, kind: str, data: dict):
+        """A batch whose ``draw`` records the shader's colour and the vertex count."""
+        recorder = self
+
+        class Batch:
+            def draw(self, used) -> None:
+                recorder.drawn.append((used.color, len(data["pos"])))
+
+        return Batch()

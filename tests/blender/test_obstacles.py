@@ -132,3 +132,24 @@ def test_the_sidebar_shows_the_obstacle_and_capsule_settings(session: dict) -> N
     assert (
         '(or put it in a collection named "Obstacles")' in session["panel"] and "male_50 (male_50)" in session["panel"]
     )
+
+
+def _draws(batches: list) -> list[list]:
+    """The recorded batches split at each draw call: [[(colour, count), ...], ...]."""
+    out: list[list] = []
+    for color, count in batches:
+        if color == "draw":
+            out.append([])
+        else:
+            out[-1].append((tuple(color), count))
+    return out
+
+
+def test_the_draw_callback_draws_what_the_toggles_show(session: dict) -> None:
+    overlay_only, with_capsules, nothing = _draws(session["batches"])
+    geometry = session["geometry"]
+    near = (0.95, 0.95, 0.95, 1.0)
+    capsule = (0.3, 0.85, 1.0, 0.7)
+    assert (near, len(geometry["near"])) in overlay_only and all(color != capsule for color, _ in overlay_only)
+    assert with_capsules == [*overlay_only, (capsule, len(geometry["capsules"]))]
+    assert nothing == []
