@@ -1,12 +1,19 @@
 """Scene meshes as the solver's obstacles: every mesh object marked as an obstacle (its Manikin panel) or in a
-collection named "Obstacles", evaluated (modifiers applied) and put in the armature's space."""
+collection named "Obstacles", evaluated (modifiers applied) and put in the armature's space.
+
+An obstacle's ``shape`` (Object.manikin_obstacle) says what the solver keeps clear of: the mesh itself, or a box,
+sphere, capsule or plane (half-space) made from the mesh's bounds in the object's own axes and its transform
+(:func:`solver.collision.placed.shape_from_bounds`; :mod:`.obstacle_objects` builds objects
+from shapes so that this gives them back).
+"""
 
 from __future__ import annotations
 
 import bpy
 import numpy as np
 
-from ...solver.collision import Mesh, degenerate_faces
+from ...solver.collision import Mesh, Obstacle, degenerate_faces
+from ...solver.collision.placed import shape_from_bounds
 
 COLLECTION = "Obstacles"  # every mesh in a collection of this name is an obstacle
 
@@ -18,31 +25,44 @@ def is_obstacle(ob: bpy.types.Object) -> bool:
     return bool(ob.manikin_obstacle.enabled) or any(c.name == COLLECTION for c in ob.users_collection)
 
 
-def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Mesh], list[np.ndarray]]:
-    """(the obstacles as meshes in ``arm``'s space (m), the numbers they came from, for noticing a change)."""
+def _mesh_data(ob: bpy.types.Object, depsgraph: bpy.types.Depsgraph) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices (V, 3) in the object's own axes, triangles (F, 3)) of the evaluated mesh."""
+    evaluated = ob.evaluated_get(depsgraph)
+    data = evaluated.to_mesh()
+    try:
+        data.calc_loop_triangles()
+        points = np.empty(3 * len(data.vertices))
+        data.vertices.foreach_get("co", points)
+        faces = np.empty(3 * len(data.loop_triangles), dtype=np.int32)
+        data.loop_triangles.foreach_get("vertices", faces)
+    finally:
+        evaluated.to_mesh_clear()
+    return points.reshape(-1, 3), faces.reshape(-1, 3).astype(np.int64)
+
+
+def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndarray]]:
+    """(the obstacles in ``arm``'s space (m), the numbers they came from, for noticing a change). A mesh without
+    faces is skipped; a shape's error (a flat box) is a ManikinError naming the object."""
     to_local = np.array(arm.matrix_world.inverted())
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    meshes, numbers = [], []
+    shapes, numbers = [], []
     for ob in bpy.context.scene.objects:
         if not is_obstacle(ob):
             continue
-        evaluated = ob.evaluated_get(depsgraph)
-        data = evaluated.to_mesh()
-        try:
-            data.calc_loop_triangles()
-            points = np.empty(3 * len(data.vertices))
-            data.vertices.foreach_get("co", points)
-            faces = np.empty(3 * len(data.loop_triangles), dtype=np.int32)
-            data.loop_triangles.foreach_get("vertices", faces)
-        finally:
-            evaluated.to_mesh_clear()
+        points, faces = _mesh_data(ob, depsgraph)
         if not len(faces):
             continue
         world = to_local @ np.array(ob.matrix_world)
-        points = points.reshape(-1, 3) @ world[:3, :3].T + world[:3, 3]
-        faces = faces.reshape(-1, 3).astype(np.int64)
-        faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier) carry nothing
-        clearance = float(ob.manikin_obstacle.clearance)
-        meshes.append(Mesh(points, faces, name=ob.name, clearance=clearance))
-        numbers += [world.ravel(), np.array([len(points), len(faces), clearance])]
-    return meshes, numbers
+        settings = ob.manikin_obstacle
+        common = dict(name=ob.name, clearance=float(settings.clearance))
+        if settings.shape != "MESH":
+            low, high = points.min(axis=0), points.max(axis=0)
+            shapes.append(shape_from_bounds(settings.shape.lower(), world, low, high, **common))
+        else:
+            points = points @ world[:3, :3].T + world[:3, 3]
+            faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier)
+            shapes.append(Mesh(points, faces, **common))
+        kind = float(("MESH", "BOX", "SPHERE", "CAPSULE", "PLANE").index(settings.shape))
+        counts = np.array([len(points), len(faces), kind, settings.clearance])
+        numbers += [world.ravel(), points.min(axis=0), points.max(axis=0), counts]
+    return shapes, numbers

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import bpy
 import numpy as np
@@ -15,6 +16,8 @@ from mathutils import Matrix
 
 from ... import solver
 from ...solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
+from ...solver.collision.body import capsules_of
+from ...solver.constraints.clearance import TOLERANCE
 from ...solver.contacts import support_polygon
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
@@ -23,6 +26,10 @@ from ...solver.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .obstacles import scene_obstacles
 from .schema import ERROR_KEY, RESULT_KEY, members
+
+if TYPE_CHECKING:
+    from ...solver.model import Model
+    from ...solver.state import State
 
 TOP_LOADS = 5
 
@@ -129,7 +136,9 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
 
 
 def summarize(result: Result) -> dict:
-    """What the sidebar and the overlay show, armature space, JSON-ready."""
+    """What the sidebar and the overlay show, armature space, JSON-ready: ``closest`` the clearance pairs within
+    their margin (as in the result file, plus ``below``: under the clearance by more than the solver's tolerance)
+    and ``capsules`` the body's collision capsules (start, end, radius; m) in this pose."""
     state = result.state
     problem = result.problem
     model = problem.model
@@ -158,7 +167,17 @@ def summarize(result: Result) -> dict:
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
         joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
         scores=scores(result),
+        closest=[dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE)) for c in problem.closest(state)],
+        capsules=capsules(problem.model, state),
     )
+
+
+def capsules(model: Model, state: State) -> list[dict]:
+    """The body's collision capsules in the pose ``state``: start, end (m, armature space) and radius (m)."""
+    body = capsules_of(model)
+    start, end = body.world(state.kin)
+    return [dict(link=name, start=a.tolist(), end=b.tolist(), radius=float(r))
+            for name, a, b, r in zip(body.names, start, end, body.radius, strict=True)]  # fmt: skip
 
 
 def scores(result: Result) -> dict:

@@ -5,8 +5,9 @@ On the armature object: ``manikin_preset`` (preset name, or "" for a body file),
 ""), ``manikin_x`` (the last solution: joint values, then contact-edge weights), ``manikin_result`` (JSON summary
 of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
 that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
-(its TCP's name). Settings live in the ``Object.manikin`` / ``Object.manikin_target`` property groups
-(``ui/properties.py``).
+(its TCP's name). On an obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing
+again replaces it). Settings live in the ``Object.manikin`` / ``Object.manikin_target`` /
+``Object.manikin_obstacle`` property groups (``ui/properties.py``).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ RESULT_KEY = "manikin_result"
 BAKE_KEY = "manikin_bake"
 ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
+IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
 PREFIXES = {"TARGET": "target.", "LOOP": "loop.", "LOAD": "load."}  # the empties a user moves, by role

@@ -64,6 +64,7 @@ class MANIKIN_PT_main(_SidebarPanel):
         row = layout.row(align=True)
         row.operator("manikin.reset_pose", icon="LOOP_BACK")
         row.prop(arm.manikin, "show_overlay", toggle=True, icon="OVERLAY")
+        row.prop(arm.manikin, "show_capsules", toggle=True, icon="MESH_CAPSULE")
         col = layout.column(align=True)
         col.operator("manikin.add_target", icon="EMPTY_ARROWS")
         col.operator("manikin.add_loop", icon="LINKED")
@@ -124,9 +125,10 @@ class MANIKIN_PT_obstacle(_SidebarPanel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(s, "enabled")
-        row = layout.row()
-        row.active = s.enabled
-        row.prop(s, "clearance")
+        col = layout.column()
+        col.active = s.enabled or any(c.name == "Obstacles" for c in context.active_object.users_collection)
+        col.prop(s, "clearance")
+        col.prop(s, "shape")
         layout.label(text='(or put it in a collection named "Obstacles")')
 
 

@@ -108,14 +108,24 @@ class MANIKIN_PG_target(bpy.types.PropertyGroup):
         return None if self.priority == "AUTO" else int(self.priority)
 
 
+SHAPES = (
+    ("MESH", "Mesh", "The evaluated mesh, triangle by triangle"),
+    ("BOX", "Box", "The box of the mesh's bounds, turned and scaled with the object"),
+    ("SPHERE", "Sphere", "A ball at the middle of the mesh's bounds, as wide as their largest dimension"),
+    ("CAPSULE", "Capsule", "Along the object's local z: as long as the bounds, as wide as their largest x/y"),
+    ("PLANE", "Plane", "A half-space through the middle of the bounds, solid below the object's local z"),
+)
+
+
 class MANIKIN_PG_obstacle(bpy.types.PropertyGroup):
-    """A mesh the manikin keeps clear of (on any mesh object)."""
+    """A mesh the manikin keeps clear of (on any mesh object), as the mesh itself or as a simple shape."""
 
     enabled: BoolProperty(name="Obstacle", default=False, description="The manikin keeps clear of this mesh")
     clearance: FloatProperty(
         name="Clearance", default=0.0, min=0.0, max=10.0, subtype="DISTANCE", unit="LENGTH",
         description="Distance the body keeps from the mesh",
     )  # fmt: skip
+    shape: EnumProperty(name="Shape", items=SHAPES, default="MESH", description="What the solver keeps clear of")
 
 
 class MANIKIN_PG_rig(bpy.types.PropertyGroup):
@@ -185,7 +195,12 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
         update=_rig_changed,
     )
     show_overlay: BoolProperty(
-        name="Overlay", default=True, description="Draw center of mass, support polygon and contact forces"
+        name="Overlay",
+        default=True,
+        description="Draw center of mass, support polygon, contact forces and the closest distances to obstacles",
+    )
+    show_capsules: BoolProperty(
+        name="Capsules", default=False, description="Draw the body's collision capsules (of the last solve)"
     )
     bound_motion: BoolProperty(
         name="Bound per-frame change",

@@ -1,9 +1,10 @@
-"""Scenario files: the scene's targets, loops, loads and settings to and from the solver's scenario TOML.
+"""Scenario files: the scene's targets, loops, loads, obstacles and settings to and from the solver's scenario TOML.
 
-Import reads with :func:`solver.load_scenario` (all validation lives there) and builds the empties;
-export reads the scene into a Problem exactly as Solve does and writes it with ``dumps_scenario``. Keyed targets
-become keyed empties and back (``scene.motion_keys``); general operator rows and custom soles have no UI and are
-reported.
+Import reads with :func:`solver.load_scenario` (all validation lives there) and builds the empties and the
+obstacles (``scene.obstacle_objects``); export reads the scene into a Problem exactly as Solve does and writes it
+with ``write_scenario_files``: mesh obstacles as OBJ files beside the TOML, boxes, spheres, capsules and planes in
+it. Keyed targets become keyed empties and back (``scene.motion_keys``); general operator rows and custom soles
+have no UI and are reported.
 """
 
 from __future__ import annotations
@@ -46,8 +47,8 @@ def _world(arm: bpy.types.Object, rot: np.ndarray, pos: np.ndarray) -> Matrix:
 
 
 class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
-    """Load a scenario TOML: targets, loops, loads, settings and start pose (onto the active manikin if it has the
-    same body, else onto a new one)"""
+    """Load a scenario TOML: targets, loops, loads, obstacles, settings and start pose (onto the active manikin if it
+    has the same body, else onto a new one)"""
 
     bl_idname = "manikin.import_scenario"
     bl_label = "Import Scenario"
@@ -62,7 +63,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ... import solver
-        from ..scene import armature
+        from ..scene import armature, obstacle_objects
 
         try:
             sc = solver.load_scenario(self.filepath)
@@ -73,15 +74,21 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
                 preset, file = source.get("preset", ""), source.get("file", "")
                 arm = armature.create_manikin(context, model, preset, file, at_cursor=False)  # scenario = world
             keyed = self._apply(context.scene, arm, sc)
+            obstacles = sc.problem.obstacles
+            name = Path(self.filepath).name
+            for warning in obstacle_objects.add_obstacles(context.scene, arm, obstacles, name):
+                self.report({"WARNING"}, warning)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         for ob in context.view_layer.objects.selected:
-            ob.select_set(False)
+            if ob is not None:  # an object removed by a script since the view layer's last update
+                ob.select_set(False)
         arm.select_set(True)
         context.view_layer.objects.active = arm
         motion = f"; {keyed} keyed targets, frames {sc.frames[0]}-{sc.frames[-1]}" if keyed else ""
-        self.report({"INFO"}, f"Imported {Path(self.filepath).name} onto {arm.name}{motion}")
+        motion += f"; {len(obstacles)} obstacles" if obstacles else ""
+        self.report({"INFO"}, f"Imported {name} onto {arm.name}{motion}")
         return {"FINISHED"}
 
     def _apply(self, scene: bpy.types.Scene, arm: bpy.types.Object, sc: Scenario) -> int:
@@ -134,7 +141,8 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
 
 
 class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
-    """Write the active manikin's targets, loops, loads, settings (and pose) as a scenario TOML for the CLI"""
+    """Write the active manikin's targets, loops, loads, obstacles, settings (and pose) as a scenario TOML for the
+    CLI; mesh obstacles go to OBJ files beside it"""
 
     bl_idname = "manikin.export_scenario"
     bl_label = "Export Scenario"
@@ -148,7 +156,8 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
         return rig_of(context.active_object) is not None
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ...solver import dumps_scenario, scenario_to_dict
+        from ...solver import scenario_to_dict
+        from ...solver.io.scenario_write import write_scenario_files
         from ..scene import motion_keys, problem_io
 
         arm = rig_of(context.active_object)
@@ -158,11 +167,13 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
             start = sp.x0 if self.include_pose else None
             data = scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name)
             motion_keys.export_motion(data, context.scene, arm)
-            Path(self.filepath).write_text(dumps_scenario(data), encoding="utf-8")
+            written = write_scenario_files(self.filepath, data)
         except (ManikinError, OSError) as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        self.report({"INFO"}, f"Wrote {self.filepath}")
+        count = len(written) - 1
+        meshes = f" and {count} mesh file{'s' if count > 1 else ''} beside it" if count else ""
+        self.report({"INFO"}, f"Wrote {self.filepath}{meshes}")
         return {"FINISHED"}
 
 

@@ -1,5 +1,5 @@
-"""Generated triangle meshes (m): a subdivided closed box and an open height-field patch, for presets, tests and
-benchmarks."""
+"""Generated triangle meshes (m): a subdivided closed box, a closed capsule (a sphere when its ends meet) and an
+open height-field patch, for presets, tests, benchmarks and the obstacles Blender recreates from a scenario."""
 
 from __future__ import annotations
 
@@ -51,3 +51,39 @@ def height_field(corner, size, divisions: tuple[int, int], height) -> tuple[np.n
     a, b, c, d = index[:-1, :-1], index[1:, :-1], index[1:, 1:], index[:-1, 1:]
     faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
     return vertices, faces
+
+
+def axis_frame(direction) -> np.ndarray:
+    """A proper rotation (3x3) whose third column is ``direction`` made unit length (the identity for a zero one)."""
+    d = np.asarray(direction, dtype=float)
+    length = np.linalg.norm(d)
+    if length < 1e-12:
+        return np.eye(3)
+    z = d / length
+    x = np.cross((0.0, 1.0, 0.0) if abs(z[1]) < 0.9 else (1.0, 0.0, 0.0), z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def capsule_mesh(a, b, radius: float, segments: int = 16, rings: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """A closed capsule around the segment ``a``-``b`` (3,) m of ``radius`` m, counter-clockwise seen from outside:
+    ``segments`` around, ``rings`` latitudes per half sphere (a == b gives a UV sphere). Its corners lie on the
+    surface: poles on the axis, a vertex at local angle 0 on each ring (so its bounding box is the capsule's)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    half = 0.5 * float(np.linalg.norm(b - a))
+    phi = np.linspace(0.0, 0.5 * np.pi, rings + 1)[1:]  # from the pole down to the equator
+    bottom = phi[::-1] if half > 0 else phi[-2::-1]  # a sphere has one equator, not two on top of each other
+    levels = [(half + radius * np.cos(p), radius * np.sin(p)) for p in phi]
+    levels += [(-half - radius * np.cos(p), radius * np.sin(p)) for p in bottom]
+    theta = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    circles = [np.column_stack([rho * np.cos(theta), rho * np.sin(theta), np.full(segments, z)]) for z, rho in levels]
+    vertices = np.vstack([[0.0, 0.0, half + radius], *circles, [0.0, 0.0, -half - radius]])
+    j = np.arange(segments)
+    k = (j + 1) % segments
+    faces = [np.column_stack([np.zeros(segments, int), 1 + j, 1 + k])]
+    for i in range(len(levels) - 1):
+        top, low = 1 + i * segments, 1 + (i + 1) * segments
+        faces += [np.column_stack([top + j, low + j, low + k]), np.column_stack([top + j, low + k, top + k])]
+    last, pole = 1 + (len(levels) - 1) * segments, len(vertices) - 1
+    faces.append(np.column_stack([np.full(segments, pole), last + k, last + j]))
+    return vertices @ axis_frame(b - a).T + 0.5 * (a + b), np.vstack(faces).astype(np.int64)

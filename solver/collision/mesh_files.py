@@ -216,8 +216,14 @@ def read_mesh(path: str | Path, name: str = "", clearance: float = 0.0) -> Mesh:
         raise ScenarioError(f"{path}: {exc}") from None
 
 
+def obj_text(vertices: np.ndarray, faces: np.ndarray, comment: str = "") -> str:
+    """OBJ text of vertices (V, 3) m and faces (F, 3) 0-based (1-based in the file), after a ``# comment`` line."""
+    lines = [f"# {comment}"] if comment else []
+    lines += [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in np.asarray(vertices, dtype=float)]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in np.asarray(faces, dtype=np.int64)]
+    return "\n".join(lines) + "\n"
+
+
 def write_obj(path: str | Path, vertices: np.ndarray, faces: np.ndarray) -> None:
     """Write vertices (V, 3) m and faces (F, 3) 0-based as an OBJ file (1-based indices)."""
-    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in np.asarray(vertices, dtype=float)]
-    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in np.asarray(faces, dtype=np.int64)]
-    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    Path(path).write_text(obj_text(vertices, faces), encoding="utf-8")

@@ -100,7 +100,9 @@ class OutputFile:
                 self.stream = os.fdopen(fd, mode, **text)
         except OSError as exc:
             self.discard()
-            raise ManikinError(f"{path}: cannot write ({_reason(exc)})") from None
+            in_the_way = isinstance(exc, FileExistsError | NotADirectoryError)  # mkdir met a file
+            why = "a file is where its folder should be" if in_the_way else _reason(exc)
+            raise ManikinError(f"{path}: cannot write ({why})") from None
 
     def commit(self) -> None:
         """Finish the output: flush and close it, and rename a temporary file onto the path."""
@@ -161,6 +163,32 @@ def write_text(path: str | Path, text: str) -> Path | str:
     with open_output(path) as fh:
         fh.write(text)
     return path if str(path) == STDOUT else Path(path)
+
+
+def write_texts(items: list[tuple[Path, str]]) -> list[Path]:
+    """Write several files together: every text goes to its temporary file first and only when all are written
+    are they put in place, in order (a failure before that leaves every old file as it was); their paths."""
+    outputs: list[OutputFile] = []
+    try:
+        for path, text in items:
+            outputs.append(OutputFile(path))
+            outputs[-1].stream.write(text)
+    except OSError as exc:
+        for out in outputs:
+            out.discard()
+        raise ManikinError(f"{outputs[-1].path}: cannot write ({_reason(exc)})") from None
+    except BaseException:
+        for out in outputs:
+            out.discard()
+        raise
+    for i, out in enumerate(outputs):
+        try:
+            out.commit()
+        except ManikinError:
+            for rest in outputs[i + 1 :]:
+                rest.discard()
+            raise
+    return [Path(path) for path, _ in items]
 
 
 def write_json(path: str | Path, data: Any, allow_nan: bool = True) -> Path | str:

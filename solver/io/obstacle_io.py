@@ -7,7 +7,8 @@
     size = [1.0, 0.4, 0.02]   # scenario, .obj/.stl/.ply, or inline vertices and faces)
     clearance = 0.01          # m the body keeps from it (default 0)
 
-A mesh is written inline (its vertices and faces), so the file stands alone.
+:func:`obstacle_table` writes a mesh inline (its vertices and faces); ``write_scenario`` moves it into an OBJ file
+beside the scenario (:mod:`.obstacle_files`).
 """
 
 from __future__ import annotations

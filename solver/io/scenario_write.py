@@ -1,7 +1,9 @@
 """A problem (with its manikin, options and start pose) -> the scenario tables :func:`load_scenario` reads -> TOML.
 
 ``scenario_to_dict`` gives plain data (the Blender layer adds keys to it), ``dumps_scenario`` its TOML text and
-``write_scenario`` the file. Rotations are written as quaternions (w, x, y, z).
+``write_scenario`` the file. Rotations are written as quaternions (w, x, y, z). Mesh obstacles: the data and its
+text hold them inline (vertices and faces: text has no folder to put files in); ``write_scenario`` moves each into
+an OBJ file beside the TOML (:mod:`.obstacle_files`) unless asked for ``inline`` or writing to standard output.
 """
 
 from __future__ import annotations
@@ -14,7 +16,8 @@ import numpy as np
 from ..errors import ScenarioError
 from ..options import DEFAULT_OPTIONS, SolverOptions
 from ..problem import Loop, Problem, Target
-from .files import write_text
+from .files import STDOUT, write_text, write_texts
+from .obstacle_files import mesh_files
 from .obstacle_io import obstacle_table
 from .toml_write import dumps_toml
 from .values import floats, quaternion
@@ -63,9 +66,20 @@ def dumps_scenario(data: dict) -> str:
     return dumps_toml(data, ScenarioError)
 
 
-def write_scenario(path: str | Path, data: dict) -> Path:
-    """Write the scenario dict ``data`` as a TOML file (atomically); the path."""
-    return write_text(Path(path), dumps_scenario(data))
+def write_scenario(path: str | Path, data: dict, inline: bool = False) -> Path:
+    """Write the scenario dict ``data`` as a TOML file, its mesh obstacles as OBJ files beside it (all atomically,
+    the TOML last); ``inline`` (or ``path`` "-", standard output) keeps the meshes in the TOML. The TOML's path."""
+    return write_scenario_files(path, data, inline)[-1]
+
+
+def write_scenario_files(path: str | Path, data: dict, inline: bool = False) -> list[Path]:
+    """:func:`write_scenario`, returning every file written: the mesh files, then the TOML."""
+    if inline or str(path) == STDOUT:
+        return [Path(write_text(path, dumps_scenario(data)))]
+    path = Path(path)
+    tables, meshes = mesh_files(path, data.get("obstacles", []))
+    text = dumps_scenario({**data, "obstacles": tables} if tables else data)  # checked before anything is written
+    return write_texts([*meshes, (path, text)])
 
 
 def _relaxation(table: dict, lock: tuple[str, ...], operator: np.ndarray | None) -> None:

@@ -18,7 +18,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from session_tools import error_of  # noqa: E402
+from session_tools import GpuRecorder, error_of  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.dev.build import install  # noqa: E402
@@ -118,54 +118,12 @@ bpy.ops.manikin.solve_pose()
 
 # The overlay, drawn with a stand-in for gpu: which builtin shaders it asks for, and how many line batches.
 overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
-asked: list[str] = []
-drawn: list[int] = []
-
-
-class Shader:
-    def uniform_float(self, name: str, value) -> None:
-        pass
-
-
-class Batch:
-    def __init__(self, count: int) -> None:
-        self.count = count
-
-    def draw(self, shader: Shader) -> None:
-        drawn.append(self.count)
-
-
-class Gpu:
-    class shader:  # noqa: N801  (mirrors gpu.shader)
-        @staticmethod
-        def from_builtin(name: str) -> Shader:
-            asked.append(name)
-            return Shader()
-
-    class state:  # noqa: N801
-        @staticmethod
-        def viewport_get() -> tuple:
-            return (0, 0, 800, 600)
-
-        @staticmethod
-        def blend_set(mode: str) -> None:
-            pass
-
-        @staticmethod
-        def depth_test_set(mode: str) -> None:
-            pass
-
-        @staticmethod
-        def point_size_set(size: float) -> None:
-            pass
-
-
-overlay.gpu = Gpu
-overlay.batch_for_shader = lambda shader, kind, data: Batch(len(data["pos"]))
+recorder = GpuRecorder()
+overlay.gpu, overlay.batch_for_shader = recorder.gpu, recorder.batch_for_shader
 overlay.draw()
 binary = Path(bpy.__spec__.origin).read_bytes()  # the compiled module: builtin shader names are strings in it
-known = {name: f"{name}\0".encode() in binary for name in {*asked, "POINT_UNIFORM_COLOR"}}
-seen["overlay"] = dict(asked=sorted(set(asked)), drawn=drawn, known=known)
+known = {name: f"{name}\0".encode() in binary for name in {*recorder.asked, "POINT_UNIFORM_COLOR"}}
+seen["overlay"] = dict(asked=sorted(set(recorder.asked)), drawn=[n for _, n in recorder.drawn], known=known)
 
 # Bad states a user can make: each is a report (RuntimeError for a script), never a traceback.
 bone = arm.data.bones["upper_arm_r"]

@@ -21,7 +21,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from session_tools import error_of  # noqa: E402
+from session_tools import draw_panels, error_of  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.dev.build import install  # noqa: E402
@@ -86,47 +86,11 @@ seen["bone_colors"] = {pb.name: [pb.color.palette, list(pb.color.custom.normal)]
 seen["overlay"] = {k: len(v) for k, v in overlay.geometry(arm, seen["result"]).items()}
 
 # The sidebar draws (checked against a recording layout: properties, operators and icons must exist).
-ICONS = set(bpy.types.UILayout.bl_rna.functions["label"].parameters["icon"].enum_items.keys())
-
-
-class Layout:
-    """Stands in for UILayout; fails on unknown properties, operators or icons."""
-
-    def __init__(self, log: list) -> None:
-        self.log = log
-
-    def _icon(self, kw: dict) -> None:
-        assert kw.get("icon", "NONE") in ICONS, kw["icon"]
-
-    def row(self, **kw) -> Layout:
-        return Layout(self.log)
-
-    column = box = split = row
-
-    def label(self, text: str = "", **kw) -> None:
-        self._icon(kw)
-        self.log.append(text)
-
-    def prop(self, data, name: str, **kw) -> None:
-        assert name in data.bl_rna.properties, name
-        self._icon(kw)
-
-    def operator(self, idname: str, **kw) -> None:
-        group, name = idname.split(".")
-        assert hasattr(getattr(bpy.ops, group), name), idname
-        self._icon(kw)
-
-    def operator_menu_enum(self, idname: str, prop: str, **kw) -> None:
-        self.operator(idname, **kw)
-
-
 drawn: list = []
 for active in ("male_50", "target.hand_r", "load.hand_l"):
     obj = bpy.data.objects.get(active)
     bpy.context.view_layer.objects.active = obj
-    for panel in importlib.import_module(module + ".blender_manikin.ui.panels").classes:
-        if not hasattr(panel, "poll") or panel.poll(bpy.context):
-            panel.draw(type("Panel", (), {"layout": Layout(drawn)})(), bpy.context)
+    draw_panels(importlib.import_module(module + ".blender_manikin.ui.panels").classes, drawn)
 seen["sidebar"] = drawn
 bpy.context.view_layer.objects.active = bpy.data.objects["male_50"]
 
