@@ -1,7 +1,7 @@
 """A picture of key poses of a baked motion (bpy + matplotlib, a wheel of the extension): small Cycles CPU renders
 side by side.
 
-Every pose is rendered by the same orthographic camera, a three-quarter view from the manikin's front right
+Every pose is rendered by the same orthographic camera, a view from the manikin's right side, a little from the front and above
 framed on the body, the obstacles and the carried box over all shown frames, so the poses compare at one scale.
 The scene's obstacles and its carried box (:mod:`..scene.carried_object`, keyed with the hands) are rendered as they
 are; without a carried box, a load held by both hands is drawn as a box between the palms. The tiles are put side by side with a caption each by matplotlib. The staging
@@ -22,7 +22,7 @@ from ..scene.compat import node_tree
 from ..scene.obstacles import is_obstacle
 from ..scene.schema import OUR_MATERIALS, PICTURE_COLLECTION, PICTURE_PREFIX, members, tcp_empty
 
-VIEW = Vector((-1.35, -1.0, 0.4)).normalized()  # from the body towards the camera: front right, a little above
+VIEW = Vector((-1.5, -0.55, 0.45)).normalized()  # from the body towards the camera: right side, a bit to the front
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
 MARGIN = 1.12
 SKY = (0.85, 0.88, 0.92)
