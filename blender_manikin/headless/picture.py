@@ -1,11 +1,12 @@
 """A picture of key poses of a baked motion (bpy + matplotlib, a wheel of the extension): small Cycles CPU renders
 side by side.
 
-Every pose is rendered by the same orthographic camera, a view from the manikin's right side, a little from the front and above
-framed on the body, the obstacles and the carried box over all shown frames, so the poses compare at one scale.
-The scene's obstacles and its carried box (:mod:`..scene.carried_object`, keyed with the hands) are rendered as they
-are; without a carried box, a load held by both hands is drawn as a box between the palms. The tiles are put side by side with a caption each by matplotlib. The staging
-(floor, lights, camera, box) is removed again and the render settings restored.
+Every pose is rendered by the same orthographic camera, a view from the manikin's right side (a little from the
+front and above) framed on the body, the obstacles and the carried box over all shown frames, so the poses compare
+at one scale. The scene's obstacles and its carried box (:mod:`..scene.carried_object`, keyed with the hands) are
+rendered as they are; without a carried box, a load held by both hands is drawn as a box between the palms. The
+tiles are put side by side with a caption each by matplotlib. The staging (floor, lights, camera, box) is removed
+again and the render settings restored.
 """
 
 from __future__ import annotations
