@@ -62,6 +62,9 @@ def test_export_writes_the_keys_back(session: dict) -> None:
     assert session["export"] == ["FINISHED"]
     original, exported = load_scenario(MOTION), load_scenario(Path(session["work"]) / "exported_motion.toml")
     assert exported.frames == original.frames and exported.limits == original.limits
+    assert exported.carried is not None and exported.carried.tcps == original.carried.tcps  # [carried] written back
+    np.testing.assert_allclose(exported.carried.size, original.carried.size)
+    assert {ob.name for ob in exported.problem.obstacles} == {ob.name for ob in original.problem.obstacles}
     tracks = {exported.problem.all_targets[t.target].tcp: t for t in exported.tracks}
     assert sorted(tracks) == ["hand_l", "hand_r"]
     for track in original.tracks:
