@@ -210,7 +210,8 @@ for frame in (1, 2, 3):
     bpy.context.scene.frame_set(frame)
     hands = [list(bpy.data.objects["tcp." + t].matrix_world.translation) for t in ("hand_r", "hand_l")]
     at[frame] = [list(box.matrix_world.translation), hands]
-seen = dict(obstacles=[ob.name for ob in bpy.data.collections["Obstacles"].objects], box=dict(animated=box.animation_data is not None, at=at))
+obstacles = [ob.name for ob in bpy.data.collections["Obstacles"].objects]
+seen = dict(obstacles=obstacles, box=dict(animated=box.animation_data is not None, at=at))
 with open(out, "w", encoding="utf-8") as fh:
     json.dump(seen, fh)
 """
