@@ -2,11 +2,12 @@
 
     python -m blender_manikin.demo [--out-dir out] [--frames START END] [-q]
 
-runs ``batch.py`` on presets/scenarios/box_lift_motion.toml and writes ``box_lift.blend`` (the keyed manikin and
-its animated targets: open it in Blender 4.2+ with the extension), ``box_lift.glb`` and ``box_lift.bvh`` (the
-motion for other tools), ``box_lift_report.json`` (per frame: convergence, times, residuals, RULA, REBA, OWAS,
-joint loads, L4/L5 compression, NIOSH) and ``box_lift_key_poses.png`` (key poses side by side). Blender runs
-with a throwaway user folder, so your own Blender settings and add-ons stay out of it. Exit codes as batch.py.
+runs ``batch.py`` on presets/scenarios/box_lift_motion.toml and writes ``box_lift.blend`` (the keyed manikin, its
+animated targets, the shelf and table as obstacles and the carried box keyed with the hands: open it in Blender
+4.2+ with the extension), ``box_lift.glb`` and ``box_lift.bvh`` (the motion for other tools),
+``box_lift_report.json`` (per frame: convergence, times, residuals, RULA, REBA, OWAS, joint loads, L4/L5
+compression, NIOSH) and ``box_lift_key_poses.png`` (key poses side by side, with the shelf, table and box). Blender
+runs with a throwaway user folder, so your own Blender settings and add-ons stay out of it. Exit codes as batch.py.
 """
 
 from __future__ import annotations

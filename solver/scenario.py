@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .carried import Carried
 from .model import Model
 from .motion import Track, targets_at
 from .options import MotionLimits, SolverOptions
@@ -32,6 +33,7 @@ class Scenario:
     frames: list[int]
     tracks: list[Track]
     limits: MotionLimits | None
+    carried: Carried | None = None  # a box held between two TCPs ([carried]): shown, not solved against
 
     @property
     def frame(self) -> int:

@@ -1,10 +1,12 @@
 """A picture of key poses of a baked motion (bpy + matplotlib, a wheel of the extension): small Cycles CPU renders
 side by side.
 
-Every pose is rendered by the same orthographic camera, a three-quarter view from the manikin's front right
-framed on the body over all shown frames, so the poses compare at one scale. A load carried by both hands is
-drawn as a box between the palms. The tiles are put side by side with a caption each by matplotlib. The staging
-(floor, lights, camera, box) is removed again and the render settings restored.
+Every pose is rendered by the same orthographic camera, a view from the manikin's right side (a little from the
+front and above) framed on the body, the obstacles and the carried box over all shown frames, so the poses compare
+at one scale. The scene's obstacles and its carried box (:mod:`..scene.carried_object`, keyed with the hands) are
+rendered as they are; without a carried box, a load held by both hands is drawn as a box between the palms. The
+tiles are put side by side with a caption each by matplotlib. The staging (floor, lights, camera, box) is removed
+again and the render settings restored.
 """
 
 from __future__ import annotations
@@ -16,10 +18,12 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
+from ..scene.carried_object import find_carried
 from ..scene.compat import node_tree
+from ..scene.obstacles import is_obstacle
 from ..scene.schema import OUR_MATERIALS, PICTURE_COLLECTION, PICTURE_PREFIX, members, tcp_empty
 
-VIEW = Vector((-1.35, -1.0, 0.4)).normalized()  # from the body towards the camera: front right, a little above
+VIEW = Vector((-1.5, -0.55, 0.45)).normalized()  # from the body towards the camera: right side, a bit to the front
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
 MARGIN = 1.12
 SKY = (0.85, 0.88, 0.92)
@@ -64,7 +68,7 @@ class _Stage:
         self.camera.data.type = "ORTHO"
         self.box = None
         loads = {ob.manikin_target.tcp for ob in members(arm) if ob.manikin_target.role == "LOAD"}
-        if {"hand_l", "hand_r"} <= loads:
+        if {"hand_l", "hand_r"} <= loads and find_carried(arm) is None:
             box_mesh = bpy.data.meshes.new(PICTURE_PREFIX + "box")
             corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
             faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
@@ -118,8 +122,13 @@ class _Stage:
 
 
 def _body_points(arm: bpy.types.Object) -> np.ndarray:
-    """World positions of the bone heads and tails: the body's extent."""
+    """World positions of the bone heads and tails, and the corners of the obstacles (but planes: endless) and of
+    the carried box: what the picture shows."""
     ends = [arm.matrix_world @ p for pb in arm.pose.bones for p in (pb.head, pb.tail)]
+    shown = [ob for ob in bpy.context.scene.objects if ob.type == "MESH" and is_obstacle(ob) and not ob.hide_render]
+    shown = [ob for ob in shown if ob.manikin_obstacle.shape != "PLANE"] + [find_carried(arm)]
+    for ob in filter(None, shown):
+        ends += [ob.matrix_world @ Vector(corner) for corner in ob.bound_box]
     return np.array([tuple(p) for p in ends])
 
 

@@ -63,7 +63,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ... import solver
-        from ..scene import armature, obstacle_objects
+        from ..scene import armature, carried_object, obstacle_objects
 
         try:
             sc = solver.load_scenario(self.filepath)
@@ -78,6 +78,8 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             name = Path(self.filepath).name
             for warning in obstacle_objects.add_obstacles(context.scene, arm, obstacles, name):
                 self.report({"WARNING"}, warning)
+            if sc.carried is not None:
+                carried_object.add_carried(arm, sc.carried)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -158,7 +160,7 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ...solver import scenario_to_dict
         from ...solver.io.scenario_write import write_scenario_files
-        from ..scene import motion_keys, problem_io
+        from ..scene import carried_object, motion_keys, problem_io
 
         arm = rig_of(context.active_object)
         context.evaluated_depsgraph_get()
@@ -167,6 +169,8 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
             start = sp.x0 if self.include_pose else None
             data = scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name)
             motion_keys.export_motion(data, context.scene, arm)
+            if (carried := carried_object.carried_table(arm)) is not None:
+                data["carried"] = carried
             written = write_scenario_files(self.filepath, data)
         except (ManikinError, OSError) as exc:
             self.report({"ERROR"}, str(exc))

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import load_body
+from ..carried import Carried
 from ..comfort import ComfortWeights
 from ..errors import ManikinError, ScenarioError
 from ..model import GRAVITY, Model
@@ -26,7 +27,7 @@ from .obstacle_io import read_obstacles
 from .table_reader import TableReader
 
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
-            "description", "floor", "self_collision", "obstacles"}  # fmt: skip
+            "description", "floor", "self_collision", "obstacles", "carried"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
                "priority", "name", "keys"}  # fmt: skip
 FRAME = "a whole frame number"
@@ -73,7 +74,8 @@ def load_scenario(path: str | Path) -> Scenario:
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
-    return Scenario(path, model, problem, options, start, frames, tracks, limits)
+    carried = _read_carried(root, model)
+    return Scenario(path, model, problem, options, start, frames, tracks, limits, carried)
 
 
 def load_motion(path: str | Path) -> Scenario:
@@ -183,6 +185,24 @@ def _enabled(root: TableReader, name: str) -> bool:
     t = root.table(name)
     t.known({"enabled"})
     return t.boolean("enabled", True)
+
+
+def _read_carried(root: TableReader, model: Model) -> Carried | None:
+    """[carried] size = [across, depth, height] (m), tcps = [first, second], name: a box held between two TCPs."""
+    if "carried" not in root.data:
+        return None
+    t = root.table("carried")
+    t.known({"size", "tcps", "name"})
+    t.required("size", "tcps")
+    size = t.vector("size", 3, limit=MAX_DISTANCE, unit="m")
+    if (size <= 0).any():
+        raise t.fail("size", "3 edge lengths > 0 (m)", t.get("size"))
+    tcps = t.get("tcps")
+    if not (isinstance(tcps, list) and len(tcps) == 2 and all(isinstance(n, str) and n in model.tcps for n in tcps)):
+        raise t.fail("tcps", 'two TCPs of the manikin, e.g. ["hand_r", "hand_l"]', tcps)
+    if tcps[0] == tcps[1]:
+        raise t.fail("tcps", "two different TCPs", tcps)
+    return Carried(size, (tcps[0], tcps[1]), t.string("name", "carried box"))
 
 
 def _priority(t: TableReader) -> int | None:

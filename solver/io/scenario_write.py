@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from ..carried import Carried
 from ..errors import ScenarioError
 from ..options import DEFAULT_OPTIONS, SolverOptions
 from ..problem import Loop, Problem, Target
@@ -29,10 +30,12 @@ def scenario_to_dict(
     options: SolverOptions = DEFAULT_OPTIONS,
     start: np.ndarray | None = None,
     name: str | None = None,
+    carried: Carried | None = None,
 ) -> dict:
     """A scenario as the TOML tables :func:`load_scenario` reads: ``manikin`` is {"preset": ...} or {"file": ...}.
 
-    ``start`` (joint values, or joints + forces) becomes [start.joints] for its non-zero joints.
+    ``start`` (joint values, or joints + forces) becomes [start.joints] for its non-zero joints; ``carried``
+    becomes [carried].
     """
     model = problem.model
     data: dict[str, Any] = {"name": name} if name else {}
@@ -58,6 +61,8 @@ def scenario_to_dict(
     data["targets"] = [_target_table(t) for t in problem.all_targets]
     data["loads"] = [dict(tcp=ld.tcp, force=floats(ld.force)) for ld in problem.load_specs]
     data["loops"] = [_loop_table(lp) for lp in problem.loops]
+    if carried is not None:
+        data["carried"] = dict(name=carried.name, size=floats(carried.size), tcps=list(carried.tcps))
     return {k: v for k, v in data.items() if v != []}
 
 

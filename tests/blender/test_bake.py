@@ -50,7 +50,7 @@ def test_import_keys_the_hand_targets(session: dict) -> None:
     sc = load_scenario(MOTION)
     for tcp in ("hand_l", "hand_r"):
         curves = session["target_curves"][f"target.{tcp}"]
-        assert [k[0] for k in curves["location[0]"]] == [1.0, 30.0, 60.0]
+        assert [k[0] for k in curves["location[0]"]] == [float(k.frame) for k in sc.tracks[0].keys]  # 1, 30, 48, 60
         assert {k[2] for c in curves.values() for k in c} == {"LINEAR"}
         track = next(t for t in sc.tracks if sc.problem.all_targets[t.target].tcp == tcp)
         for frame, positions in session["target_at"].items():
@@ -62,6 +62,9 @@ def test_export_writes_the_keys_back(session: dict) -> None:
     assert session["export"] == ["FINISHED"]
     original, exported = load_scenario(MOTION), load_scenario(Path(session["work"]) / "exported_motion.toml")
     assert exported.frames == original.frames and exported.limits == original.limits
+    assert exported.carried is not None and exported.carried.tcps == original.carried.tcps  # [carried] written back
+    np.testing.assert_allclose(exported.carried.size, original.carried.size)
+    assert {ob.name for ob in exported.problem.obstacles} == {ob.name for ob in original.problem.obstacles}
     tracks = {exported.problem.all_targets[t.target].tcp: t for t in exported.tracks}
     assert sorted(tracks) == ["hand_l", "hand_r"]
     for track in original.tracks:

@@ -188,6 +188,33 @@ def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: P
     written = sorted(p.name for p in tmp_path.iterdir())
     assert written == ["box_lift.blend", "box_lift.bvh", "box_lift.glb", "box_lift_key_poses.png",
                        "box_lift_report.json"]  # fmt: skip
+    seen = tmp_path / "seen.json"
+    done = run_python(blender_python, ["-c", SCENE, tmp_path / "box_lift.blend", seen], user, cwd=tmp_path)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    scene = json.loads(seen.read_text(encoding="utf-8"))
+    assert {"shelf", "table"} <= set(scene["obstacles"])  # the scenario's obstacles are objects in the .blend
+    assert scene["box"]["animated"]  # the carried box is keyed, at every frame baked between the hands
+    places = [box for box, _ in scene["box"]["at"].values()]
+    assert np.linalg.norm(np.subtract(places[-1], places[0])) > 1e-3  # it moves with them
+    for frame, (box, hands) in scene["box"]["at"].items():
+        assert np.allclose(box, np.mean(hands, axis=0), atol=1e-4), frame
+
+
+SCENE = """
+import bpy, json, sys
+blend, out = sys.argv[1], sys.argv[2]
+bpy.ops.wm.open_mainfile(filepath=blend, load_ui=False)
+box = next(ob for ob in bpy.data.objects if "manikin_carried" in ob)
+at = {}
+for frame in (1, 2, 3):
+    bpy.context.scene.frame_set(frame)
+    hands = [list(bpy.data.objects["tcp." + t].matrix_world.translation) for t in ("hand_r", "hand_l")]
+    at[frame] = [list(box.matrix_world.translation), hands]
+obstacles = [ob.name for ob in bpy.data.collections["Obstacles"].objects]
+seen = dict(obstacles=obstacles, box=dict(animated=box.animation_data is not None, at=at))
+with open(out, "w", encoding="utf-8") as fh:
+    json.dump(seen, fh)
+"""
 
 
 def test_batch_without_the_wheels_says_what_is_missing(tmp_path: Path, blender_python: Path) -> None:

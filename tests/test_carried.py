@@ -1,0 +1,141 @@
+"""The scenes with obstacles: the cabinet reach and the box lift (shelf, table, a box carried by its sides).
+
+Every check recomputes distances from the result JSON alone (the capsules it lists, the obstacles of the
+scenario), independently of the solver's own clearance rows.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import solver
+from solver.carried import Carried, carried_box, carried_frame
+from solver.collision import Box, HalfSpace
+from solver.collision.distance import box_distance, obstacle_distance
+from solver.errors import ScenarioError
+
+SCENARIOS = Path(__file__).resolve().parents[1] / "presets" / "scenarios"
+TOLERANCE = 1e-3  # m: no penetration beyond this
+FLOOR = HalfSpace(np.zeros(3), np.array([0.0, 0.0, 1.0]), name="floor")
+
+
+def solved_frames(path: Path, tmp_path: Path) -> tuple[solver.Scenario, list[dict]]:
+    """The scenario and the frames of its result JSON."""
+    scenario = solver.load_scenario(path)
+    out = tmp_path / "result.json"
+    solver.write_result(out, list(solver.solve_motion(scenario)), scenario.path)
+    return scenario, json.loads(out.read_text(encoding="utf-8"))["frames"]
+
+
+def capsules(frame: dict) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+    shapes = frame["collision_shapes"]
+    p0, p1 = (np.array([s[k] for s in shapes]) for k in ("start", "end"))
+    return [s["link"] for s in shapes], p0, p1, np.array([s["radius"] for s in shapes])
+
+
+def box_edges(box: Box) -> tuple[np.ndarray, np.ndarray]:
+    """The 12 edges of ``box`` as segments (world, m)."""
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    pairs = [(i, j) for i in range(8) for j in range(i + 1, 8) if np.abs(corners[i] - corners[j]).sum() == 2]
+    world = box.center + (corners * box.half) @ box.rotation.T
+    return world[[i for i, _ in pairs]], world[[j for _, j in pairs]]
+
+
+def assert_clear_of_obstacles(scenario: solver.Scenario, frames: list[dict]) -> None:
+    for frame in frames:
+        links, p0, p1, radii = capsules(frame)
+        for obstacle in [*scenario.problem.obstacles, FLOOR]:
+            distance = obstacle_distance(p0, p1, radii, obstacle).distance
+            worst = int(np.argmin(distance))
+            assert distance[worst] >= -TOLERANCE, (frame["frame"], links[worst], obstacle.name, distance[worst])
+        listed = [c for c in frame["closest"] if c["other"] in {ob.name for ob in scenario.problem.obstacles}]
+        assert all(c["distance"] >= c["clearance"] - TOLERANCE for c in listed), frame["frame"]
+
+
+def test_the_cabinet_reach_converges_inside_the_cabinet_without_touching_it(tmp_path):
+    scenario, frames = solved_frames(SCENARIOS / "cabinet_reach.toml", tmp_path)
+    (frame,) = frames
+    assert frame["converged"]
+    hand = np.array(frame["tcps"]["hand_r"]["position"])
+    assert np.allclose(hand, scenario.problem.all_targets[0].position, atol=1e-3)
+    assert_clear_of_obstacles(scenario, frames)
+    assert any(c["other"] == "cabinet shelf" for c in frame["closest"])  # the shelf board's edge is in the way
+
+
+def test_the_box_lift_holds_the_box_by_its_sides_between_a_shelf_and_a_table(tmp_path):
+    scenario, frames = solved_frames(SCENARIOS / "box_lift_motion.toml", tmp_path)
+    assert [f["frame"] for f in frames] == list(range(1, 61)) and all(f["converged"] for f in frames)
+    names = {ob.name for ob in scenario.problem.obstacles}
+    assert {"shelf", "table"} <= names
+    assert_clear_of_obstacles(scenario, frames)
+    carried = scenario.carried
+    assert carried is not None and carried.tcps == ("hand_r", "hand_l")
+    shelf, table = (next(ob for ob in scenario.problem.obstacles if ob.name == n) for n in ("shelf", "table"))
+    boxes = []
+    for frame in frames:
+        tcps = frame["tcps"]
+        box = carried_box(carried, *(np.array(tcps[t]["position"]) for t in carried.tcps))
+        boxes.append(box)
+        links, p0, p1, radii = capsules(frame)
+        distance = box_distance(p0, p1, radii, box).distance
+        worst = int(np.argmin(distance))
+        assert distance[worst] >= -TOLERANCE, (frame["frame"], links[worst], distance[worst])
+        for side in ("r", "l"):  # the hands on the box's sides: within 1.5 cm of them, not through
+            d = distance[links.index(f"hand_{side}")]
+            assert -TOLERANCE <= d <= 0.015, (frame["frame"], side, d)
+            assert distance[links.index(f"forearm_{side}")] >= -TOLERANCE
+        for obstacle in (shelf, table):  # the box does not go through the shelf or the table either
+            a, b = box_edges(box)
+            assert box_distance(a, b, np.zeros(len(a)), obstacle).distance.min() >= -TOLERANCE
+            a, b = box_edges(obstacle)
+            assert box_distance(a, b, np.zeros(len(a)), box).distance.min() >= -TOLERANCE
+    bottom = [b.center[2] - b.half[2] for b in boxes]
+    assert bottom[0] == pytest.approx(shelf.center[2] + shelf.half[2], abs=0.01)  # starts standing on the shelf
+    assert bottom[-1] == pytest.approx(table.center[2] + table.half[2], abs=0.01)  # ends standing on the table
+
+
+def test_the_carried_frame_is_upright_between_the_two_points():
+    centre, rotation = carried_frame([0.0, 0.0, 1.0], [0.4, 0.0, 1.2])
+    assert np.allclose(centre, [0.2, 0.0, 1.1])
+    assert np.allclose(rotation.T @ rotation, np.eye(3)) and np.linalg.det(rotation) > 0
+    assert np.allclose(rotation[:, 0], np.array([0.4, 0.0, 0.2]) / np.hypot(0.4, 0.2))
+    assert rotation[2, 2] > 0.89 and abs(rotation[:, 2] @ rotation[:, 0]) < 1e-12
+    _, vertical = carried_frame([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])  # hands one above the other: still a rotation
+    assert np.allclose(vertical.T @ vertical, np.eye(3))
+
+
+def test_carried_is_written_back_and_read_again(tmp_path):
+    scenario = solver.load_scenario(SCENARIOS / "box_lift_motion.toml")
+    data = solver.scenario_to_dict(scenario.problem, {"preset": "male_50"}, carried=scenario.carried)
+    path = tmp_path / "again.toml"
+    solver.write_scenario(path, data)
+    again = solver.load_scenario(path).carried
+    assert isinstance(again, Carried) and again.name == "box" and again.tcps == ("hand_r", "hand_l")
+    assert np.allclose(again.size, [0.35, 0.26, 0.24])
+    assert solver.load_scenario(SCENARIOS / "box_lift.toml").carried is None
+
+
+@pytest.mark.parametrize(
+    ("entry", "says"),
+    [
+        ('size = [0.3, 0.2]\ntcps = ["hand_r", "hand_l"]', "carried.size: expected 3 finite numbers"),
+        ('size = [0.3, 0.0, 0.2]\ntcps = ["hand_r", "hand_l"]', "carried.size: expected 3 edge lengths > 0"),
+        ('size = [0.3, 0.2, 0.2]\ntcps = ["hand_r"]', "carried.tcps: expected two TCPs of the manikin"),
+        ('size = [0.3, 0.2, 0.2]\ntcps = ["hand_r", "paw"]', "carried.tcps: expected two TCPs of the manikin"),
+        ('size = [0.3, 0.2, 0.2]\ntcps = ["hand_r", "hand_r"]', "carried.tcps: expected two different TCPs"),
+        ('size = [0.3, 0.2, 0.2]\ntcps = ["hand_r", "hand_l"]\nmass = 3', "mass"),
+        ('tcps = ["hand_r", "hand_l"]', "carried.size"),
+    ],
+)
+def test_a_bad_carried_table_is_one_line(tmp_path, entry: str, says: str):
+    base = (SCENARIOS / "box_lift.toml").read_text(encoding="utf-8")
+    path = tmp_path / "bad.toml"
+    path.write_text(base + "\n[carried]\n" + entry + "\n", encoding="utf-8")
+    with pytest.raises(ScenarioError) as info:
+        solver.load_scenario(path)
+    message = str(info.value)
+    assert "\n" not in message and says in message and str(path) in message
