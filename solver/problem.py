@@ -17,6 +17,7 @@ from .collision.body import capsules_of
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
 from .constraints.clearance import Clearance, ClearanceRows, Closeness, floor_clearance
+from .constraints.inequality import Inequality
 from .constraints.self_clearance import SelfClearance
 from .contacts import Support, build_contacts
 from .errors import ManikinError
@@ -173,6 +174,9 @@ class Problem:
         rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
+        # per row: a one-sided constraint's (an Inequality: met rows have zero error, contact rows are held by the step)
+        self.one_sided = np.concatenate([np.full(c.rows, isinstance(c, Inequality)) for c in rows]) if rows \
+            else np.zeros(0, dtype=bool)  # fmt: skip
         self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian

@@ -10,6 +10,7 @@ Rows farther than ``margin`` are met and cost nothing; every row ranks with supp
 
 from __future__ import annotations
 
+from abc import abstractmethod
 from typing import NamedTuple
 
 import numpy as np
@@ -91,8 +92,9 @@ class ClearanceRows(Inequality):
             cached = state.cache[self] = self._distances(state)
         return cached
 
+    @abstractmethod
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        raise NotImplementedError
+        """What :meth:`_evaluate` caches, computed."""
 
     def value(self, state: State) -> np.ndarray:
         return self._evaluate(state)[0]
@@ -106,9 +108,9 @@ class ClearanceRows(Inequality):
         are met, their rows zero."""
         return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < HOLD))
 
+    @abstractmethod
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
         """(rows, n_x) with d g / dx on ``rows`` and zeros elsewhere."""
-        raise NotImplementedError
 
     def _part_rows(self, state: State, rows: np.ndarray) -> np.ndarray:
         """(len(rows), n) n . (velocity of the witness point on the part's capsule) per joint."""

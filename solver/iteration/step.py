@@ -99,16 +99,19 @@ def compute_step(
     the step would then push into their clearance are held (kept where they are) and the step is solved again, so
     a part slides along a surface or leaves it, never into it.
     """
-    held = (at.err == 0.0) & lin.jac.any(axis=1)
+    held = problem.one_sided & (at.err == 0.0) & lin.jac.any(axis=1)
     if not held.any():
         return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
-    released = replace(lin, jac=np.where(held[:, None], 0.0, lin.jac))
-    step = _bounded_step(problem, at, released, mu, radius, tuning, memory)
+    step = _bounded_step(problem, at, _without(lin, held), mu, radius, tuning, memory)
     pushed = held & (lin.jac @ (step.task + step.comfort) < -tuning.hold_overshoot)
     if not pushed.any():
         return step
-    return _bounded_step(problem, at, replace(lin, jac=np.where((held & ~pushed)[:, None], 0.0, lin.jac)), mu,
-                         radius, tuning, memory)  # fmt: skip
+    return _bounded_step(problem, at, _without(lin, held & ~pushed), mu, radius, tuning, memory)
+
+
+def _without(lin: Linearization, rows: np.ndarray) -> Linearization:
+    """``lin`` with the Jacobian rows ``rows`` (bool) left out (zero: the least squares skips them)."""
+    return replace(lin, jac=np.where(rows[:, None], 0.0, lin.jac))
 
 
 def _bounded_step(
