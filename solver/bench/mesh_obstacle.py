@@ -174,6 +174,16 @@ def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
         for name in ("without", "mesh", "box"):
             if not r[name]["converged"] or r[name]["broken"]:
                 lines.append(f"{label}, {name}: NOT converged (priority 1 broken: {r[name]['broken'] or 'none'}).")
+    worst = max(r["mesh"]["time"][0] / r["without"]["time"][0] for r in rows.values())
+    lines += [
+        "",
+        "Issue 20's target (a pose near the mesh at most 2x the pose without it):"
+        f" {'met' if worst <= 2.0 else 'NOT met'} (up to {worst:.2f}x). Most of the ratio is the iteration count"
+        " and the clearance rows in each iteration,"
+        " which the box primitive shares (it takes even more iterations when pressing); the mesh's own part is the"
+        " query, a fixed cost per call of NumPy overhead (tree walk, bounds, exact kernel) rather than of its"
+        " triangles: 2 and 4 capsules near the mesh cost about the same.",
+    ]
     return "\n".join(lines)
 
 
