@@ -343,6 +343,28 @@ def test_unreachable_target_exits_3_and_writes_json(tmp_path):
         assert lo - 1e-9 <= joint["value"] <= hi + 1e-9, name
 
 
+def test_hand_target_below_the_floor_exits_3_with_the_body_standing(tmp_path):
+    """Issue 20: a hand target 1 m below the floor once "converged" with the manikin upside down, its head at
+    z = -0.53 m. With the floor (on by default) the solve exits 3 with the hand short, the feet and balance held,
+    the pelvis and head well above the floor and no body part in it (recomputed from the result JSON alone)."""
+    from collision_check import result_problems
+
+    scenario = tmp_path / "below.toml"
+    scenario.write_text(FEET + HAND.replace("[-0.2, -0.3, 1.2]", "[-0.2, -0.4, -1.0]"), encoding="utf-8")
+    out = tmp_path / "below.json"
+    proc = run_cli("solve", str(scenario), "-o", str(out))
+    assert proc.returncode == 3, f"exit {proc.returncode}\n{proc.stdout}\n{proc.stderr}"
+    assert "NOT converged" in proc.stdout and "Traceback" not in proc.stderr
+    data = load_strict(out)
+    frame = data["frames"][0]
+    assert frame["unmet"] == ["hand_r"] and frame["broken"] == []
+    assert frame["shortfall"]["hand_r"]["position_m"] > 1.0
+    assert frame["tcps"]["pelvis"]["position"][2] > 0.5
+    head = next(s for s in frame["collision_shapes"] if s["link"] == "head")
+    assert min(head["start"][2], head["end"][2]) - head["radius"] > 0.3
+    assert result_problems(data, scenario) == []
+
+
 @pytest.mark.parametrize(
     "extra",
     [

@@ -1,0 +1,213 @@
+"""A pose solved near a 10,000-triangle mesh vs the same pose without it (issue 20's target: at most 2x).
+
+    python -m solver.bench.mesh_obstacle [REPEATS] [-o docs/BENCHMARKS.md]
+
+male_50 reaches with both hands to 95 cm, 45 cm in front of the feet (hands position-locked, feet sliding on the
+floor, balance on, the floor on). In front stands a cabinet, a closed box mesh of 10,092 triangles (each face 29 x
+29 squares), 1.0 x 0.5 m, its front 40 cm before the feet. Two heights of its top:
+
+- near: 3 cm under the hands of the pose solved without it (inside the 5 cm margin; at the end no row is active);
+- pressing: 3 cm above them, so the hands must rise (rows active, the targets still met).
+
+Each case is solved cold from the zero pose REPEATS times without the cabinet, with it as the mesh and with it as
+a ``Box`` primitive, round robin (so a slow phase of a shared machine hits all three alike). Reported: median and
+p95 solve time, iterations, time per iteration, the ratio with / without, and the mesh query's own time at the
+solved pose. Writes the ``mesh-obstacle`` section of docs/BENCHMARKS.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..bodies import load_body
+from ..collision import Box, Mesh, obstacle_distance
+from ..collision.body import capsules_of
+from ..collision.generate import box_mesh
+from ..collision.mesh_index import index_of
+from ..constraints import clearance as clearance_module
+from ..iteration import solve
+from ..model import Model
+from ..problem import Problem, Target
+from . import one_core
+from .scenarios import machine, speed_reference, write_section
+
+DIVISIONS = 29  # 6 faces x 2 x 29^2 = 10,092 triangles
+HANDS = {"hand_r": (-0.2, -0.45, 0.95), "hand_l": (0.2, -0.45, 0.95)}  # m, world
+CABINET = ((0.0, -0.65), (1.0, 0.5))  # m: centre x, y and size x, y; it stands on the floor
+CASES = {"near": -0.03, "pressing": 0.03}  # m: its top above the hands' lowest point when solved without it
+MARGIN = 0.05  # m: the clearance rows' margin (solver.constraints.clearance.Clearance)
+
+
+def targets(model: Model) -> list[Target]:
+    """Both hands at HANDS (position), both feet supports where they stand, sliding and turning on the floor."""
+    zero = model.forward(model.zero_pose())
+    feet = [
+        Target(f, zero.tcp_frame(model.tcp(f))[1], lock=("z", "rx", "ry"), support=True) for f in ("foot_r", "foot_l")
+    ]
+    return feet + [Target(name, np.array(pos), lock=("x", "y", "z")) for name, pos in HANDS.items()]
+
+
+def cabinet(top: float) -> tuple[Mesh, Box]:
+    """The cabinet whose top is at ``top`` (m), as a mesh and as the box primitive."""
+    (x, y), (sx, sy) = CABINET
+    center, size = (x, y, 0.5 * top), (sx, sy, top)
+    return Mesh(*box_mesh(center, size, DIVISIONS), name="cabinet"), Box(center, size, name="cabinet")
+
+
+def hands_lowest(model: Model, problem: Problem) -> float:
+    """The lowest point (m) of the hands' capsules in the pose solved for ``problem``."""
+    kin = solve(problem).state.kin
+    caps = capsules_of(model)
+    p0, p1 = caps.world(kin)
+    rows = [caps.names.index(h) for h in HANDS]
+    return float(np.min(np.minimum(p0[rows, 2], p1[rows, 2]) - caps.radius[rows]))
+
+
+def _percentiles(times: list[float]) -> tuple[float, float]:
+    return float(np.median(times)), float(np.percentile(times, 95))
+
+
+def count_queries(problem: Problem) -> int:
+    """How many obstacle distance queries one solve of ``problem`` makes (the clearance rows' evaluations)."""
+    calls = 0
+    original = clearance_module.obstacle_distance
+
+    def counting(*args, **kwargs):
+        nonlocal calls
+        calls += 1
+        return original(*args, **kwargs)
+
+    clearance_module.obstacle_distance = counting  # a bench-only probe, restored at once
+    try:
+        solve(problem)
+    finally:
+        clearance_module.obstacle_distance = original
+    return calls
+
+
+def measure(model: Model, top: float, repeats: int) -> dict:
+    """Per variant (without, mesh, box) for a cabinet top at ``top`` m: solve times (s), iterations, queries per
+    solve and the query's own time (s) at the pose solved with the mesh; which rows are near and active there."""
+    mesh, box = cabinet(top)
+    index = index_of(mesh)  # built once per content (about 20 ms), as a scenario's mesh is: not part of a solve
+    problems = {"without": Problem(model, targets(model)), "mesh": Problem(model, targets(model), obstacles=[mesh]),
+                "box": Problem(model, targets(model), obstacles=[box])}  # fmt: skip
+    times: dict[str, list[float]] = {name: [] for name in problems}
+    results = {}
+    for _ in range(repeats):
+        for name, problem in problems.items():
+            t0 = time.perf_counter()
+            results[name] = solve(problem)
+            times[name].append(time.perf_counter() - t0)
+    state = results["mesh"].state
+    caps = capsules_of(model)
+    p0, p1 = caps.world(state.kin)
+    calls = max(10 * repeats, 100)
+    row: dict = {"top": top, "triangles": len(mesh.faces)}
+    for name, result in results.items():
+        query = {"without": None, "mesh": index, "box": box}[name]
+        row[name] = dict(time=_percentiles(times[name]), iterations=result.iterations, converged=result.converged,
+                         broken=list(result.broken), queries=count_queries(problems[name]),
+                         query=None if query is None else _percentiles([_timed_query(p0, p1, caps.radius, query)
+                                                                       for _ in range(calls)]))  # fmt: skip
+    near = [c for c in problems["mesh"].closest(state) if c.other == "cabinet"]
+    row["within"] = sorted({c.part for c in near})
+    row["active"] = sorted({c.part for c in near if c.distance < c.clearance + 1e-3})
+    return row
+
+
+def _timed_query(p0, p1, radii, query) -> float:
+    t0 = time.perf_counter()
+    obstacle_distance(p0, p1, radii, query, MARGIN)
+    return time.perf_counter() - t0
+
+
+def _ms(pair: tuple[float, float] | None) -> str:
+    return "-" if pair is None else f"{pair[0] * 1e3:.2f} / {pair[1] * 1e3:.2f}"
+
+
+def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
+    """The Markdown section."""
+    lines = [
+        "## A pose near a 10,000-triangle mesh (issue 20)",
+        "",
+        f"Written by `python -m solver.bench.mesh_obstacle {repeats}` on {datetime.date.today().isoformat()}.",
+        f"Machine: {machine()}; one core, single-threaded BLAS. Speed reference {reference[0]:.1f} ms before,"
+        f" {reference[1]:.1f} ms after (lower is faster; see above).",
+        "",
+        "male_50, both hands position-locked to 95 cm, 45 cm in front of the feet (feet sliding, balance and floor on),"
+        f" over a cabinet 1.0 x 0.5 m: a closed box mesh of {rows['near']['triangles']:,} triangles, the same cabinet"
+        f" as a `Box` primitive, or none; {repeats} cold solves of each, round robin. Times in ms, median / p95."
+        " Queries: obstacle distance queries per solve (each evaluation of the clearance rows: iterations and line"
+        " search trials); query time: one query of all 31 capsules at the pose solved with the mesh. Share: queries x"
+        " median query time / median solve.",
+        "",
+        "| case (cabinet top) | obstacle | solve | vs without | iterations | per iteration | queries | query | share |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for label, r in rows.items():
+        base = r["without"]["time"][0]
+        for name in ("without", "mesh", "box"):
+            v = r[name]
+            share = "-" if v["query"] is None else f"{v['queries'] * v['query'][0] / v['time'][0]:.0%}"
+            lines.append(
+                f"| {label} ({r['top'] * 100:.1f} cm) | {name} | {_ms(v['time'])} | {v['time'][0] / base:.2f}x |"
+                f" {v['iterations']} | {v['time'][0] / max(v['iterations'], 1) * 1e3:.2f} | {v['queries']} |"
+                f" {_ms(v['query'])} | {share} |"
+            )
+    lines.append("")
+    for label, r in rows.items():
+        lines.append(f"{label}: within the 5 cm margin at the end {', '.join(r['within']) or 'none'}; active"
+                     f" {', '.join(r['active']) or 'none'}.")  # fmt: skip
+        without, mesh = r["without"], r["mesh"]
+        its = mesh["iterations"] / max(without["iterations"], 1)
+        ratio = mesh["time"][0] / without["time"][0]
+        free = (mesh["time"][0] - mesh["queries"] * mesh["query"][0]) / without["time"][0]
+        lines.append(f"{label}, where the time goes: with the mesh {ratio:.2f}x = {its:.2f}x the iterations times"
+                     f" {ratio / its:.2f}x per iteration; without the mesh queries' own time (an estimate) it would be"
+                     f" {free:.2f}x.")  # fmt: skip
+        for name in ("without", "mesh", "box"):
+            if not r[name]["converged"] or r[name]["broken"]:
+                lines.append(f"{label}, {name}: NOT converged (priority 1 broken: {r[name]['broken'] or 'none'}).")
+    worst = max(r["mesh"]["time"][0] / r["without"]["time"][0] for r in rows.values())
+    lines += [
+        "",
+        "Issue 20's target (a pose near the mesh at most 2x the pose without it):"
+        f" {'met' if worst <= 2.0 else 'NOT met'} (up to {worst:.2f}x). Most of the ratio is the iteration count"
+        " and the clearance rows in each iteration,"
+        " which the box primitive shares (it takes even more iterations when pressing); the mesh's own part is the"
+        " query, a fixed cost per call of NumPy overhead (tree walk, bounds, exact kernel) rather than of its"
+        " triangles: 2 and 4 capsules near the mesh cost about the same.",
+    ]
+    return "\n".join(lines)
+
+
+def run(repeats: int, output: Path | None) -> str:
+    """Measure both cases and (if ``output``) write the section; returns the Markdown."""
+    model = load_body(preset="male_50")
+    reference = [speed_reference()]
+    lowest = hands_lowest(model, Problem(model, targets(model)))
+    rows = {label: measure(model, lowest + above, repeats) for label, above in CASES.items()}
+    reference.append(speed_reference())
+    text = report(rows, repeats, reference)
+    if output is not None:
+        write_section(output, "mesh-obstacle", text)
+    return text
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(prog="python -m solver.bench.mesh_obstacle", description=__doc__.split("\n")[0])
+    parser.add_argument("repeats", nargs="?", type=int, default=30)
+    parser.add_argument("-o", "--output", default="docs/BENCHMARKS.md", help="'-' to only print")
+    args = parser.parse_args()
+    one_core("solver.bench.mesh_obstacle")
+    print(run(args.repeats, None if args.output == "-" else Path(args.output)))
+
+
+if __name__ == "__main__":
+    main()
