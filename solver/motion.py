@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .iteration import solve
-from .model import Model
 from .motion_sweep import MotionSweep
 from .options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOptions
 from .problem import Problem, Target
@@ -70,16 +69,11 @@ def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list
     return out
 
 
-def joint_steps(model: Model, limits: MotionLimits) -> np.ndarray:
-    """Largest per-frame change of each joint (rad, m for a slide)."""
-    return np.where(model.prismatic, limits.max_root_shift, limits.max_joint_change)
-
-
 def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
     """Largest per-frame change of each solver variable (inf for force variables)."""
     model = problem.model
     step = np.full(problem.n_x, np.inf)
-    step[: model.n] = joint_steps(model, limits)
+    step[: model.n] = np.where(model.prismatic, limits.max_root_shift, limits.max_joint_change)
     if problem.reduction is None:
         return step
     weights = problem.reduction.slope  # |dx/dbeta|, its largest over the bounds for the shoulder rhythm
@@ -127,7 +121,7 @@ def solve_frames(
                 )
         if previous is not None:
             step = limits or DEFAULT_LIMITS
-            steps = variable_steps(problem, step), joint_steps(full.model, step)
+            steps = lambda: variable_steps(problem, step)  # noqa: E731, B023 (called at once, if at all)
             problems = previous[1], full, problem
             result = sweep.guard((previous[0], frame), problems, previous[2], result, options, steps)
         x = result.x

@@ -1,19 +1,20 @@
 """A motion's frames kept from passing through things between them (issue 20): the swept check of
 :mod:`solver.collision.sweep` on the way from each solved frame to the next, against the floor and every obstacle
-the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor).
+the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on).
 
-A frame whose way from its predecessor crosses an obstacle is solved again in short sub-steps from the previous
-frame: each holds every joint within a fraction of the per-frame change bound small enough that no point of a
-crossing capsule can move as far as its radius, so its axis cannot get past a surface within one sub-step and the
-clearance rows push it back out on the near side. The sub-steps end when the frame converges, when a sub-step
-ends inside its bounds (more sub-steps would not move it further), or when they add up to the per-frame bound.
-If the way from the previous frame to that pose is clear, it is the frame (a note says so); else the frame is not
-converged and its ``unmet`` names each crossing, e.g. "hand_r passes through shelf between frames 12 and 13".
+A frame whose way from its predecessor crosses something is solved again from the previous frame in N sub-steps
+(N: how far the crossing capsules moved on the first try over their radius, 2..``MAX_SUBSTEPS``): the targets move
+from the previous frame's to this frame's a share of the way each time, each sub-step is held within ``SHARE``/N of
+the per-frame bound of the one before, and each sub-step's own way is checked. The sub-steps stop where the way was
+last clear, or after the first one that does not converge (blocked: the clearance rows hold the part on the near
+side). If the way from the previous frame to that pose is clear, it is the frame (a note says so); else the frame
+is not converged and its ``unmet`` names each crossing, e.g. "hand_r passes through shelf between frames 12 and 13".
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -113,11 +114,11 @@ class MotionSweep:
         return found
 
     def guard(self, frames: tuple[int, int], problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray,
-              result: Result, options: SolverOptions, steps: tuple[np.ndarray, np.ndarray]) -> Result:  # fmt: skip
+              result: Result, options: SolverOptions, steps: Callable[[], np.ndarray]) -> Result:  # fmt: skip
         """``result`` (frame ``frames[1]``) if the way from ``previous_x`` (frame ``frames[0]``) is clear; else the
         frame re-solved in sub-steps, and reported if that still crosses. ``problems``: the previous frame's, this
-        frame's and this frame's within the per-frame bound (the one solved); ``steps``: the per-frame bound per
-        solver variable and per joint (rad or m)."""
+        frame's and this frame's within the per-frame bound (the one solved); ``steps()``: the per-frame bound per
+        solver variable (rad or m), asked for only when the frame is re-solved."""
         body = self.body(problems[1])
         if body is None:
             return result
@@ -128,7 +129,7 @@ class MotionSweep:
         if not self.resolve:
             mark(result, report, frames)
             return result
-        retried, done, count = self._substeps(problems, previous_x, body, report, options, steps)
+        retried, done, count = self._substeps(problems, previous_x, body, report, options, steps())
         again = self.check(body, previous_x[:n], retried.x[:n])
         if len(again.crossings) <= len(report.crossings):
             went = ", ".join(f"{c.part} through {c.obstacle}" for c in report.crossings)
@@ -141,16 +142,17 @@ class MotionSweep:
         return result
 
     def _substeps(self, problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray, body: SweptBody,
-                  report: SweepReport, options: SolverOptions, steps: tuple[np.ndarray, np.ndarray]):  # fmt: skip
+                  report: SweepReport, options: SolverOptions, steps: np.ndarray):  # fmt: skip
         """(result, sub-steps kept, sub-steps planned): the frame solved again from ``previous_x`` in sub-steps, its
-        targets moved from the previous frame's a share of the way each time (see the module docstring)."""
+        targets moved from the previous frame's a share of the way each time, each sub-step within its share of the
+        per-frame bound ``steps`` (per solver variable; see the module docstring)."""
         before, _, problem = problems
         n = problem.model.n
         crossing = [body.capsules.names.index(c.part) for c in report.crossings]
         moved = body.bound(self._pose(body, previous_x[:n]), report.b)[crossing]  # m: how far the first try took them
         room = body.capsules.radius[crossing] - 2.0 * body.tolerance
         count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room)))))
-        share = steps[0] * min(1.0, SHARE / count)
+        share = steps * min(1.0, SHARE / count)
         x, iterations, seconds, done = previous_x, 0, 0.0, 0
         for i in range(1, count + 1):
             targets = blend_targets(before.all_targets, problem.all_targets, i / count)
