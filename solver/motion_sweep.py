@@ -58,6 +58,8 @@ class MotionSweep:
         key = tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows)
         body = self._bodies.get(key)
         if body is None:
+            if len(self._bodies) >= self.KEPT:  # a scene read afresh every frame (Blender) brings new obstacles
+                self._bodies.pop(next(iter(self._bodies)))
             obstacles = list({id(o): o for c in rows for o in c.obstacles}.values())
             column = {id(o): i for i, o in enumerate(obstacles)}
             names = capsules_of(problem.model).names
@@ -93,7 +95,7 @@ class MotionSweep:
 
     def _pose(self, body: SweptBody, theta: np.ndarray) -> Pose:
         """``body``'s pose at joint values ``theta``, kept for the next queries."""
-        key = (id(body), np.asarray(theta, dtype=float).tobytes())
+        key = (body, np.asarray(theta, dtype=float).tobytes())  # the body itself: its id is not reused while kept
         found = self._poses.get(key)
         if found is None:
             if len(self._poses) >= self.KEPT:
@@ -103,7 +105,7 @@ class MotionSweep:
 
     def _exact(self, body: SweptBody, pose: Pose, margin: float) -> np.ndarray:
         """The (k, m) distances at ``pose`` (a mesh's beyond the margin: the margin), kept for the next queries."""
-        key = (id(body), pose.theta.tobytes())
+        key = (body, pose.theta.tobytes())
         found = self._distances.get(key)
         if found is None:
             if len(self._distances) >= self.KEPT:
