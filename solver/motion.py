@@ -3,7 +3,9 @@
 A keyed target holds its first key before it and its last key after it; in between, positions are
 interpolated linearly and rotations by slerp. Between frames every joint may change by at most
 ``max_joint_change`` rad (``max_root_shift`` m for the root translation), so the motion cannot jump; a
-frame that needs more does not converge and says that its target moved too far.
+frame that needs more does not converge and says that its target moved too far. On the way from one frame to the
+next (joint values interpolated linearly, as Blender plays the baked keys) no body part may pass through the floor
+or an obstacle: :mod:`solver.motion_sweep` checks it, re-solves a frame that would, and reports what remains.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .iteration import solve
+from .motion_sweep import MotionSweep
 from .options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOptions
 from .problem import Problem, Target
 from .result import Result
@@ -91,17 +94,20 @@ def solve_frames(
     start: np.ndarray,
     options: SolverOptions = DEFAULT_OPTIONS,
     limits: MotionLimits | None = DEFAULT_LIMITS,
+    sweep: MotionSweep | None = None,
 ) -> Iterator[tuple[int, Result]]:
     """Solve ``frames`` in order, each warm-started from the previous frame's solution.
 
-    The first frame starts from ``start``; later frames are held within ``limits`` of their predecessor.
-    Yields (frame, result) so that callers can report progress or stop early.
+    The first frame starts from ``start``; later frames are held within ``limits`` of their predecessor, and the
+    way from it is checked for crossings of the floor and obstacles (:mod:`solver.motion_sweep`; pass ``sweep`` to
+    read its counts). Yields (frame, result) so that callers can report progress or stop early.
     """
+    sweep = MotionSweep() if sweep is None else sweep
     x = start
-    previous_x = None
+    previous: tuple[int, Problem, np.ndarray] | None = None  # the previous frame, its problem and solution
     for frame in frames:
         full = problem_at(frame)
-        problem = full if (limits is None or previous_x is None) else bounded(full, previous_x, limits)
+        problem = full if (limits is None or previous is None) else bounded(full, previous[2], limits)
         result = solve(problem, x, options)
         if not result.converged and problem is not full:
             v = problem.to_variables(result.x)
@@ -113,7 +119,13 @@ def solve_frames(
                     f"frame {frame}: a target moved too far since the previous frame; joints held at the "
                     f"per-frame change bound: {shown}"
                 )
-        x = previous_x = result.x
+        if previous is not None:
+            step = limits or DEFAULT_LIMITS
+            steps = lambda: variable_steps(problem, step)  # noqa: E731, B023 (called at once, if at all)
+            problems = previous[1], full, problem
+            result = sweep.guard((previous[0], frame), problems, previous[2], result, options, steps)
+        x = result.x
+        previous = (frame, full, result.x)
         yield frame, result
 
 

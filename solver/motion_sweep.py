@@ -1,0 +1,202 @@
+"""A motion's frames kept from passing through things between them (issue 20): the swept check of
+:mod:`solver.collision.sweep` on the way from each solved frame to the next, against the floor and every obstacle
+the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on).
+
+A frame whose way from its predecessor crosses something is solved again from the previous frame in N sub-steps
+(N: how far the crossing capsules moved on the first try over their radius, 2..``MAX_SUBSTEPS``): the targets move
+from the previous frame's to this frame's a share of the way each time, each sub-step is held within ``SHARE``/N of
+the per-frame bound of the one before, and each sub-step's own way is checked. The sub-steps stop where the way was
+last clear, or after the first one that does not converge (blocked: the clearance rows hold the part on the near
+side). If the way from the previous frame to that pose is clear, it is the frame (a note says so); else the frame
+is not converged and its ``unmet`` names each crossing, e.g. "hand_r passes through shelf between frames 12 and 13".
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from .collision.body import capsules_of
+from .collision.sweep import Pose, SweepReport, SweptBody
+from .constraints.clearance import Clearance
+from .iteration import solve
+from .options import SolverOptions
+from .problem import Problem
+from .result import Result
+from .spatial import matrix_to_quat, quat_to_matrix, slerp
+from .specs import Target
+
+MARGIN = 0.05  # m: the least margin of a mesh query (farther rows count as this far)
+MAX_SUBSTEPS = 64  # sub-steps of a re-solved frame at most
+SHARE = 2.0  # a sub-step may change each joint by this many times its share of the per-frame bound
+
+
+class MotionSweep:
+    """Swept checks between consecutive frames; keeps the capsule distances of the last few poses it queried."""
+
+    KEPT = 4  # poses whose distances are kept (the previous frame, the attempts at this one)
+
+    def __init__(self, resolve: bool = True) -> None:
+        """``resolve``: re-solve a frame whose way crosses something (else only report it)."""
+        self.resolve = resolve
+        self._bodies: dict[tuple, SweptBody] = {}
+        self._poses: dict[tuple, Pose] = {}
+        self._distances: dict[tuple, np.ndarray] = {}
+        self._anchor: tuple[SweptBody, Pose, np.ndarray] | None = None  # the last pose queried and its distances
+        self.queries = 0  # poses whose distances were queried
+        self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
+        self.substeps = 0  # sub-step solves so far
+
+    def body(self, problem: Problem) -> SweptBody | None:
+        """The capsules and obstacles that ``problem``'s clearance rows keep apart, or None when there are none."""
+        rows = [c for c in problem.constraints if isinstance(c, Clearance) and c.obstacles]
+        if not rows:
+            return None
+        key = tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows)
+        body = self._bodies.get(key)
+        if body is None:
+            if len(self._bodies) >= self.KEPT:  # a scene read afresh every frame (Blender) brings new obstacles
+                self._bodies.pop(next(iter(self._bodies)))
+            obstacles = list({id(o): o for c in rows for o in c.obstacles}.values())
+            column = {id(o): i for i, o in enumerate(obstacles)}
+            names = capsules_of(problem.model).names
+            pairs = np.zeros((len(names), len(obstacles)), dtype=bool)
+            for c in rows:
+                kept = [names.index(name) for name in c.capsules.names]
+                for o in c.obstacles:
+                    pairs[kept, column[id(o)]] = True
+            body = self._bodies[key] = SweptBody(problem.model, obstacles, pairs)
+        return body
+
+    def check(self, body: SweptBody, theta_a: np.ndarray, theta_b: np.ndarray) -> SweepReport:
+        """The crossings of ``body`` on the way from joint values ``theta_a`` to ``theta_b``.
+
+        Distances are queried only when lower bounds do not already certify the way: the distances d_P at the last
+        pose queried, less the bound on the way from there (d >= d_P - M_P), which is all a long motion of small
+        steps with nothing near needs."""
+        anchored = self._anchor is not None and self._anchor[0] is body
+        if anchored:  # first the path bounds alone, which need no forward kinematics
+            _, p, d_p = self._anchor
+            length = body.length(np.array([p.theta, p.theta, theta_a]), np.array([theta_a, theta_b, theta_b]))
+            if not body.uncertain(d_p - length[0, :, None], d_p - length[1, :, None], length[2]).any():
+                return SweepReport(None, [], 0, 0)
+        a, b = self._pose(body, theta_a), self._pose(body, theta_b)
+        if anchored:
+            bound = body.bounds([(p, a), (p, b), (a, b)])
+            if not body.uncertain(d_p - bound[0, :, None], d_p - bound[1, :, None], bound[2]).any():
+                return SweepReport(b, [], 0, 0)
+        margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
+        report = body.check(a, b, self._exact(body, a, margin), self._exact(body, b, margin), margin)
+        self.samples += report.samples
+        return report
+
+    def _pose(self, body: SweptBody, theta: np.ndarray) -> Pose:
+        """``body``'s pose at joint values ``theta``, kept for the next queries."""
+        key = (body, np.asarray(theta, dtype=float).tobytes())  # the body itself: its id is not reused while kept
+        found = self._poses.get(key)
+        if found is None:
+            if len(self._poses) >= self.KEPT:
+                self._poses.pop(next(iter(self._poses)))
+            found = self._poses[key] = body.pose(theta)
+        return found
+
+    def _exact(self, body: SweptBody, pose: Pose, margin: float) -> np.ndarray:
+        """The (k, m) distances at ``pose`` (a mesh's beyond the margin: the margin), kept for the next queries."""
+        key = (body, pose.theta.tobytes())
+        found = self._distances.get(key)
+        if found is None:
+            if len(self._distances) >= self.KEPT:
+                self._distances.pop(next(iter(self._distances)))
+            found = self._distances[key] = body.distances(pose, margin)
+            self.queries += 1
+        self._anchor = (body, pose, found)
+        return found
+
+    def guard(self, frames: tuple[int, int], problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray,
+              result: Result, options: SolverOptions, steps: Callable[[], np.ndarray]) -> Result:  # fmt: skip
+        """``result`` (frame ``frames[1]``) if the way from ``previous_x`` (frame ``frames[0]``) is clear; else the
+        frame re-solved in sub-steps, and reported if that still crosses. ``problems``: the previous frame's, this
+        frame's and this frame's within the per-frame bound (the one solved); ``steps()``: the per-frame bound per
+        solver variable (rad or m), asked for only when the frame is re-solved."""
+        body = self.body(problems[1])
+        if body is None:
+            return result
+        n = problems[1].model.n
+        report = self.check(body, previous_x[:n], result.x[:n])
+        if not report.crossings:
+            return result
+        if not self.resolve:
+            mark(result, report, frames)
+            return result
+        retried, done, count = self._substeps(problems, previous_x, body, report, options, steps())
+        again = self.check(body, previous_x[:n], retried.x[:n])
+        if len(again.crossings) <= len(report.crossings):
+            went = ", ".join(f"{c.part} through {c.obstacle}" for c in report.crossings)
+            how = f"in {count} sub-steps" if done == count else f"in sub-steps, blocked after {done} of {count}"
+            retried.notes.append(f"frame {frames[1]}: its first solution went {went} on the way from frame "
+                                 f"{frames[0]}; re-solved {how}")  # fmt: skip
+            result, report = retried, again
+        if report.crossings:
+            mark(result, report, frames)
+        return result
+
+    def _substeps(self, problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray, body: SweptBody,
+                  report: SweepReport, options: SolverOptions, steps: np.ndarray):  # fmt: skip
+        """(result, sub-steps kept, sub-steps planned): the frame solved again from ``previous_x`` in sub-steps, its
+        targets moved from the previous frame's a share of the way each time, each sub-step within its share of the
+        per-frame bound ``steps`` (per solver variable; see the module docstring)."""
+        before, _, problem = problems
+        n = problem.model.n
+        crossing = [body.capsules.names.index(c.part) for c in report.crossings]
+        moved = body.bound(self._pose(body, previous_x[:n]), report.b)[crossing]  # m: how far the first try took them
+        room = body.capsules.radius[crossing] - 2.0 * body.tolerance
+        count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room)))))
+        share = steps * min(1.0, SHARE / count)
+        x, iterations, seconds, done = previous_x, 0, 0.0, 0
+        for i in range(1, count + 1):
+            targets = blend_targets(before.all_targets, problem.all_targets, i / count)
+            aimed = problem.with_targets(targets) if targets is not None else problem
+            last = solve(aimed.with_bounds(problem.bounds.around(problem.to_variables(x), share)), x, options)
+            iterations, seconds = iterations + last.iterations, seconds + last.time_s
+            self.substeps += 1
+            if self.check(body, x[:n], last.x[:n]).crossings:
+                break  # the frame stays where its way was last clear
+            x, done = last.x, i
+            if not last.converged:  # blocked, or the targets need more than the sub-step's share: stop here
+                break
+        result = Result.from_state(problem, problem.state_of_x(x), iterations, seconds)
+        result.stop = last.stop
+        return result, done, count
+
+
+def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | None:
+    """Targets ``s`` of the way from ``a`` to ``b`` (positions linear, rotations by slerp), or None when the two
+    lists do not hold the same TCPs in the same order."""
+    if [t.tcp for t in a] != [t.tcp for t in b]:
+        return None
+    out = []
+    for ta, tb in zip(a, b, strict=True):
+        position = (1.0 - s) * np.asarray(ta.position, dtype=float) + s * np.asarray(tb.position, dtype=float)
+        rotation = tb.rotation
+        if ta.rotation is not None and tb.rotation is not None:
+            rotation = quat_to_matrix(slerp(matrix_to_quat(ta.rotation), matrix_to_quat(tb.rotation), s))
+        out.append(replace(tb, position=position, rotation=rotation))
+    return out
+
+
+def mark(result: Result, report: SweepReport, frames: tuple[int, int]) -> None:
+    """Name each crossing in ``result``'s unmet (held at priority 1) and notes; the frame is not converged. A capsule
+    whose axis got inside (deeper than its radius) "passes through", a shallower one "cuts into"."""
+    a, b = frames
+    caps = capsules_of(result.problem.model)
+    for c in report.crossings:
+        verb = "passes through" if c.depth >= caps.radius[caps.names.index(c.part)] else "cuts into"
+        name = f"{c.part} {verb} {c.obstacle} between frames {a} and {b}"
+        result.unmet.append(name)
+        result.broken.append(name)
+        result.notes.append(f"frame {b}: {name} ({c.depth * 1e3:.1f} mm deep at frame {a + c.s * (b - a):.2f}); "
+                            "more frames between them, or a key that leads around it, would avoid it")  # fmt: skip
+    result.converged = False
