@@ -31,7 +31,7 @@ STEPS = 72  # golden-section steps: 0.618^72 < 1e-15
 SAMPLES = 33  # axis samples tested for being inside a closed mesh
 TOLERANCE = 1e-3  # m: the solver's clearance rows count as met this far inside
 AGREE = 1e-6  # m: a reported distance or point agrees with the recomputed one
-CONTACT = 0.01  # m: a capsule this near an obstacle must be among the frame's closest pairs
+CONTACT = 0.01  # m: a capsule this near an obstacle's clearance must be among the frame's closest pairs
 
 
 def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -269,7 +269,7 @@ def frame_problems(frame: dict, obstacles: list[dict], floor: bool, tolerance: f
         else:
             out.append(f"frame {number}: closest entry {entry['pair']!r}: {other!r} is no obstacle and no body part")
     for ob in obstacles:  # the floor's rows leave out the supports' capsules: not checked for completeness
-        for i in np.flatnonzero(distances[ob["name"]] < CONTACT):
+        for i in np.flatnonzero(distances[ob["name"]] < ob["clearance"] + CONTACT):
             if (names[i], ob["name"]) not in listed:
                 out.append(
                     f"frame {number}: {names[i]} vs {ob['name']} at {distances[ob['name']][i]:.4f} m: not in closest"
