@@ -543,9 +543,7 @@ def test_the_result_says_why_the_iteration_stopped(male50):
     it gets); the summary prints the reason."""
     met = solve(reach_problem(male50, np.array([0.25, -0.35, 1.1])))
     assert met.converged and met.stop is StopReason.CONVERGED
-    # without self-collision: with it this ranked solve still gains slowly at its budget (issue 20 note)
-    reach_high = reach_problem(male50, np.array([0.0, -0.3, 3.5]))
-    far = solve(Problem(male50, reach_high.all_targets, self_collision=False), options=SolverOptions(restarts=0))
+    far = solve(reach_problem(male50, np.array([0.0, -0.3, 3.5])), options=SolverOptions(restarts=0))
     assert not far.converged
     assert far.stop is StopReason.CLOSEST and not far.broken and "hand_r" in far.shortfall
     assert f"stopped: {far.stop.value}" in far.summary()

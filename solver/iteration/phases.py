@@ -30,8 +30,9 @@ def solve(
     (but still in its curvature metric, which keeps joints off their limits). A phase ends early when, far
     from the constraints, the error has stopped falling (unreachable targets: the best compromise, sooner).
     A solve that still fails starts again (up to ``options.restarts`` times) from :func:`restart_pose`. If
-    every row cannot be met, the problem is solved again ranked (:mod:`solver.priorities`): supports, loops
-    and balance held, reach targets as close as they get. The result is the first that meets everything, else
+    every row cannot be met, the problem is solved again ranked (:mod:`solver.priorities`), on from the best
+    unranked end (and from the start if that does not hold priority 1): supports, loops and balance held, reach
+    targets as close as they get. The result is the first that meets everything, else
     the one that holds the most of priority 1 and then comes closest to the rest, with the iterations and
     time of all attempts and the reason its last phase stopped (``Result.stop``).
     """
@@ -40,11 +41,14 @@ def solve(
     best, used = _with_restarts(problem, start, options, tuning)
     was_ranked = False
     fallback = ranked(problem) if best.trial.worst > 1.0 else None
-    if fallback is not None:
-        again, more = _with_restarts(fallback, start, options, tuning)
+    # on from where reaching stopped (closer, fewer iterations); from the start again if that broke priority 1
+    for origin in (best.trial.x, start) if fallback is not None else ():
+        again, more = _with_restarts(fallback, origin, options, tuning)
         used += more
         if _ranking_key(fallback, again) < _ranking_key(fallback, best):
             best, was_ranked = again, True
+        if _ranking_key(fallback, best)[0] <= 1.0:
+            break
     result = Result.from_state(problem, best.trial.state, used, time.perf_counter() - t0)
     settled = best.reason in (StopReason.CONVERGED, StopReason.NO_PROGRESS) and best.trial.worst <= 1.0
     result.stop = StopReason.CLOSEST if (was_ranked and settled) else best.reason
