@@ -260,6 +260,13 @@ class Problem:
         e = np.concatenate([c.error(state) for c in self.constraints])
         return e * self.row_weight / self.row_tolerance
 
+    def scaled_slack(self, state: State) -> np.ndarray:
+        """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
+        if not self.constraints:
+            return np.zeros(0)
+        parts = [c.slack(state) if isinstance(c, Inequality) else np.zeros(c.rows) for c in self.constraints]
+        return np.concatenate(parts) * self.row_weight / self.row_tolerance
+
     def scaled_jacobian(self, state: State) -> np.ndarray:
         """d scaled_error / d (v / scale)."""
         if not self.constraints:

@@ -14,6 +14,7 @@ import time
 from ..bodies import load_body
 from ..iteration import solve
 from ..problem import Problem
+from . import one_core
 from . import random_targets as rt
 
 SETTINGS = {"thesis (no floor, no self-collision)": (False, False), "floor": (True, False),
@@ -47,4 +48,5 @@ def run(seeds: int = 12) -> str:
 
 
 if __name__ == "__main__":
+    one_core("solver.bench.collision_cost")
     print(run(*(int(a) for a in sys.argv[1:2])))

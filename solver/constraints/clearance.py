@@ -23,7 +23,8 @@ from ..state import State
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
-HOLD = 0.5e-3  # m: a met row this close to its clearance is held by the step (in contact)
+WATCH = 0.01  # m: a met row this close to its clearance gives the step its Jacobian (held if the step goes past)
+HOLD = 0.5e-3  # m: the watch band of the body's own pairs (an arm hangs against the trunk: docs/TUNING.md)
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
 
 
@@ -73,6 +74,7 @@ class ClearanceRows(Inequality):
     name = "clearance"  # an instance's own: "floor", "obstacles", "self_collision" (its residual's key)
     capsules: BodyCapsules
     margin: float  # m: rows closer than this to their floor are reported as near (closest)
+    watch: float = WATCH  # m: met rows closer than this to their floor give the step their Jacobian
     _parts: list[str]  # per row, the body part: "hand_r", or "shank_r.end" for a half-space row
     _others: list[str]  # per row, what it keeps clear of: an obstacle or another body part
     _pairs: list[str]  # per row, "part vs other" without the capsule end
@@ -103,10 +105,10 @@ class ClearanceRows(Inequality):
         return self._jacobian_of(state, np.arange(self.rows))
 
     def jacobian(self, state: State) -> np.ndarray:
-        """d error / dx on the rows inside their clearance or within ``HOLD`` of it (their error is zero: the step
-        keeps them where they are, so a comfort step slides a part along a surface instead of into it); the others
-        are met, their rows zero."""
-        return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < HOLD))
+        """d error / dx on the rows inside their clearance or within ``watch`` of it (their error is zero: the step
+        stops them at the surface when it would go past it, so a comfort step slides a part along a surface instead
+        of into it); the others are met, their rows zero."""
+        return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < self.watch))
 
     @abstractmethod
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:

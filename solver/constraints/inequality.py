@@ -31,6 +31,10 @@ class Inequality(Constraint):
     def error(self, state: State) -> np.ndarray:
         return np.minimum(self.value(state) - self.floor, 0.0)
 
+    def slack(self, state: State) -> np.ndarray:
+        """How far each met row is above its floor (0 on unmet rows), in g's units."""
+        return np.maximum(self.value(state) - self.floor, 0.0)
+
     def jacobian(self, state: State) -> np.ndarray:
         jac = np.array(self.value_jacobian(state), dtype=float)
         jac[self.value(state) - self.floor > 0.0] = 0.0

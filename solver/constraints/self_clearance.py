@@ -17,7 +17,7 @@ from ..collision.proximity import PairProximity
 from ..collision.self_pairs import self_pairs
 from ..model import Model
 from ..state import State
-from .clearance import ClearanceRows
+from .clearance import HOLD, ClearanceRows
 
 
 class SelfClearance(ClearanceRows):
@@ -25,6 +25,7 @@ class SelfClearance(ClearanceRows):
     its least distance apart."""
 
     name = "self_collision"
+    watch = HOLD
 
     def __init__(self, model: Model, capsules: BodyCapsules, n_x: int, margin: float = 0.05) -> None:
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin

@@ -95,18 +95,20 @@ def compute_step(
 ) -> Step:
     """The step from ``at`` in the metric of :func:`metric`, inside the bounds (``memory`` None without comfort).
 
-    Rows in contact (a clearance met within its hold band: error zero, Jacobian given) are released first; those
-    the step would then push into their clearance are held (kept where they are) and the step is solved again, so
-    a part slides along a surface or leaves it, never into it.
+    Met one-sided rows near their floor (error zero, Jacobian given: a clearance within its watch band) are
+    released first; those the step would then push past their floor are held there (the row's step must cover its
+    slack, no more) and the step is solved again, so a part slides along a surface or leaves it, never into it.
     """
-    held = problem.one_sided & (at.err == 0.0) & lin.jac.any(axis=1)
-    if not held.any():
+    watched = problem.one_sided & (at.err == 0.0) & lin.jac.any(axis=1)
+    if not watched.any():
         return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
-    step = _bounded_step(problem, at, _without(lin, held), mu, radius, tuning, memory)
-    pushed = held & (lin.jac @ (step.task + step.comfort) < -tuning.hold_overshoot)
+    step = _bounded_step(problem, at, _without(lin, watched), mu, radius, tuning, memory)
+    slack = problem.scaled_slack(at.state)
+    pushed = watched & (lin.jac @ (step.task + step.comfort) < -(slack + tuning.hold_overshoot))
     if not pushed.any():
         return step
-    return _bounded_step(problem, at, _without(lin, held & ~pushed), mu, radius, tuning, memory)
+    stopped = replace(at, err=np.where(pushed, slack, at.err))  # J dx = -slack: onto the floor
+    return _bounded_step(problem, stopped, _without(lin, watched & ~pushed), mu, radius, tuning, memory)
 
 
 def _without(lin: Linearization, rows: np.ndarray) -> Linearization:
