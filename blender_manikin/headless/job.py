@@ -27,7 +27,7 @@ from ...solver.io.output_paths import check_distinct, check_output
 from ...solver.io.result_stream import ResultWriter
 from ...solver.options import MAX_FRAME, MAX_FRAMES
 from ...solver.progress import Progress
-from ..scene import carried_object, exports, keyframes, motion_keys
+from ..scene import exports, keyframes, motion_keys
 from ..scene.bake import Baker, FrameRecord
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 from .quiet import quietly
@@ -259,7 +259,6 @@ def run(job: Job) -> int:
     try:
         stopped, seconds = bake(job, baker)
         keyed = baker.write(thin=True)
-        carried_object.key_carried(scene, arm, baker.frames[: baker.done])  # the carried box follows the hands
         report_bake(job, baker, seconds + keyed)
         written = write_outputs(job, arm, baker, sinks, stopped)
     except BaseException as exc:

@@ -20,8 +20,7 @@ from mathutils import Matrix, Vector
 
 from ..scene.carried_object import find_carried
 from ..scene.compat import node_tree
-from ..scene.obstacles import is_obstacle
-from ..scene.schema import OUR_MATERIALS, PICTURE_COLLECTION, PICTURE_PREFIX, members, tcp_empty
+from ..scene.schema import OUR_MATERIALS, PICTURE_COLLECTION, PICTURE_PREFIX, is_obstacle, members, tcp_empty
 
 VIEW = Vector((-1.5, -0.55, 0.45)).normalized()  # from the body towards the camera: right side, a bit to the front
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)

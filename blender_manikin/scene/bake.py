@@ -4,9 +4,10 @@ For each frame the scene is set to it (so keyed, constrained or parented target 
 animated them), the scene is read into a solver problem exactly as Solve Pose reads it, and
 :func:`solver.motion.solve_frames` solves it warm-started from the previous frame within the per-frame change
 bound (a frame that would need a jump does not converge and its notes say which target moved too far). The
-solutions are buffered; :meth:`Baker.write` keys every joint's bone channel at once, so a cancelled bake leaves
-the scene as it was. :class:`Baker` works in steps so a modal operator can show progress and listen for Esc; the
-batch script streams each solved frame into its files (``on_frame``) and, after a Ctrl-C, keys the frames solved.
+solutions are buffered; :meth:`Baker.write` keys every joint's bone channel (and a carried box) at once, so a
+cancelled bake leaves the scene as it was. :class:`Baker` works in steps so a modal operator can show progress
+and listen for Esc; the batch script streams each solved frame into its files (``on_frame``) and, after a Ctrl-C,
+keys the frames solved.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from ...solver import ManikinError, Problem, Result
 from ...solver.io.result_stream import interrupts_held
 from ...solver.motion import MotionLimits, solve_frames
 from ...solver.spatial import matrix_to_quat
-from . import keyframes, problem_io
+from . import carried_object, keyframes, problem_io
 from .armature import layout_of, model_of, read_x, write_pose
 from .schema import BAKE_KEY
 
@@ -79,6 +80,7 @@ class Baker:
         self.n_x = first.problem.n_x
         self._first: Problem | None = first.problem
         self.thetas = np.zeros((len(self.frames), self.model.n))
+        self.worlds = np.zeros((len(self.frames), 4, 4))  # the armature object's world matrix at each frame
         self.records: list[FrameRecord] = []
         self.failed = 0  # frames that did not converge
         self.shown: Result | None = None  # the result at the frame the scene returns to, if baked (sidebar)
@@ -123,6 +125,7 @@ class Baker:
             )
             with interrupts_held():  # the frame is in every output or in none
                 self.thetas[self.done] = result.theta
+                self.worlds[self.done] = np.array(self.arm.matrix_world)  # the scene is at ``frame``
                 self.records.append(record)
                 self.failed += not record.converged
                 if self.on_frame is not None:
@@ -147,10 +150,11 @@ class Baker:
         return [r.frame for r in self.records if not r.converged]
 
     def write(self, thin: bool = False) -> float:
-        """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone), store the report
-        on the armature and return the scene to its frame. Returns the seconds spent keying. ``thin``: a joint is
-        keyed where it changes (inner keys of runs of equal values left out: the same curves, for long motions
-        far fewer keys, each held twice in memory once the scene is evaluated)."""
+        """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone) and the carried box
+        between the hands (:func:`.carried_object.key_carried`), store the report on the armature and return the
+        scene to its frame. Returns the seconds spent keying. ``thin``: a joint is keyed where it changes (inner
+        keys of runs of equal values left out: the same curves, for long motions far fewer keys, each held twice in
+        memory once the scene is evaluated)."""
         t0 = time.perf_counter()
         arm, layout = self.arm, layout_of(self.model)
         frames = np.array([r.frame for r in self.records], dtype=float)
@@ -165,6 +169,7 @@ class Baker:
                 for k in range(4):
                     fc = keyframes.fcurve(arm, f"{base}.rotation_quaternion", k, bone.name)
                     keyframes.replace_keys(fc, frames, quats[b][:, k], thin)
+        carried_object.key_carried(arm, frames, thetas, self.worlds[: len(frames)], thin)  # the box follows the hands
         seconds = time.perf_counter() - t0
         arm[BAKE_KEY] = json.dumps(self.summary())
         self.scene.frame_set(self.original[0], subframe=self.original[1])

@@ -1,5 +1,6 @@
 """A scenario's carried box (``[carried]``, :mod:`solver.carried`) as an object: a box mesh made by scenario import,
-moved and keyed per frame from its two TCPs' empties after a bake, written back by scenario export.
+placed between its two TCPs after every solve (Solve Pose, live mode), keyed with the hands by every bake (the
+sidebar's and the batch's: :meth:`.bake.Baker.write`), written back by scenario export.
 
 The object is no obstacle (it moves with the hands; it sits in the manikin's collection, never in "Obstacles").
 It remembers what it is in the custom property ``CARRIED_KEY``: JSON with its size (m), TCPs and manikin's name.
@@ -14,11 +15,15 @@ import numpy as np
 from mathutils import Matrix
 
 from ...solver.carried import Carried, carried_frame
-from .schema import tcp_empty
+from ...solver.model import Model
+from ...solver.spatial import matrix_to_quat
+from . import keyframes
+from .armature import model_of
+from .schema import CARRIED_KEY, tcp_empty
 
-CARRIED_KEY = "manikin_carried"
 MATERIAL = "manikin.carried"  # a name of OUR_MATERIALS: the key-pose picture renders it matte
 COLOR = (0.62, 0.42, 0.22, 1.0)  # cardboard
+GROUP = "Object Transforms"  # the F-curve group Blender itself keys an object's transform in
 _FACES = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
 
 
@@ -72,29 +77,69 @@ def add_carried(arm: bpy.types.Object, carried: Carried) -> bpy.types.Object:
     return ob
 
 
-def place_carried(ob: bpy.types.Object, arm: bpy.types.Object) -> bool:
-    """Put the box between its TCPs' empties as they are now; False (left where it is) when one is missing."""
-    empties = [tcp_empty(arm, tcp) for tcp in carried_spec(ob).tcps]
-    if None in empties:
-        return False
-    centre, rotation = carried_frame(*(np.array(e.matrix_world.translation) for e in empties))
-    world = np.eye(4)
-    world[:3, :3], world[:3, 3] = rotation, centre
-    ob.matrix_world = Matrix(world.tolist())
+def box_world(model: Model, tcps: tuple[str, str], theta: np.ndarray, world: np.ndarray) -> np.ndarray:
+    """The box's 4x4 world matrix for the joint values ``theta`` with the armature object at ``world`` (4x4): its
+    centre midway between the two TCPs (m), its axes as :func:`solver.carried.carried_frame` says."""
+    kin = model.forward(np.asarray(theta, dtype=float)[: model.n])
+    points = [world[:3, :3] @ kin.tcp_frame(model.tcp(tcp))[1] + world[:3, 3] for tcp in tcps]
+    return _matrix(*carried_frame(*points))
+
+
+def _matrix(centre: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, :3], out[:3, 3] = rotation, centre
+    return out
+
+
+def _solved_tcps(ob: bpy.types.Object, arm: bpy.types.Object) -> tuple[str, str] | None:
+    """The box's TCPs when the manikin's model has both (a renamed body file may not), else None."""
+    tcps = carried_spec(ob).tcps
+    return tcps if all(tcp in model_of(arm).tcps for tcp in tcps) else None
+
+
+def place_carried(ob: bpy.types.Object, arm: bpy.types.Object, x: np.ndarray | None = None) -> bool:
+    """Put the box between its TCPs: where the solver variables ``x`` put them, or (``x`` None) where their
+    empties are now. False (left where it is) when a TCP or its empty is missing."""
+    if x is not None:
+        tcps = _solved_tcps(ob, arm)
+        if tcps is None:
+            return False
+        box = box_world(model_of(arm), tcps, x, np.array(arm.matrix_world))
+    else:
+        empties = [tcp_empty(arm, tcp) for tcp in carried_spec(ob).tcps]
+        if None in empties:
+            return False
+        box = _matrix(*carried_frame(*(np.array(e.matrix_world.translation) for e in empties)))
+    ob.matrix_world = Matrix(box.tolist())
     return True
 
 
-def key_carried(scene: bpy.types.Scene, arm: bpy.types.Object, frames: list[int]) -> int:
-    """Key ``arm``'s box (location and rotation) at each of ``frames`` from its TCPs there; the frames keyed."""
+def follow_solve(arm: bpy.types.Object, x: np.ndarray) -> None:
+    """After a solve of ``arm`` (solver variables ``x``): its box, if it has one, between the solved TCPs."""
     ob = find_carried(arm)
-    if ob is None or not frames:
+    if ob is not None:
+        place_carried(ob, arm, x)
+
+
+def key_carried(
+    arm: bpy.types.Object, frames: np.ndarray, thetas: np.ndarray, worlds: np.ndarray, thin: bool = False
+) -> int:
+    """Key ``arm``'s box (location, quaternion; linear, as the joints) at each of ``frames`` between its TCPs where
+    the joint values ``thetas`` (frames, n) put them, the armature object at ``worlds`` (frames, 4, 4) there. Keys
+    outside the frames' range stay; ``thin`` as :func:`.keyframes.replace_keys`. Returns the frames keyed."""
+    ob = find_carried(arm)
+    tcps = None if ob is None else _solved_tcps(ob, arm)
+    if tcps is None or not len(frames):
         return 0
-    current, keyed = scene.frame_current, 0
-    for frame in frames:
-        scene.frame_set(frame)
-        if place_carried(ob, arm):
-            ob.keyframe_insert("location", frame=frame)
-            ob.keyframe_insert("rotation_quaternion", frame=frame)
-            keyed += 1
-    scene.frame_set(current)
-    return keyed
+    model = model_of(arm)
+    boxes = [box_world(model, tcps, theta, world) for theta, world in zip(thetas, worlds, strict=True)]
+    quats = np.array([matrix_to_quat(box[:3, :3]) for box in boxes])
+    for i in range(1, len(quats)):  # q and -q are one turn: keep neighbours on one side so keys interpolate short
+        if quats[i] @ quats[i - 1] < 0.0:
+            quats[i] = -quats[i]
+    ob.rotation_mode = "QUATERNION"
+    locations = np.array([box[:3, 3] for box in boxes])
+    for path, values in (("location", locations), ("rotation_quaternion", quats)):
+        for k in range(values.shape[1]):
+            keyframes.replace_keys(keyframes.fcurve(ob, path, k, GROUP), frames, values[:, k], thin)
+    return len(frames)

@@ -12,15 +12,14 @@ from mathutils import Matrix
 
 from ...solver.collision import Obstacle
 from ...solver.collision.placed import placed_mesh
-from .obstacles import COLLECTION
-from .schema import IMPORTED_KEY
+from .schema import IMPORTED_KEY, OBSTACLES
 
 
 def obstacle_collection(scene: bpy.types.Scene) -> bpy.types.Collection:
     """The collection "Obstacles" in ``scene`` (made, or linked into the scene, when it is not there)."""
-    collection = bpy.data.collections.get(COLLECTION)
+    collection = bpy.data.collections.get(OBSTACLES)
     if collection is None:
-        collection = bpy.data.collections.new(COLLECTION)
+        collection = bpy.data.collections.new(OBSTACLES)
     if collection not in scene.collection.children_recursive:
         scene.collection.children.link(collection)
     return collection

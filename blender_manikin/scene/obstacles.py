@@ -1,5 +1,6 @@
 """Scene meshes as the solver's obstacles: every mesh object marked as an obstacle (its Manikin panel) or in a
-collection named "Obstacles", evaluated (modifiers applied) and put in the armature's space.
+collection named "Obstacles" (:func:`.schema.is_obstacle`), evaluated (modifiers applied) and put in the
+armature's space.
 
 An obstacle's ``shape`` (Object.manikin_obstacle) says what the solver keeps clear of: the mesh itself, or a box,
 sphere, capsule or plane (half-space) made from the mesh's bounds in the object's own axes and its transform
@@ -14,15 +15,7 @@ import numpy as np
 
 from ...solver.collision import Mesh, Obstacle, degenerate_faces
 from ...solver.collision.placed import shape_from_bounds
-
-COLLECTION = "Obstacles"  # every mesh in a collection of this name is an obstacle
-
-
-def is_obstacle(ob: bpy.types.Object) -> bool:
-    """A mesh object marked as an obstacle, or in the "Obstacles" collection."""
-    if ob.type != "MESH":
-        return False
-    return bool(ob.manikin_obstacle.enabled) or any(c.name == COLLECTION for c in ob.users_collection)
+from .schema import is_obstacle
 
 
 def _mesh_data(ob: bpy.types.Object, depsgraph: bpy.types.Depsgraph) -> tuple[np.ndarray, np.ndarray]:

@@ -24,6 +24,7 @@ from ...solver.ergonomics.loads import percent_of_strength
 from ...solver.reduction import DEFAULT_GROUPS
 from ...solver.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
+from .carried_object import follow_solve
 from .obstacles import scene_obstacles
 from .schema import ERROR_KEY, RESULT_KEY, members
 
@@ -196,8 +197,10 @@ def scores(result: Result) -> dict:
 
 
 def write_result(arm: bpy.types.Object, result: Result) -> None:
-    """Pose the armature with the result and keep its summary for the sidebar and the overlay."""
+    """Pose the armature with the result (its carried box between the hands) and keep its summary for the sidebar
+    and the overlay."""
     write_pose(arm, result.x)
+    follow_solve(arm, result.x)
     summary = summarize(result)
     color_bones_by_load(arm, summary["joint_percent"])
     arm[RESULT_KEY] = json.dumps(summary)

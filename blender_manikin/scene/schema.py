@@ -6,8 +6,9 @@ On the armature object: ``manikin_preset`` (preset name, or "" for a body file),
 of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
 that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
 (its TCP's name). On an obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing
-again replaces it). Settings live in the ``Object.manikin`` / ``Object.manikin_target`` /
-``Object.manikin_obstacle`` property groups (``ui/properties.py``).
+again replaces it). On a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle).
+Settings live in the ``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups
+(``ui/properties.py``).
 """
 
 from __future__ import annotations
@@ -24,6 +25,8 @@ BAKE_KEY = "manikin_bake"
 ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
+CARRIED_KEY = "manikin_carried"  # on a carried box (scene/carried_object.py)
+OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacle
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
 PREFIXES = {"TARGET": "target.", "LOOP": "loop.", "LOAD": "load."}  # the empties a user moves, by role
@@ -79,6 +82,14 @@ def tcp_empty(arm: bpy.types.Object, tcp: str) -> bpy.types.Object | None:
             return child
     found = bpy.data.objects.get(TCP_PREFIX + tcp)
     return found if found is not None and found.parent == arm else None
+
+
+def is_obstacle(ob: bpy.types.Object) -> bool:
+    """A mesh object marked as an obstacle, or in the "Obstacles" collection; never a carried box (it moves with the
+    hands: as an obstacle it would push them away from itself)."""
+    if ob.type != "MESH" or CARRIED_KEY in ob:
+        return False
+    return bool(ob.manikin_obstacle.enabled) or any(c.name == OBSTACLES for c in ob.users_collection)
 
 
 def _json(arm: bpy.types.Object, key: str) -> dict | None:

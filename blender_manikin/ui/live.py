@@ -1,11 +1,14 @@
-"""Live mode: moving a target, loop or load empty re-solves its manikin (when the manikin's Live is on).
+"""Live mode: moving a target, loop or load empty re-solves its manikin (when the manikin's Live is on); moving
+or reshaping an obstacle re-solves every manikin in live mode.
 
-The ``depsgraph_update_post`` handler only notes which manikins have a moved empty and arms a timer; the timer
-solves at most once per ``INTERVAL`` (however many updates a drag produces), warm-started from the current
-pose with the manikin's live iteration limit. Writing the pose triggers further depsgraph updates; two things
-keep that from looping: a re-entrancy guard while the timer writes, and each manikin's last solved inputs
-(target frames, loop offsets, forces, settings) - a re-solve happens only when the inputs differ, which a pose
-write never causes (loop and load empties ride on the TCPs, but their offsets stay the same).
+The ``depsgraph_update_post`` handler only notes which manikins have a moved empty (or, for an obstacle whose
+transform or geometry changed, every live manikin) and arms a timer; the timer solves at most once per
+``INTERVAL`` (however many updates a drag produces), warm-started from the current pose with the manikin's live
+iteration limit, and puts a carried box between the solved hands. Writing the pose (and moving the box) triggers
+further depsgraph updates; two things keep that from looping: a re-entrancy guard while the timer writes, and each
+manikin's last solved inputs (target frames, loop offsets, forces, obstacles, settings) - a re-solve happens only
+when the inputs differ, which a pose write never causes (loop and load empties ride on the TCPs, but their offsets
+stay the same; the body and the carried box are no obstacles).
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ...solver.errors import ManikinError
-from ..scene.schema import ERROR_KEY, is_manikin, rig_of
+from ..scene.schema import ERROR_KEY, is_manikin, is_obstacle, rig_of
 
 if TYPE_CHECKING:
     from ..scene.problem_io import Inputs  # imports the solver: only for the type checker
@@ -43,9 +46,11 @@ def request(arm: bpy.types.Object) -> None:
 
 @persistent
 def on_depsgraph_update(scene: bpy.types.Scene, depsgraph: bpy.types.Depsgraph) -> None:
-    """Note manikins whose empties (or settings) changed; arm the timer. Never writes data itself."""
+    """Note manikins whose empties (or settings) changed, or every live manikin when an obstacle moved or was
+    reshaped; arm the timer. Never writes data itself."""
     if _busy:
         return
+    obstacle_changed = False
     for update in depsgraph.updates:
         obj = update.id.original if isinstance(update.id, bpy.types.Object) else None
         if obj is None:
@@ -53,6 +58,10 @@ def on_depsgraph_update(scene: bpy.types.Scene, depsgraph: bpy.types.Depsgraph) 
         rig = _live_rig(obj)
         if rig is not None:  # our own pose writes land here too; the input signature filters them out
             _pending.add(rig.name)
+        elif not obstacle_changed and (update.is_updated_transform or update.is_updated_geometry):
+            obstacle_changed = is_obstacle(obj)  # a mesh edit updates its object's geometry too
+    if obstacle_changed:
+        _pending.update(ob.name for ob in scene.objects if is_manikin(ob) and ob.manikin.live)
     if _pending and not bpy.app.timers.is_registered(solve_pending):
         bpy.app.timers.register(solve_pending, first_interval=INTERVAL)
 

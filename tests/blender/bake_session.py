@@ -3,9 +3,9 @@
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/bake_session.py <zip> <out.json> <work dir>
 
 installs the extension zip, imports the box-lift motion (keyed target empties), exports it back, keys a bone
-channel by hand inside and outside the range, bakes frames 2-9 through the operator, undoes, cancels a bake
-half-way, bakes 1-8 again and exports BVH and glTF, re-imports both, and writes what it saw to JSON for the
-assertions in the test. bpy is imported here only.
+channel by hand inside and outside the range, bakes frames 2-9 through the operator (the carried box keyed too),
+undoes, cancels a bake half-way, bakes 1-8 again and exports BVH and glTF, re-imports both, and writes what it saw
+to JSON for the assertions in the test. bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -88,6 +88,8 @@ seen["baked"] = curves(arm)
 seen["bake_summary"] = json.loads(arm["manikin_bake"])
 seen["frame_after"] = scene.frame_current
 seen["bake_flags"] = sorted(bpy.types.MANIKIN_OT_bake_motion.bl_options)
+seen["arm_matrix"] = [list(row) for row in arm.matrix_world]
+seen["crate_baked"] = curves(next(ob for ob in bpy.data.objects if "manikin_carried" in ob))  # the carried box
 
 
 class Layout:
@@ -144,6 +146,7 @@ seen["modal_events"] = [sorted(op.modal(context, event(e))) for e in ("TIMER", "
 seen["cancel_done"] = op.baker.done
 seen["cancelled"] = curves(arm)
 seen["cancel_frame"] = scene.frame_current
+seen["crate_cancelled"] = curves(next(ob for ob in bpy.data.objects if "manikin_carried" in ob))
 op.baker = bake_module.Baker(scene, arm, 2, 9)
 ticks = [sorted(op.modal(context, event("TIMER"))) for _ in range(50)]
 seen["modal_ticks"] = ticks[: ticks.index(["FINISHED"]) + 1] if ["FINISHED"] in ticks else ticks

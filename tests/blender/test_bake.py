@@ -13,8 +13,9 @@ import pytest
 from blender_manikin.rigging.bones import RigLayout
 from solver import Problem, load_scenario
 from solver.bodies import load_body
+from solver.carried import carried_frame
 from solver.motion import solve_frames
-from solver.spatial import log_so3
+from solver.spatial import log_so3, quat_to_matrix
 
 ROOT = Path(__file__).resolve().parents[2]
 MOTION = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -124,6 +125,31 @@ def test_baked_motion_meets_the_targets_without_jumps(session: dict, model) -> N
                 assert np.linalg.norm(position - target.position) < MM, (frame, target.tcp)
     step = np.where(model.prismatic, sc.limits.max_root_shift, sc.limits.max_joint_change)
     assert np.all(np.abs(np.diff(keyed, axis=0)) <= step + FLOAT32)
+
+
+def test_bake_keys_the_carried_box_between_the_solved_hands(session: dict, model) -> None:
+    """The sidebar's Bake keys the scenario's carried box at every baked frame: its centre where the keyed joint
+    values put the middle of the two hands (within 1 mm), its axes as solver.carried says; it moves with them."""
+    frames = list(range(2, 10))
+    curves = session["crate_baked"]
+    assert sorted(curves) == [f"location[{k}]" for k in range(3)] + [f"rotation_quaternion[{k}]" for k in range(4)]
+    for path, keys in curves.items():
+        assert [k[0] for k in keys] == frames and {k[2] for k in keys} == {"LINEAR"}, path
+    arm = np.array(session["arm_matrix"])
+    keyed = _thetas(session["baked"], RigLayout(model), frames, model.n)
+    tcps = load_scenario(MOTION).carried.tcps
+    centres = []
+    for i, theta in enumerate(keyed):
+        kin = model.forward(theta)
+        hands = [arm[:3, :3] @ kin.tcp_frame(model.tcp(tcp))[1] + arm[:3, 3] for tcp in tcps]
+        centre, rotation = carried_frame(*hands)
+        location = np.array([curves[f"location[{k}]"][i][1] for k in range(3)])
+        quat = np.array([curves[f"rotation_quaternion[{k}]"][i][1] for k in range(4)])
+        assert np.linalg.norm(location - centre) < MM, frames[i]
+        assert _angle_deg(quat_to_matrix(quat / np.linalg.norm(quat)), rotation) < 0.01, frames[i]
+        centres.append(centre)
+    assert np.linalg.norm(centres[-1] - centres[0]) > 0.01  # it moves with the hands
+    assert session["crate_cancelled"] == {}  # a cancelled bake keys nothing, the box included
 
 
 def test_undo_and_cancel_leave_the_keys_as_they_were(session: dict) -> None:
