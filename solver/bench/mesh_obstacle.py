@@ -41,15 +41,18 @@ HANDS = {"hand_r": (-0.2, -0.45, 0.95), "hand_l": (0.2, -0.45, 0.95)}  # m, worl
 CABINET = ((0.0, -0.65), (1.0, 0.5))  # m: centre x, y and size x, y; it stands on the floor
 CASES = {"near": -0.03, "pressing": 0.03}  # m: its top above the hands' lowest point when solved without it
 MARGIN = 0.05  # m: the clearance rows' margin (solver.constraints.clearance.Clearance)
+DRAG = 0.01  # m: the hands' targets moved sideways for a warm re-solve (what a drag in Live mode asks for)
 
 
-def targets(model: Model) -> list[Target]:
-    """Both hands at HANDS (position), both feet supports where they stand, sliding and turning on the floor."""
+def targets(model: Model, shift: float = 0.0) -> list[Target]:
+    """Both hands at HANDS moved ``shift`` m sideways (position), both feet supports where they stand, sliding and
+    turning on the floor."""
     zero = model.forward(model.zero_pose())
     feet = [
         Target(f, zero.tcp_frame(model.tcp(f))[1], lock=("z", "rx", "ry"), support=True) for f in ("foot_r", "foot_l")
     ]
-    return feet + [Target(name, np.array(pos), lock=("x", "y", "z")) for name, pos in HANDS.items()]
+    hands = [Target(name, np.array(pos) + (shift, 0.0, 0.0), lock=("x", "y", "z")) for name, pos in HANDS.items()]
+    return feet + hands
 
 
 def cabinet(top: float) -> tuple[Mesh, Box]:
@@ -95,15 +98,20 @@ def measure(model: Model, top: float, repeats: int) -> dict:
     solve and the query's own time (s) at the pose solved with the mesh; which rows are near and active there."""
     mesh, box = cabinet(top)
     index = index_of(mesh)  # built once per content (about 20 ms), as a scenario's mesh is: not part of a solve
-    problems = {"without": Problem(model, targets(model)), "mesh": Problem(model, targets(model), obstacles=[mesh]),
-                "box": Problem(model, targets(model), obstacles=[box])}  # fmt: skip
+    chosen = {"without": [], "mesh": [mesh], "box": [box]}
+    problems = {name: Problem(model, targets(model), obstacles=obs) for name, obs in chosen.items()}
+    moved = {name: Problem(model, targets(model, DRAG), obstacles=obs) for name, obs in chosen.items()}
     times: dict[str, list[float]] = {name: [] for name in problems}
-    results = {}
+    warm_times: dict[str, list[float]] = {name: [] for name in problems}
+    results, warm = {}, {}
     for _ in range(repeats):
         for name, problem in problems.items():
             t0 = time.perf_counter()
             results[name] = solve(problem)
             times[name].append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            warm[name] = solve(moved[name], results[name].x)
+            warm_times[name].append(time.perf_counter() - t0)
     state = results["mesh"].state
     caps = capsules_of(model)
     p0, p1 = caps.world(state.kin)
@@ -113,6 +121,7 @@ def measure(model: Model, top: float, repeats: int) -> dict:
         query = {"without": None, "mesh": index, "box": box}[name]
         row[name] = dict(time=_percentiles(times[name]), iterations=result.iterations, converged=result.converged,
                          broken=list(result.broken), queries=count_queries(problems[name]),
+                         warm=_percentiles(warm_times[name]), warm_iterations=warm[name].iterations,
                          query=None if query is None else _percentiles([_timed_query(p0, p1, caps.radius, query)
                                                                        for _ in range(calls)]))  # fmt: skip
     near = [c for c in problems["mesh"].closest(state) if c.other == "cabinet"]
@@ -145,10 +154,12 @@ def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
         f" as a `Box` primitive, or none; {repeats} cold solves of each, round robin. Times in ms, median / p95."
         " Queries: obstacle distance queries per solve (each evaluation of the clearance rows: iterations and line"
         " search trials); query time: one query of all 31 capsules at the pose solved with the mesh. Share: queries x"
-        " median query time / median solve.",
+        " median query time / median solve. Warm: the hands' targets then moved 1 cm sideways and the pose solved again"
+        " from the solution (what Live mode does as a target is dragged).",
         "",
-        "| case (cabinet top) | obstacle | solve | vs without | iterations | per iteration | queries | query | share |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| case (cabinet top) | obstacle | solve | vs without | iterations | per iteration | queries | query | share |"
+        " warm | vs without | warm iterations |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for label, r in rows.items():
         base = r["without"]["time"][0]
@@ -158,7 +169,8 @@ def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
             lines.append(
                 f"| {label} ({r['top'] * 100:.1f} cm) | {name} | {_ms(v['time'])} | {v['time'][0] / base:.2f}x |"
                 f" {v['iterations']} | {v['time'][0] / max(v['iterations'], 1) * 1e3:.2f} | {v['queries']} |"
-                f" {_ms(v['query'])} | {share} |"
+                f" {_ms(v['query'])} | {share} | {_ms(v['warm'])} | {v['warm'][0] / r['without']['warm'][0]:.2f}x |"
+                f" {v['warm_iterations']} |"
             )
     lines.append("")
     for label, r in rows.items():
@@ -175,14 +187,17 @@ def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
             if not r[name]["converged"] or r[name]["broken"]:
                 lines.append(f"{label}, {name}: NOT converged (priority 1 broken: {r[name]['broken'] or 'none'}).")
     worst = max(r["mesh"]["time"][0] / r["without"]["time"][0] for r in rows.values())
+    warm = max(r["mesh"]["warm"][0] / r["without"]["warm"][0] for r in rows.values())
     lines += [
         "",
         "Issue 20's target (a pose near the mesh at most 2x the pose without it):"
-        f" {'met' if worst <= 2.0 else 'NOT met'} (up to {worst:.2f}x). Most of the ratio is the iteration count"
-        " and the clearance rows in each iteration,"
-        " which the box primitive shares (it takes even more iterations when pressing); the mesh's own part is the"
-        " query, a fixed cost per call of NumPy overhead (tree walk, bounds, exact kernel) rather than of its"
-        " triangles: 2 and 4 capsules near the mesh cost about the same.",
+        f" re-solving a pose near or on the mesh as a target moves (warm) {'met' if warm <= 2.0 else 'NOT met'}"
+        f" (up to {warm:.2f}x); a cold solve from the zero pose {'met' if worst <= 2.0 else 'NOT met'}"
+        f" (up to {worst:.2f}x). A cold solve's ratio is mostly iterations: the arms swing up from the zero pose"
+        " past the cabinet's front and top, and pressing ends in another pose than the one without it; the box"
+        " primitive shares that. The mesh's own part is the query, a fixed cost per call of NumPy overhead (tree"
+        " walk, bounds, exact kernel) rather than of its triangles: 2 and 4 capsules near the mesh cost about the"
+        " same.",
     ]
     return "\n".join(lines)
 
