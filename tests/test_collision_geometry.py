@@ -409,3 +409,26 @@ def test_an_axis_through_an_open_sheet_is_pushed_to_the_side_with_more_of_it():
     mostly_below = obstacle_distance(np.array([[0.1, 0.1, 0.1]]), np.array([[0.1, 0.1, -0.3]]), 0.05, sheet, 0.1)
     assert mostly_above.distance[0] == pytest.approx(-0.05) and np.allclose(mostly_above.normal[0], [0, 0, 1])
     assert mostly_below.distance[0] == pytest.approx(-0.05) and np.allclose(mostly_below.normal[0], [0, 0, -1])
+
+
+def test_a_box_query_with_a_margin_leaves_out_only_far_capsules():
+    """With a margin, a box's query is exact for every capsule within it and +inf only beyond it (the capsules
+    far from its bounding box are not computed)."""
+    rng = np.random.default_rng(7)
+    box = Box(np.array([0.2, -0.1, 0.5]), np.array([0.6, 0.3, 0.2]), _rotation_about_z(0.6))
+    p0, p1 = rng.uniform(-0.6, 0.9, (400, 3)) + [0, 0, 0.3], rng.uniform(-1.0, 1.0, (400, 3))
+    p1 = p0 + 0.3 * (p1 - p0) / np.linalg.norm(p1 - p0, axis=1)[:, None]
+    radii = rng.uniform(0.02, 0.1, 400)
+    exact = obstacle_distance(p0, p1, radii, box)
+    near = obstacle_distance(p0, p1, radii, box, margin=0.05)
+    within = exact.distance <= 0.05
+    assert within.sum() > 20 and (~within).sum() > 20
+    for mine, theirs in zip(near, exact, strict=True):
+        np.testing.assert_array_equal(mine[within], theirs[within])
+    assert (near.distance[~within] > 0.05).all()  # +inf where left out, else the exact distance
+    assert np.isinf(near.distance).sum() > 20
+
+
+def _rotation_about_z(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
