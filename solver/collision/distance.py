@@ -17,7 +17,7 @@ import numpy as np
 from .closest import cross, dot, perpendicular, point_segment, segment_segment, unit
 from .mesh_distance import mesh_distance
 from .mesh_index import MeshIndex
-from .proximity import PairProximity, Proximity
+from .proximity import PairProximity, Proximity, near_only
 from .shapes import Box, Capsule, HalfSpace, Mesh, Obstacle, Sphere
 
 _BOX_EDGES = np.array(
@@ -147,25 +147,12 @@ def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) ->
 
 
 def _near_box_only(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box, margin: float) -> Proximity:
-    """box_distance for the capsules whose bounding box, grown by radius + ``margin`` (m), meets the box's; the
-    others come back as +inf (nothing within the margin), as a mesh's do. Most of a scene's boxes are far from most
-    capsules: their exact query is the cost of a motion frame near furniture."""
+    """box_distance for the capsules within ``margin`` (m) of the box; +inf for the others, as a mesh's (most of a
+    scene's boxes are far from most capsules: their exact query is the cost of a motion frame near furniture)."""
     p0, p1, radii = _batch(p0, p1, radii)
-    if not np.isfinite(margin):
-        return box_distance(p0, p1, radii, box)
     extent = np.abs(box.rotation) @ box.half  # the box's world bounding box: center +- extent
-    reach = (radii + margin)[:, None]
-    live = np.flatnonzero(np.all((np.maximum(p0, p1) + reach >= box.center - extent)
-                                 & (np.minimum(p0, p1) - reach <= box.center + extent), axis=1))  # fmt: skip
-    k = len(p0)
-    if live.size == k:
-        return box_distance(p0, p1, radii, box)
-    out = Proximity(np.full(k, np.inf), np.zeros(k), p0.copy(), np.zeros((k, 3)), p0.copy())
-    if live.size:
-        got = box_distance(p0[live], p1[live], radii[live], box)
-        for mine, theirs in zip(out, got, strict=True):
-            mine[live] = theirs
-    return out
+    return near_only(p0, p1, radii, margin, box.center - extent, box.center + extent,
+                     lambda rows: box_distance(p0[rows], p1[rows], radii[rows], box))  # fmt: skip
 
 
 def obstacle_distance(

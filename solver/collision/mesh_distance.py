@@ -16,7 +16,7 @@ import numpy as np
 
 from .closest import dot, segment_triangle, unit
 from .mesh_index import MeshIndex
-from .proximity import Proximity
+from .proximity import Proximity, near_only
 from .tree import group_argmin
 
 SAMPLES = 9  # axis points where the depth inside a closed mesh is measured (t = 0, 1/8, ..., 1)
@@ -93,15 +93,5 @@ def mesh_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, index: Mesh
     p0, p1 = np.atleast_2d(np.asarray(p0, dtype=float)), np.atleast_2d(np.asarray(p1, dtype=float))
     k = len(p0)
     radii = np.broadcast_to(np.asarray(radii, dtype=float), (k,))
-    reach = (radii + margin)[:, None]
-    live = np.flatnonzero(
-        np.all((np.maximum(p0, p1) + reach >= index.lo) & (np.minimum(p0, p1) - reach <= index.hi), 1)
-    )
-    d, t, w, normal, near = np.full(k, np.inf), np.zeros(k), p0.copy(), np.zeros((k, 3)), p0.copy()
-    if live.size:
-        got = _signed(p0[live], p1[live], radii[live], margin, index)
-        close = live[got.distance <= margin]
-        keep = got.distance <= margin
-        d[close], t[close], w[close] = got.distance[keep], got.t[keep], got.point[keep]
-        normal[close], near[close] = got.normal[keep], got.closest[keep]
-    return Proximity(d, t, w, normal, near)
+    return near_only(p0, p1, radii, margin, index.lo, index.hi,
+                     lambda rows: _signed(p0[rows], p1[rows], radii[rows], margin, index))  # fmt: skip

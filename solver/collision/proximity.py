@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -31,3 +32,20 @@ class PairProximity(NamedTuple):
     t_other: np.ndarray
     point_other: np.ndarray
     normal: np.ndarray
+
+
+def near_only(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, margin: float, lo: np.ndarray, hi: np.ndarray,
+              exact: Callable[[np.ndarray], Proximity]) -> Proximity:  # fmt: skip
+    """Capsules p0-p1 (k, 3) m with ``radii`` (k,) vs an obstacle inside the world box ``lo``..``hi`` (m): ``exact``
+    (rows -> their Proximity) only for the capsules whose bounding box, grown by radius + ``margin``, meets it; the
+    rest, and rows farther than ``margin``, get distance +inf, t = 0, point = closest = p0 and a zero normal."""
+    k = len(p0)
+    reach = (radii + margin)[:, None]
+    live = np.flatnonzero(np.all((np.maximum(p0, p1) + reach >= lo) & (np.minimum(p0, p1) - reach <= hi), axis=1))
+    out = Proximity(np.full(k, np.inf), np.zeros(k), p0.copy(), np.zeros((k, 3)), p0.copy())
+    if live.size:
+        got = exact(live)
+        keep = got.distance <= margin
+        for mine, theirs in zip(out, got, strict=True):
+            mine[live[keep]] = theirs[keep]
+    return out

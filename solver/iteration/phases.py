@@ -42,12 +42,14 @@ def solve(
     was_ranked = False
     fallback = ranked(problem) if best.trial.worst > 1.0 else None
     # on from where reaching stopped (closer, fewer iterations); from the start again if that broke priority 1
+    best_key = _ranking_key(fallback, best) if fallback is not None else None
     for origin in (best.trial.x, start) if fallback is not None else ():
         again, more = _with_restarts(fallback, origin, options, tuning)
         used += more
-        if _ranking_key(fallback, again) < _ranking_key(fallback, best):
-            best, was_ranked = again, True
-        if _ranking_key(fallback, best)[0] <= 1.0:
+        key = _ranking_key(fallback, again)
+        if key < best_key:
+            best, best_key, was_ranked = again, key, True
+        if best_key[0] <= 1.0:
             break
     result = Result.from_state(problem, best.trial.state, used, time.perf_counter() - t0)
     settled = best.reason in (StopReason.CONVERGED, StopReason.NO_PROGRESS) and best.trial.worst <= 1.0
