@@ -130,7 +130,7 @@ def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) ->
     t, axis, n = _box_outside(a, b, half)
     u = b - a
     # slab test: does the axis segment meet the box?
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         lo, hi = (-half - a) / u, (half - a) / u
     flat = u == 0
     lo = np.where(flat, np.where(np.abs(a) <= half, -np.inf, np.inf), lo)  # a flat axis outside its slab: empty
