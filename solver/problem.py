@@ -179,6 +179,7 @@ class Problem:
             else np.zeros(0, dtype=bool)  # fmt: skip
         self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)
         self.n_rows = len(self.row_tolerance)
+        self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
 
     def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -269,10 +270,22 @@ class Problem:
 
     def scaled_jacobian(self, state: State) -> np.ndarray:
         """d scaled_error / d (v / scale)."""
+        live, jac = self.live_jacobian(state)
+        out = np.zeros((self.n_rows, self.n_var))
+        out[live] = jac
+        return out
+
+    def live_jacobian(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """(the rows that may be nonzero, their rows of :meth:`scaled_jacobian`): met one-sided rows beyond their
+        watch band (most clearance rows, far from anything) are left out instead of carried as zeros."""
         if not self.constraints:
-            return np.zeros((0, self.n_var))
-        jac = np.concatenate([c.jacobian(state) for c in self.constraints])
-        return self._in_solver_variables(jac, state) * self._row_scale * self.scale
+            return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
+        got = [c.jacobian_rows(state) for c in self.constraints]
+        live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
+        jac = self._in_solver_variables(np.concatenate([jac for _, jac in got]), state)
+        jac *= self._row_scale[live]  # in place: a fresh temporary costs page faults, more than the product
+        jac *= self.scale
+        return live, jac
 
     def _in_solver_variables(self, jac: np.ndarray, state: State) -> np.ndarray:
         """d rows / dx (k, n_x) -> d rows / dv (k, n_var)."""

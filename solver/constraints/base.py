@@ -29,6 +29,10 @@ class Constraint(ABC):
     def jacobian(self, state: State) -> np.ndarray:
         """(rows, n_x): d error / d x, x = [theta, w]."""
 
+    def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """(indices of the rows that may be nonzero, their Jacobian rows (k, n_x)); the other rows are zero."""
+        return np.arange(self.rows), self.jacobian(state)
+
     @abstractmethod
     def residuals(self, state: State) -> dict[str, float]:
         """Readable residuals in their own units (m, rad, N, N*m), keyed ``<name>.<quantity>``."""

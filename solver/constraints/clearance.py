@@ -108,11 +108,18 @@ class ClearanceRows(Inequality):
         """d error / dx on the rows inside their clearance or within ``watch`` of it (their error is zero: the step
         stops them at the surface when it would go past it, so a comfort step slides a part along a surface instead
         of into it); the others are met, their rows zero."""
-        return self._jacobian_of(state, np.flatnonzero(self.value(state) - self.floor < self.watch))
+        rows, jac = self.jacobian_rows(state)
+        out = np.zeros((self.rows, self.n_x))
+        out[rows] = jac
+        return out
+
+    def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        rows = np.flatnonzero(self.value(state) - self.floor < self.watch)
+        return rows, self._jacobian_of(state, rows)
 
     @abstractmethod
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
-        """(rows, n_x) with d g / dx on ``rows`` and zeros elsewhere."""
+        """(len(rows), n_x): d g / dx of ``rows``."""
 
     def _part_rows(self, state: State, rows: np.ndarray) -> np.ndarray:
         """(len(rows), n) n . (velocity of the witness point on the part's capsule) per joint."""
@@ -191,7 +198,7 @@ class Clearance(ClearanceRows):
         return tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
-        out = np.zeros((self.rows, self.n_x))
+        out = np.zeros((len(rows), self.n_x))
         if rows.size:
-            out[rows, : self.model.n] = self._part_rows(state, rows)
+            out[:, : self.model.n] = self._part_rows(state, rows)
         return out

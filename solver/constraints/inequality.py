@@ -40,6 +40,10 @@ class Inequality(Constraint):
         jac[self.value(state) - self.floor > 0.0] = 0.0
         return jac
 
+    def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        rows = np.flatnonzero(~(self.value(state) - self.floor > 0.0))  # NaN rows stay, as in jacobian
+        return rows, np.asarray(self.value_jacobian(state), dtype=float)[rows]
+
     def residuals(self, state: State) -> dict[str, float]:
         """The largest shortfall below the floor (0 when met), in g's units."""
         return {f"{self.name}.shortfall": abs(float(np.min(self.error(state), initial=0.0)))}

@@ -50,11 +50,11 @@ class SelfClearance(ClearanceRows):
         return got.distance, got.point, got.normal, self.pairs.first
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
-        out = np.zeros((self.rows, self.n_x))
+        out = np.zeros((len(rows), self.n_x))
         if rows.size:
             got = self._proximity(state)
             normal = got.normal[rows]
             mask = self.model.descendant[:, self.capsules.link[self.pairs.second[rows]]].T.astype(float)
             away = state.kin.jacobian_rows(got.point_other[rows], normal, np.zeros_like(normal), mask)
-            out[rows, : self.model.n] = self._part_rows(state, rows) - away
+            out[:, : self.model.n] = self._part_rows(state, rows) - away
         return out

@@ -20,14 +20,19 @@ class LeastSquares:
     ill-conditioned for Cholesky to be trusted) its eigendecomposition stands in for the factors.
     """
 
-    def __init__(self, jac: np.ndarray, max_damping: float) -> None:
-        self._rows = jac.shape[0]
+    def __init__(
+        self, jac: np.ndarray, max_damping: float, rows: np.ndarray | None = None, total: int | None = None
+    ) -> None:
+        """``jac`` holds rows ``rows`` (indices) of a Jacobian of ``total`` rows, the others zero (default: all
+        rows); errors passed in and multipliers given back have all ``total`` rows."""
+        self._rows = jac.shape[0] if total is None else total
+        rows = np.arange(jac.shape[0]) if rows is None else np.asarray(rows)
         # rows without any entry (a one-sided constraint while it is met) take no part: kept, they would make G
         # singular and send every step down the eigendecomposition path
-        used = jac.any(axis=1) if jac.size else None
-        self._active = None if used is None or used.all() else np.flatnonzero(used)
-        if self._active is not None:
-            jac = jac[self._active]
+        used = jac.any(axis=1) if jac.size else np.zeros(jac.shape[0], dtype=bool)
+        self._active = rows[used]
+        if not used.all():
+            jac = jac[used]
         self._jac = jac
         m = jac.shape[0]
         gram = jac @ jac.T
@@ -67,7 +72,7 @@ class LeastSquares:
 
     def _own(self, err: np.ndarray) -> np.ndarray:
         """``err`` on the rows that take part."""
-        return err if self._active is None else err[self._active]
+        return err[self._active]
 
     def step(self, err: np.ndarray, extra2: float = 0.0) -> np.ndarray:
         """-J^T (G + d^2 I)^-1 err (plus ``extra2``, a squared LM damping)."""
@@ -102,8 +107,6 @@ class LeastSquares:
     def multipliers(self, g: np.ndarray) -> np.ndarray:
         """lambda with g + J^T lambda ~ 0 (damped least squares); 0 on rows that take no part."""
         own = -self._solve(self._jac @ g)
-        if self._active is None:
-            return own
         out = np.zeros(self._rows)
         out[self._active] = own
         return out

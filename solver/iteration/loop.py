@@ -86,16 +86,16 @@ def run_phase(
 
 def _linearize(problem: Problem, at: Trial, comfort_on: bool, keep_off_limits: bool) -> Linearization:
     """The constraint Jacobian and the comfort model (or only its curvature, or nothing) at a trial."""
-    jac = problem.scaled_jacobian(at.state)
+    live, jac = problem.live_jacobian(at.state)
     zeros = np.zeros(problem.n_var)
     if comfort_on:
         grad_h, curv = problem.comfort_derivatives(at.state)
         rows = problem.comfort_rows(at.state)
         rows = None if rows is None else rows * problem.scale
-        return Linearization(jac, -grad_h * problem.scale, curv * problem.scale**2, True, rows)
+        return Linearization(jac, live, -grad_h * problem.scale, curv * problem.scale**2, True, rows)
     if keep_off_limits:
-        return Linearization(jac, zeros, problem.comfort_derivatives(at.state)[1] * problem.scale**2, False)
-    return Linearization(jac, zeros, np.zeros(problem.n_var), False)
+        return Linearization(jac, live, zeros, problem.comfort_derivatives(at.state)[1] * problem.scale**2, False)
+    return Linearization(jac, live, zeros, np.zeros(problem.n_var), False)
 
 
 def _remember(memory: CurvatureMemory, problem: Problem, previous, at: Trial, lin: Linearization) -> None:
@@ -104,7 +104,8 @@ def _remember(memory: CurvatureMemory, problem: Problem, previous, at: Trial, li
     before, lin_before, step_before = previous
     if before.x is at.x:
         return
-    change = lin.grad_f - lin_before.grad_f + (lin.jac - lin_before.jac).T @ step_before.multipliers
+    lam = step_before.multipliers
+    change = lin.grad_f - lin_before.grad_f + lin.jac.T @ lam[lin.live] - lin_before.jac.T @ lam[lin_before.live]
     step = (at.x - before.x) / problem.scale
     if lin.rows is not None:  # the exact low-rank curvature is in the model already: learn only the rest
         change = change - lin.rows.T @ (lin.rows @ step)

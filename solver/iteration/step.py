@@ -26,7 +26,8 @@ from .tuning import Tuning
 class Linearization:
     """The models a step is computed from, at one iterate (scaled variables, rows in tolerances)."""
 
-    jac: np.ndarray  # d scaled error / d scaled variables
+    jac: np.ndarray  # d scaled error / d scaled variables, on the rows ``live`` (the others are zero)
+    live: np.ndarray  # indices of the rows ``jac`` holds
     grad_f: np.ndarray  # gradient of f = -h (zeros without comfort)
     curv_f: np.ndarray  # diagonal curvature model of f (zeros when no metric is wanted)
     comfort_on: bool  # whether the step carries a comfort part
@@ -99,21 +100,23 @@ def compute_step(
     released first; those the step would then push past their floor are held there (the row's step must cover its
     slack, no more) and the step is solved again, so a part slides along a surface or leaves it, never into it.
     """
-    watched = problem.one_sided & (at.err == 0.0) & lin.jac.any(axis=1)
+    live = lin.live
+    watched = problem.one_sided[live] & (at.err[live] == 0.0) & lin.jac.any(axis=1)  # per row of lin.jac
     if not watched.any():
         return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
     step = _bounded_step(problem, at, _without(lin, watched), mu, radius, tuning, memory)
-    slack = problem.scaled_slack(at.state)
+    slack = problem.scaled_slack(at.state)[live]
     pushed = watched & (lin.jac @ (step.task + step.comfort) < -(slack + tuning.hold_overshoot))
     if not pushed.any():
         return step
-    stopped = replace(at, err=np.where(pushed, slack, at.err))  # J dx = -slack: onto the floor
-    return _bounded_step(problem, stopped, _without(lin, watched & ~pushed), mu, radius, tuning, memory)
+    err = at.err.copy()
+    err[live[pushed]] = slack[pushed]  # J dx = -slack: onto the floor
+    return _bounded_step(problem, replace(at, err=err), _without(lin, watched & ~pushed), mu, radius, tuning, memory)
 
 
 def _without(lin: Linearization, rows: np.ndarray) -> Linearization:
-    """``lin`` with the Jacobian rows ``rows`` (bool) left out (zero: the least squares skips them)."""
-    return replace(lin, jac=np.where(rows[:, None], 0.0, lin.jac))
+    """``lin`` without its Jacobian rows ``rows`` (bool, per row of ``lin.jac``)."""
+    return replace(lin, jac=lin.jac[~rows], live=lin.live[~rows])
 
 
 def _bounded_step(
@@ -130,7 +133,7 @@ def _bounded_step(
     x, jac, err, grad_f = at.x, lin.jac, at.err, lin.grad_f
     lo, hi = problem.bounds.room(x)
     # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.
-    outward = jac.T @ err + grad_f  # descent of both pushes along -outward
+    outward = jac.T @ err[lin.live] + grad_f  # descent of both pushes along -outward
     free = (lo < hi) & ~((lo >= -1e-12) & (outward >= 0)) & ~((hi <= 1e-12) & (outward <= 0))
     root = np.sqrt(metric(problem, x, lin, free, mu, tuning))
     compact = _curvature_model(memory, lin) if memory is not None else None
@@ -183,9 +186,12 @@ def _free_step(problem, at, lin, free, fixed, root, radius, compact, tuning):
     """(task, comfort, factors) with the variables outside ``free`` held at ``fixed``."""
     jac, err = lin.jac, at.err
     n = len(at.x)
-    err_eff = err + jac[:, ~free] @ fixed[~free] if (~free).any() else err
+    err_eff = err
+    if (~free).any():
+        err_eff = err.copy()
+        err_eff[lin.live] += jac[:, ~free] @ fixed[~free]
     r_f = root[free]
-    lsq = LeastSquares(jac[:, free] / r_f, tuning.max_damping)
+    lsq = LeastSquares(jac[:, free] / r_f, tuning.max_damping, lin.live, len(err))
     task = fixed.copy()
     task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)
     comfort = np.zeros(n)

@@ -122,7 +122,8 @@ class LineSearch:
         """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha)."""
         at, problem = self.at, self.problem
         direction = self._direction(with_comfort)
-        slope = 0.0 if with_comfort else 2.0 * float(at.err @ (self.lin.jac @ direction))  # d merit / d alpha at 0
+        lin = self.lin
+        slope = 0.0 if with_comfort else 2.0 * float(at.err[lin.live] @ (lin.jac @ direction))  # d merit / d alpha at 0
         hopeless = self.tuning.hopeless * self.tuning.comfort_slack
         alpha = 1.0
         for _ in range(tries):
