@@ -152,3 +152,27 @@ def test_axis_loads_and_balance_totals_by_brute_force(seed):
     total_force = sum(f for _, _, f in points)
     total_moment = sum(np.cross(q, f) for _, q, f in points)
     np.testing.assert_allclose(statics.balance_error(), np.concatenate([total_force, total_moment]), atol=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_live_rows_hold_every_nonzero_row(seed):
+    """The step's rows (each constraint's jacobian_rows, stacked by live_jacobian) are the Jacobian's nonzero rows:
+    the rows left out are zero in the full Jacobian, the rows kept equal it."""
+    from solver import load_scenario
+    from solver.bodies import PRESETS_DIR
+
+    _, problem, x, _ = random_case(seed, 200)
+    furnished = load_scenario(PRESETS_DIR / "scenarios" / "box_lift_motion.toml")
+    at_shelf = furnished.problem_at(furnished.frames[0])
+    for pb, xx in ((problem, x), (at_shelf, at_shelf.start(furnished.start))):
+        state = pb.state(xx)
+        for c in pb.constraints:
+            rows, part = c.jacobian_rows(state)
+            full = c.jacobian(state)
+            np.testing.assert_array_equal(part, full[rows], err_msg=c.name)
+            assert not np.delete(full, rows, axis=0).any(), c.name
+        live, jac = pb.live_jacobian(state)
+        dense = pb.scaled_jacobian(state)
+        np.testing.assert_array_equal(dense[live], jac)
+        assert not np.delete(dense, live, axis=0).any()
+        assert len(live) < pb.n_rows or pb is problem  # the furnished scene leaves most clearance rows out
