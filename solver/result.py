@@ -10,6 +10,7 @@ import numpy as np
 from .priorities import hard_unmet, shortfalls
 
 if TYPE_CHECKING:
+    from .constraints.clearance import Closeness
     from .iteration import StopReason
     from .problem import Problem
     from .state import State
@@ -35,6 +36,8 @@ class Result:
     broken: list[str] = field(default_factory=list)  # unmet constraints of priority 1 (supports, loops, balance)
     # unmet reach targets: how far each is off, {"position_m": .., "rotation_deg": ..}
     shortfall: dict[str, dict[str, float]] = field(default_factory=dict)
+    # clearance rows within their margin at x, nearest first (kept: recomputing them costs a distance query)
+    closest: list[Closeness] = field(default_factory=list)
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
@@ -55,6 +58,7 @@ class Result:
             com=state.kin.body_com(),
             broken=hard_unmet(problem, unmet),
             shortfall=shortfalls(problem, unmet, residuals),
+            closest=problem.closest(state),
         )
 
     @property

@@ -14,8 +14,7 @@ import pytest
 
 import solver
 from solver.carried import Carried, carried_box, carried_frame
-from solver.collision import Box, HalfSpace
-from solver.collision.distance import box_distance, obstacle_distance
+from solver.collision import Box, HalfSpace, box_distance, obstacle_distance
 from solver.errors import ScenarioError
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "presets" / "scenarios"

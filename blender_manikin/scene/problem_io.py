@@ -168,7 +168,7 @@ def summarize(result: Result) -> dict:
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
         joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
         scores=scores(result),
-        closest=[dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE)) for c in problem.closest(state)],
+        closest=[dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE)) for c in result.closest],
         capsules=capsules(problem.model, state),
     )
 

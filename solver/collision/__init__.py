@@ -6,8 +6,8 @@ surface to surface (negative = penetration); the normal points from the obstacle
 gradient of the distance with respect to the witness point on the capsule's axis.
 """
 
+from .boxes import box_distance, boxes_distance
 from .distance import (
-    box_distance,
     capsule_distance,
     capsule_pairs,
     halfspace_distance,
@@ -31,6 +31,7 @@ __all__ = [
     "Proximity",
     "Sphere",
     "box_distance",
+    "boxes_distance",
     "capsule_distance",
     "capsule_pairs",
     "degenerate_faces",

@@ -39,13 +39,27 @@ def near_only(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, margin: float, 
     """Capsules p0-p1 (k, 3) m with ``radii`` (k,) vs an obstacle inside the world box ``lo``..``hi`` (m): ``exact``
     (rows -> their Proximity) only for the capsules whose bounding box, grown by radius + ``margin``, meets it; the
     rest, and rows farther than ``margin``, get distance +inf, t = 0, point = closest = p0 and a zero normal."""
-    k = len(p0)
-    reach = (radii + margin)[:, None]
-    live = np.flatnonzero(np.all((np.maximum(p0, p1) + reach >= lo) & (np.minimum(p0, p1) - reach <= hi), axis=1))
-    out = Proximity(np.full(k, np.inf), np.zeros(k), p0.copy(), np.zeros((k, 3)), p0.copy())
-    if live.size:
-        got = exact(live)
-        keep = got.distance <= margin
+    one = near_only_many(p0, p1, radii, np.array([margin]), lo[None], hi[None], lambda _, rows: exact(rows))
+    return one[0]
+
+
+PairQuery = Callable[[np.ndarray, np.ndarray], Proximity]  # (obstacle, capsule) index rows -> each pair's Proximity
+
+
+def near_only_many(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, margins: np.ndarray, lo: np.ndarray,
+                   hi: np.ndarray, exact: PairQuery) -> list[Proximity]:  # fmt: skip
+    """:func:`near_only` for m obstacles at once (``margins`` (m,), bounding boxes ``lo``, ``hi`` (m, 3)): ``exact``
+    takes (obstacle, capsule) index rows and answers each pair; one Proximity (k rows) per obstacle."""
+    k, m = len(p0), len(margins)
+    reach = radii[None, :, None] + margins[:, None, None]  # (m, k, 1)
+    near = np.all((np.maximum(p0, p1)[None] + reach >= lo[:, None]) & (np.minimum(p0, p1)[None] - reach <= hi[:, None]),
+                  axis=2)  # fmt: skip
+    which, capsule = np.nonzero(near)
+    point = np.broadcast_to(p0, (m, k, 3)).copy()
+    out = Proximity(np.full((m, k), np.inf), np.zeros((m, k)), point, np.zeros((m, k, 3)), point.copy())
+    if which.size:
+        got = exact(which, capsule)
+        keep = got.distance <= margins[which]
         for mine, theirs in zip(out, got, strict=True):
-            mine[live[keep]] = theirs[keep]
-    return out
+            mine[which[keep], capsule[keep]] = theirs[keep]
+    return [Proximity(*(field[i] for field in out)) for i in range(m)]

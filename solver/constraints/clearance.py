@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..collision import HalfSpace, Mesh, Obstacle, obstacle_distance
+from ..collision import Box, HalfSpace, Mesh, Obstacle, boxes_distance, obstacle_distance
 from ..collision.body import BodyCapsules, capsules_of
 from ..collision.mesh_index import index_of
 from ..model import Model
@@ -182,16 +182,20 @@ class Clearance(ClearanceRows):
         caps = self.capsules
         p0, p1 = caps.world(state.kin)
         index = np.arange(len(caps))
+        # nothing nearer than its reach is left out of an obstacle's query
+        reach = [self.margin + max(ob.clearance, 0.0) for ob in self.obstacles]
+        boxes = [i for i, ob in enumerate(self.obstacles) if isinstance(ob, Box)]  # one query answers them all
+        of_box = dict(zip(boxes, boxes_distance(p0, p1, caps.radius, [self.obstacles[i] for i in boxes],
+                                                [reach[i] for i in boxes]) if boxes else [], strict=True))  # fmt: skip
         parts = []
-        for ob, query in zip(self.obstacles, self._queries, strict=True):
+        for i, (ob, query) in enumerate(zip(self.obstacles, self._queries, strict=True)):
             if isinstance(ob, HalfSpace):
                 for end in (p0, p1):
                     height = (end - ob.point) @ ob.normal - caps.radius
                     parts.append((height, end, np.broadcast_to(ob.normal, end.shape), index))
             else:
-                reach = self.margin + max(ob.clearance, 0.0)  # nothing nearer than this is left out of the query
-                got = obstacle_distance(p0, p1, caps.radius, query, reach)
-                distance = np.where(np.isfinite(got.distance), got.distance, reach + 1.0)
+                got = of_box[i] if i in of_box else obstacle_distance(p0, p1, caps.radius, query, reach[i])
+                distance = np.where(np.isfinite(got.distance), got.distance, reach[i] + 1.0)
                 parts.append((distance, got.point, got.normal, index))
         if not parts:
             return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)

@@ -50,7 +50,7 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
         comfort=result.comfort,
         comfort_terms=result.comfort_parts,
         com=floats(result.com),
-        closest=[pair.to_dict() for pair in result.problem.closest(state)],
+        closest=[pair.to_dict() for pair in result.closest],
     )
 
 

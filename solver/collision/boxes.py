@@ -1,0 +1,110 @@
+"""Capsules vs oriented boxes, many boxes in one query: exact distance when apart, minus the penetration depth when
+they overlap (the conventions of :mod:`.distance`).
+
+Every function works on rows that each pair one capsule with one box (its center, rotation and half sizes given per
+row), so a scene's boxes are answered by one set of NumPy calls instead of one set per box.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .closest import dot, perpendicular, segment_segment, unit
+from .proximity import Proximity, near_only_many
+from .shapes import Box
+
+_BOX_EDGES = np.array(
+    [[[-1, j, k], [1, j, k]] for j in (-1, 1) for k in (-1, 1)]
+    + [[[i, -1, k], [i, 1, k]] for i in (-1, 1) for k in (-1, 1)]
+    + [[[i, j, -1], [i, j, 1]] for i in (-1, 1) for j in (-1, 1)],
+    dtype=float,
+)  # (12, 2, 3): the unit cube's edges as corner pairs, scaled by the half sizes
+
+
+def _outside(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Segments a-b (k, 3) in box coordinates vs the boxes |x_i| <= half_i (k, 3), as if disjoint: (t, distance,
+    normal). The nearest axis point is an end or the point nearest one of the 12 edges."""
+    edges = _BOX_EDGES[None] * half[:, None, None, :]
+    s, _ = segment_segment(a[:, None], b[:, None], edges[:, :, 0], edges[:, :, 1])
+    t = np.concatenate([np.zeros((len(a), 1)), np.ones((len(a), 1)), s], axis=1)
+    x = a[:, None] + t[..., None] * (b - a)[:, None]
+    gap = x - np.clip(x, -half[:, None], half[:, None])
+    d2 = dot(gap, gap)
+    best = np.argmin(d2, axis=1)
+    rows = np.arange(len(a))
+    face = np.eye(3)[np.argmax(np.abs(x[rows, best]) / half, axis=1)] * np.sign(x[rows, best])
+    return t[rows, best], np.sqrt(d2[rows, best]), unit(gap[rows, best], unit(face, perpendicular(b - a)))
+
+
+def _overlap(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Segments a-b (k, 3) in box coordinates that touch their boxes (half sizes (k, 3)): (t, penetration depth >= 0,
+    normal) by the separating axes (the 3 face normals and the segment's direction crossed with each edge's)."""
+    u = b - a
+    cross = np.cross(u[:, None, :], np.eye(3)[None])  # (k, 3, 3)
+    length = np.sqrt(dot(cross, cross))
+    valid = length > 1e-9 * np.sqrt(dot(u, u))[:, None]
+    axes = np.concatenate([np.broadcast_to(np.eye(3), cross.shape), cross / np.where(valid, length, 1)[..., None]], 1)
+    sa, sb = dot(axes, a[:, None]), dot(axes, b[:, None])
+    rho = dot(np.abs(axes), half[:, None])
+    up, down = rho - np.minimum(sa, sb), np.maximum(sa, sb) + rho  # moves along +axis / -axis that separate
+    depth = np.where(np.concatenate([np.ones_like(valid), valid], axis=1), np.minimum(up, down), np.inf)
+    best = np.argmin(depth, axis=1)
+    rows = np.arange(len(a))
+    n = axes[rows, best] * np.where(up[rows, best] <= down[rows, best], 1.0, -1.0)[:, None]
+    t = np.where(dot(n, a) <= dot(n, b), 0.0, 1.0)  # face axis: the deeper end
+    # edge axis: where the segment passes the box edge (direction e_i) that sticks out furthest along n
+    i = np.clip(best - 3, 0, 2)
+    corner = np.where(n >= 0, half, -half)
+    e0, e1 = corner.copy(), corner.copy()
+    e0[rows, i], e1[rows, i] = -half[rows, i], half[rows, i]
+    s, _ = segment_segment(a, b, e0, e1)
+    t = np.where(best >= 3, s, t)
+    return t, depth[rows, best], n
+
+
+def box_rows(p0, p1, radii, center, rotation, half) -> Proximity:
+    """Capsule p0-p1 (k, 3) m of radius ``radii`` (k,) vs box ``center`` (k, 3), ``rotation`` (k, 3, 3) (box axes
+    as columns) and ``half`` sizes (k, 3) m, row by row."""
+    a = np.einsum("ki,kij->kj", p0 - center, rotation)
+    b = np.einsum("ki,kij->kj", p1 - center, rotation)
+    t, axis, n = _outside(a, b, half)
+    u = b - a
+    # slab test: does the axis segment meet the box?
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        lo, hi = (-half - a) / u, (half - a) / u
+    flat = u == 0
+    lo = np.where(flat, np.where(np.abs(a) <= half, -np.inf, np.inf), lo)  # a flat axis outside its slab: empty
+    hi = np.where(flat, np.inf, hi)
+    enter = np.maximum(np.max(np.minimum(lo, hi), axis=1), 0.0)
+    leave = np.minimum(np.min(np.maximum(lo, hi), axis=1), 1.0)
+    meet = np.flatnonzero(enter <= leave)
+    if meet.size:
+        tm, depth, nm = _overlap(a[meet], b[meet], half[meet])
+        t[meet], axis[meet], n[meet] = tm, -depth, nm
+    w = p0 + t[:, None] * (p1 - p0)
+    n_world = np.einsum("kj,kij->ki", n, rotation)
+    return Proximity(axis - radii, t, w, n_world, w - axis[:, None] * n_world)
+
+
+def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) -> Proximity:
+    """Capsules (k rows) vs one oriented box."""
+    k = len(p0)
+    return box_rows(p0, p1, radii, np.broadcast_to(box.center, (k, 3)), np.broadcast_to(box.rotation, (k, 3, 3)),
+                    np.broadcast_to(box.half, (k, 3)))  # fmt: skip
+
+
+def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: list[Box], margins) -> list[Proximity]:
+    """Capsules (k rows) vs each of ``boxes``, one Proximity per box: exact for the capsules whose bounding box,
+    grown by radius + the box's margin (``margins``, m, one per box), meets the box's, +inf beyond it (see
+    :func:`~solver.collision.proximity.near_only_many`)."""
+    m = len(boxes)
+    center = np.array([b.center for b in boxes]).reshape(m, 3)
+    rotation = np.array([b.rotation for b in boxes]).reshape(m, 3, 3)
+    half = np.array([b.half for b in boxes]).reshape(m, 3)
+    extent = np.einsum("mij,mj->mi", np.abs(rotation), half)  # world bounding box: center +- extent
+    margins = np.broadcast_to(np.asarray(margins, dtype=float), (m,))
+
+    def exact(box: np.ndarray, cap: np.ndarray) -> Proximity:
+        return box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
+
+    return near_only_many(p0, p1, radii, margins, center - extent, center + extent, exact)
