@@ -16,6 +16,7 @@ on its own is evaluated as a group of one; grouping never changes a member, so m
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -29,14 +30,22 @@ from .base import Constraint
 
 POSITION_TOLERANCE = 1e-3  # m
 ROTATION_TOLERANCE = np.deg2rad(0.2)  # rad
+_FIRST_THREE = np.array([True, True, True, False, False, False])  # the translation components of x y z rx ry rz
 
 
 def lock_operator(lock: list[str] | tuple[str, ...]) -> np.ndarray:
-    """Selection matrix (k x 6) of the locked axes, in the order x y z rx ry rz."""
+    """Selection matrix (k x 6) of the locked axes, in the order x y z rx ry rz (read-only)."""
+    return _selection(tuple(lock))
+
+
+@functools.lru_cache(maxsize=128)  # a motion builds its targets' constraints every frame with the same locks
+def _selection(lock: tuple[str, ...]) -> np.ndarray:
     unknown = [a for a in lock if a not in AXES]
     if unknown:
         raise ManikinError(f"unknown lock axis {unknown[0]!r}; expected some of {list(AXES)}")
-    return np.eye(6)[[i for i, a in enumerate(AXES) if a in lock]]
+    out = np.eye(6)[[i for i, a in enumerate(AXES) if a in lock]]
+    out.setflags(write=False)
+    return out
 
 
 class FrameConstraint(Constraint):
@@ -68,7 +77,7 @@ class FrameConstraint(Constraint):
         self._tolerance = np.abs(self.operator) @ base_tol
         self._is_selection = bool(np.all((self.operator == 0) | (self.operator == 1)))
         locked = self.operator.sum(axis=0) > 0
-        position, rotation = np.r_[locked[:3], [False] * 3], np.r_[[False] * 3, locked[3:]]
+        position, rotation = locked * _FIRST_THREE, locked * ~_FIRST_THREE
         # (residual name, mask of the unrelaxed components it measures) for the locked translation / rotation
         self._locked_parts = [
             (f"{name}.{part}", m) for part, m in (("position", position), ("rotation", rotation)) if m.any()
