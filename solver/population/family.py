@@ -58,10 +58,9 @@ def boundary_points(pop: Population, coverage: float, points: int) -> tuple[np.n
     r = pop.correlation
     angles = 360.0 * np.arange(points) / points
     theta = np.radians(angles)
-    size_axis, build_axis = np.array([1.0, 1.0]) / math.sqrt(2.0), np.array([1.0, -1.0]) / math.sqrt(2.0)
-    z = np.outer(np.cos(theta) * math.sqrt(1.0 + r), size_axis) + np.outer(
-        np.sin(theta) * math.sqrt(1.0 - r), build_axis
-    )
+    # the standardised correlation matrix's eigenvectors and square-rooted eigenvalues, as columns
+    axes = np.array([[1.0, 1.0], [1.0, -1.0]]) / math.sqrt(2.0) * np.sqrt([1.0 + r, 1.0 - r])
+    z = np.column_stack([np.cos(theta), np.sin(theta)]) @ axes.T  # standardised (stature, mass) per point
     return pop.mean + coverage_radius(coverage) * z * pop.sd, angles
 
 
