@@ -1,5 +1,5 @@
 """Command line: ``python -m solver solve SCENARIO.toml [-o RESULT.json]``, ``ergo RESULT.json -o ERGO.json``,
-``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``.
+``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``, ``family ... -o DIR`` (:mod:`solver.population.cli`).
 
 Exit codes: 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input (one line
 on stderr naming the file, the key and what was expected), 130 interrupted (Ctrl-C; the frames solved so far are
@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 from .errors import ArgumentParser, ManikinError, UsageError
 from .io.files import STDOUT
+from .population.cli import add_family_parser
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
 
@@ -166,6 +167,8 @@ def _presets(args: argparse.Namespace) -> int:
     print("manikins: " + ", ".join(list_presets()))
     scenarios = sorted((PRESETS_DIR / "scenarios").glob("*.toml"))
     print("scenarios: " + ", ".join(_from_here(p) for p in scenarios))
+    families = sorted(p.parent for p in (PRESETS_DIR / "families").glob("*/family.toml"))
+    print("families: " + ", ".join(_from_here(p) for p in families))
     return EXIT_OK
 
 
@@ -228,6 +231,7 @@ def build_parser() -> argparse.ArgumentParser:
     p_urdf.set_defaults(run=_urdf)
     p_presets = sub.add_parser("presets", help="list the manikin and scenario presets")
     p_presets.set_defaults(run=_presets)
+    add_family_parser(sub)
     return parser
 
 

@@ -9,6 +9,8 @@ A body TOML file has one table::
     mass = 74.0             # human: kg, 10-300
     percentile = 50         # optional, 0-100
     source = "survey, table, year"   # optional
+    # human only, all optional (m): sitting_height, shoulder_breadth, upper_arm_length, forearm_length,
+    # hip_breadth, foot_length -- they override the segment lengths they determine (see .measurements)
     # snake only, all optional: segments = 9, segment_length = 0.2 (m), segment_mass = 1.0 (kg)
 
 Presets live in ``presets/manikins/<name>.toml`` at the repository (extension) root.
@@ -25,6 +27,7 @@ from ..io.table_reader import TableReader
 from ..model import Model
 from ..presets import MANIKINS_DIR, PRESETS_DIR, list_presets
 from .human import build_human, validate_human
+from .measurements import MEASUREMENTS
 from .snake import build_snake, validate_snake
 
 __all__ = [
@@ -41,7 +44,7 @@ __all__ = [
 
 _COMMON_KEYS = {"kind", "name", "percentile", "source"}
 _KEYS = {
-    "human": _COMMON_KEYS | {"sex", "stature", "mass"},
+    "human": _COMMON_KEYS | {"sex", "stature", "mass"} | set(MEASUREMENTS),
     "snake": _COMMON_KEYS | {"segments", "segment_length", "segment_mass"},
 }
 
@@ -111,7 +114,8 @@ def body_from_dict(data: dict, where: str = "body", name: str = "body") -> Model
                 if key not in body:
                     raise ModelError(f"missing key '{key}' (expected {what})")
             validate_human(body["sex"], body["stature"], body["mass"])
-            return build_human(body["sex"], body["stature"], body["mass"], name=name, info=info)
+            measured = {k: body[k] for k in MEASUREMENTS if k in body}
+            return build_human(body["sex"], body["stature"], body["mass"], name=name, info=info, measurements=measured)
         args = (body.get("segments", 9), body.get("segment_length", 0.2), body.get("segment_mass", 1.0))
         validate_snake(*args)
         return build_snake(*args, name=name, info=info)

@@ -18,6 +18,7 @@ from ..errors import ModelError
 from ..model import Model
 from ..model_builder import ModelBuilder
 from . import anthropometry as A
+from .measurements import body_lengths, validate_measurements
 
 X, Y, Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
 NEG_X, NEG_Y = (-1.0, 0.0, 0.0), (0.0, -1.0, 0.0)
@@ -114,16 +115,27 @@ def validate_human(sex: str, stature: float, mass: float) -> None:
             raise ModelError(f"{key} must be in [{lo}, {hi}] {unit}, got {value}")
 
 
-def build_human(sex: str, stature: float, mass: float, name: str = "human", *, info: Mapping | None = None) -> Model:
-    """Human manikin of ``sex`` ("male"/"female"), ``stature`` (m) and ``mass`` (kg); ``info`` adds to Model.info."""
+def build_human(
+    sex: str, stature: float, mass: float, name: str = "human", *, info: Mapping | None = None,
+    measurements: Mapping[str, float] | None = None,
+) -> Model:  # fmt: skip
+    """Human manikin of ``sex`` ("male"/"female"), ``stature`` (m) and ``mass`` (kg); ``info`` adds to Model.info.
+
+    ``measurements`` (m, any subset of :data:`.measurements.MEASUREMENTS`) override the segment lengths they
+    determine; the others stay fractions of stature.
+    """
     validate_human(sex, stature, mass)
     h, mass = float(stature), float(mass)
-    d = {k: v * h for k, v in A.WINTER_H.items()}
+    measured = validate_measurements(measurements or {}, h)
+    d = body_lengths(sex, h, measured)
     d["y_body"] = 0.25 * d["foot_length"]  # ankles, knees, hips and spine lie on the line y = y_body
-    d["z_ls"] = A.LUMBOSACRAL_H * h
     d["x_hip"] = A.HIP_JOINT_SHARE * 0.5 * d["hip_width"]
     segments = "de Leva 1996 (masses, CM); Drillis & Contini via Winter 2009 (lengths)"
+    if measured:
+        segments += "; measured: " + ", ".join(measured)
     body_info = dict(kind="human", sex=sex, stature=h, mass=mass, segments=segments) | dict(info or {})
+    if measured:
+        body_info["measurements"] = measured
     body = _Body(ModelBuilder(name, body_info), sex, mass, h)
     frac = A.mass_fractions(sex)
     body.b.add_exterior_root((0.0, d["y_body"], d["z_ls"]), link="pelvis")
@@ -166,7 +178,7 @@ def _trunk(body: _Body, d: dict, frac: dict) -> None:
                 link=("head" if v == "c1" else v) if last else None, mass=vmass if last else 0.0,
                 com=vcom if last else None,
             )  # fmt: skip
-        z += A.VERTEBRA_HEIGHT_H[v[0]] * h
+        z += d["vertebra"][v[0]]
     eye = (0.0, yb - A.EYE_FORWARD_H * h, d["eye_height"])
     body.chain(MIDLINE, "head", eye, "eyes", ("yaw", Z), ("pitch", X), link="eyes")
     body.tcp("head", "head", head_cm)
@@ -177,16 +189,16 @@ def _trunk(body: _Body, d: dict, frac: dict) -> None:
 def _arm(body: _Body, d: dict, frac: dict, side: _Side) -> None:
     """Shoulder girdle (9 joints), elbow, forearm, wrist and 20 finger joints of one side, with TCPs."""
     h, yb, s = body.h, d["y_body"], side.tag
-    sc, ac = A.STERNOCLAVICULAR_H, A.ACROMIOCLAVICULAR_H
-    gh = np.array([A.GLENOHUMERAL_X_H * h, yb, d["shoulder_height"]])
+    sc, ac = d["sc"], d["ac"]
+    gh = np.array([d["gh_x"], yb, d["shoulder_height"]])
     elbow = gh - (0.0, 0.0, d["upper_arm"])
     wrist = elbow - (0.0, 0.0, d["forearm"])
     met3 = wrist - (0.0, 0.0, A.MET3_HAND * d["hand"])
     m = {k: frac[k] * body.mass for k in ("upper_arm", "forearm", "hand")}
     cm = {k: A.segment(k, body.sex)[1] for k in m}
-    link = body.chain(side, "t1", (sc[0] * h, yb + sc[1] * h, sc[2] * h), "clavicle",
+    link = body.chain(side, "t1", (sc[0], yb + sc[1], sc[2]), "clavicle",
                       ("rx", X), ("elevation", Y), ("protraction", Z), link="clavicle_{s}")  # fmt: skip
-    link = body.chain(side, link, (ac[0] * h, yb + ac[1] * h, ac[2] * h), "scapula",
+    link = body.chain(side, link, (ac[0], yb + ac[1], ac[2]), "scapula",
                       ("tilt", X), ("upward_rotation", Y), ("protraction", Z), link="scapula_{s}")  # fmt: skip
     link = body.chain(side, link, gh, "shoulder", ("flexion", NEG_X), ("abduction", Y), ("rotation", Z),
                       link="upper_arm_{s}", mass=m["upper_arm"],
