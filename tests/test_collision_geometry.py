@@ -432,3 +432,28 @@ def test_a_box_query_with_a_margin_leaves_out_only_far_capsules():
 def _rotation_about_z(angle: float) -> np.ndarray:
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def test_a_mesh_query_from_memory_answers_as_a_fresh_one():
+    """Capsules that move a little (or a lot) between queries get the same answer through a NearMemory as without
+    it: the remembered triangles always hold the nearest one."""
+    from solver.collision.mesh_index import NearMemory
+
+    rng = np.random.default_rng(11)
+    for index in (terrain_index(), closed_box_index(divisions=8, rotation=random_rotation(rng))):
+        p0 = rng.normal(size=(60, 3)) * 0.5
+        p1 = p0 + rng.normal(size=(60, 3)) * 0.2
+        radii = rng.uniform(0.0, 0.08, 60)
+        memory = NearMemory(60)
+        reused = 0
+        for step in range(40):
+            scale = 0.05 if step % 5 == 4 else 0.004  # mostly within the memory's reach, now and then beyond it
+            p0, p1 = p0 + rng.normal(size=p0.shape) * scale, p1 + rng.normal(size=p1.shape) * scale
+            margin = 0.1 if step % 13 else 0.2  # a wider margin than remembered: searched again
+            asked = memory.ends.copy()
+            got = obstacle_distance(p0, p1, radii, index, margin, memory)
+            reused += int(np.sum(np.all(memory.ends == asked, axis=1) & np.isfinite(asked[:, 0])))
+            want = obstacle_distance(p0, p1, radii, index, margin)
+            for mine, theirs in zip(got, want, strict=True):
+                np.testing.assert_allclose(mine, theirs, rtol=0, atol=1e-12)
+        assert reused > 200  # the memory was used, not searched around every time

@@ -17,7 +17,7 @@ import numpy as np
 from .boxes import boxes_distance
 from .closest import cross, dot, perpendicular, point_segment, segment_segment, unit
 from .mesh_distance import mesh_distance
-from .mesh_index import MeshIndex
+from .mesh_index import MeshIndex, NearMemory
 from .proximity import PairProximity, Proximity
 from .shapes import Box, Capsule, HalfSpace, Mesh, Obstacle, Sphere
 
@@ -76,11 +76,17 @@ def halfspace_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, plane:
 
 
 def obstacle_distance(
-    p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, obstacle: Obstacle | MeshIndex, margin: float = np.inf
+    p0: np.ndarray,
+    p1: np.ndarray,
+    radii: np.ndarray,
+    obstacle: Obstacle | MeshIndex,
+    margin: float = np.inf,
+    memory: NearMemory | None = None,
 ) -> Proximity:
     """Capsules vs any obstacle. ``margin`` (m) bounds the search of a mesh (pass a prepared :class:`MeshIndex`
     to reuse its grid; a bare :class:`Mesh` is indexed on every call): rows farther than the margin may come back
-    as +inf. The distance ignores the obstacle's clearance."""
+    as +inf; ``memory`` (a mesh's, for the same capsules) lets a query near the last one skip the tree walk. The
+    distance ignores the obstacle's clearance."""
     if isinstance(obstacle, Sphere):
         return sphere_distance(p0, p1, radii, obstacle)
     if isinstance(obstacle, Capsule):
@@ -91,5 +97,5 @@ def obstacle_distance(
         return halfspace_distance(p0, p1, radii, obstacle)
     if isinstance(obstacle, Mesh | MeshIndex):
         index = obstacle if isinstance(obstacle, MeshIndex) else MeshIndex(obstacle)
-        return mesh_distance(p0, p1, radii, index, margin)
+        return mesh_distance(p0, p1, radii, index, margin, memory)
     raise TypeError(f"not an obstacle: {type(obstacle).__name__}")

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .closest import dot, segment_triangle, unit
-from .mesh_index import MeshIndex
+from .mesh_index import MeshIndex, NearMemory
 from .proximity import Proximity, near_only
 from .tree import group_argmin
 
@@ -28,11 +28,11 @@ def _exact(p0, p1, seg, tri, index: MeshIndex) -> tuple[np.ndarray, ...]:
     return np.sqrt(dot(x - y, x - y)), t, x, y
 
 
-def _closest_triangles(p0, p1, reach, index: MeshIndex) -> tuple[np.ndarray, ...]:
+def _closest_triangles(p0, p1, reach, index: MeshIndex, memory: NearMemory | None, ids) -> tuple[np.ndarray, ...]:
     """Per segment: the nearest triangle within reach (-1 if none), the distance (inf if none), t and the points."""
     k = len(p0)
     which, dist, t, x, y = np.full(k, -1), np.full(k, np.inf), np.zeros(k), p0.copy(), p0.copy()
-    seg, tri = index.candidates(p0, p1, reach)
+    seg, tri = index.candidates(p0, p1, reach, memory, ids)
     if seg.size:
         tt, xx, yy = segment_triangle(p0[seg], p1[seg], index.a[tri], index.b[tri], index.c[tri])
         d = np.sqrt(dot(xx - yy, xx - yy))
@@ -59,10 +59,10 @@ def _depth_inside(p0, p1, rows, index: MeshIndex):
     return ts[k], pts[m, k], near[m, k], depth[m, k]
 
 
-def _signed(p0, p1, radii, margin: float, index: MeshIndex) -> Proximity:
-    """mesh_distance for capsules near the mesh's box."""
+def _signed(p0, p1, radii, margin: float, index: MeshIndex, memory: NearMemory | None = None, ids=None) -> Proximity:
+    """mesh_distance for capsules near the mesh's box (``ids``: their numbers in ``memory``)."""
     k = len(p0)
-    which, axis, t, w, near = _closest_triangles(p0, p1, radii + margin, index)
+    which, axis, t, w, near = _closest_triangles(p0, p1, radii + margin, index, memory, ids)
     found = np.flatnonzero(which >= 0)
     face = np.zeros((k, 3))
     face[found] = index.normals[which[found]]
@@ -87,11 +87,14 @@ def _signed(p0, p1, radii, margin: float, index: MeshIndex) -> Proximity:
     return Proximity(axis - radii, t, w, normal, near)
 
 
-def mesh_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, index: MeshIndex, margin: float) -> Proximity:
+def mesh_distance(
+    p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, index: MeshIndex, margin: float, memory: NearMemory | None = None
+) -> Proximity:
     """Capsules p0-p1 (k, 3) m with ``radii`` (k,) m vs an indexed mesh; see the module docstring. Capsules
-    farther than ``margin`` (m) get distance +inf, t = 0, point = closest = p0 and a zero normal."""
+    farther than ``margin`` (m) get distance +inf, t = 0, point = closest = p0 and a zero normal. ``memory``: the
+    same capsules' last query of this mesh (:class:`~solver.collision.mesh_index.NearMemory`), to start from."""
     p0, p1 = np.atleast_2d(np.asarray(p0, dtype=float)), np.atleast_2d(np.asarray(p1, dtype=float))
     k = len(p0)
     radii = np.broadcast_to(np.asarray(radii, dtype=float), (k,))
     return near_only(p0, p1, radii, margin, index.lo, index.hi,
-                     lambda rows: _signed(p0[rows], p1[rows], radii[rows], margin, index))  # fmt: skip
+                     lambda rows: _signed(p0[rows], p1[rows], radii[rows], margin, index, memory, rows))  # fmt: skip

@@ -108,18 +108,36 @@ class MeshIndex:
         over = (v >= 0) & (w >= 0) & (v + w <= 1)
         return lower, np.where(over, np.minimum(upper, np.abs(h)), upper)
 
-    def candidates(self, p0: np.ndarray, p1: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def candidates(
+        self, p0: np.ndarray, p1: np.ndarray, reach: np.ndarray, memory: NearMemory | None = None, ids=None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Pairs (segment index, triangle index), grouped by segment, among which is each segment's nearest
         triangle if one lies within ``reach`` (k,) m: the tree's leaves within reach, minus the triangles whose
         lower bound is not below the segment's best upper bound by more than TIE (ties may be dropped: the
-        answer is then another triangle at most TIE farther)."""
-        best = reach.astype(float).copy()
-        seg, slot = self.tree.search(p0, p1, best)
-        tri = self.tree.order[slot]
+        answer is then another triangle at most TIE farther). With a ``memory`` (segments named by ``ids``), a
+        segment near where it was last asked about takes its leaves from there instead of the tree."""
+        if memory is None:
+            seg, tri = self._near(p0, p1, reach, 0.0)
+        else:
+            seg, tri = memory.near(self, p0, p1, reach, ids)
         lower, upper = self._bounds(p0[seg], p1[seg], tri)
+        best = reach.astype(float).copy()
         group_min(seg, upper, best)
         cut = best[seg]
         keep = (lower < cut - TIE) | (upper <= cut)
+        return seg[keep], tri[keep]
+
+    def _near(self, p0: np.ndarray, p1: np.ndarray, reach: np.ndarray, slack: float) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs (segment, triangle), grouped by segment: every triangle whose lower bound is within ``slack`` m of
+        the segment's best upper bound (at most its reach)."""
+        best = reach.astype(float).copy()
+        seg, slot = self.tree.search(p0, p1, best, slack)
+        if not slack:
+            return seg, self.tree.order[slot]
+        tri = self.tree.order[slot]
+        lower, upper = self._bounds(p0[seg], p1[seg], tri)
+        group_min(seg, upper, best)
+        keep = lower <= best[seg] + slack
         return seg[keep], tri[keep]
 
     def contains(self, points: np.ndarray) -> np.ndarray:
@@ -143,6 +161,42 @@ class MeshIndex:
         d = np.sqrt(dot(y - points[seg], y - points[seg]))
         best = group_argmin(seg, d, k)  # every point has a candidate: the search keeps the best leaf
         return d[best], y[best], tri[best]
+
+
+class NearMemory:
+    """The triangles near each capsule of a query (by its number, 0..capsules-1) when it was last asked about:
+    those within SLACK of its nearest. Asked again within SLACK / 2 of there (each end moved less), the capsule's
+    nearest triangle is among them, so the tree need not be walked: a pose re-solved a little farther on (the
+    iterations of a solve, the next frame, Live) moves the capsules near a mesh by millimetres.
+
+    Exact: a triangle T nearest the moved segment has d_old(T) <= d_new(T) + e <= d_new(B) + e <= d_old(B) + 2 e for
+    B the old nearest and e the largest end move (the segment's points move at most e), so T was kept."""
+
+    SLACK = 0.04  # m
+
+    def __init__(self, capsules: int) -> None:
+        self.ends = np.full((capsules, 6), np.nan)  # p0, p1 when last asked (m)
+        self.reach = np.zeros(capsules)  # the reach then (m)
+        self.kept: list[np.ndarray] = [np.zeros(0, dtype=np.int64)] * capsules
+
+    def near(self, index: MeshIndex, p0, p1, reach, ids) -> tuple[np.ndarray, np.ndarray]:
+        """(segment, triangle) pairs for ``index.candidates``: remembered or searched (and then remembered)."""
+        ids = np.asarray(ids)
+        moved = np.abs(np.concatenate([p0, p1], axis=1) - self.ends[ids])
+        ok = (
+            np.sqrt(np.maximum(dot(moved[:, :3], moved[:, :3]), dot(moved[:, 3:], moved[:, 3:]))) <= 0.5 * self.SLACK
+        ) & (reach <= self.reach[ids])  # fmt: skip  (NaN: never asked, not ok)
+        fresh = np.flatnonzero(~ok)
+        if fresh.size:
+            seg, tri = index._near(p0[fresh], p1[fresh], reach[fresh], self.SLACK)
+            starts = np.searchsorted(seg, np.arange(len(fresh) + 1))
+            for j, row in enumerate(fresh):
+                self.kept[ids[row]] = tri[starts[j] : starts[j + 1]]
+            self.ends[ids[fresh]] = np.concatenate([p0[fresh], p1[fresh]], axis=1)
+            self.reach[ids[fresh]] = reach[fresh]
+        tris = [self.kept[i] for i in ids]
+        seg = np.repeat(np.arange(len(ids)), [len(t) for t in tris])
+        return seg, np.concatenate(tris) if tris else np.zeros(0, dtype=np.int64)
 
 
 _INDEXES: dict[bytes, MeshIndex] = {}  # by content: the same mesh read again (each baked frame) is indexed once

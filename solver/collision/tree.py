@@ -113,17 +113,20 @@ class TriangleTree:
         real = slot < self.size
         return seg[real], slot[real]
 
-    def search(self, p0: np.ndarray, p1: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def search(
+        self, p0: np.ndarray, p1: np.ndarray, upper: np.ndarray, slack: float = 0.0
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Pairs (segment, triangle slot), grouped by segment, under every node whose lower bound is at most
-        ``upper`` (k,) m for that segment; ``upper`` is lowered in place to the distance of the nearest node surface
-        point seen (its triangle is then among the pairs, so the nearest triangle within the cut-off stays)."""
+        ``upper`` (k,) + ``slack`` m for that segment; ``upper`` is lowered in place to the distance of the nearest
+        node surface point seen (its triangle is then among the pairs, so the nearest triangle within the cut-off
+        stays)."""
         k = len(p0)
         top = len(self.levels[0])
         seg, node = np.repeat(np.arange(k), top), np.tile(np.arange(top), k)
         for depth in range(len(self.levels)):
             lower, to_point = self._bounds(depth, p0, p1, seg, node)
             group_min(seg, to_point, upper)
-            keep = lower <= upper[seg]
+            keep = lower <= upper[seg] + slack
             seg, node = seg[keep], node[keep]
             if depth + 1 < len(self.levels):
                 seg, node = np.repeat(seg, BRANCH), (node[:, None] * BRANCH + np.arange(BRANCH)).ravel()

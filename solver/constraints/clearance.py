@@ -17,7 +17,7 @@ import numpy as np
 
 from ..collision import Box, HalfSpace, Mesh, Obstacle, boxes_distance, obstacle_distance
 from ..collision.body import BodyCapsules, capsules_of
-from ..collision.mesh_index import index_of
+from ..collision.mesh_index import NearMemory, index_of
 from ..model import Model
 from ..state import State
 from .inequality import Inequality
@@ -166,6 +166,7 @@ class Clearance(ClearanceRows):
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
+        self._memories = [NearMemory(len(capsules)) if isinstance(ob, Mesh) else None for ob in self.obstacles]
         k = len(capsules)
         self._parts, self._others, self._pairs = [], [], []
         floors = []
@@ -188,13 +189,13 @@ class Clearance(ClearanceRows):
         of_box = dict(zip(boxes, boxes_distance(p0, p1, caps.radius, [self.obstacles[i] for i in boxes],
                                                 [reach[i] for i in boxes]) if boxes else [], strict=True))  # fmt: skip
         parts = []
-        for i, (ob, query) in enumerate(zip(self.obstacles, self._queries, strict=True)):
+        for i, (ob, query, memory) in enumerate(zip(self.obstacles, self._queries, self._memories, strict=True)):
             if isinstance(ob, HalfSpace):
                 for end in (p0, p1):
                     height = (end - ob.point) @ ob.normal - caps.radius
                     parts.append((height, end, np.broadcast_to(ob.normal, end.shape), index))
             else:
-                got = of_box[i] if i in of_box else obstacle_distance(p0, p1, caps.radius, query, reach[i])
+                got = of_box[i] if i in of_box else obstacle_distance(p0, p1, caps.radius, query, reach[i], memory)
                 distance = np.where(np.isfinite(got.distance), got.distance, reach[i] + 1.0)
                 parts.append((distance, got.point, got.normal, index))
         if not parts:
