@@ -2,8 +2,11 @@
 weighted to its bones. NumPy only.
 
 1. Macros (:mod:`.macros`): gender from the body's sex; height so the shaped mesh is as tall as the body's
-   stature; weight so the *fitted* mesh's volume at :data:`~.measure.BODY_DENSITY` is the body's mass (clipped to
-   MakeHuman's range); muscle stays at MakeHuman's average, proportions neutral, age 25.
+   stature; weight so the *fitted* mesh's volume at :data:`~.measure.BODY_DENSITY` is the body's mass, clipped
+   to MakeHuman's range (its heaviest average-muscle bodies hold about BMI 22 (female) and 23 (male) at water
+   density, so our BMI-24 presets get weight 1 and a mesh 3-11 % lighter than the manikin: ``FittedBody.mass``).
+   Muscle stays at MakeHuman's average (raising it for the missing mass makes a body builder of the 5th
+   percentile woman), proportions neutral, age at 25 years.
 2. Fit (:mod:`.fit`): segment affines blended by smoothed MPFB weights move the shaped points into our zero pose.
 3. Weights (:mod:`.transfer`): the MPFB weights carried over to our bones.
 
@@ -13,7 +16,7 @@ centre, carried along by the skin weights) to our joint centre.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -70,6 +73,9 @@ def fit_points(data: BodyData, model: Model, macros: Macros) -> np.ndarray:
     mp["pelvis_centre"] = points[data.anchor("joint-pelvis")]
     mp["floor"] = float(points[:n, 2].min())
     keys, weights = _fit_weights(data)
+    hips = points[:n][(weights[:n, [keys.index(k) for k in ("pelvis", "thigh_l", "thigh_r")]].sum(axis=1) > 0.5)
+                      & (np.abs(points[:n, 2] - mp["hip_l"][2]) < 0.02)]  # fmt: skip
+    mp["hip_breadth"] = float(np.ptp(hips[:, 0]))
     feet = {}
     for s in SIDES:
         on_foot = points[:n][weights[:n, keys.index(f"foot_{s}")] > 0.5]
@@ -83,27 +89,32 @@ def _height_for(data: BodyData, macros: Macros, target: float) -> float:
     n = len(data.vertices)
 
     def tall(h: float) -> float:
-        return stature(shape(data, Macros(macros.gender, macros.muscle, macros.weight, h))[:n])
+        return stature(shape(data, replace(macros, height=h))[:n])
 
     return _interpolate([0.0, 0.5, 1.0], [tall(0.0), tall(0.5), tall(1.0)], target)
 
 
 def _interpolate(xs: list[float], ys: list[float], target: float) -> float:
-    """x in [xs[0], xs[-1]] where the piecewise-linear ys(x) (increasing) reaches ``target``, clipped."""
-    return float(np.clip(np.interp(target, ys, xs), xs[0], xs[-1]))
+    """x in [min xs, max xs] where the piecewise-linear, monotonic ys(x) reaches ``target``, clipped."""
+    order = np.argsort(ys)
+    return float(np.clip(np.interp(target, np.asarray(ys)[order], np.asarray(xs)[order]), min(xs), max(xs)))
+
+
+def _mass_level(data: BodyData, model: Model, macros: Macros, name: str, levels: list[float]) -> float:
+    """The value of macro ``name`` within ``levels`` giving the fitted mesh the model's mass: the fitted mass at
+    each level, interpolated."""
+    n = len(data.vertices)
+    masses = [mass(fit_points(data, model, replace(macros, **{name: v}))[:n], data.faces) for v in levels]
+    return _interpolate(levels, masses, model.total_mass)
 
 
 def calibrate(data: BodyData, model: Model) -> Macros:
     """Macros for ``model``: gender from its sex, height from its stature, weight from its mass (see above)."""
-    gender = SEX_GENDER.get(str(model.info.get("sex", "")), 0.5)
     target = float(our_landmarks(model)["stature"][2])
-    macros = Macros(gender=gender)
+    macros = Macros(gender=SEX_GENDER.get(str(model.info.get("sex", "")), 0.5))
     for _ in range(2):  # the weight targets change stature a little: settle height and weight twice
-        macros = Macros(gender, macros.muscle, macros.weight, _height_for(data, macros, target))
-        levels = [0.0, 0.5, 1.0]
-        masses = [mass(fit_points(data, model, Macros(gender, macros.muscle, w, macros.height))[: len(data.vertices)],
-                       data.faces) for w in levels]  # fmt: skip
-        macros = Macros(gender, macros.muscle, _interpolate(levels, masses, model.total_mass), macros.height)
+        macros = replace(macros, height=_height_for(data, macros, target))
+        macros = replace(macros, weight=_mass_level(data, model, macros, "weight", [0.0, 0.5, 1.0]))
     return macros
 
 

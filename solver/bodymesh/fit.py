@@ -11,10 +11,11 @@ Each MPFB default-rig bone follows one segment's affine (``segment_of``); a poin
   about its axis so the hand's palm faces where ours does: 1/4 of that turn in the proximal half (``lowerarm01``),
   3/4 in the distal half, all of it in the hand;
 - pelvis: no turn; moved so the hips' midpoint lands on ours, scaled vertically to our L5/S1 height above it and
-  across halfway (geometric mean) to our hip joints' spacing (MPFB's hip joints sit 20-25 % further apart: matching
-  them fully would make the hips narrow, moving the thighs in would push their inner sides across the midline).
-  Each thigh runs from where the pelvis puts its hip joint to our knee: the hip joint is off along x only, the
-  axis of hip flexion, so flexing the hip bends the mesh where ours bends;
+  across so the mesh's hip breadth is our body's (``hip_breadth``). MPFB's hip joints sit further out in the
+  hips than ours (x_hip = 1/4 of the hip breadth); matching them instead would make a man's hips narrow, moving
+  the thighs in would push their inner sides across the midline. Each thigh runs from where the pelvis puts its
+  hip joint to our knee: the hip joint is off along x only, the axis of hip flexion, so flexing the hip bends
+  the mesh where ours bends;
 - head (and face, eyes, jaw, tongue): no turn, uniform scale by the stature ratio, top of the head at our stature,
   front-back placed halfway between matching C1 and matching the eyes;
 - hand (wrist, metacarpals, thumb): wrist -> index and little MCPs: along and across scaled to our hand, the
@@ -110,8 +111,7 @@ def _trunk(mp: dict, us: dict, data_top: float, out: dict[str, Affine]) -> None:
     hips_mp = 0.5 * (mp["hip_l"] + mp["hip_r"])
     hips_us = 0.5 * (us["hip_l"] + us["hip_r"])
     vertical = (us["l5"][2] - hips_us[2]) / max(mp["l5"][2] - hips_mp[2], 1e-9)
-    # halfway (geometrically) to our hip joints' spacing: the rest is the thighs' turn (see the module docstring)
-    lateral = np.sqrt(np.linalg.norm(us["hip_l"] - us["hip_r"]) / max(np.linalg.norm(mp["hip_l"] - mp["hip_r"]), 1e-9))
+    lateral = us["hip_breadth"] / max(mp["hip_breadth"], 1e-9)  # the mesh's hips as broad as our body's
     scales = np.array([lateral, 1.0, vertical])
     out["pelvis"] = pelvis = frame_map(np.eye(3), np.eye(3), scales, hips_mp, hips_us)
     scale = us["stature"][2] / max(data_top - mp["floor"], 1e-9)  # our soles are on z = 0
@@ -127,9 +127,9 @@ def _trunk(mp: dict, us: dict, data_top: float, out: dict[str, Affine]) -> None:
 
 
 def segment_affines(mp: dict, us: dict, top: float, foot_length: dict[str, float]) -> dict[str, Affine]:
-    """Segment key -> affine, from MPFB landmarks ``mp`` (plus ``pelvis_centre`` and ``floor``, the shaped mesh's
-    lowest z), ours ``us`` (:func:`~.landmarks.our_landmarks`), the shaped mesh's ``top`` z and the MPFB feet's
-    lengths (m)."""
+    """Segment key -> affine, from MPFB landmarks ``mp`` (plus ``pelvis_centre``, ``floor``: the shaped mesh's
+    lowest z, and ``hip_breadth``), ours ``us`` (:func:`~.landmarks.our_landmarks`), the shaped mesh's ``top`` z and
+    the MPFB feet's lengths (m)."""
     out: dict[str, Affine] = {}
     _trunk(mp, us, top, out)
     for s in SIDES:

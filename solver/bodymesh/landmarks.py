@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies.anthropometry import HIP_JOINT_SHARE
 from ..errors import ModelError
 from ..model import Model
 from .data import BodyData
@@ -84,14 +85,16 @@ def mpfb_landmarks(data: BodyData, points: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def our_landmarks(model: Model) -> dict[str, np.ndarray]:
-    """Landmark -> our joint centre (m, world, zero pose); also ``stature`` (top of the head, m) and the foot's
-    ``heel_{s}``/``toe_end_{s}`` (the sole's back and front edge on the floor)."""
+    """Landmark -> our joint centre (m, world, zero pose); also ``stature`` (top of the head, m), the foot's
+    ``heel_{s}``/``toe_end_{s}`` (the sole's back and front edge on the floor) and ``hip_breadth`` (m, the body's
+    breadth at the hips, from the hip joints' spacing as the body builder places them)."""
     zero = model.forward(model.zero_pose())
     out = {}
     for key, joint in our_joint_names().items():
         if joint not in model.joint_names:
             raise ModelError(f"body mesh: model '{model.name}' has no joint '{joint}' (only human bodies get a mesh)")
         out[key] = zero.position[model.joint_index(joint)].copy()
+    out["hip_breadth"] = abs(out["hip_l"][0] - out["hip_r"][0]) / HIP_JOINT_SHARE
     top = out["c1"].copy()
     top[2] = float(model.info.get("stature", 0.0)) or _guess_top(out)
     out["stature"] = top

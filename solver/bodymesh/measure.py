@@ -43,3 +43,17 @@ def smooth(values: np.ndarray, faces: np.ndarray, iterations: int) -> np.ndarray
         np.add.at(mean, pairs[:, 0], out[pairs[:, 1]])
         out = 0.5 * out + 0.5 * mean / np.maximum(count, 1.0)
     return out
+
+
+def winding_numbers(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(P,) generalised winding number of each point about the closed quad mesh: 1 inside, 0 outside (the sum of
+    the solid angles its triangles subtend, over 4 pi; van Oosterom and Strackee's formula)."""
+    tri = np.concatenate([faces[:, [0, 1, 2]], faces[:, [0, 2, 3]]])
+    out = np.empty(len(points))
+    for i, p in enumerate(np.asarray(points, dtype=float)):
+        a, b, c = (vertices[tri[:, k]] - p for k in range(3))
+        la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+        det = np.einsum("ij,ij->i", a, np.cross(b, c))
+        dots = np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", b, c) * la + np.einsum("ij,ij->i", c, a) * lb
+        out[i] = 2.0 * np.arctan2(det, la * lb * lc + dots).sum() / (4.0 * np.pi)
+    return out
