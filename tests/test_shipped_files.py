@@ -22,7 +22,8 @@ SHIPPED_ROOTS = {"__init__.py", "blender_manifest.toml", "LICENSE", "blender_man
 NEVER_SHIPPED = ("blender_manikin/dev/", "solver/bench/", "tests/", "docs/", "dist/", "out/", "wheels/", ".")
 NEEDED = ("__init__.py", "blender_manifest.toml", "LICENSE", "blender_manikin/__init__.py", "blender_manikin/batch.py",
           "blender_manikin/ui/__init__.py", "blender_manikin/scene/schema.py", "solver/__init__.py",
-          "solver/__main__.py", "presets/manikins/male_50.toml")  # fmt: skip
+          "solver/__main__.py", "presets/manikins/male_50.toml", "presets/body_mesh/mpfb2_base.npz",
+          "presets/body_mesh/mpfb2_rigs.json", "presets/body_mesh/LICENSE.md")  # fmt: skip
 DEVELOPMENT = ("blender_manikin.dev", "solver.bench")  # packages that stay in the checkout
 CLI = "solver/__main__.py"  # its bench subcommand imports solver.bench inside the function: not in Blender
 
