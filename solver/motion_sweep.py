@@ -1,6 +1,7 @@
 """A motion's frames kept from passing through things between them (issue 20): the swept check of
 :mod:`solver.collision.sweep` on the way from each solved frame to the next, against the floor and every obstacle
-the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on).
+the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on),
+and between the body's own parts that its self-collision rows keep apart.
 
 A frame whose way from its predecessor crosses something is solved again from the previous frame in N sub-steps
 (N: how far the crossing capsules moved on the first try over their radius, 2..``MAX_SUBSTEPS``): the targets move
@@ -53,9 +54,10 @@ class MotionSweep:
     def body(self, problem: Problem) -> SweptBody | None:
         """The capsules and obstacles that ``problem``'s clearance rows keep apart, or None when there are none."""
         rows = [c for c in problem.constraints if isinstance(c, Clearance) and c.obstacles]
-        if not rows:
+        own = problem.self_constraint.pairs if problem.self_constraint is not None else None
+        if not rows and own is None:
             return None
-        key = tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows)
+        key = (tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows), id(own))
         body = self._bodies.get(key)
         if body is None:
             if len(self._bodies) >= self.KEPT:  # a scene read afresh every frame (Blender) brings new obstacles
@@ -68,7 +70,7 @@ class MotionSweep:
                 kept = [names.index(name) for name in c.capsules.names]
                 for o in c.obstacles:
                     pairs[kept, column[id(o)]] = True
-            body = self._bodies[key] = SweptBody(problem.model, obstacles, pairs)
+            body = self._bodies[key] = SweptBody(problem.model, obstacles, pairs, own=own)
         return body
 
     def check(self, body: SweptBody, theta_a: np.ndarray, theta_b: np.ndarray) -> SweepReport:
@@ -81,12 +83,12 @@ class MotionSweep:
         if anchored:  # first the path bounds alone, which need no forward kinematics
             _, p, d_p = self._anchor
             length = body.length(np.array([p.theta, p.theta, theta_a]), np.array([theta_a, theta_b, theta_b]))
-            if not body.uncertain(d_p - length[0, :, None], d_p - length[1, :, None], length[2]).any():
+            if not body.uncertain(d_p - body.relative(length[0]), d_p - body.relative(length[1]), length[2]).any():
                 return SweepReport(None, [], 0, 0)
         a, b = self._pose(body, theta_a), self._pose(body, theta_b)
         if anchored:
             bound = body.bounds([(p, a), (p, b), (a, b)])
-            if not body.uncertain(d_p - bound[0, :, None], d_p - bound[1, :, None], bound[2]).any():
+            if not body.uncertain(d_p - body.relative(bound[0]), d_p - body.relative(bound[1]), bound[2]).any():
                 return SweepReport(b, [], 0, 0)
         margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
         report = body.check(a, b, self._exact(body, a, margin), self._exact(body, b, margin), margin)

@@ -12,9 +12,10 @@ import pytest
 from solver import load_scenario
 from solver.bench.long_motion import long_motion
 from solver.bodies import load_body
-from solver.collision import Box, Mesh, Sphere, obstacle_distance
+from solver.collision import Box, Mesh, Sphere, capsule_pairs, obstacle_distance
 from solver.collision.body import capsules_of
 from solver.collision.generate import box_mesh
+from solver.collision.self_pairs import self_pairs
 from solver.collision.sweep import TOLERANCE, SweptBody, path_weights_of
 from solver.io.toml_write import dumps_toml
 from solver.motion import solve_frames
@@ -211,3 +212,36 @@ def test_a_motion_with_nothing_near_does_no_sub_sampling(tmp_path):
     assert all(r.converged for _, r in results)
     assert sweep.samples == 0 and sweep.substeps == 0
     assert sweep.queries < len(results) / 2
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_swept_check_of_the_body_itself_agrees_with_brute_force_sampling(male50, seed):
+    """Random large motions checked for the body's own pairs (hands and forearms vs trunk, head and thighs; the
+    shanks): every pair that dense sampling finds deeper than 2 tol past its least distance (and clear at both ends)
+    is reported, under its two parts' names, and every reported crossing is that deep where it says."""
+    rng = np.random.default_rng(300 + seed)
+    caps = capsules_of(male50)
+    own = self_pairs(male50, caps)
+    body = SweptBody(male50, [], np.zeros((len(caps), 0)), own=own)
+    deep = 0
+    for _ in range(12):
+        a, b = random_pair(male50, rng, 1.0)
+        pa, pb = body.pose(a), body.pose(b)
+        d_a, d_b = body.distances(pa, 0.05), body.distances(pb, 0.05)
+        report = body.check(pa, pb, d_a, d_b, 0.05)
+        found = {(c.part, c.obstacle) for c in report.crossings}
+        pairs = list(zip(own.first, own.second, strict=True))
+        for c in report.crossings:
+            i, j = caps.names.index(c.part), caps.names.index(c.obstacle)
+            p0, p1 = caps.world(male50.forward((1 - c.s) * a + c.s * b))
+            depth = own.least[pairs.index((i, j))] - capsule_pairs(p0, p1, caps.radius, [i], [j]).distance[0]
+            assert depth == pytest.approx(c.depth, abs=1e-9) and depth > TOLERANCE
+        worst = np.full(len(own), -np.inf)
+        for s in np.linspace(0.0, 1.0, 300):
+            p0, p1 = caps.world(male50.forward((1 - s) * a + s * b))
+            worst = np.maximum(worst, own.least - capsule_pairs(p0, p1, caps.radius, own.first, own.second).distance)
+        ends = np.minimum(d_a[own.first, np.arange(len(own))], d_b[own.first, np.arange(len(own))])
+        for m in np.flatnonzero((ends >= -TOLERANCE) & (worst > 2 * TOLERANCE)):
+            assert (caps.names[own.first[m]], caps.names[own.second[m]]) in found, (m, worst[m])
+            deep += 1
+    assert deep > 0  # the cases do cross

@@ -11,7 +11,9 @@ piece of the way of length h (in s) it is the piece's chord + 1.5 h^2 W_k L_k, o
 
 Every axis point moving at most M_k |s - s'|, the capsule's signed distance D to a convex obstacle (the floor, a
 box, a sphere, a capsule) changes by at most as much, so between two samples min D >= (D(s0) + D(s1) - M) / 2
-(for a mesh the same holds wherever D >= 0). :meth:`SweptBody.check` certifies a pair from the two frames alone
+(for a mesh the same holds wherever D >= 0). Two of the body's own capsules i, j (self-collision pairs) move
+relative to each other at most M_i + M_j, and their distance less its least allowed one takes the place of D.
+:meth:`SweptBody.check` certifies a pair from the two frames alone
 when M_k <= D_a + D_b + 2 tol (no sub-sampling), else bisects the uncertain pieces, querying all of them at once
 per round, until every piece is certified, a sample is deeper than ``tolerance`` (a crossing), or a piece's path
 is at most 2 tol long. So a way reported clear has no point deeper than 2 tol, and a capsule that passes through
@@ -28,8 +30,9 @@ import numpy as np
 
 from ..model import Model
 from .body import BodyCapsules, capsules_of
-from .distance import obstacle_distance
+from .distance import capsule_pairs, obstacle_distance
 from .mesh_index import MeshIndex, index_of
+from .self_pairs import SelfPairs
 from .shapes import Mesh, Obstacle
 
 TOLERANCE = 1e-3  # m: a sample this deep (or less) into an obstacle is not a crossing
@@ -89,14 +92,25 @@ def path_weights_of(model: Model) -> np.ndarray:
 
 
 class SweptBody:
-    """The capsules of ``model`` (:func:`capsules_of`) against ``obstacles``; ``pairs`` (k, m) bool says which
-    capsule-obstacle pairs are checked (e.g. a support's foot is not checked against the floor it stands on)."""
+    """The capsules of ``model`` (:func:`capsules_of`) against ``obstacles`` and, given ``own``, each other;
+    ``pairs`` (k, m) bool says which capsule-obstacle pairs are checked (e.g. a support's foot is not checked
+    against the floor it stands on). Distances are (k, m + p) arrays: a column per obstacle, then one per pair of
+    ``own`` (filled in the row of its first capsule: its distance less its least)."""
 
-    def __init__(self, model: Model, obstacles: list[Obstacle], pairs: np.ndarray, tolerance: float = TOLERANCE):
+    def __init__(self, model: Model, obstacles: list[Obstacle], pairs: np.ndarray, tolerance: float = TOLERANCE,
+                 own: SelfPairs | None = None):  # fmt: skip
         self.model, self.capsules = model, capsules_of(model)
         self.obstacles = list(obstacles)
         self.queries: list[Obstacle | MeshIndex] = [index_of(o) if isinstance(o, Mesh) else o for o in obstacles]
-        self.pairs = np.asarray(pairs, dtype=bool).reshape(len(self.capsules), len(self.obstacles))
+        k, m = len(self.capsules), len(self.obstacles)
+        self.own = own if own is not None and len(own) else None
+        p = 0 if self.own is None else len(self.own)
+        self.pairs = np.zeros((k, m + p), dtype=bool)
+        self.pairs[:, :m] = np.asarray(pairs, dtype=bool).reshape(k, m)
+        self.partner = np.full((k, m + p), -1)  # the other capsule of a self pair's entry (-1: an obstacle's)
+        if self.own is not None:
+            self.pairs[self.own.first, m + np.arange(p)] = True
+            self.partner[self.own.first, m + np.arange(p)] = self.own.second
         self.weights = path_weights_of(model)
         self.turns = ((self.weights > 0) & ~model.prismatic).astype(float)  # (k, n) the rotations above capsule k
         self._stacked = np.concatenate([self.weights, self.turns]).T  # (n, 2k)
@@ -131,17 +145,31 @@ class SweptBody:
         return np.minimum(length, chord + 1.5 * turn * length)
 
     def distances(self, pose: Pose, margin: float) -> np.ndarray:
-        """(k, m) signed distances (m) at ``pose``; a mesh row farther than ``margin`` gets ``margin`` (a lower
-        bound; the mesh search stops there)."""
-        out = np.empty((len(pose.p0), len(self.obstacles)))
+        """(k, m + p) signed distances (m) at ``pose``; a mesh row farther than ``margin`` gets ``margin`` (a lower
+        bound; the mesh search stops there); entries of no pair are +inf."""
+        m = len(self.obstacles)
+        out = np.full(self.pairs.shape, np.inf)
         for o, query in enumerate(self.queries):
-            out[:, o] = obstacle_distance(pose.p0, pose.p1, self.capsules.radius, query, margin).distance
-        return np.where(np.isinf(out), margin, out)
+            got = obstacle_distance(pose.p0, pose.p1, self.capsules.radius, query, margin).distance
+            out[:, o] = np.where(np.isinf(got), margin, got)
+        if self.own is not None:
+            own = self.own
+            got = capsule_pairs(pose.p0, pose.p1, self.capsules.radius, own.first, own.second).distance
+            out[own.first, m + np.arange(len(own))] = got - own.least
+        return out
+
+    def relative(self, motion: np.ndarray) -> np.ndarray:
+        """(k, m + p): how far each entry's distance can change when capsule k moves at most ``motion`` (k,) m: its
+        own motion, plus its partner's for a self pair."""
+        out = np.repeat(motion[:, None], self.pairs.shape[1], axis=1)
+        own = self.partner >= 0
+        out[own] += motion[self.partner[own]]
+        return out
 
     def uncertain(self, d_a: np.ndarray, d_b: np.ndarray, motion: np.ndarray) -> np.ndarray:
-        """(k, m) pairs that two end distances (m, lower bounds will do) and the bound ``motion`` (k,) do not
+        """(k, m + p) pairs that two end distances (m, lower bounds will do) and the bound ``motion`` (k,) do not
         certify: some point of the way might be deeper than the tolerance."""
-        return self.pairs & (d_a + d_b - motion[:, None] < -2.0 * self.tolerance)
+        return self.pairs & (d_a + d_b - self.relative(motion) < -2.0 * self.tolerance)
 
     def check(self, a: Pose, b: Pose, d_a: np.ndarray, d_b: np.ndarray, margin: float) -> SweepReport:
         """Crossings on the way from ``a`` to ``b``, given the exact (k, m) :meth:`distances` at both ends (queried
@@ -158,15 +186,17 @@ class SweptBody:
         queried together, one forward kinematics per distinct fraction s."""
         tol = self.tolerance
         step = np.abs(b.theta - a.theta)
-        length, turn = (self.weights @ step)[kk], (self.turns @ step)[kk]
+        length, turn = self.weights @ step, self.turns @ step
+        partner = self.partner[kk, oo]
         poses = {0.0: a, 1.0: b}
         pair, s0, s1 = np.arange(len(kk)), np.zeros(len(kk)), np.ones(len(kk))
         deepest, at = np.full(len(kk), -tol), np.zeros(len(kk))  # the most negative sample per pair and its s
         samples = 0
         while pair.size:
-            h = s1 - s0
-            chord = np.array([_chord(poses[u], poses[v], k) for u, v, k in zip(s0, s1, kk[pair], strict=True)])
-            motion = self._bound(h * length[pair], h * turn[pair], chord.reshape(-1))
+            motion = self._piece_motion(poses, s0, s1, kk[pair], length, turn)
+            own = partner[pair] >= 0
+            if own.any():  # a self pair: the two capsules' motions add up
+                motion[own] += self._piece_motion(poses, s0[own], s1[own], partner[pair][own], length, turn)
             more = ((d0 + d1 - motion) < -2.0 * tol) & (motion > 2.0 * tol) & (deepest[pair] >= -tol)
             pair, s0, s1, d0, d1 = pair[more], s0[more], s1[more], d0[more], d1[more]
             if not pair.size:
@@ -183,20 +213,46 @@ class SweptBody:
             pair = np.concatenate([pair, pair])
             s0, s1 = np.concatenate([s0, mid]), np.concatenate([mid, s1])
             d0, d1 = np.concatenate([d0, dm]), np.concatenate([dm, d1])
-        names = self.capsules.names
-        crossings = [Crossing(names[kk[i]], self.obstacles[oo[i]].name or f"obstacle {oo[i] + 1}", float(at[i]),
-                              float(-deepest[i])) for i in np.flatnonzero(deepest < -tol)]  # fmt: skip
+        crossings = [Crossing(self.capsules.names[kk[i]], self._other_name(oo[i]), float(at[i]), float(-deepest[i]))
+                     for i in np.flatnonzero(deepest < -tol)]  # fmt: skip
         return SweepReport(b, crossings, samples, len(poses) - 2)
 
-    def _at(self, poses: dict, s: np.ndarray, capsule: np.ndarray, obstacle: np.ndarray, margin: float) -> np.ndarray:
-        """Distance (m) of capsule[i] to obstacle[i] at fraction s[i], one query per obstacle."""
+    def _piece_motion(self, poses: dict, s0, s1, capsule, length, turn) -> np.ndarray:
+        """The bound (m) on capsule[i]'s motion over the piece s0[i]..s1[i] of the way (``length``, ``turn``: the
+        whole way's path bound and summed turns per capsule)."""
+        h = s1 - s0
+        chord = np.array([_chord(poses[u], poses[v], k) for u, v, k in zip(s0, s1, capsule, strict=True)])
+        return self._bound(h * length[capsule], h * turn[capsule], chord.reshape(-1))
+
+    def _other_name(self, column: int) -> str:
+        """What a column of the distances is: an obstacle's name, or the other body part of a self pair."""
+        m = len(self.obstacles)
+        if column >= m:
+            return self.capsules.names[int(self.own.second[column - m])]
+        return self.obstacles[column].name or f"obstacle {column + 1}"
+
+    def _at(self, poses: dict, s: np.ndarray, capsule: np.ndarray, column: np.ndarray, margin: float) -> np.ndarray:
+        """Distance (m) of capsule[i] to what column[i] names at fraction s[i], one query per obstacle."""
         out = np.empty(len(s))
-        p0 = np.array([poses[float(v)].p0[k] for v, k in zip(s, capsule, strict=True)]).reshape(-1, 3)
-        p1 = np.array([poses[float(v)].p1[k] for v, k in zip(s, capsule, strict=True)]).reshape(-1, 3)
-        for o in np.unique(obstacle):
-            rows = np.flatnonzero(obstacle == o)
+        ends = [poses[float(v)] for v in s]
+        p0 = np.array([e.p0[k] for e, k in zip(ends, capsule, strict=True)]).reshape(-1, 3)
+        p1 = np.array([e.p1[k] for e, k in zip(ends, capsule, strict=True)]).reshape(-1, 3)
+        m = len(self.obstacles)
+        for o in np.unique(column[column < m]):
+            rows = np.flatnonzero(column == o)
             got = obstacle_distance(p0[rows], p1[rows], self.capsules.radius[capsule[rows]], self.queries[o], margin)
             out[rows] = np.where(np.isinf(got.distance), margin, got.distance)
+        rows = np.flatnonzero(column >= m)
+        if rows.size:  # self pairs: the partner's axis at the same fraction, as a one-pair batch per row
+            pair = column[rows] - m
+            other = self.own.second[pair]
+            q0 = np.array([ends[r].p0[j] for r, j in zip(rows, other, strict=True)]).reshape(-1, 3)
+            q1 = np.array([ends[r].p1[j] for r, j in zip(rows, other, strict=True)]).reshape(-1, 3)
+            n = len(rows)
+            both0, both1 = np.concatenate([p0[rows], q0]), np.concatenate([p1[rows], q1])
+            radii = np.concatenate([self.capsules.radius[capsule[rows]], self.capsules.radius[other]])
+            got = capsule_pairs(both0, both1, radii, np.arange(n), n + np.arange(n))
+            out[rows] = got.distance - self.own.least[pair]
         return out
 
 
