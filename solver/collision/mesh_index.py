@@ -86,6 +86,15 @@ class MeshIndex:
             [self.centroid, self.normals, offset, self.bound, self.a, ab, ac, d00, d01, d11, inv]
         )
         self._column = _Column(mesh.vertices, mesh.faces) if self.closed else None
+        self._memories: dict[tuple[str, ...], NearMemory] = {}
+
+    def memory(self, capsules: tuple[str, ...]) -> NearMemory:
+        """The :class:`NearMemory` of queries by these capsules (named in order), kept with the index: every problem
+        with this mesh and these capsules (a motion's frames, Live's re-solves) starts from where the last left."""
+        found = self._memories.get(capsules)
+        if found is None:
+            found = self._memories[capsules] = NearMemory(len(capsules))
+        return found
 
     def __len__(self) -> int:
         return len(self.a)

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..collision import Box, HalfSpace, Mesh, Obstacle, boxes_distance, obstacle_distance
 from ..collision.body import BodyCapsules, capsules_of
-from ..collision.mesh_index import NearMemory, index_of
+from ..collision.mesh_index import index_of
 from ..model import Model
 from ..state import State
 from .inequality import Inequality
@@ -166,7 +166,8 @@ class Clearance(ClearanceRows):
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
-        self._memories = [NearMemory(len(capsules)) if isinstance(ob, Mesh) else None for ob in self.obstacles]
+        self._memories = [q.memory(capsules.names) if isinstance(ob, Mesh) else None
+                          for ob, q in zip(self.obstacles, self._queries, strict=True)]  # fmt: skip
         k = len(capsules)
         self._parts, self._others, self._pairs = [], [], []
         floors = []
