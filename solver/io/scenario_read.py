@@ -47,8 +47,18 @@ def read_toml(path: Path) -> TableReader:
 
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file into a ready-to-solve :class:`Scenario`."""
-    path = Path(path)
-    root = read_toml(path)
+    return _scenario(read_toml(Path(path)))
+
+
+def scenario_from_dict(data: dict, path: str | Path) -> Scenario:
+    """A scenario from its parsed tables ``data`` (as a scenario file's TOML), as if read from ``path``: errors name
+    it and relative paths in it (a body file, an obstacle mesh) are found beside it. A study's runs use it."""
+    return _scenario(TableReader(Path(path), data, error=ScenarioError))
+
+
+def _scenario(root: TableReader) -> Scenario:
+    """Validate the scenario tables of ``root`` into a ready-to-solve :class:`Scenario`."""
+    path = Path(root.path)
     root.known(SECTIONS)
     model = read_manikin(root.table("manikin"))
     balance, reduction, options = _read_solver(root.table("solver"))
