@@ -55,7 +55,10 @@ class Journal:
         self.path = folder / JOURNAL
         try:
             folder.mkdir(parents=True, exist_ok=True)
+            cut = _ends_cut(self.path)
             self.stream: IO = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 (closed by close)
+            if cut:  # a crash cut the last line short: end it, so the next row starts a line of its own
+                self.stream.write("\n")
         except OSError as exc:
             raise UsageError(f"{folder}: cannot write the study's output folder ({exc.strerror or exc})") from None
 
@@ -65,6 +68,15 @@ class Journal:
 
     def close(self) -> None:
         self.stream.close()
+
+
+def _ends_cut(path: Path) -> bool:
+    """Whether the file ``path`` exists and its last line has no line end."""
+    if not path.exists() or path.stat().st_size == 0:
+        return False
+    with open(path, "rb") as fh:
+        fh.seek(-1, io.SEEK_END)
+        return fh.read(1) != b"\n"
 
 
 def cell(value: Any) -> Any:

@@ -1,7 +1,8 @@
 """A study's runs: every scenario x its parameter grid x manikin x repeat, in a fixed order, each with its inputs,
 its seed and its run id (a hash of the inputs, so a rerun knows which rows it has and a changed input is a new run).
 
-Order: scenario, then the parameter grid (the first parameter varying slowest), then manikin, then repeat. The
+Order: scenario, then manikin, then the parameter grid (the first parameter varying slowest), then repeat (a
+chunk of runs then mostly shares one body, which a worker builds once). The
 seed of a run is a hash of its inputs, the study's seed and the repeat number; the run id hashes the inputs and
 the seed. Inputs are the substituted scenario tables, the manikin's body tables, the parameter values, the task
 facts, the start jitter and what is recorded (not files a scenario names, such as an obstacle mesh: change one,
@@ -11,14 +12,12 @@ and start in a new output folder).
 from __future__ import annotations
 
 import copy
-import hashlib
 import itertools
-import json
 from dataclasses import dataclass
 from typing import Any
 
 from . import keypath
-from .spec import Manikin, Study, StudyScenario
+from .spec import Manikin, Study, StudyScenario, digest
 
 
 @dataclass(frozen=True)
@@ -39,12 +38,6 @@ class Run:
     def tables(self) -> dict:
         """The scenario's tables with the parameters and the manikin put in (ValueError if a value does not go)."""
         return substitute(self.scenario, self.parameters, self.manikin)
-
-
-def digest(value: Any) -> str:
-    """A stable hex hash of JSON-able ``value`` (keys sorted)."""
-    text = json.dumps(value, sort_keys=True, separators=(",", ":"), default=str)
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 def grid(scenario: StudyScenario) -> list[dict[str, Any]]:
@@ -81,14 +74,13 @@ def plan(study: Study) -> list[Run]:
     for scenario in study.scenarios:
         use_own = scenario.keep_manikin or not study.manikins
         manikins: list[Manikin | None] = [None] if use_own else list(study.manikins)
-        bodies = {id(m): digest(m.body) if m else None for m in manikins}
-        inputs = dict(scenario=scenario.name, data=digest(scenario.data), ergonomics=scenario.ergonomics,
-                      parameters=[[p.name, p.set, p.add] for p in scenario.parameters],
-                      start_jitter=study.start_jitter, record=study.record)  # fmt: skip
-        for values in grid(scenario):
-            for manikin in manikins:
-                name = manikin.name if manikin else own_manikin(scenario)
-                base = digest([inputs, values, name, bodies[id(manikin)]])
+        inputs = digest(dict(scenario=scenario.name, data=scenario.data, ergonomics=scenario.ergonomics,
+                             parameters=[[p.name, p.set, p.add] for p in scenario.parameters],
+                             start_jitter=study.start_jitter, record=study.record))  # fmt: skip
+        for manikin in manikins:
+            name, body = (manikin.name, manikin.key) if manikin else (own_manikin(scenario), None)
+            for values in grid(scenario):
+                base = digest([inputs, values, name, body])
                 for repeat in range(study.repeats):
                     seed = int(digest([base, study.seed, repeat])[:8], 16) & 0x7FFFFFFF
                     runs.append(Run(len(runs), digest([base, seed])[:16], seed, scenario, manikin, name, values,

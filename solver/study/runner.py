@@ -4,14 +4,16 @@ evaluate its ergonomics and return its row. A run that cannot be done is a row w
 A row's columns (README "Population studies"); units m, N, kg, s; peaks are the largest over a motion's frames:
 
     run_id, seed, scenario, manikin, p_<parameter> ...    what was run
-    status, converged, held, frames, frames_converged    "converged" / "not converged" / "failed"; held: supports,
-                                                         loops and balance (priority 1) held in every frame
+    status, converged, held, frames, frames_converged    "converged" / "not converged" / "failed" (converged false,
+                                                         the rest empty); held: supports, loops and balance
+                                                         (priority 1) held in every frame
     unmet, shortfall_m                                   unmet targets (space-separated), their summed position
                                                          shortfall (m), at its worst frame
     rula_peak, reba_peak, l4_l5_peak_N, strength_peak_pct, strength_joint
     niosh_li, niosh_rwl_kg                               only when the hands carry a load (a lift), else empty;
                                                          LI inf where the RWL is 0 (outside the equation's limits)
-    solve_s, eval_s, failure                             times (s; not reproducible), why a run failed
+    solve_s, eval_s, run_s, failure                      times (s, not reproducible: solving, the ergonomics, the
+                                                         whole run with building the scenario), why a run failed
 """
 
 from __future__ import annotations
@@ -33,8 +35,10 @@ GROUPS = {
     "strength": ["strength_peak_pct", "strength_joint"],
     "niosh": ["niosh_li", "niosh_rwl_kg"],
 }
-TIMING = ["solve_s", "eval_s"]  # the columns that differ between two runs of the same inputs
+TIMING = ["solve_s", "eval_s", "run_s"]  # the columns that differ between two runs of the same inputs
 ERGONOMIC = ("rula", "reba", "l4_l5", "strength", "niosh")
+MODEL_CACHE = 8  # bodies a worker keeps built (the runs of a chunk mostly share one: see plan.py)
+MODELS: dict = {}  # body key -> Model, oldest first
 
 
 def columns(parameters: list[str], record: tuple[str, ...]) -> list[str]:
@@ -54,20 +58,23 @@ def run_one(run: Run) -> dict:
     """The row of one run; a run that fails (a bad scenario after substitution, a solver exception) says why."""
     row: dict[str, Any] = dict(run_id=run.run_id, seed=run.seed, scenario=run.scenario.name, manikin=run.manikin_name)
     row |= {f"p_{k}": v for k, v in run.parameters.items()}
+    t0 = time.perf_counter()
     try:
         solved, row["solve_s"] = _solve(run)
         row |= outcome([result for _, result in solved])
         if any(group in run.record for group in ERGONOMIC):
-            t0 = time.perf_counter()
+            t1 = time.perf_counter()
             row |= scores(_evaluate(solved, run))
-            row["eval_s"] = round(time.perf_counter() - t0, 4)
+            row["eval_s"] = round(time.perf_counter() - t1, 4)
     except Exception as exc:  # noqa: BLE001 (any failure of one run is its row's reason; the study goes on)
-        return failed(row, _reason(exc))
+        row = failed(row, _reason(exc))
+    row["run_s"] = round(time.perf_counter() - t0, 4)
     return row
 
 
 def failed(row: dict, reason: str) -> dict:
-    return row | dict(status="failed", failure=" ".join(reason.split()))
+    """``row`` of a run that failed: not converged, ``reason`` in one line."""
+    return row | dict(status="failed", converged=False, failure=" ".join(reason.split()))
 
 
 def _reason(exc: Exception) -> str:
@@ -87,12 +94,24 @@ def _solve(run: Run) -> tuple[list, float]:
         tables = run.tables()
     except ValueError as exc:
         raise ScenarioError(f"{run.scenario.path}: {exc}") from None
-    scenario = scenario_from_dict(tables, run.scenario.path)
+    scenario = scenario_from_dict(tables, run.scenario.path, _model(run.manikin))
     if run.start_jitter > 0:
         scenario.start = jittered(scenario, run.seed, run.start_jitter)
     t0 = time.perf_counter()
     solved = list(solve_motion(scenario))
     return solved, round(time.perf_counter() - t0, 4)
+
+
+def _model(manikin):
+    """The study manikin's body, built once per worker process for the runs that follow (None: the scenario's own)."""
+    if manikin is None:
+        return None
+    key = manikin.key
+    if key not in MODELS:
+        if len(MODELS) >= MODEL_CACHE:
+            MODELS.pop(next(iter(MODELS)))
+        MODELS[key] = manikin.model()
+    return MODELS[key]
 
 
 def jittered(scenario, seed: int, spread: float) -> np.ndarray:

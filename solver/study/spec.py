@@ -25,9 +25,12 @@ studies"). Every problem is one ScenarioError line naming the study file and the
 
 from __future__ import annotations
 
+import hashlib
+import json
 import re
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import Any
 
 from ..bodies import MANIKINS_DIR as PRESET_BODIES
 from ..bodies import body_from_dict, list_presets
@@ -36,6 +39,7 @@ from ..errors import ManikinError, ScenarioError
 from ..io.files import read_toml
 from ..io.scenario_read import scenario_from_dict
 from ..io.table_reader import TableReader, is_number
+from ..model import Model
 from . import keypath
 
 RECORD = ("shortfall", "rula", "reba", "l4_l5", "strength", "niosh")
@@ -53,9 +57,25 @@ class Manikin:
     file: Path | None
     body: dict
 
+    @property
+    def key(self) -> str:
+        """A hash of the body's tables: the same body, the same key."""
+        return digest(self.body)
+
     def table(self) -> dict:
         """The scenario's [manikin] table that puts this manikin in it."""
         return {"preset": self.preset} if self.preset is not None else {"file": str(self.file)}
+
+    def model(self) -> Model:
+        """The body built (as the scenario's [manikin] table would build it)."""
+        where = PRESET_BODIES / f"{self.preset}.toml" if self.preset else self.file
+        return body_from_dict(self.body, str(where), self.preset or self.file.stem)
+
+
+def digest(value: Any) -> str:
+    """A stable hex hash of JSON-able ``value`` (keys sorted)."""
+    text = json.dumps(value, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -104,7 +124,8 @@ def load_study(path: str | Path) -> Study:
     record = head.get("record", list(RECORD))
     if not isinstance(record, list) or not all(r in RECORD for r in record):
         raise head.fail("record", "a list of " + ", ".join(RECORD), record)
-    scenarios = tuple(_scenario(t, path.parent) for t in root.table_list("scenarios", non_empty=True))
+    checked: set[str] = set()  # the scenario files found valid (a study may name one file many times)
+    scenarios = tuple(_scenario(t, path.parent, checked) for t in root.table_list("scenarios", non_empty=True))
     _unique(root, "scenarios", [s.name for s in scenarios], "scenario names (give each a name)")
     return Study(
         path=path,
@@ -183,16 +204,18 @@ def _manikin(where: TableReader, name: str, preset: str | None, path: Path) -> M
     return Manikin(name, preset, None if preset else path.resolve(), data)
 
 
-def _scenario(t: TableReader, here: Path) -> StudyScenario:
+def _scenario(t: TableReader, here: Path, checked: set[str]) -> StudyScenario:
     t.known({"file", "name", "keep_manikin", "ergonomics", "parameters"})
     t.required("file")
     path = Path(t.string("file"))
     path = (path if path.is_absolute() else here / path).resolve()
     data = read_toml(path, ScenarioError)
-    try:
-        scenario_from_dict(data, path)  # the file as it is must be a scenario; a parameter's value may still fail
-    except ManikinError as exc:
-        raise t.fail("file", f"a valid scenario ({exc})") from None
+    if digest([str(path), data]) not in checked:
+        try:
+            scenario_from_dict(data, path)  # the file as it is must be a scenario; a parameter's value may still fail
+        except ManikinError as exc:
+            raise t.fail("file", f"a valid scenario ({exc})") from None
+        checked.add(digest([str(path), data]))
     ergo = t.table("ergonomics")
     ergo.known(ERGO_KEYS)
     try:
