@@ -242,3 +242,22 @@ def test_without_dask_the_dask_option_is_one_line(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)  # as if not installed
     with pytest.raises(UsageError, match="pip install -r requirements-dask.txt"):
         run_study(write(tmp_path, STUDY), tmp_path / "out", dask="local", quiet=True)
+
+
+def test_the_command_prints_one_summary_line_and_exits_3_when_a_run_did_not_converge(two_processes, tmp_path):
+    study, out = two_processes
+    folder = tmp_path / "out"
+    folder.mkdir()
+    (folder / "runs.jsonl").write_bytes((out / "runs.jsonl").read_bytes())  # every run done: nothing to run
+    proc = run_cli("study", str(study), "-o", str(folder))
+    assert proc.returncode == 3, proc.stderr
+    assert proc.stdout.startswith(
+        "study study: 5 of 5 runs (all 5 from before): 4 converged, 0 not converged, 1 failed"
+    )
+    assert proc.stdout.count("\n") == 1 and rows_of(folder) == rows_of(out)
+
+
+def test_the_solver_and_the_study_do_not_import_dask():
+    code = ("import sys, solver, solver.study, solver.study.execute, solver.study.runner; "
+            "sys.exit(bool({'dask', 'distributed'} & set(sys.modules)))")  # fmt: skip
+    assert subprocess.run([sys.executable, "-c", code], cwd=REPO).returncode == 0

@@ -154,7 +154,8 @@ def section(results: dict, n: int, repeats: int, paper: dict, host: str, loads: 
         " their imports, the cluster) apart. Core ms per run = workers / rate; in-worker = the run itself (building"
         " the scenario, solving, ergonomics: the rows' `run_s`); overhead = the difference (sending, scheduling).",
         "",
-        "| case | runs/s median | runs/s p5 | start-up s | core ms per run | in-worker ms per run | overhead ms per run |",
+        "| case | runs/s median | runs/s p5 | start-up s | core ms per run | in-worker ms per run | overhead ms per run"
+        " |",
         "|---|---:|---:|---:|---:|---:|---:|",
     ]
     for label, rs in results.items():
