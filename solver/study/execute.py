@@ -11,8 +11,10 @@ Dask is an optional extra (``pip install -r requirements-dask.txt``), imported o
 from __future__ import annotations
 
 import os
+import signal
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from multiprocessing import get_context
 
@@ -53,6 +55,12 @@ def outcome(future, chunk: list[Run]) -> tuple[list[dict], bool]:
         return lost(chunk, f"{type(exc).__name__}: {exc}"), False
 
 
+def ignore_interrupts() -> None:
+    """In a worker process: Ctrl-C is the parent's to handle (it keeps the rows done and stops the pool); a worker
+    that took it too would die mid-run with a traceback."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 @contextmanager
 def single_threaded_blas() -> Iterator[None]:
     """Processes started inside inherit BLAS limited to one thread (NumPy reads it once, as it loads)."""
@@ -73,12 +81,15 @@ def run_local(runs: list[Run], workers: int, size: int, on_rows: OnRows) -> None
     chunks = chunked(runs, size)
     pending: dict[Future, list[Run]] = {}
     with single_threaded_blas():
-        pool = ProcessPoolExecutor(workers, mp_context=get_context("spawn"))
+        pool = ProcessPoolExecutor(workers, mp_context=get_context("spawn"), initializer=ignore_interrupts)
     try:
         while True:
             while len(pending) < workers * IN_FLIGHT and (chunk := next(chunks, None)) is not None:
-                with single_threaded_blas():  # the processes start with the first task
-                    pending[pool.submit(run_chunk, chunk)] = chunk
+                try:
+                    with single_threaded_blas():  # the processes start with the first task
+                        pending[pool.submit(run_chunk, chunk)] = chunk
+                except BrokenProcessPool as exc:  # a worker died: the runs not yet sent are lost too
+                    on_rows(lost(chunk, f"BrokenProcessPool: {exc}"), False)
             if not pending:
                 break
             done, _ = wait(pending, return_when=FIRST_COMPLETED)

@@ -57,6 +57,7 @@ class Journal:
             folder.mkdir(parents=True, exist_ok=True)
             cut = _ends_cut(self.path)
             self.stream: IO = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 (closed by close)
+            _lock(self.stream, folder)
             if cut:  # a crash cut the last line short: end it, so the next row starts a line of its own
                 self.stream.write("\n")
         except OSError as exc:
@@ -68,6 +69,20 @@ class Journal:
 
     def close(self) -> None:
         self.stream.close()
+
+
+def _lock(stream: IO, folder: Path) -> None:
+    """Hold the journal for this study run alone (released when it closes): a second run on the same folder at the
+    same time would do the same runs twice. Where there is no fcntl (Windows), nothing is locked."""
+    try:
+        import fcntl
+    except ImportError:
+        return
+    try:
+        fcntl.flock(stream.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        stream.close()
+        raise UsageError(f"-o {folder}: another study is writing this folder now; wait for it or use another") from None
 
 
 def _ends_cut(path: Path) -> bool:
