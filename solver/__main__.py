@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .errors import ArgumentParser, ManikinError, UsageError
-from .io.files import STDOUT
+from .io.files import STDOUT, write_text
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
 
@@ -116,6 +116,14 @@ def _bench(args: argparse.Namespace) -> int:
 def _study(args: argparse.Namespace) -> int:
     from .study import run_study
 
+    if args.scenario_of is not None:
+        from .study.export import row_scenario
+
+        write_text(args.output or STDOUT, row_scenario(args.study, args.scenario_of))
+        return EXIT_OK
+    if args.output is None:
+        raise UsageError("study needs -o OUT (the output folder), or --scenario-of RUN_ID")
+
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers: expected a whole number >= 1, got {args.workers}")
     if args.chunk is not None and args.chunk < 1:
@@ -132,7 +140,6 @@ def _study(args: argparse.Namespace) -> int:
 
 def _urdf(args: argparse.Namespace) -> int:
     from .bodies import load_body
-    from .io.files import write_text
     from .urdf import model_to_urdf, write_urdf
 
     if (args.preset is None) == (args.file is None):
@@ -229,7 +236,10 @@ def build_parser() -> argparse.ArgumentParser:
     p_ergo.set_defaults(run=_ergo)
     p_study = sub.add_parser("study", help="run a study (manikins x scenarios x parameters): rows, columns, plots")
     p_study.add_argument("study", help="study file (TOML)")
-    p_study.add_argument("-o", "--output", required=True, help="output folder (a rerun skips the runs it holds)")
+    p_study.add_argument("-o", "--output", help="output folder (a rerun skips the runs it holds); with --scenario-of: "
+                         "the scenario file (default: standard output)")  # fmt: skip
+    p_study.add_argument("--scenario-of", metavar="RUN_ID", help="write the scenario of one row (its run_id or "
+                         "a unique start of it) instead of running the study (`solve` on it: its pose)")  # fmt: skip
     p_study.add_argument("--workers", type=int, help="local worker processes (default: all cores)")
     p_study.add_argument("--dask", metavar="SCHEDULER", help="run on Dask: a scheduler address, or 'local' for a "
                          "LocalCluster of --workers processes (needs requirements-dask.txt)")  # fmt: skip

@@ -261,3 +261,32 @@ def test_the_solver_and_the_study_do_not_import_dask():
     code = ("import sys, solver, solver.study, solver.study.execute, solver.study.runner; "
             "sys.exit(bool({'dask', 'distributed'} & set(sys.modules)))")  # fmt: skip
     assert subprocess.run([sys.executable, "-c", code], cwd=REPO).returncode == 0
+
+
+def test_two_study_runs_cannot_write_one_folder_at_once(tmp_path):
+    from solver.study.outputs import Journal
+
+    held = Journal(tmp_path / "out")
+    try:
+        with pytest.raises(UsageError, match="another study is writing this folder"):
+            run_study(write(tmp_path, STUDY), tmp_path / "out", workers=1, quiet=True)
+    finally:
+        held.close()
+
+
+def test_a_row_s_scenario_file_solves_to_the_row_again(tmp_path):
+    from solver import evaluate, solve_motion
+    from solver.study.export import row_scenario
+    from solver.study.runner import outcome, scores
+
+    study = write(tmp_path, with_head("start_jitter = 0.05"))
+    run = plan(load_study(study))[1]  # female_5, the handles 0.3 m higher, a jittered start
+    row = run_one(run)
+    path = tmp_path / "sub" / "row.toml"
+    path.parent.mkdir()
+    path.write_text(row_scenario(study, run.run_id[:6]), encoding="utf-8")
+    solved = list(solve_motion(load_scenario(path)))
+    again = outcome([r for _, r in solved]) | scores(evaluate(solved))
+    assert again == {k: row[k] for k in again} and row["status"] == "converged"
+    with pytest.raises(UsageError, match="no run of the study has that id"):
+        row_scenario(study, "zzz")
