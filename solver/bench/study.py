@@ -1,14 +1,15 @@
 """Population studies at scale (issue 22): runs per second of a study on local processes and on a local Dask
 cluster, 1 and 2 workers, the cost of a run and of a task, and what a 100,000-run study takes on paper.
 
-    python -m solver.bench.study [--runs 240] [--repeats 3] [-o docs/BENCHMARKS.md]
+    python -m solver.bench.study [--runs 600] [--repeats 3] [-o docs/BENCHMARKS.md]     # about 6 min here
     python -m solver.bench.study --runs 24 --repeats 1 -o /tmp/b.md      # a quick check that it works
 
 The study: the three preset manikins lift the box (presets/scenarios/box_lift.toml, a single balanced pose with
 its ergonomics) with the handles raised by evenly spaced heights from 0 to 0.45 m, ``--runs`` runs in all. Each
-case runs the study's runs through the executor the ``study`` command uses (no outputs written) and records when
-each chunk's rows came back. The rate is the steady one, from the first rows back to the last; worker start-up
-(spawning processes, importing NumPy/SciPy and the solver, starting the cluster) is given on its own. The cases
+case runs the study's runs through the executor the ``study`` command uses (no outputs written) and
+measures its start-up on its own first (fresh workers, one run each: the wall time less that run: spawning the
+processes, importing NumPy/SciPy and the solver, starting the cluster); the steady rate is the study's runs over
+its wall time less that start-up. The cases
 take turns, so drifts of the shared machine hit them alike. The 100,000-run plan (100 bodies x 50 tasks x 20
 variants) is built for real, to time the planning the parent does before any run starts.
 """
@@ -55,28 +56,31 @@ def study_text(runs: int, scenario: Path = LIFT) -> str:
             f"add = [\"targets.hand_r.position[2]\", \"targets.hand_l.position[2]\"]\n").replace("'", '"')  # fmt: skip
 
 
-def measure(runs: list, engine: str, workers: int, chunk: int | None) -> dict:
-    """Run ``runs`` on one engine: wall time (s), the steady rate (runs/s), start-up (s), in-worker time per run."""
-    arrivals: list[tuple[float, int]] = []
+def execute(runs: list, engine: str, workers: int, chunk: int | None) -> tuple[float, list[dict]]:
+    """Run ``runs`` through the study's executor for ``engine`` (fresh workers): the wall time (s) and the rows."""
     rows: list[dict] = []
-
-    def on_rows(new: list[dict], keep: bool) -> None:
-        arrivals.append((time.perf_counter(), len(new)))
-        rows.extend(new)
-
     t0 = time.perf_counter()
     if engine == "local":
-        run_local(runs, workers, chunk or chunk_size(len(runs), workers), on_rows)
+        run_local(runs, workers, chunk or chunk_size(len(runs), workers), lambda new, keep: rows.extend(new))
     else:
-        run_dask(runs, "local", workers, chunk, on_rows)
+        run_dask(runs, "local", workers, chunk, lambda new, keep: rows.extend(new))
     wall = time.perf_counter() - t0
-    first, first_n = arrivals[0]
-    steady = (len(runs) - first_n) / max(arrivals[-1][0] - first, 1e-9) if len(arrivals) > 1 else len(runs) / wall
     failed = [r for r in rows if r.get("status") == "failed"]
     if failed:
         raise SystemExit(f"{len(failed)} runs failed, e.g. {failed[0].get('failure')}")
-    return dict(wall=wall, rate=steady, startup=max(wall - len(runs) / steady, 0.0), workers=workers,
-                run_s=float(np.mean([r["run_s"] for r in rows])), n=len(runs))  # fmt: skip
+    return wall, rows
+
+
+def measure(runs: list, engine: str, workers: int, chunk: int | None) -> dict:
+    """One case: its start-up (s: a run per worker, less the slowest of those runs), the steady rate (runs/s: the
+    runs over the wall time less the start-up) and the mean in-worker time per run (s)."""
+    first, rows = execute(runs[:workers], engine, workers, 1)
+    startup = max(first - max(r["run_s"] for r in rows), 0.0)
+    wall, rows = execute(runs, engine, workers, chunk)
+    rate = len(runs) / max(wall - startup, 1e-9)
+    return dict(
+        wall=wall, rate=rate, startup=startup, workers=workers, run_s=float(np.mean([r["run_s"] for r in rows]))
+    )
 
 
 def plan_100k(folder: Path) -> dict:
@@ -108,7 +112,7 @@ def plan_100k(folder: Path) -> dict:
     return dict(runs=runs, read_s=t1 - t0, plan_s=t2 - t1, peak_mb=peak)
 
 
-def run(output: Path, runs: int = 240, repeats: int = 3) -> str:
+def run(output: Path, runs: int = 600, repeats: int = 3) -> str:
     """Measure every case ``repeats`` times (taking turns) and write the study section of ``output``."""
     from .scenarios import machine, write_section
 
@@ -150,9 +154,10 @@ def section(results: dict, n: int, repeats: int, paper: dict, host: str, loads: 
         "",
         f"The study: {n} runs (the 3 preset manikins x handle heights of presets/scenarios/box_lift.toml, one balanced"
         f" pose each with its ergonomics), through the `study` command's executors, {repeats} times per case, the"
-        " cases taking turns. Steady rate: from the first rows back to the last; start-up (spawning the workers,"
-        " their imports, the cluster) apart. Core ms per run = workers / rate; in-worker = the run itself (building"
-        " the scenario, solving, ergonomics: the rows' `run_s`); overhead = the difference (sending, scheduling).",
+        " cases taking turns. Start-up (fresh workers, one run each, less that run: spawning the workers, their"
+        " imports, the cluster) apart; steady rate = runs / (wall time - start-up). Core ms per run = workers / rate;"
+        " in-worker = the run itself (building the scenario, solving, ergonomics: the rows' `run_s`); overhead = the"
+        " difference (sending, scheduling, waiting for the last chunks).",
         "",
         "| case | runs/s median | runs/s p5 | start-up s | core ms per run | in-worker ms per run | overhead ms per run"
         " |",
@@ -174,19 +179,23 @@ def speedups(results: dict, labels: list[str]) -> list[str]:
         ratio = _median(results[two], "rate") / _median(results[one], "rate")
         met = "met" if ratio >= TARGET_SPEEDUP else "**not met**"
         out.append(f"Speed-up, 2 workers over 1, {what}: {ratio:.2f}x (target {TARGET_SPEEDUP}x: {met}).")
-    for chunked, single, what in ((labels[1], labels[4], "a local process pool"), (labels[3], labels[5], "Dask")):
-        task = float(np.median([_core_ms(a) - _core_ms(b) for a, b in zip(results[single], results[chunked],
-                                                                           strict=True)]))  # fmt: skip
-        out.append(f"Cost of a task on {what} (1 run per task against chunks, per run): about {task:.1f} ms.")
+    for single, what in ((labels[4], "a local process pool"), (labels[5], "Dask")):
+        out.append(f"Cost of a task on {what} (the overhead per run with 1 run per task): about "
+                   f"{1e3 * task_cost(results[single]):.1f} ms.")  # fmt: skip
     return out
 
 
+def task_cost(results: list[dict]) -> float:
+    """The median overhead (s) per run of a case with 1 run per task: the core time not spent in the runs."""
+    return max(float(np.median([_core_ms(r) / 1e3 - r["run_s"] for r in results])), 0.0)
+
+
 def paper_lines(results: dict, labels: list[str], paper: dict) -> list[str]:
-    """What 100,000 runs take on N workers, from the measured costs (Dask, 2 workers)."""
+    """What 100,000 runs take on N Dask workers, from the measured costs: a run's work (its in-worker time in the
+    least contended case), a task's cost (Dask, 1 run per task), the start-up (Dask, 2 workers) and the planning."""
     dask = results[labels[3]]
-    per_run = _median(dask, "run_s")
-    task = max(float(np.median([_core_ms(a) - _core_ms(b) for a, b in zip(results[labels[5]], dask, strict=True)])),
-               0.0) / 1e3  # fmt: skip
+    per_run = min(_median(rs, "run_s") for rs in results.values())  # the least contended case: the run's own work
+    task = task_cost(results[labels[5]])
     startup, parent = _median(dask, "startup"), paper["read_s"] + paper["plan_s"]
     lines = [
         f"On paper, {paper['runs']:,} runs (100 bodies x 50 tasks x 20 variants; planned for real here: reading the"
@@ -215,7 +224,7 @@ def paper_lines(results: dict, labels: list[str], paper: dict) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m solver.bench.study", description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs" / "BENCHMARKS.md")
-    parser.add_argument("--runs", type=int, default=240, help="runs of the measured study")
+    parser.add_argument("--runs", type=int, default=600, help="runs of the measured study")
     parser.add_argument("--repeats", type=int, default=3, help="times each case runs")
     args = parser.parse_args(argv)
     run(args.output, args.runs, args.repeats)
