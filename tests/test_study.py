@@ -120,6 +120,10 @@ def test_bad_key_paths_say_why(path, values, add, words):
         (('"male_95"', '"female_5"'), ["manikins", "distinct manikin names"]),
         (("values = [0.0, 0.3]", "values = []"), ["raise.values", "non-empty"]),
         (('name = "slippery"', 'name = "lift"'), ["scenarios", "distinct scenario names"]),
+        (
+            ('manikins = ["female_5", "male_95"]', '[study]\nmanikins = ["female_5"]'),
+            ["study.manikins", "before [study]"],
+        ),
     ],
 )
 def test_a_bad_study_file_is_one_scenario_error_naming_the_key(tmp_path, change, words):
@@ -290,3 +294,16 @@ def test_a_row_s_scenario_file_solves_to_the_row_again(tmp_path):
     assert again == {k: row[k] for k in again} and row["status"] == "converged"
     with pytest.raises(UsageError, match="no run of the study has that id"):
         row_scenario(study, "zzz")
+
+
+def test_the_benchmark_report_states_the_speed_ups_against_the_target_and_the_100k_study(tmp_path):
+    from solver.bench.study import CASES, section, study_text
+
+    assert len(plan(load_study(write(tmp_path, study_text(30), "bench.toml")))) == 30
+    rates = {1: 20.0, 2: 38.0}  # 1.9x on local processes; Dask below the target
+    results = {label: [dict(rate=rates[w] if engine == "local" else 10.0 * w ** 0.5, startup=1.0, workers=w,
+                            run_s=0.045) for _ in range(3)] for label, engine, w, _ in CASES}  # fmt: skip
+    paper = dict(runs=100_000, read_s=1.0, plan_s=2.0, peak_mb=40.0)
+    text = section(results, 600, 3, paper, "test machine", (0.1, 0.2))
+    assert "local processes: 1.90x (target 1.8x: met)" in text and "local Dask cluster: 1.41x" in text
+    assert "**not met**" in text and "| 100 | 50 | 2,000 |" in text and "100,000 runs" in text

@@ -17,6 +17,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wai
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from multiprocessing import get_context
+from types import ModuleType
 
 from ..errors import UsageError
 from .plan import Run
@@ -143,7 +144,7 @@ def _dask_loop(client, distributed, runs: list[Run], threads: int, size: int, on
             stream.add(nxt)
 
 
-def _import_distributed():
+def _import_distributed() -> ModuleType:
     try:
         import distributed
     except ImportError:

@@ -20,11 +20,16 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .plan import Run
+
+if TYPE_CHECKING:
+    from ..model import Model
+    from ..scenario import Scenario
+    from .spec import Manikin
 
 OUTCOME = ["status", "converged", "held", "frames", "frames_converged"]
 GROUPS = {
@@ -38,7 +43,7 @@ GROUPS = {
 TIMING = ["solve_s", "eval_s", "run_s"]  # the columns that differ between two runs of the same inputs
 ERGONOMIC = ("rula", "reba", "l4_l5", "strength", "niosh")
 MODEL_CACHE = 8  # bodies a worker keeps built (the runs of a chunk mostly share one: see plan.py)
-MODELS: dict = {}  # body key -> Model, oldest first
+MODELS: dict[str, Model] = {}  # body key -> Model, oldest first
 
 
 def columns(parameters: list[str], record: tuple[str, ...]) -> list[str]:
@@ -102,7 +107,7 @@ def _solve(run: Run) -> tuple[list, float]:
     return solved, round(time.perf_counter() - t0, 4)
 
 
-def _model(manikin):
+def _model(manikin: Manikin | None) -> Model | None:
     """The study manikin's body, built once per worker process for the runs that follow (None: the scenario's own)."""
     if manikin is None:
         return None
@@ -114,7 +119,7 @@ def _model(manikin):
     return MODELS[key]
 
 
-def jittered(scenario, seed: int, spread: float) -> np.ndarray:
+def jittered(scenario: Scenario, seed: int, spread: float) -> np.ndarray:
     """The scenario's start with every rotational joint moved by a seeded normal draw of ``spread`` rad (then put
     back in its range): the same seed, the same start."""
     problem, n = scenario.problem, scenario.model.n

@@ -120,6 +120,8 @@ def load_study(path: str | Path) -> Study:
     root = TableReader(path, read_toml(path, ScenarioError), error=ScenarioError)
     root.known({"manikins", "study", "scenarios"})
     head = root.table("study")
+    if "manikins" in head.data:  # TOML puts every key after a [table] header into that table
+        raise head.fail("manikins", "manikins = [...] at the top of the file, before [study] (unknown key here)")
     head.known({"name", "seed", "repeats", "start_jitter", "record"})
     record = head.get("record", list(RECORD))
     if not isinstance(record, list) or not all(r in RECORD for r in record):

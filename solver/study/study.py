@@ -51,6 +51,13 @@ class StudyOutcome:
         return head + done + counts + "; wrote " + ", ".join(map(str, self.written))
 
 
+def cores() -> int:
+    """The cores this process may use (its CPU affinity where the system tells it, else the machine's count)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0)) or 1
+    return os.cpu_count() or 1
+
+
 def output_folder(path: str | Path) -> Path:
     """``-o``: a folder (made if missing); a file in the way is one UsageError line."""
     folder = Path(path)
@@ -79,7 +86,7 @@ def run_study(
     if retry_failed:
         rows = {k: row for k, row in rows.items() if row.get("status") != "failed"}
     todo = [r for r in runs if r.run_id not in rows]
-    workers = max(1, workers or os.cpu_count() or 1)
+    workers = max(1, workers or cores())
     outcome = StudyOutcome(study.name, len(runs), kept=len(rows), workers=min(workers, max(len(todo), 1)))
     outcome.dask = dask
     t0 = time.perf_counter()
