@@ -1,5 +1,6 @@
 """Command line: ``python -m solver solve SCENARIO.toml [-o RESULT.json]``, ``ergo RESULT.json -o ERGO.json``,
-``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``, ``family ... -o DIR`` (:mod:`solver.population.cli`).
+``study STUDY.toml -o OUT/``, ``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``, ``family ... -o DIR``
+(:mod:`solver.population.cli`).
 
 Exit codes: 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input (one line
 on stderr naming the file, the key and what was expected), 130 interrupted (Ctrl-C; the frames solved so far are
@@ -15,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .errors import ArgumentParser, ManikinError, UsageError
-from .io.files import STDOUT
+from .io.files import STDOUT, write_text
 from .population.cli import add_family_parser
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
@@ -114,9 +115,33 @@ def _bench(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _study(args: argparse.Namespace) -> int:
+    from .study import run_study
+
+    if args.scenario_of is not None:
+        from .study.export import row_scenario
+
+        write_text(args.output or STDOUT, row_scenario(args.study, args.scenario_of))
+        return EXIT_OK
+    if args.output is None:
+        raise UsageError("study needs -o OUT (the output folder), or --scenario-of RUN_ID")
+
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers: expected a whole number >= 1, got {args.workers}")
+    if args.chunk is not None and args.chunk < 1:
+        raise UsageError(f"--chunk: expected a whole number >= 1, got {args.chunk}")
+    outcome = run_study(args.study, args.output, args.workers, args.dask, args.chunk, args.retry_failed, args.quiet)
+    if outcome.interrupted:
+        print(f"interrupted; kept {outcome.converged + outcome.not_converged + outcome.failed} of {outcome.total} "
+              f"runs in {args.output} (run the same command again to go on)", file=sys.stderr)  # fmt: skip
+        return EXIT_INTERRUPTED
+    if not args.quiet:
+        print(outcome.line())
+    return EXIT_OK if outcome.converged == outcome.total else EXIT_NOT_CONVERGED
+
+
 def _urdf(args: argparse.Namespace) -> int:
     from .bodies import load_body
-    from .io.files import write_text
     from .urdf import model_to_urdf, write_urdf
 
     if (args.preset is None) == (args.file is None):
@@ -213,6 +238,19 @@ def build_parser() -> argparse.ArgumentParser:
     p_ergo.add_argument("--no-plots", action="store_true", help="do not write the PNG plots")
     p_ergo.add_argument("-q", "--quiet", action="store_true", help="do not print the summary")
     p_ergo.set_defaults(run=_ergo)
+    p_study = sub.add_parser("study", help="run a study (manikins x scenarios x parameters): rows, columns, plots")
+    p_study.add_argument("study", help="study file (TOML)")
+    p_study.add_argument("-o", "--output", help="output folder (a rerun skips the runs it holds); with --scenario-of: "
+                         "the scenario file (default: standard output)")  # fmt: skip
+    p_study.add_argument("--scenario-of", metavar="RUN_ID", help="write the scenario of one row (its run_id or "
+                         "a unique start of it) instead of running the study (`solve` on it: its pose)")  # fmt: skip
+    p_study.add_argument("--workers", type=int, help="local worker processes (default: all cores)")
+    p_study.add_argument("--dask", metavar="SCHEDULER", help="run on Dask: a scheduler address, or 'local' for a "
+                         "LocalCluster of --workers processes (needs requirements-dask.txt)")  # fmt: skip
+    p_study.add_argument("--chunk", type=int, help="runs per task (default: by the run count and the workers)")
+    p_study.add_argument("--retry-failed", action="store_true", help="run again the failed runs the folder holds")
+    p_study.add_argument("-q", "--quiet", action="store_true", help="print no summary and no progress")
+    p_study.set_defaults(run=_study)
     p_bench = sub.add_parser("bench", help="time the preset scenarios and write docs/BENCHMARKS.md")
     p_bench.add_argument("-o", "--output", default="docs/BENCHMARKS.md")
     p_bench.add_argument("--repeats", type=int, default=30, help="solves per preset scenario")

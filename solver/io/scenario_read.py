@@ -47,10 +47,21 @@ def read_toml(path: Path) -> TableReader:
 
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file into a ready-to-solve :class:`Scenario`."""
-    path = Path(path)
-    root = read_toml(path)
+    return _scenario(read_toml(Path(path)))
+
+
+def scenario_from_dict(data: dict, path: str | Path, model: Model | None = None) -> Scenario:
+    """A scenario from its parsed tables ``data`` (as a scenario file's TOML), as if read from ``path``: errors name
+    it and relative paths in it (a body file, an obstacle mesh) are found beside it. ``model``: the body its
+    [manikin] names, built already (a study's worker reuses it for many runs). A study's runs use it."""
+    return _scenario(TableReader(Path(path), data, error=ScenarioError), model)
+
+
+def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
+    """Validate the scenario tables of ``root`` into a ready-to-solve :class:`Scenario`."""
+    path = Path(root.path)
     root.known(SECTIONS)
-    model = read_manikin(root.table("manikin"))
+    model = model or read_manikin(root.table("manikin"))
     balance, reduction, options = _read_solver(root.table("solver"))
     comfort = root.table("comfort")
     comfort.known({"range", "load", "contact"})

@@ -1,0 +1,96 @@
+"""A study's runs: every scenario x its parameter grid x manikin x repeat, in a fixed order, each with its inputs,
+its seed and its run id (a hash of the inputs, so a rerun knows which rows it has and a changed input is a new run).
+
+Order: scenario, then manikin, then the parameter grid (the first parameter varying slowest), then repeat (a
+chunk of runs then mostly shares one body, which a worker builds once). The
+seed of a run is a hash of its inputs, the study's seed and the repeat number; the run id hashes the inputs and
+the seed. Inputs are the substituted scenario tables, the manikin's body tables, the parameter values, the task
+facts, the start jitter and what is recorded (not files a scenario names, such as an obstacle mesh: change one,
+and start in a new output folder).
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+from dataclasses import dataclass
+from typing import Any
+
+from . import keypath
+from .spec import Manikin, Study, StudyScenario, digest
+
+
+@dataclass(frozen=True)
+class Run:
+    """Everything one run needs, small to send: the scenario and manikin are shared objects (pickled once per
+    chunk of runs), the parameters go into the scenario's tables in the worker (:meth:`tables`)."""
+
+    index: int  # its row's place in the study's outputs
+    run_id: str
+    seed: int
+    scenario: StudyScenario
+    manikin: Manikin | None  # None: the scenario's own
+    manikin_name: str
+    parameters: dict[str, Any]
+    start_jitter: float = 0.0
+    record: tuple[str, ...] = ()
+
+    def tables(self) -> dict:
+        """The scenario's tables with the parameters and the manikin put in (ValueError if a value does not go)."""
+        return substitute(self.scenario, self.parameters, self.manikin)
+
+
+def grid(scenario: StudyScenario) -> list[dict[str, Any]]:
+    """Every combination of the scenario's parameter values ([{}] without parameters)."""
+    names = [p.name for p in scenario.parameters]
+    return [
+        dict(zip(names, combo, strict=True)) for combo in itertools.product(*(p.values for p in scenario.parameters))
+    ]
+
+
+def substitute(scenario: StudyScenario, values: dict[str, Any], manikin: Manikin | None) -> dict:
+    """The scenario's tables with each parameter's value set or added at its key paths and, unless the scenario
+    keeps its own, the study's manikin in [manikin]; ValueError if a value does not go in."""
+    data = copy.deepcopy(scenario.data)
+    for p in scenario.parameters:
+        for path in p.set:
+            keypath.apply(data, path, values[p.name], add=False)
+        for path in p.add:
+            keypath.apply(data, path, values[p.name], add=True)
+    if manikin is not None:
+        data["manikin"] = manikin.table()
+    return data
+
+
+def own_manikin(scenario: StudyScenario) -> str:
+    """The row name of a scenario's own manikin: its preset, or its body file's stem."""
+    table = scenario.data.get("manikin", {})
+    return str(table.get("preset") or str(table.get("file", "?")).rsplit("/", 1)[-1].removesuffix(".toml"))
+
+
+def plan(study: Study) -> list[Run]:
+    """Every run of ``study``, in the order of its rows."""
+    runs: list[Run] = []
+    for scenario in study.scenarios:
+        use_own = scenario.keep_manikin or not study.manikins
+        manikins: list[Manikin | None] = [None] if use_own else list(study.manikins)
+        inputs = digest(dict(scenario=scenario.name, data=scenario.data, ergonomics=scenario.ergonomics,
+                             parameters=[[p.name, p.set, p.add] for p in scenario.parameters],
+                             start_jitter=study.start_jitter, record=study.record))  # fmt: skip
+        for manikin in manikins:
+            name, body = (manikin.name, manikin.key) if manikin else (own_manikin(scenario), None)
+            for values in grid(scenario):
+                base = digest([inputs, values, name, body])
+                for repeat in range(study.repeats):
+                    seed = int(digest([base, study.seed, repeat])[:8], 16) & 0x7FFFFFFF
+                    runs.append(Run(len(runs), digest([base, seed])[:16], seed, scenario, manikin, name, values,
+                                    study.start_jitter, study.record))  # fmt: skip
+    return runs
+
+
+def parameter_names(study: Study) -> list[str]:
+    """Every parameter name of the study's scenarios, in order of first appearance (one column each)."""
+    names: list[str] = []
+    for scenario in study.scenarios:
+        names += [p.name for p in scenario.parameters if p.name not in names]
+    return names

@@ -1,0 +1,182 @@
+"""One run of a study, in whatever process it lands in: build the scenario, solve it (every frame of a motion),
+evaluate its ergonomics and return its row. A run that cannot be done is a row with its reason, never an exception.
+
+A row's columns (README "Population studies"); units m, N, kg, s; peaks are the largest over a motion's frames:
+
+    run_id, seed, scenario, manikin, p_<parameter> ...    what was run
+    status, converged, held, frames, frames_converged    "converged" / "not converged" / "failed" (converged false,
+                                                         the rest empty); held: supports, loops and balance
+                                                         (priority 1) held in every frame
+    unmet, shortfall_m                                   unmet targets (space-separated), their summed position
+                                                         shortfall (m), at its worst frame
+    rula_peak, reba_peak, l4_l5_peak_N, strength_peak_pct, strength_joint
+    niosh_li, niosh_rwl_kg                               only when the hands carry a load (a lift), else empty;
+                                                         LI inf where the RWL is 0 (outside the equation's limits)
+    solve_s, eval_s, run_s, failure                      times (s, not reproducible: solving, the ergonomics, the
+                                                         whole run with building the scenario), why a run failed
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .plan import Run
+
+if TYPE_CHECKING:
+    from ..model import Model
+    from ..scenario import Scenario
+    from .spec import Manikin
+
+OUTCOME = ["status", "converged", "held", "frames", "frames_converged"]
+GROUPS = {
+    "shortfall": ["unmet", "shortfall_m"],
+    "rula": ["rula_peak"],
+    "reba": ["reba_peak"],
+    "l4_l5": ["l4_l5_peak_N"],
+    "strength": ["strength_peak_pct", "strength_joint"],
+    "niosh": ["niosh_li", "niosh_rwl_kg"],
+}
+TIMING = ["solve_s", "eval_s", "run_s"]  # the columns that differ between two runs of the same inputs
+ERGONOMIC = ("rula", "reba", "l4_l5", "strength", "niosh")
+MODEL_CACHE = 8  # bodies a worker keeps built (the runs of a chunk mostly share one: see plan.py)
+MODELS: dict[str, Model] = {}  # body key -> Model, oldest first
+
+
+def columns(parameters: list[str], record: tuple[str, ...]) -> list[str]:
+    """The row's columns for a study with these parameter names that records these groups."""
+    out = ["run_id", "seed", "scenario", "manikin"] + [f"p_{name}" for name in parameters] + OUTCOME
+    for group in record:
+        out += GROUPS[group]
+    return out + TIMING + ["failure"]
+
+
+def run_chunk(runs: list[Run]) -> list[dict]:
+    """The rows of ``runs``, in order (one task of a process pool or a Dask cluster)."""
+    return [run_one(run) for run in runs]
+
+
+def run_one(run: Run) -> dict:
+    """The row of one run; a run that fails (a bad scenario after substitution, a solver exception) says why."""
+    row: dict[str, Any] = dict(run_id=run.run_id, seed=run.seed, scenario=run.scenario.name, manikin=run.manikin_name)
+    row |= {f"p_{k}": v for k, v in run.parameters.items()}
+    t0 = time.perf_counter()
+    try:
+        solved, row["solve_s"] = _solve(run)
+        row |= outcome([result for _, result in solved])
+        if any(group in run.record for group in ERGONOMIC):
+            t1 = time.perf_counter()
+            row |= scores(_evaluate(solved, run))
+            row["eval_s"] = round(time.perf_counter() - t1, 4)
+    except Exception as exc:  # noqa: BLE001 (any failure of one run is its row's reason; the study goes on)
+        row = failed(row, _reason(exc))
+    row["run_s"] = round(time.perf_counter() - t0, 4)
+    return row
+
+
+def failed(row: dict, reason: str) -> dict:
+    """``row`` of a run that failed: not converged, ``reason`` in one line."""
+    return row | dict(status="failed", converged=False, failure=" ".join(reason.split()))
+
+
+def _reason(exc: Exception) -> str:
+    from ..errors import ManikinError
+
+    text = " ".join(str(exc).split())
+    return text if isinstance(exc, ManikinError) and text else f"{type(exc).__name__}: {text}"
+
+
+def _solve(run: Run) -> tuple[list, float]:
+    """Every frame of the run's scenario solved (frame, Result), and the time it took (s)."""
+    from ..errors import ScenarioError
+    from ..io.scenario_read import scenario_from_dict
+    from ..motion import solve_motion
+
+    try:
+        tables = run.tables()
+    except ValueError as exc:
+        raise ScenarioError(f"{run.scenario.path}: {exc}") from None
+    scenario = scenario_from_dict(tables, run.scenario.path, _model(run.manikin))
+    if run.start_jitter > 0:
+        scenario.start = jittered(scenario, run.seed, run.start_jitter)
+    t0 = time.perf_counter()
+    solved = list(solve_motion(scenario))
+    return solved, round(time.perf_counter() - t0, 4)
+
+
+def _model(manikin: Manikin | None) -> Model | None:
+    """The study manikin's body, built once per worker process for the runs that follow (None: the scenario's own)."""
+    if manikin is None:
+        return None
+    key = manikin.key
+    if key not in MODELS:
+        if len(MODELS) >= MODEL_CACHE:
+            MODELS.pop(next(iter(MODELS)))
+        MODELS[key] = manikin.model()
+    return MODELS[key]
+
+
+def jittered(scenario: Scenario, seed: int, spread: float) -> np.ndarray:
+    """The scenario's start with every rotational joint moved by a seeded normal draw of ``spread`` rad (then put
+    back in its range): the same seed, the same start."""
+    problem, n = scenario.problem, scenario.model.n
+    theta = np.array(scenario.start[:n], dtype=float)
+    rng = np.random.default_rng(seed)
+    theta += np.where(scenario.model.prismatic, 0.0, rng.normal(0.0, spread, n))
+    return problem.to_x(problem.start(theta))
+
+
+def _evaluate(solved: list, run: Run) -> dict:
+    from ..ergonomics import ErgoOptions, evaluate
+
+    return evaluate(solved, ErgoOptions(**run.scenario.ergonomics))
+
+
+def outcome(results: list) -> dict:
+    """Convergence, what held and the reach shortfall over the frames' results."""
+    converged = sum(bool(r.converged) for r in results)
+    unmet = sorted({name for r in results for name in r.unmet})
+    short = max((sum(p.get("position_m", 0.0) for p in r.shortfall.values()) for r in results), default=0.0)
+    return dict(
+        status="converged" if converged == len(results) else "not converged",
+        converged=converged == len(results),
+        held=not any(r.broken for r in results),
+        frames=len(results),
+        frames_converged=converged,
+        unmet=" ".join(unmet),
+        shortfall_m=round(float(short), 6),
+    )
+
+
+def _peak(values: list) -> float | int | None:
+    finite = [v for v in values if v is not None and math.isfinite(v)]
+    return max(finite) if finite else None
+
+
+def scores(report: dict) -> dict:
+    """Peak RULA, REBA, L4/L5 compression (N), percent of strength (and its joint) and the NIOSH lift of an
+    ergonomics report (:func:`solver.evaluate`); None where the body or the task has none."""
+    frames = report["frames"]
+    worst, joint = None, None
+    for f in frames:
+        for name, load in f["joint_loads"].items():
+            p = load.get("percent_strength") if name != "l4_l5" else None
+            if p is not None and math.isfinite(p) and (worst is None or p > worst):
+                worst, joint = p, name
+    lift = report.get("niosh") or {}
+    lifting = "origin" in lift and lift.get("load_kg", 0.0) > 0.0  # a human body's lift with a load in the hands
+    li = lift.get("LI") if lifting else None
+    li = math.inf if lifting and li is None else li  # RWL 0: the lift is outside the equation's limits
+    compression = _peak([f["joint_loads"]["l4_l5"].get("compression") for f in frames])
+    return dict(
+        rula_peak=_peak([f["rula"].get("score") for f in frames]),
+        reba_peak=_peak([f["reba"].get("score") for f in frames]),
+        l4_l5_peak_N=None if compression is None else round(compression, 2),
+        strength_peak_pct=None if worst is None else round(worst, 2),
+        strength_joint=joint,
+        niosh_li=None if li is None else round(li, 4),
+        niosh_rwl_kg=round(lift["RWL"], 3) if lifting else None,
+    )

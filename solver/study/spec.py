@@ -1,0 +1,262 @@
+"""The study file (TOML): which manikins, which scenarios with which parameters, what to record (README "Population
+studies"). Every problem is one ScenarioError line naming the study file and the key.
+
+::
+
+    manikins = ["female_5", "male_95", "bodies/tall.toml", "family_95/"]   # presets, body files, family folders
+
+    [study]
+    name = "box height"   # optional
+    seed = 0              # base of every run's seed
+    repeats = 1           # runs per combination, each with its own seed
+    start_jitter = 0.0    # rad: spread of a seeded random change of the start pose (0: the scenario's start)
+    record = ["shortfall", "rula", "reba", "l4_l5", "strength", "niosh"]   # default: all
+
+    [[scenarios]]
+    file = "../presets/scenarios/box_lift.toml"   # relative to the study file
+    name = "lift"            # default: the file's stem
+    keep_manikin = false     # true: the scenario's own [manikin], not the study's manikins
+    ergonomics = { frequency = 2.0, duration = "moderate" }   # NIOSH / RULA task facts (ErgoOptions)
+    [scenarios.parameters.box_height]
+    values = [0.35, 0.45, 0.55]
+    set = ["targets.hand_r.position[2]", "targets.hand_l.position[2]"]   # key paths (solver/study/keypath.py)
+    # or add = [...]: each value is added to the file's number there (an offset)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any
+
+from ..bodies import MANIKINS_DIR as PRESET_BODIES
+from ..bodies import body_from_dict, list_presets
+from ..ergonomics import ErgoOptions
+from ..errors import ManikinError, ScenarioError
+from ..io.files import read_toml
+from ..io.scenario_read import scenario_from_dict
+from ..io.table_reader import TableReader, is_number
+from ..model import Model
+from . import keypath
+
+RECORD = ("shortfall", "rula", "reba", "l4_l5", "strength", "niosh")
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+ERGO_KEYS = tuple(f.name for f in fields(ErgoOptions) if f.name != "manikin")  # the study sets the manikin
+MAX_REPEATS, MAX_JITTER = 1000, 1.0  # runs per combination; rad
+
+
+@dataclass(frozen=True)
+class Manikin:
+    """A study's manikin: its row name, a preset name or an absolute body file, and the body's tables (run id)."""
+
+    name: str
+    preset: str | None
+    file: Path | None
+    body: dict
+
+    @property
+    def key(self) -> str:
+        """A hash of the body's tables: the same body, the same key."""
+        return digest(self.body)
+
+    def table(self) -> dict:
+        """The scenario's [manikin] table that puts this manikin in it."""
+        return {"preset": self.preset} if self.preset is not None else {"file": str(self.file)}
+
+    def model(self) -> Model:
+        """The body built (as the scenario's [manikin] table would build it)."""
+        where = PRESET_BODIES / f"{self.preset}.toml" if self.preset else self.file
+        return body_from_dict(self.body, str(where), self.preset or self.file.stem)
+
+
+def digest(value: Any) -> str:
+    """A stable hex hash of JSON-able ``value`` (keys sorted)."""
+    text = json.dumps(value, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named parameter: its values and the key paths each value is set at (``set``) or added to (``add``)."""
+
+    name: str
+    values: tuple
+    set: tuple[str, ...]
+    add: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class StudyScenario:
+    """One [[scenarios]] entry: the scenario file's tables, its parameters and task facts."""
+
+    name: str
+    path: Path
+    data: dict
+    parameters: tuple[Parameter, ...]
+    keep_manikin: bool
+    ergonomics: dict
+
+
+@dataclass(frozen=True)
+class Study:
+    """A parsed study file (see the module docstring)."""
+
+    path: Path
+    name: str
+    manikins: tuple[Manikin, ...]
+    scenarios: tuple[StudyScenario, ...]
+    record: tuple[str, ...]
+    seed: int
+    repeats: int
+    start_jitter: float
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and check a study file; every problem is one ScenarioError line."""
+    path = Path(path)
+    root = TableReader(path, read_toml(path, ScenarioError), error=ScenarioError)
+    root.known({"manikins", "study", "scenarios"})
+    head = root.table("study")
+    if "manikins" in head.data:  # TOML puts every key after a [table] header into that table
+        raise head.fail("manikins", "manikins = [...] at the top of the file, before [study] (unknown key here)")
+    head.known({"name", "seed", "repeats", "start_jitter", "record"})
+    record = head.get("record", list(RECORD))
+    if not isinstance(record, list) or not all(r in RECORD for r in record):
+        raise head.fail("record", "a list of " + ", ".join(RECORD), record)
+    checked: set[str] = set()  # the scenario files found valid (a study may name one file many times)
+    scenarios = tuple(_scenario(t, path.parent, checked) for t in root.table_list("scenarios", non_empty=True))
+    _unique(root, "scenarios", [s.name for s in scenarios], "scenario names (give each a name)")
+    return Study(
+        path=path,
+        name=head.string("name", path.stem),
+        manikins=_manikins(root, path.parent),
+        scenarios=scenarios,
+        record=tuple(r for r in RECORD if r in record),
+        seed=head.integer("seed", 0, 0, 2**31 - 1),
+        repeats=head.integer("repeats", 1, 1, MAX_REPEATS),
+        start_jitter=head.number("start_jitter", 0.0, 0.0, MAX_JITTER, "rad"),
+    )
+
+
+def _unique(t: TableReader, key: str, names: list[str], what: str) -> None:
+    seen = {n for n in names if names.count(n) > 1}
+    if seen:
+        raise t.fail(key, f"distinct {what}", sorted(seen)[0] + " (twice)")
+
+
+def _manikins(root: TableReader, here: Path) -> tuple[Manikin, ...]:
+    """``manikins``: names of presets, body files or family folders (strings), or tables {preset|file|family}."""
+    items = root.get("manikins", [])
+    if not isinstance(items, list):
+        raise root.fail("manikins", "a list of preset names, body files or family folders", items)
+    out: list[Manikin] = []
+    for i, item in enumerate(items):
+        where = TableReader(root.path, {}, f"manikins[{i}]", ScenarioError)
+        if isinstance(item, str) and item:
+            out += _resolve(where, "", item, here, None)
+        elif isinstance(item, dict):
+            t = TableReader(root.path, item, f"manikins[{i}].", ScenarioError)
+            t.known({"preset", "file", "family", "name"})
+            given = [k for k in ("preset", "file", "family") if k in t.data]
+            if len(given) != 1:
+                raise t.fail("preset", 'exactly one of preset = "...", file = "body.toml" or family = "folder"')
+            name = t.string("name") if "name" in t.data else None
+            out += _resolve(where, given[0], t.string(given[0]), here, name)
+        else:
+            raise where.fail("", "a preset name, a body file, a family folder or a table {preset|file|family}", item)
+    _unique(root, "manikins", [m.name for m in out], 'manikin names (a table with name = "..." renames one)')
+    return tuple(out)
+
+
+def _resolve(where: TableReader, kind: str, text: str, here: Path, name: str | None) -> list[Manikin]:
+    """The manikins one entry names: a preset, a body file, or every body file of a family folder (its index,
+    a TOML without [body], is skipped)."""
+    path = Path(text) if Path(text).is_absolute() else here / text
+    if kind == "preset" or (not kind and text in list_presets() and not path.exists()):
+        if text not in list_presets():
+            raise where.fail("", "a manikin preset: " + ", ".join(list_presets()), text)
+        return [_manikin(where, name or text, text, PRESET_BODIES / f"{text}.toml")]
+    if kind != "file" and path.is_dir():
+        bodies = [p for p in sorted(path.glob("*.toml")) if "body" in read_toml(p, ScenarioError)]
+        if not bodies:
+            raise where.fail("", f"a family folder with body TOML files ({path} has none)", text)
+        return [_manikin(where, f"{name or path.name}/{_body_name(p)}", None, p) for p in bodies]
+    if kind == "family" or not path.is_file():
+        what = "a family folder" if kind == "family" else "a preset name, a body file or a family folder"
+        raise where.fail("", f"{what} (not found: {path})", text)
+    return [_manikin(where, name or _body_name(path), None, path)]
+
+
+def _body_name(path: Path) -> str:
+    body = read_toml(path, ScenarioError).get("body", {})
+    name = body.get("name") if isinstance(body, dict) else None
+    return name if isinstance(name, str) and name else path.stem
+
+
+def _manikin(where: TableReader, name: str, preset: str | None, path: Path) -> Manikin:
+    """Check the body builds (one line naming it if not) and keep its tables for the run ids."""
+    data = read_toml(path, ScenarioError)
+    try:
+        body_from_dict(data, str(path), name)
+    except ManikinError as exc:
+        raise where.fail("", f"a body that builds ({exc})") from None
+    return Manikin(name, preset, None if preset else path.resolve(), data)
+
+
+def _scenario(t: TableReader, here: Path, checked: set[str]) -> StudyScenario:
+    t.known({"file", "name", "keep_manikin", "ergonomics", "parameters"})
+    t.required("file")
+    path = Path(t.string("file"))
+    path = (path if path.is_absolute() else here / path).resolve()
+    data = read_toml(path, ScenarioError)
+    if digest([str(path), data]) not in checked:
+        try:
+            scenario_from_dict(data, path)  # the file as it is must be a scenario; a parameter's value may still fail
+        except ManikinError as exc:
+            raise t.fail("file", f"a valid scenario ({exc})") from None
+        checked.add(digest([str(path), data]))
+    ergo = t.table("ergonomics")
+    ergo.known(ERGO_KEYS)
+    try:
+        ErgoOptions(**ergo.data).check()
+    except (TypeError, ValueError) as exc:
+        raise ergo.fail("", f"ergonomics options ({exc})") from None
+    named = t.named_tables("parameters")
+    parameters = tuple(_parameter(name, p, data) for name, p in named.items())
+    return StudyScenario(t.string("name", path.stem), path, data, parameters, t.boolean("keep_manikin", False),
+                         dict(ergo.data))  # fmt: skip
+
+
+def _parameter(name: str, t: TableReader, data: dict) -> Parameter:
+    """One [scenarios.parameters.NAME] table: values and the key paths they go to, each path checked in ``data``."""
+    if not NAME.fullmatch(name):
+        raise t.fail("", "a parameter name of letters, digits and _ (not starting with a digit)", name)
+    t.known({"values", "set", "add"})
+    values = t.get("values")
+    if not isinstance(values, list) or not values or not all(_plain(v) for v in values):
+        raise t.fail("values", "a non-empty list of finite numbers, booleans, strings or lists of them", values)
+    if len({repr(v) for v in values}) != len(values):
+        raise t.fail("values", "distinct values", values)
+    paths = {}
+    for key in ("set", "add"):
+        paths[key] = t.get(key, [])
+        if not isinstance(paths[key], list) or not all(isinstance(p, str) for p in paths[key]):
+            raise t.fail(key, "a list of key paths such as 'targets.hand_r.position[2]'", paths[key])
+        for i, p in enumerate(paths[key]):
+            try:
+                keypath.check(data, p, values, add=key == "add")
+            except ValueError as exc:
+                raise t.fail(f"{key}[{i}]", f"a key path into the scenario ({p}: {exc})") from None
+    if not paths["set"] and not paths["add"]:
+        raise t.fail("set", "at least one key path in set = [...] or add = [...]")
+    return Parameter(name, tuple(values), tuple(paths["set"]), tuple(paths["add"]))
+
+
+def _plain(value) -> bool:
+    """A parameter value: a finite number, a boolean, a string or a list of them (no table, no NaN)."""
+    if isinstance(value, list):
+        return all(_plain(v) for v in value)
+    return isinstance(value, bool | str) or is_number(value)
