@@ -191,20 +191,34 @@ def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
         for name in ("without", "mesh", "box"):
             if not r[name]["converged"] or r[name]["broken"]:
                 lines.append(f"{label}, {name}: NOT converged (priority 1 broken: {r[name]['broken'] or 'none'}).")
-    worst = max(r["mesh"]["time"][0] / r["without"]["time"][0] for r in rows.values())
-    warm = max(r["mesh"]["warm"][0] / r["without"]["warm"][0] for r in rows.values())
+
+    def most(ratio) -> float:
+        return max(ratio(r) for r in rows.values())
+
+    def per_iteration(r: dict, name: str) -> float:
+        return r[name]["time"][0] / max(r[name]["iterations"], 1)
+
+    cold = most(lambda r: r["mesh"]["time"][0] / r["without"]["time"][0])
+    warm = most(lambda r: r["mesh"]["warm"][0] / r["without"]["warm"][0])
+    step = most(lambda r: per_iteration(r, "mesh") / per_iteration(r, "without"))
+    primitive = most(lambda r: r["mesh"]["time"][0] / r["box"]["time"][0])
     lines += [
         "",
-        "Issue 20's target (a pose near the mesh at most 2x the pose without it):"
-        f" re-solving a pose near or on the mesh as a target moves (warm) {'met' if warm <= 2.0 else 'NOT met'}"
-        f" (up to {warm:.2f}x); a cold solve from the zero pose {'met' if worst <= 2.0 else 'NOT met'}"
-        f" (up to {worst:.2f}x). A cold solve's ratio is mostly iterations: the arms swing up from the zero pose"
-        " past the cabinet's front and top, and pressing ends in another pose than the one without it; the box"
-        " primitive shares that. The mesh's own part is the query, a fixed cost per call of NumPy overhead (tree"
-        " walk, bounds, exact kernel) rather than of its triangles: 2 and 4 capsules near the mesh cost about the"
-        " same.",
+        "Issue 20's target (a pose near the mesh at most 2x the pose without it): per iteration (each pose the solver"
+        f" handles) up to {step:.2f}x, {_verdict(step)}; re-solving a pose near or on the mesh as a target moves (warm,"
+        f" as Live does) up to {warm:.2f}x, {_verdict(warm)}; a cold solve from the zero pose up to {cold:.2f}x,"
+        f" {_verdict(cold)}. The mesh against the same cabinet as a box primitive: up to"
+        f" {primitive:.2f}x. A cold solve's ratio is mostly iterations: the arms swing up from the zero pose past the"
+        " cabinet's front and top, and pressing ends in another pose than the one without it; the box primitive"
+        " shares that. The mesh's own part is the query, a fixed cost per call of NumPy overhead (bounds, exact"
+        " kernel; the tree walk is skipped while the capsules stay within 2 cm of their last query) rather than of its"
+        " triangles.",
     ]
     return "\n".join(lines)
+
+
+def _verdict(ratio: float) -> str:
+    return "met" if ratio <= 2.0 else "NOT met"
 
 
 def run(repeats: int, output: Path | None) -> str:
