@@ -8,7 +8,7 @@ from .scenarios import run_benchmarks, write_section
 
 __all__ = ["one_core", "run_benchmarks", "write_section"]
 
-BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+from ..threads import BLAS_THREADS
 
 
 def one_core(module: str) -> None:

@@ -30,6 +30,7 @@ from ..options import SolverOptions
 from ..problem import Problem, Target
 from ..reduction import DEFAULT_GROUPS, GROUPS
 from ..spatial import exp_so3
+from ..threads import single_threaded_blas
 from .peer_report import NO_COMFORT, PEERS, level_stats, peer_report
 from .peers import PeerResult, placo_available, placo_peer, slsqp_peer
 from .scenarios import machine, speed_reference, write_section
@@ -70,7 +71,6 @@ THESIS = {  # Delfs 2012 tables 6.1-6.3: (successes of 1000, max t s, average t 
 }
 THESIS["physics + reduction + shoulder rhythm"] = THESIS["physics + reduction"]  # the thesis reduced the shoulders
 PRESET = "male_50"
-BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 @dataclass(frozen=True)
@@ -172,16 +172,8 @@ def _pool(processes: int):
     Forked workers inherit the parent's already loaded BLAS with its thread count (2 here): two workers on two
     cores then run four BLAS threads, which made small dense solves (SLSQP's above all) several times slower.
     """
-    saved = {k: os.environ.get(k) for k in BLAS_THREADS}
-    os.environ.update({k: "1" for k in BLAS_THREADS})
-    try:
+    with single_threaded_blas():
         return multiprocessing.get_context("spawn").Pool(processes, initializer=_init_worker)
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
 
 
 def run_random_benchmark(

@@ -10,20 +10,18 @@ Dask is an optional extra (``pip install -r requirements-dask.txt``), imported o
 
 from __future__ import annotations
 
-import os
 import signal
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from contextlib import contextmanager
 from multiprocessing import get_context
 from types import ModuleType
 
 from ..errors import UsageError
+from ..threads import single_threaded_blas
 from .plan import Run
 from .runner import failed, run_chunk
 
-BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 IN_FLIGHT = 3  # chunks under way per worker: enough to keep it busy, few enough to hold little in memory
 MAX_CHUNK = 50  # runs per chunk at most: a chunk is also what a crash or Ctrl-C can lose
 CHUNKS_PER_WORKER = 8  # at least, while runs last: the last chunks then end close together
@@ -60,21 +58,6 @@ def ignore_interrupts() -> None:
     """In a worker process: Ctrl-C is the parent's to handle (it keeps the rows done and stops the pool); a worker
     that took it too would die mid-run with a traceback."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-@contextmanager
-def single_threaded_blas() -> Iterator[None]:
-    """Processes started inside inherit BLAS limited to one thread (NumPy reads it once, as it loads)."""
-    saved = {k: os.environ.get(k) for k in BLAS_THREADS}
-    os.environ.update({k: "1" for k in BLAS_THREADS})
-    try:
-        yield
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
 
 
 def run_local(runs: list[Run], workers: int, size: int, on_rows: OnRows) -> None:
