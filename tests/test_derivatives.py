@@ -219,3 +219,26 @@ def test_carried_box_jacobian():
         error[watched] = numeric[watched]
         np.testing.assert_allclose(analytic, error, atol=1e-6 * scale)
     assert (seen >= 3).all(), seen
+
+
+def test_carried_box_point_velocity():
+    """carried_point_rows: n . (velocity of a point fixed in the carried box) per TCP velocity, against central
+    differences of carried_frame; hands side by side, tilted, and one above the other (world y as reference)."""
+    from solver.carried import carried_frame, carried_point_rows
+
+    rng = np.random.default_rng(3)
+    pairs = [(rng.normal(size=3), rng.normal(size=3)) for _ in range(4)]
+    pairs.append((np.array([0.1, -0.3, 0.9]), np.array([0.11, -0.32, 1.3])))  # nearly vertical
+    for first, second in pairs:
+        local, normal = rng.normal(size=(5, 3)), rng.normal(size=(5, 3))
+        rotation = carried_frame(first, second)[1]
+        n1, n2 = carried_point_rows(first, second, rotation, local, normal)
+
+        def point(p, q, local=local):
+            centre, rotation = carried_frame(p, q)
+            return centre + local @ rotation.T
+
+        for rows, moved in ((n1, lambda p, q=second: point(p, q)), (n2, lambda q, p=first: point(p, q))):
+            start = first if rows is n1 else second
+            velocity = finite_difference(lambda v, moved=moved: moved(v).ravel(), start).reshape(5, 3, 3)
+            np.testing.assert_allclose(rows, np.einsum("ki,kij->kj", normal, velocity), atol=1e-8)

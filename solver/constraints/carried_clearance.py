@@ -44,20 +44,25 @@ class CarriedClearance(ClearanceRows):
         self.floor = np.full(len(names), CLEARANCE)
         self._half = np.asarray(carried.size, dtype=float) / 2.0
 
-    def held(self, state: State) -> np.ndarray:
-        """The two TCPs' world positions (m), (2, 3)."""
-        return np.array([state.kin.tcp_frame(tcp)[1] for tcp in self.tcps])
+    def placed(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(the two TCPs' world positions (2, 3) m, the box's centre (3,) m and rotation (3, 3)) at ``state``, once
+        per state."""
+        key = (self, "placed")
+        got = state.cache.get(key)
+        if got is None:
+            held = np.array([state.kin.tcp_frame(tcp)[1] for tcp in self.tcps])
+            got = state.cache[key] = (held, *carried_frame(held[0], held[1]))
+        return got
 
     def frame(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """(centre (3,) m, rotation (3, 3)) of the box at ``state``."""
-        return carried_frame(*self.held(state))
+        return self.placed(state)[1:]
 
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps, half = self.capsules, self._half
         k = len(caps)
         p0, p1 = caps.world(state.kin)
         centre, rotation = self.frame(state)
-        state.cache[(self, "frame")] = centre, rotation
         # only capsules whose box-frame bounds, grown by radius + margin, meet the box are measured; the rest are
         # met by more than the margin and get margin + 1 m and a zero normal (no Jacobian), as obstacles' rows do
         a, b = (p0 - centre) @ rotation, (p1 - centre) @ rotation
@@ -78,9 +83,9 @@ class CarriedClearance(ClearanceRows):
         distance, points, normals, capsule = self._evaluate(state)
         normal, k = normals[rows], len(rows)
         on_box = points[rows] - (distance[rows] + self.capsules.radius[capsule[rows]])[:, None] * normal
-        first, second = held = self.held(state)
-        centre, rotation = state.cache[(self, "frame")]
-        n1, n2 = carried_point_rows(first, second, (on_box - centre) @ rotation, normal)
+        held, centre, rotation = self.placed(state)
+        first, second = held
+        n1, n2 = carried_point_rows(first, second, rotation, (on_box - centre) @ rotation, normal)
         # one call for the three points: the witness on the capsule, and each TCP moving the box's point
         descendant = self.model.descendant
         links = np.concatenate([self.capsules.link[capsule[rows]], np.repeat([t.link for t in self.tcps], k)])

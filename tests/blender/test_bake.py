@@ -96,13 +96,14 @@ def test_bake_keys_every_joint_and_leaves_keys_outside_the_range(session: dict, 
 
 
 def test_baked_keys_are_the_solver_joint_values(session: dict, model) -> None:
-    """An independent solve of the same frames (targets in the scene's order) gives the keyed joint values."""
+    """An independent solve of the same frames (targets in the scene's order, the body kept out of the carried box)
+    gives the keyed joint values."""
     sc = load_scenario(MOTION)
     loads = sorted(sc.problem.load_specs, key=lambda ld: ld.tcp)
 
     def problem_at(frame: int) -> Problem:
         targets = sorted(sc.problem_at(frame).all_targets, key=lambda t: t.tcp)
-        return Problem(model, targets, [], loads, True, sc.problem.comfort.weights)
+        return Problem(model, targets, [], loads, True, sc.problem.comfort.weights, carried=sc.carried)
 
     frames = list(range(2, 10))
     solved = solve_frames(problem_at, frames, np.array(session["x_at_2"]), sc.options, sc.limits)
