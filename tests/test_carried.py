@@ -19,6 +19,7 @@ from solver.carried import Carried, carried_box, carried_frame
 from solver.collision import Box, HalfSpace, box_distance, obstacle_distance
 from solver.collision.body import capsules_of
 from solver.errors import ScenarioError
+from solver.priorities import ranked
 from solver.problem import Problem, Target
 from solver.spatial import quat_to_matrix
 
@@ -142,6 +143,20 @@ def test_the_body_keeps_out_of_a_box_carried_low_in_front_of_the_hips():
     assert "pelvis vs box" in {c.pair for c in result.closest}
 
 
+def test_a_box_too_big_to_hold_leaves_a_hand_short_not_the_body_inside():
+    """Priority 1 like every clearance: a box 1.4 m deep and 1 m high between hands 15 cm ahead of the ankles cannot
+    be held with the body out of it; the ranked solve leaves a hand short (priority 2) and the body out."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 1.4, 1.0]), ("hand_r", "hand_l"), "box")
+    problem = held_low(model, box)
+    assert problem.carried_constraint in ranked(problem).constraints
+    result = solver.solve(problem)
+    assert not result.converged and result.broken == [] and set(result.unmet) <= {"hand_r", "hand_l"}
+    assert result.shortfall and max(s["position_m"] for s in result.shortfall.values()) > 0.05
+    seen = box_gaps(model, result, box)
+    assert min(d for part, d in seen.items() if part not in ("hand_r", "hand_l")) >= -TOLERANCE, seen
+
+
 def test_every_frame_of_a_motion_keeps_the_carried_box():
     """problem_at shares the carried box's rows across frames; other supports (a new problem) keep it too."""
     scenario = solver.load_scenario(SCENARIOS / "box_lift_motion.toml")
@@ -166,7 +181,7 @@ def test_the_carried_frame_is_upright_between_the_two_points():
 
 def test_carried_is_written_back_and_read_again(tmp_path):
     scenario = solver.load_scenario(SCENARIOS / "box_lift_motion.toml")
-    data = solver.scenario_to_dict(scenario.problem, {"preset": "male_50"}, carried=scenario.carried)
+    data = solver.scenario_to_dict(scenario.problem, {"preset": "male_50"})  # the problem's own carried box
     path = tmp_path / "again.toml"
     solver.write_scenario(path, data)
     again = solver.load_scenario(path).carried
