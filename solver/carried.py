@@ -1,18 +1,24 @@
-"""A box carried between two TCPs (``[carried]`` in a scenario): where it is, from where the two TCPs are.
+"""A box carried between two TCPs (``[carried]`` in a scenario): where it is, and how it moves, from the two TCPs.
 
-The box is no obstacle: it moves with the hands, so the solver does not see it; pictures and the .blend show it,
-and tests check that the body stays out of it. Its centre is the midpoint of the two TCPs, its x axis runs from
-the first TCP to the second, its z axis is as near world up as that allows. ``size`` (m) is along x (between the
-hands), y (depth) and z (height). Units: m.
+Its centre is the midpoint of the two TCPs, its x axis runs from the first TCP to the second, its z axis is as
+near world up as that allows. ``size`` (m) is along x (between the hands), y (depth) and z (height). Units: m.
+
+The solver keeps the body out of it (:class:`~solver.constraints.carried_clearance.CarriedClearance`): the box moves
+with the hands, so a row's Jacobian needs the velocity of the box's material point at the closest point, which
+:func:`carried_point_rows` gives in terms of the two TCPs' velocities. Pictures and the .blend show the box.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .collision import Box
+from .collision.closest import cross, dot
+
+CLEARANCE = 0.0  # m: the body may touch the box (a box carried against the belly) but not enter it
 
 
 @dataclass(frozen=True)
@@ -24,20 +30,54 @@ class Carried:
     name: str = "carried box"
 
 
+def _up(x) -> np.ndarray:
+    """The reference the z axis is made square to: world up, or world y for a near-vertical x."""
+    return np.array([0.0, 0.0, 1.0]) if abs(x[2]) < 0.99 else np.array([0.0, 1.0, 0.0])
+
+
 def carried_frame(first: np.ndarray, second: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(centre (3,) m, rotation (3, 3): columns x, y, z) of a box held between the points ``first`` and
     ``second`` (m, world). Upright: x from first to second, z world up made square to x; a vertical x (the hands
     one above the other) takes world y as its reference instead."""
     first, second = np.asarray(first, dtype=float), np.asarray(second, dtype=float)
-    x = second - first
-    x = x / max(float(np.linalg.norm(x)), 1e-12)
-    up = np.array([0.0, 0.0, 1.0]) if abs(x[2]) < 0.99 else np.array([0.0, 1.0, 0.0])
-    z = up - x * float(up @ x)
-    z /= np.linalg.norm(z)
-    return (first + second) / 2.0, np.column_stack([x, np.cross(z, x), z])
+    # plain floats: called at every trial pose of a solve, where NumPy's per-call cost on 3-vectors dominates
+    dx, dy, dz = (second - first).tolist()
+    length = max(math.sqrt(dx * dx + dy * dy + dz * dz), 1e-12)
+    x = (dx / length, dy / length, dz / length)
+    ux, uy, uz = (0.0, 0.0, 1.0) if abs(x[2]) < 0.99 else (0.0, 1.0, 0.0)  # as _up
+    along = ux * x[0] + uy * x[1] + uz * x[2]
+    z = (ux - along * x[0], uy - along * x[1], uz - along * x[2])
+    size = math.sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2])
+    z = (z[0] / size, z[1] / size, z[2] / size)
+    y = (z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0])  # z cross x
+    return (first + second) / 2.0, np.array([x, y, z]).T
 
 
 def carried_box(carried: Carried, first: np.ndarray, second: np.ndarray) -> Box:
     """The carried box as a :class:`~solver.collision.Box` when its TCPs are at ``first`` and ``second`` (m)."""
     centre, rotation = carried_frame(first, second)
     return Box(centre, carried.size, rotation, name=carried.name)
+
+
+def carried_point_rows(first: np.ndarray, second: np.ndarray, rotation: np.ndarray, local: np.ndarray,
+                       normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """(n1, n2), each (k, 3): n . (velocity of the box's material point at ``local`` (k, 3), box coordinates, m) =
+    n1 . p1' + n2 . p2' for the TCP velocities p1', p2' (``first``, ``second``: the TCPs, m; ``rotation`` their
+    :func:`carried_frame`; ``normal`` (k, 3)).
+
+    With d = p2 - p1, L = |d|, x = d / L, u the up reference, w = u - x (u.x), z = w / |w|, y = z x x, the point
+    q = c + R b moves at c' + R' b, c' = (p1' + p2') / 2, and
+    x' = (I - x x^T) d' / L,  z' = -(I - z z^T) ((u.x) I + x u^T) x' / |w|,  y' = z' x x + z x x',
+    so n . R' b = x'.(b_x n + b_y n x z) + z'.(b_z n + b_y x x n) = h . d' (h below), and n1 = n/2 - h, n2 = n/2 + h.
+    """
+    length = max(float(np.linalg.norm(np.subtract(second, first))), 1e-12)
+    x, z = rotation[:, 0], rotation[:, 2]
+    u = _up(x)
+    along = float(u @ x)
+    s = math.sqrt(max(1.0 - along * along, 1e-24))  # |w|
+    bx, by, bz = (local[:, i : i + 1] for i in range(3))
+    a = bz * normal + by * cross(x, normal)  # n . R' b = x' . g0 + z' . a
+    pa = a - z * dot(a, z)[:, None]  # (I - z z^T) a
+    g = bx * normal + by * cross(normal, z) - (along * pa + u * dot(pa, x)[:, None]) / s  # M^T = (u.x) I + u x^T
+    h = (g - x * dot(g, x)[:, None]) / length
+    return normal / 2.0 - h, normal / 2.0 + h

@@ -12,10 +12,12 @@ import copy
 import numpy as np
 
 from .bounds import Bounds
+from .carried import Carried
 from .collision import Obstacle
 from .collision.body import capsules_of
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
+from .constraints.carried_clearance import CarriedClearance
 from .constraints.clearance import Clearance, ClearanceRows, Closeness, floor_clearance
 from .constraints.inequality import Inequality
 from .constraints.self_clearance import SelfClearance
@@ -45,12 +47,14 @@ class Problem:
         floor: bool = True,
         obstacles: list[Obstacle] = (),
         self_collision: bool = True,
+        carried: Carried | None = None,
     ) -> None:
         """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
         ``comfort`` replaces the standard terms weighted by ``comfort_weights``; ``floor`` keeps every body part
         above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`); the body keeps each of ``obstacles``
         (:mod:`solver.collision` shapes) at its clearance; ``self_collision`` keeps hands and forearms out of the
-        trunk, head and thighs and the shanks apart (:mod:`solver.collision.self_pairs`)."""
+        trunk, head and thighs and the shanks apart (:mod:`solver.collision.self_pairs`); the body but the holding
+        hands stays out of a ``carried`` box (:mod:`solver.constraints.carried_clearance`)."""
         validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
@@ -81,6 +85,9 @@ class Problem:
         self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if self_collision else None
         if self.self_constraint is not None and not self.self_constraint.rows:
             self.self_constraint = None  # a body without the named parts (the snake)
+        self.carried = carried
+        self.carried_constraint = None if carried is None else CarriedClearance(model, capsules_of(model), carried,
+                                                                                self.n_x)  # fmt: skip
         self.extra_constraints = list(extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
         self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
@@ -114,6 +121,7 @@ class Problem:
                 floor=self.floor,
                 obstacles=self.obstacles,
                 self_collision=self.self_collision,
+                carried=self.carried,
             )
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
@@ -169,7 +177,7 @@ class Problem:
         frames = [*target_constraints, *self.loop_constraints]
         self.frames = FrameGroup(frames) if frames else None
         rows = [self.frames, self.balance_constraint, self.floor_constraint, self.obstacle_constraint,
-                self.self_constraint]  # fmt: skip
+                self.self_constraint, self.carried_constraint]  # fmt: skip
         rows += self.extra_constraints
         rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows
@@ -317,8 +325,8 @@ class Problem:
         return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
 
     def closest(self, state: State) -> list[Closeness]:
-        """The clearance rows within their margin (the floor's, the obstacles', the body's own and any extra
-        :class:`~solver.constraints.clearance.Clearance`), nearest first."""
+        """The clearance rows within their margin (the floor's, the obstacles', the body's own, the carried box's and
+        any extra :class:`~solver.constraints.clearance.Clearance`), nearest first."""
         near = [pair for c in self.constraints if isinstance(c, ClearanceRows) for pair in c.closest(state)]
         return sorted(near, key=lambda pair: pair.distance)
 

@@ -33,7 +33,7 @@ class Scenario:
     frames: list[int]
     tracks: list[Track]
     limits: MotionLimits | None
-    carried: Carried | None = None  # a box held between two TCPs ([carried]): shown, not solved against
+    carried: Carried | None = None  # a box held between two TCPs ([carried]): the problem keeps the body out
 
     @property
     def frame(self) -> int:

@@ -10,6 +10,10 @@ Deliberately plain methods, each obviously right rather than fast:
 - Spheres and planes in closed form; a mesh as the minimum over its triangles (point-triangle: the plane when the
   projection falls inside, else the nearest of the three edges), with a bounding-ball cull that drops only
   triangles that cannot be the nearest; inside a closed mesh by the generalised winding number (solid angles).
+- A carried box (a frame's ``carried`` entry) is placed again from the frame's own TCP positions (centre their
+  midpoint, x from the first to the second, z world up made square to x, or world y for a near-vertical x), checked
+  against the centre and rotation the file states, and then measured like any box, leaving out the capsules on the
+  two holding TCPs' links (the hands holding it).
 - Penetration is the depth of the deepest point of the capsule's axis inside the obstacle plus the radius, so the
   measured "distance" is negative whenever the capsule and the obstacle overlap; where they are apart it is the
   exact surface-to-surface distance. (For a box the solver reports the shortest separating translation instead,
@@ -151,7 +155,7 @@ def axis_distance(ob: dict, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
         a, b = np.asarray(ob["a"], dtype=float), np.asarray(ob["b"], dtype=float)
         return minimise_convex(lambda t: point_segment(along(p0, p1)(t), a, b), k) - ob["radius"]
     if kind == "box":
-        rotation = quaternion_matrix(ob.get("rotation", [1.0, 0.0, 0.0, 0.0]))
+        rotation = _box_rotation(ob)
         return minimise_convex(lambda t: point_box(along(p0, p1)(t), ob["center"], ob["size"], rotation), k)
     if kind == "mesh":
         return mesh_axis_distance(p0, p1, ob)
@@ -165,7 +169,7 @@ def surface_distance(ob: dict, point: np.ndarray) -> float:
         tris = ob["triangles"]
         return float(point_triangle(point, tris[:, 0], tris[:, 1], tris[:, 2]).min())
     if kind == "box":
-        rotation = quaternion_matrix(ob.get("rotation", [1.0, 0.0, 0.0, 0.0]))
+        rotation = _box_rotation(ob)
         return abs(float(point_box(point, ob["center"], ob["size"], rotation)))
     return abs(float(axis_distance(ob, point[None], point[None])[0]))
 
@@ -208,6 +212,35 @@ def scenario_obstacles(path: str | Path) -> tuple[list[dict], bool]:
     return out, bool(data.get("floor", {}).get("enabled", True))
 
 
+def carried_obstacle(frame: dict) -> tuple[dict, set[str], list[str]]:
+    """The frame's carried box as a box obstacle table placed from its TCPs, the links it leaves out (the holding
+    TCPs') and the disagreements with the centre and rotation the file states."""
+    entry, tcps = frame["carried"], frame["tcps"]
+    first, second = (np.asarray(tcps[name]["position"], dtype=float) for name in entry["tcps"])
+    x = (second - first) / np.linalg.norm(second - first)
+    up = np.array([0.0, 0.0, 1.0]) if abs(x[2]) < 0.99 else np.array([0.0, 1.0, 0.0])
+    z = up - (up @ x) * x
+    z /= np.linalg.norm(z)
+    rotation = np.column_stack([x, np.cross(z, x), z])
+    centre = (first + second) / 2.0
+    stated = quaternion_matrix(entry["rotation"])
+    out = []
+    for what, error in (("center", np.abs(np.subtract(entry["center"], centre)).max()),
+                        ("rotation", np.abs(stated - rotation).max())):  # fmt: skip
+        if error > AGREE:
+            out.append(f"frame {frame['frame']}: carried {entry['name']!r}: {what} off by {error:.3g} (vs its TCPs)")
+    box = dict(kind="box", name=entry["name"], center=centre.tolist(), size=entry["size"], rotation_matrix=rotation,
+               clearance=float(entry["clearance"]))  # fmt: skip
+    return box, {tcps[name]["link"] for name in entry["tcps"]}, out
+
+
+def _box_rotation(ob: dict) -> np.ndarray:
+    """A box table's rotation matrix: given as one (a carried box) or as a quaternion (default none)."""
+    if "rotation_matrix" in ob:
+        return np.asarray(ob["rotation_matrix"], dtype=float)
+    return quaternion_matrix(ob.get("rotation", [1.0, 0.0, 0.0, 0.0]))
+
+
 def _shapes(frame: dict) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
     shapes = frame["collision_shapes"]
     names = [s["link"] for s in shapes]
@@ -232,15 +265,24 @@ def _reported(frame: dict, entry: dict, distance: float, other_surface: float, p
 def frame_problems(frame: dict, obstacles: list[dict], floor: bool, tolerance: float = TOLERANCE) -> list[str]:
     """Everything wrong with one result frame: a capsule below the floor, inside an obstacle's clearance or
     overlapping another body part (a pair in ``closest``) by more than ``tolerance``; a closest entry whose
-    distance or points disagree with the recomputed ones; an obstacle in contact missing from ``closest``."""
+    distance or points disagree with the recomputed ones; an obstacle in contact missing from ``closest``; a carried
+    box (the frame's ``carried``) placed elsewhere than between its TCPs, or with a body part but the holding hands in
+    it."""
     names, p0, p1, radius = _shapes(frame)
     link = {n: i for i, n in enumerate(names)}
     out, number = [], frame["frame"]
+    held: dict[str, np.ndarray] = {}  # per obstacle, the capsules it leaves out: a carried box's holding hands
+    if "carried" in frame:
+        box, holding, wrong = carried_obstacle(frame)
+        out += wrong
+        obstacles = [*obstacles, box]
+        held[box["name"]] = np.isin(names, list(holding))
     others = list(obstacles) + ([dict(kind="plane", name="floor", point=[0, 0, 0], normal=[0, 0, 1], clearance=0.0)]
                                 if floor else [])  # fmt: skip
     distances = {}
     for ob in others:
         distance = axis_distance(ob, p0, p1) - radius
+        distance[held.get(ob["name"], np.zeros(len(names), dtype=bool))] = np.inf
         distances[ob["name"]] = distance
         for i in np.flatnonzero(distance < ob["clearance"] - tolerance):
             out.append(f"frame {number}: {names[i]} vs {ob['name']}: {distance[i]:.4f} m, clearance {ob['clearance']}")

@@ -1,7 +1,8 @@
-"""The scenes with obstacles: the cabinet reach and the box lift (shelf, table, a box carried by its sides).
+"""The scenes with obstacles: the cabinet reach and the box lift (shelf, table, a box carried by its sides), and the
+carried box as a clearance the solver keeps (every body part but the holding hands stays out of it).
 
 Every check recomputes distances from the result JSON alone (the capsules it lists, the obstacles of the
-scenario), independently of the solver's own clearance rows.
+scenario), or from the solved pose, independently of the solver's own clearance rows.
 """
 
 from __future__ import annotations
@@ -13,9 +14,14 @@ import numpy as np
 import pytest
 
 import solver
+from solver.bodies import load_body
 from solver.carried import Carried, carried_box, carried_frame
 from solver.collision import Box, HalfSpace, box_distance, obstacle_distance
+from solver.collision.body import capsules_of
 from solver.errors import ScenarioError
+from solver.priorities import ranked
+from solver.problem import Problem, Target
+from solver.spatial import quat_to_matrix
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "presets" / "scenarios"
 TOLERANCE = 1e-3  # m: no penetration beyond this
@@ -92,9 +98,75 @@ def test_the_box_lift_holds_the_box_by_its_sides_between_a_shelf_and_a_table(tmp
             assert box_distance(a, b, np.zeros(len(a)), obstacle).distance.min() >= -TOLERANCE
             a, b = box_edges(obstacle)
             assert box_distance(a, b, np.zeros(len(a)), box).distance.min() >= -TOLERANCE
+        assert np.allclose(frame["carried"]["center"], box.center) and frame["carried"]["excluded"] == [
+            "hand_r",
+            "hand_l",
+        ]
+    near = {c["part"] for frame in frames for c in frame["closest"] if c["other"] == "box"}
+    assert {"forearm_r", "forearm_l"} <= near  # the solver sees the box: the wrists pass just outside its sides
     bottom = [b.center[2] - b.half[2] for b in boxes]
     assert bottom[0] == pytest.approx(shelf.center[2] + shelf.half[2], abs=0.01)  # starts standing on the shelf
     assert bottom[-1] == pytest.approx(table.center[2] + table.half[2], abs=0.01)  # ends standing on the table
+
+
+def held_low(model, carried: Carried | None) -> Problem:
+    """Feet on the floor, the palms on the sides of a box held low in front of the hips (hands at 0.8 m, 15 cm
+    ahead of the ankles: a box 30 cm deep reaches back over the hips)."""
+    targets = [Target(f"foot_{s}", np.array([x, 0.0, 0.0]), lock=("z", "rx", "ry"), support=True)
+               for s, x in (("r", -0.083), ("l", 0.083))]  # fmt: skip
+    for side, x, turn in (("r", -0.202, 1.0), ("l", 0.202, -1.0)):
+        palm = quat_to_matrix(np.array([np.sqrt(0.5), 0.0, turn * np.sqrt(0.5), 0.0]))  # its normal towards the box
+        targets.append(Target(f"hand_{side}", np.array([x, -0.15, 0.8]), palm, lock=("x", "y", "z", "rx", "ry")))
+    return Problem(model, targets, carried=carried)
+
+
+def box_gaps(model, result, carried: Carried) -> dict[str, float]:
+    """Each capsule's surface distance (m) to the box between the solved hands, recomputed from the pose."""
+    kin = result.state.kin
+    capsules = capsules_of(model)
+    box = carried_box(carried, *(kin.tcp_frame(model.tcp(t))[1] for t in carried.tcps))
+    distance = box_distance(*capsules.world(kin), capsules.radius, box).distance
+    return dict(zip(capsules.names, distance.tolist(), strict=True))
+
+
+def test_the_body_keeps_out_of_a_box_carried_low_in_front_of_the_hips():
+    """Unseen, the box would hold the hips and thighs 14-16 cm deep inside it; seen, the body moves out of it (the
+    hips back), converged, every part but the holding hands at least at the box's surface, the nearest listed."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
+    unseen = box_gaps(model, solver.solve(held_low(model, None)), box)
+    assert unseen["pelvis"] < -0.1 and unseen["thigh_r"] < -0.1
+    result = solver.solve(held_low(model, box))
+    assert result.converged and not result.unmet
+    seen = box_gaps(model, result, box)
+    assert min(d for part, d in seen.items() if part not in ("hand_r", "hand_l")) >= -TOLERANCE, seen
+    assert "pelvis vs box" in {c.pair for c in result.closest}
+
+
+def test_a_box_too_big_to_hold_leaves_a_hand_short_not_the_body_inside():
+    """Priority 1 like every clearance: a box 1.4 m deep and 1 m high between hands 15 cm ahead of the ankles cannot
+    be held with the body out of it; the ranked solve leaves a hand short (priority 2) and the body out."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 1.4, 1.0]), ("hand_r", "hand_l"), "box")
+    problem = held_low(model, box)
+    assert problem.carried_constraint in ranked(problem).constraints
+    result = solver.solve(problem)
+    assert not result.converged and result.broken == [] and set(result.unmet) <= {"hand_r", "hand_l"}
+    assert result.shortfall and max(s["position_m"] for s in result.shortfall.values()) > 0.05
+    seen = box_gaps(model, result, box)
+    assert min(d for part, d in seen.items() if part not in ("hand_r", "hand_l")) >= -TOLERANCE, seen
+
+
+def test_every_frame_of_a_motion_keeps_the_carried_box():
+    """problem_at shares the carried box's rows across frames; other supports (a new problem) keep it too."""
+    scenario = solver.load_scenario(SCENARIOS / "box_lift_motion.toml")
+    rows = scenario.problem.carried_constraint
+    assert rows is not None and rows.carried is scenario.carried and rows.excluded == ("hand_r", "hand_l")
+    assert all(scenario.problem_at(f).carried_constraint is rows for f in (1, 30, 60))
+    assert rows in scenario.problem_at(30).constraints
+    one_foot = [t for t in scenario.problem.all_targets if t.tcp != "foot_l"]
+    again = scenario.problem.with_targets(one_foot)
+    assert again.carried_constraint is not rows and again.carried_constraint.carried is scenario.carried
 
 
 def test_the_carried_frame_is_upright_between_the_two_points():
@@ -109,7 +181,7 @@ def test_the_carried_frame_is_upright_between_the_two_points():
 
 def test_carried_is_written_back_and_read_again(tmp_path):
     scenario = solver.load_scenario(SCENARIOS / "box_lift_motion.toml")
-    data = solver.scenario_to_dict(scenario.problem, {"preset": "male_50"}, carried=scenario.carried)
+    data = solver.scenario_to_dict(scenario.problem, {"preset": "male_50"})  # the problem's own carried box
     path = tmp_path / "again.toml"
     solver.write_scenario(path, data)
     again = solver.load_scenario(path).carried

@@ -123,6 +123,43 @@ def test_the_check_finds_spoiled_frames(tmp_path):
     assert any(p.endswith("not in closest") for p in frame_problems(left_out, obstacles, floor))
 
 
+CARRIED = """
+[carried]
+name = "box"
+size = [0.35, 0.26, 0.24]
+tcps = ["hand_r", "hand_l"]
+"""
+
+
+def test_the_check_places_the_carried_box_from_the_tcps(tmp_path):
+    """The box lift with its box carried: the solved frame passes and lists the box; a forearm moved into the box, the
+    box's centre misreported by 2 mm, or the forearms' box entries left out of closest, do not; a holding hand in it
+    is allowed."""
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(BOX_LIFT.read_text(encoding="utf-8") + CARRIED, encoding="utf-8")
+    code, document = solve_cli(scenario, tmp_path / "r.json")
+    obstacles, floor = scenario_obstacles(scenario)
+    frame = document["frames"][0]
+    assert code == 0 and frame_problems(frame, obstacles, floor) == []
+    assert frame["carried"]["tcps"] == ["hand_r", "hand_l"] and frame["carried"]["clearance"] == 0.0
+    assert {e["part"] for e in frame["closest"] if e["other"] == "box"} >= {"forearm_r", "forearm_l"}
+
+    def spoiled(part: str | None = None, shift: float = 0.0, drop: bool = False) -> list[str]:
+        bad = json.loads(json.dumps(frame))
+        for s in bad["collision_shapes"]:
+            if s["link"] == part:  # the capsule's axis through the box's centre
+                s["start"], s["end"] = bad["carried"]["center"], np.add(bad["carried"]["center"], 0.01).tolist()
+        bad["carried"]["center"][0] += shift
+        if drop:
+            bad["closest"] = [e for e in bad["closest"] if e["other"] != "box"]
+        return frame_problems(bad, obstacles, floor)
+
+    assert any(p.startswith("frame 1: forearm_r vs box:") for p in spoiled("forearm_r"))
+    assert any("carried 'box': center off by 0.002" in p for p in spoiled(shift=0.002))
+    assert any(p.endswith("not in closest") and "vs box" in p for p in spoiled(drop=True))
+    assert spoiled("hand_l") == []
+
+
 # --------------------------------------------------------------------------------------------- solved scenarios
 
 TABLE = """

@@ -176,3 +176,69 @@ def test_live_rows_hold_every_nonzero_row(seed):
         np.testing.assert_array_equal(dense[live], jac)
         assert not np.delete(dense, live, axis=0).any()
         assert len(live) < pb.n_rows or pb is problem  # the furnished scene leaves most clearance rows out
+
+
+def carried_cases():
+    """(problem, x) pairs with a carried box: the box lift's frames 1 and 30, their start pose bent a little and a
+    lot at random (body parts through the box and just outside it; the start pose itself is a kink of the distance,
+    its thighs square to the box's faces), and random trees holding a big box between t2 and t3."""
+    from solver import load_scenario
+    from solver.bodies import PRESETS_DIR
+    from solver.carried import Carried
+
+    lift = load_scenario(PRESETS_DIR / "scenarios" / "box_lift_motion.toml")
+    rng = np.random.default_rng(7)
+    for frame in (1, 30):
+        problem = lift.problem_at(frame)
+        x = problem.start(lift.start)
+        for spread in (0.05, 0.4, 0.4, 0.4):
+            bent = x.copy()
+            bent[: problem.model.n] += rng.uniform(-spread, spread, problem.model.n)
+            yield problem, bent
+    for seed in range(3):
+        _, problem, x, _ = random_case(seed, 300)
+        box = Carried(np.array([0.6, 0.5, 0.4]), ("t2", "t3"), "crate")
+        yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, carried=box), x
+
+
+def test_carried_box_jacobian():
+    """The carried box's rows (the box moving with both TCPs) against central differences: dg/dx of every row
+    against g, and the step's Jacobian against the error, watched rows against g; inside, near and clear rows."""
+    seen = np.zeros(3, dtype=int)  # rows inside the box, within the watch band, farther
+    for problem, x in carried_cases():
+        c = problem.carried_constraint
+        state = problem.state(x)
+        value = c.value(state)
+        seen += [(value < 0).sum(), ((value >= 0) & (value < c.watch)).sum(), (value >= c.watch).sum()]
+        numeric = finite_difference(lambda xx, c=c, pb=problem: c.value(pb.state(xx)), x, 1e-7)
+        scale = max(1.0, np.abs(numeric).max())
+        np.testing.assert_allclose(c.value_jacobian(state), numeric, atol=1e-6 * scale)
+        analytic = c.jacobian(state)
+        error = finite_difference(lambda xx, c=c, pb=problem: c.error(pb.state(xx)), x, 1e-7)
+        watched = (c.slack(state) > 0.0) & analytic.any(axis=1)
+        error[watched] = numeric[watched]
+        np.testing.assert_allclose(analytic, error, atol=1e-6 * scale)
+    assert (seen >= 3).all(), seen
+
+
+def test_carried_box_point_velocity():
+    """carried_point_rows: n . (velocity of a point fixed in the carried box) per TCP velocity, against central
+    differences of carried_frame; hands side by side, tilted, and one above the other (world y as reference)."""
+    from solver.carried import carried_frame, carried_point_rows
+
+    rng = np.random.default_rng(3)
+    pairs = [(rng.normal(size=3), rng.normal(size=3)) for _ in range(4)]
+    pairs.append((np.array([0.1, -0.3, 0.9]), np.array([0.11, -0.32, 1.3])))  # nearly vertical
+    for first, second in pairs:
+        local, normal = rng.normal(size=(5, 3)), rng.normal(size=(5, 3))
+        rotation = carried_frame(first, second)[1]
+        n1, n2 = carried_point_rows(first, second, rotation, local, normal)
+
+        def point(p, q, local=local):
+            centre, rotation = carried_frame(p, q)
+            return centre + local @ rotation.T
+
+        for rows, moved in ((n1, lambda p, q=second: point(p, q)), (n2, lambda q, p=first: point(p, q))):
+            start = first if rows is n1 else second
+            velocity = finite_difference(lambda v, moved=moved: moved(v).ravel(), start).reshape(5, 3, 3)
+            np.testing.assert_allclose(rows, np.einsum("ki,kij->kj", normal, velocity), atol=1e-8)

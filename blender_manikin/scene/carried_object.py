@@ -2,8 +2,10 @@
 placed between its two TCPs after every solve (Solve Pose, live mode), keyed with the hands by every bake (the
 sidebar's and the batch's: :meth:`.bake.Baker.write`), written back by scenario export.
 
-The object is no obstacle (it moves with the hands; it sits in the manikin's collection, never in "Obstacles").
-It remembers what it is in the custom property ``CARRIED_KEY``: JSON with its size (m), TCPs and manikin's name.
+The object is no scene obstacle (it moves with the hands; it sits in the manikin's collection, never in
+"Obstacles"); :func:`.problem_io.read_problem` hands it to the solver as the carried box, which the body but the
+holding hands keeps out of. It remembers what it is in the custom property ``CARRIED_KEY``: JSON with its size
+(m), TCPs and manikin's name.
 """
 
 from __future__ import annotations

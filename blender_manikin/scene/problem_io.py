@@ -24,11 +24,12 @@ from ...solver.ergonomics.loads import percent_of_strength
 from ...solver.reduction import DEFAULT_GROUPS
 from ...solver.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
-from .carried_object import follow_solve
+from .carried_object import carried_spec, find_carried, follow_solve
 from .obstacles import scene_obstacles
 from .schema import ERROR_KEY, RESULT_KEY, members
 
 if TYPE_CHECKING:
+    from ...solver.carried import Carried
     from ...solver.model import Model
     from ...solver.state import State
 
@@ -120,8 +121,9 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
         groups = DEFAULT_GROUPS if settings.reduction else ()
         obstacles, shapes = scene_obstacles(arm)
         numbers += shapes
+        carried = _carried(arm, model)
         problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor,
-                          obstacles=obstacles, self_collision=settings.self_collision)  # fmt: skip
+                          obstacles=obstacles, self_collision=settings.self_collision, carried=carried)  # fmt: skip
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
     options = SolverOptions(
@@ -129,11 +131,22 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
         optimize_comfort=settings.comfort,
         restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
     )
+    box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
     labels.append((settings.balance, settings.floor, settings.self_collision, settings.comfort, settings.reduction,
-                   weights, options))  # fmt: skip
+                   weights, options, box))  # fmt: skip
     inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
     warm = x0 if x0 is None or len(x0) == problem.n_x else x0[: model.n]  # remembered forces fit the same supports
     return SceneProblem(problem, warm, options, inputs)
+
+
+def _carried(arm: bpy.types.Object, model: Model) -> Carried | None:
+    """``arm``'s carried box (the body but the holding hands keeps out of it), or None: none, or a TCP the body
+    lacks (a renamed body file; the box is then not placed either)."""
+    ob = find_carried(arm)
+    if ob is None:
+        return None
+    spec = carried_spec(ob)
+    return spec if all(tcp in model.tcps for tcp in spec.tcps) else None
 
 
 def summarize(result: Result) -> dict:

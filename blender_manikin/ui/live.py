@@ -8,7 +8,7 @@ iteration limit, and puts a carried box between the solved hands. Writing the po
 further depsgraph updates; two things keep that from looping: a re-entrancy guard while the timer writes, and each
 manikin's last solved inputs (target frames, loop offsets, forces, obstacles, settings) - a re-solve happens only
 when the inputs differ, which a pose write never causes (loop and load empties ride on the TCPs, but their offsets
-stay the same; the body and the carried box are no obstacles).
+stay the same; the body and the carried box are no scene obstacles: the box's rows follow the hands).
 """
 
 from __future__ import annotations

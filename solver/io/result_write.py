@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..carried import CLEARANCE
 from ..errors import UsageError
 from ..result import Result
 from .frame import Frame, frame_of_result
@@ -19,6 +20,7 @@ from .model_json import model_to_dict
 from .values import finite_or_none, floats, quaternion
 
 if TYPE_CHECKING:
+    from ..constraints.carried_clearance import CarriedClearance
     from ..model import Model
     from ..state import State
 
@@ -30,12 +32,13 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
     """How the solve of one frame went (every field of a result frame that is not the pose): frame, converged,
     stop, iterations, time_s, unmet, notes, targets (world frames), residuals, comfort, comfort_terms, com, and the
     closest pairs within the clearance rows' margin (:meth:`~solver.constraints.clearance.Closeness.to_dict`: pair,
-    part, other, distance, clearance, point, other_point; nearest first)."""
+    part, other, distance, clearance, point, other_point; nearest first); with a carried box, ``carried``
+    (:func:`carried_entry`)."""
     targets = {
         name: dict(position=floats(pos), rotation=quaternion(rot))
         for name, (rot, pos) in result.problem.target_frames(state).items()
     }
-    return dict(
+    status = dict(
         frame=frame,
         converged=result.converged,
         stop=None if result.stop is None else result.stop.value,
@@ -52,6 +55,20 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
         com=floats(result.com),
         closest=[pair.to_dict() for pair in result.closest],
     )
+    if result.problem.carried_constraint is not None:
+        status["carried"] = carried_entry(result.problem.carried_constraint, state)
+    return status
+
+
+def carried_entry(constraint: CarriedClearance, state: State) -> dict:
+    """The carried box where the solver kept the body out of it: name, size (m), tcps (the two holding TCPs), center
+    (m, world) and rotation (quaternion [w, x, y, z]; columns x first TCP -> second, z as near up as that allows),
+    clearance (m) and excluded (the capsules its rows leave out: those on the holding TCPs' links)."""
+    centre, rotation = constraint.frame(state)
+    carried = constraint.carried
+    return dict(name=carried.name, size=floats(carried.size), tcps=list(carried.tcps), center=floats(centre),
+                rotation=quaternion(rotation), clearance=CLEARANCE,
+                excluded=list(constraint.excluded))  # fmt: skip
 
 
 def result_to_dict(result: Result, frame: int = 1, state: State | None = None) -> dict:

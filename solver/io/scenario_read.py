@@ -78,14 +78,14 @@ def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
         raise root.fail("targets", "a target with support = true when [solver] balance = true")
     frames, limits = _read_motion(root, tracks)
     obstacles = read_obstacles(root.table_list("obstacles"), path.parent)
+    carried = _read_carried(root, model)
     try:
         problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
                           floor=_enabled(root, "floor"), obstacles=obstacles,
-                          self_collision=_enabled(root, "self_collision"))  # fmt: skip
+                          self_collision=_enabled(root, "self_collision"), carried=carried)  # fmt: skip
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
-    carried = _read_carried(root, model)
     return Scenario(path, model, problem, options, start, frames, tracks, limits, carried)
 
 

@@ -34,9 +34,10 @@ def scenario_to_dict(
 ) -> dict:
     """A scenario as the TOML tables :func:`load_scenario` reads: ``manikin`` is {"preset": ...} or {"file": ...}.
 
-    ``start`` (joint values, or joints + forces) becomes [start.joints] for its non-zero joints; ``carried``
-    becomes [carried].
+    ``start`` (joint values, or joints + forces) becomes [start.joints] for its non-zero joints; ``carried`` (by
+    default the problem's own) becomes [carried].
     """
+    carried = problem.carried if carried is None else carried
     model = problem.model
     data: dict[str, Any] = {"name": name} if name else {}
     data["manikin"] = dict(manikin)
