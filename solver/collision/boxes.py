@@ -28,12 +28,19 @@ def _outside(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray
     s, _ = segment_segment(a[:, None], b[:, None], edges[:, :, 0], edges[:, :, 1])
     t = np.concatenate([np.zeros((len(a), 1)), np.ones((len(a), 1)), s], axis=1)
     x = a[:, None] + t[..., None] * (b - a)[:, None]
-    gap = x - np.clip(x, -half[:, None], half[:, None])
+    gap = x - np.minimum(np.maximum(x, -half[:, None]), half[:, None])
     d2 = dot(gap, gap)
     best = np.argmin(d2, axis=1)
     rows = np.arange(len(a))
-    face = np.eye(3)[np.argmax(np.abs(x[rows, best]) / half, axis=1)] * np.sign(x[rows, best])
-    return t[rows, best], np.sqrt(d2[rows, best]), unit(gap[rows, best], unit(face, perpendicular(b - a)))
+    gap, d2, x = gap[rows, best], d2[rows, best], x[rows, best]
+    distance = np.sqrt(d2)
+    normal = gap / np.maximum(distance, 1e-150)[:, None]
+    touching = np.flatnonzero(distance <= 1e-150)  # on the surface: the face's normal (rare: worked out only here)
+    if touching.size:
+        x, touched = x[touching], half[touching]
+        face = np.eye(3)[np.argmax(np.abs(x) / touched, axis=1)] * np.sign(x)
+        normal[touching] = unit(face, perpendicular(b[touching] - a[touching]))
+    return t[rows, best], distance, normal
 
 
 def _overlap(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
