@@ -21,7 +21,7 @@ from types import ModuleType
 
 from ..errors import UsageError
 from .plan import Run
-from .runner import failed, run_chunk
+from .runner import failed, head, run_chunk
 
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 IN_FLIGHT = 3  # chunks under way per worker: enough to keep it busy, few enough to hold little in memory
@@ -43,8 +43,7 @@ def chunked(runs: list[Run], size: int) -> Iterator[list[Run]]:
 def lost(chunk: list[Run], why: str) -> list[dict]:
     """Rows for runs whose worker was lost: failed, with the reason."""
     reason = f"worker lost ({why}); rerun the study to retry"
-    return [failed(dict(run_id=r.run_id, seed=r.seed, scenario=r.scenario.name, manikin=r.manikin_name)
-                   | {f"p_{k}": v for k, v in r.parameters.items()}, reason) for r in chunk]  # fmt: skip
+    return [failed(head(r), reason) for r in chunk]
 
 
 def outcome(future, chunk: list[Run]) -> tuple[list[dict], bool]:
