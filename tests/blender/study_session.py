@@ -6,8 +6,9 @@
 origin and turned, its right hand's target moved forward and up; Run Study for that family with two target heights
 (4 runs, one worker); the study runs in a subprocess while this script drives the timer: background mode never
 fires ``bpy.app.timers``, so ``poll_job`` (the registered timer function) is called here every 0.2 s until it says
-it is done (returns None), each call timed. Then the table, Load Row, bad input, and a larger study (the shipped
-family) cancelled, started again (it goes on from its journal) and cancelled again. Writes what it saw to JSON.
+it is done (returns None), each call timed. Then the table, Load Row, bad input, a study whose subprocess fails,
+and a larger study (the shipped family) cancelled, started again (it goes on from its journal) and cancelled
+again. Writes what it saw to JSON.
 """
 
 from __future__ import annotations
@@ -163,6 +164,13 @@ for ob in [o for o in bpy.data.objects if o.manikin_target.rig == bare]:
     bpy.data.objects.remove(ob, do_unlink=True)
 errors["no_targets"] = error_of(bpy.ops.manikin.study_run)
 seen["errors"] = errors
+
+# A study whose subprocess fails (here: its study file is gone): the job ends "failed" with the error's one line.
+broken = study_job.StudyJob(WORK / "gone" / "study.toml", WORK / "gone" / "out", [], 1)
+t0 = time.monotonic()
+while broken.poll() and time.monotonic() - t0 < DEADLINE_S:
+    time.sleep(0.1)
+seen["failed_job"] = dict(state=broken.state, line=broken.line())
 seen["job_after_errors"] = ops.current_job().state
 
 # The shipped family (18 members) at three heights: cancelled once rows come in, started again, cancelled again.

@@ -112,6 +112,12 @@ def test_bad_input_is_one_line(session: dict, case: str, words: list[str]) -> No
     assert session["job_after_errors"] == "done"  # nothing else was started
 
 
+def test_a_study_that_fails_in_its_subprocess_says_why_in_one_line(session: dict) -> None:
+    failed = session["failed_job"]
+    assert failed["state"] == "failed" and failed["line"].startswith("Study failed: ")
+    assert "study.toml" in failed["line"] and "\n" not in failed["line"] and "Traceback" not in failed["line"]
+
+
 def test_a_cancelled_study_keeps_its_rows_and_goes_on_from_them(session: dict) -> None:
     big, cancelled = session["big"], session["cancelled"]
     assert session["big_start"]["result"] == ["FINISHED"] and big["total"] == 18 * 3
