@@ -192,5 +192,15 @@ bpy.ops.manikin.study_cancel()
 seen["again_cancelled"] = drive()
 seen["big_study_file"] = settings.study_file
 
+# Disabled while a study runs: the study is stopped, the timer and the scene's settings go.
+run_study()
+job = ops.current_job()
+bpy.ops.preferences.addon_disable(module=module)
+t0 = time.monotonic()
+while job.poll() and time.monotonic() - t0 < DEADLINE_S:
+    time.sleep(0.1)
+seen["disabled"] = dict(state=job.state, timer=bpy.app.timers.is_registered(ops.poll_job),
+                        settings=hasattr(bpy.types.Scene, "manikin_study"))  # fmt: skip
+
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)
