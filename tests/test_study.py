@@ -139,10 +139,36 @@ def test_a_family_folder_gives_each_body_file_and_skips_its_index(tmp_path):
     family.mkdir()
     for name, stature in (("short", 1.55), ("tall", 1.90)):
         write(family, f'[body]\nkind = "human"\nsex = "female"\nstature = {stature}\nmass = 60.0\n', f"{name}.toml")
-    write(family, '[family]\nsurvey = "x"\n[[members]]\nname = "short"\n', "family.toml")
+    index = '[family]\nsurvey = "x"\n[[members]]\nname = "short"\nfile = "short.toml"\nsex = "female"\n'
+    write(family, index + 'role = "sample"\nmeasurements = { stature = 1.55, mass = 60.0 }\n', "family.toml")
     study = load_study(write(tmp_path, STUDY.replace('["female_5", "male_95"]', '["male_50", "fam"]')))
     assert [m.name for m in study.manikins] == ["male_50", "fam/short", "fam/tall"]
     assert study.manikins[2].file == (family / "tall.toml").resolve() and study.manikins[0].preset == "male_50"
+    assert study.manikins[1].member["role"] == "sample" and study.manikins[2].member == {}  # not in the index
+
+
+def test_rows_of_a_family_folder_say_each_member_s_role_and_measurements(tmp_path):
+    from solver.population import make_family, read_family, write_family
+
+    members = make_family(("female",), coverage=0.9, points=3)
+    write_family(members, tmp_path / "fam", {"source": "ANSUR II", "coverage": 0.9, "seed": 0})
+    text = STUDY.replace('["female_5", "male_95"]', '["male_50", "fam"]').split("\n\n[[scenarios]]\nfile")[0]
+    text += f'\n\n[study]\nrecord = ["shortfall"]\n\n[[scenarios]]\nfile = "{LIFT}"\n'
+    outcome = run_study(write(tmp_path, text), tmp_path / "out", workers=1, quiet=True)
+    assert outcome.total == 5
+    rows = rows_of(tmp_path / "out")
+    assert list(rows[0])[3:9] == ["manikin", "role", "sex", "stature_m", "mass_kg", "sitting_height_m"]
+    assert rows[0]["role"] == "" and rows[0]["manikin"] == "male_50"  # a preset: no family facts
+    family = read_family(tmp_path / "fam")
+    assert [(r["manikin"], r["role"], r["sex"]) for r in rows[1:]] == [
+        (f"fam/{m.name}", m.role, m.sex) for m in family.members
+    ]
+    assert [float(r["stature_m"]) for r in rows[1:]] == [m.stature for m in family.members]
+    assert [float(r["mass_kg"]) for r in rows[1:]] == [m.mass for m in family.members]
+    assert all(r["status"] == "converged" for r in rows)
+    (tmp_path / "fam" / "family.toml").write_text('[[members]]\nname = "x"\n', encoding="utf-8")
+    with pytest.raises(ScenarioError, match=r"manikins\[1\].*family.toml reads"):
+        load_study(tmp_path / "study.toml")
 
 
 def test_runs_have_stable_distinct_ids_and_seeds_that_follow_the_inputs(tmp_path):

@@ -35,7 +35,8 @@ def body_source(model: Model) -> dict:
     return {"file": str(file)}
 
 
-def _rig_source(arm: bpy.types.Object) -> dict:
+def rig_source(arm: bpy.types.Object) -> dict:
+    """The armature's body as a scenario's [manikin] table: {"preset": name} or {"file": absolute path}."""
     preset = arm.get(PRESET_KEY, "")
     return {"preset": preset} if preset else {"file": bpy.path.abspath(arm.get(FILE_KEY, ""))}
 
@@ -69,7 +70,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
             sc = solver.load_scenario(self.filepath)
             source = body_source(sc.model)
             arm = rig_of(context.active_object)
-            if arm is None or _rig_source(arm) != source:
+            if arm is None or rig_source(arm) != source:
                 model = armature.load_model(source.get("preset", ""), source.get("file", ""))
                 preset, file = source.get("preset", ""), source.get("file", "")
                 arm = armature.create_manikin(context, model, preset, file, at_cursor=False)  # scenario = world
@@ -167,7 +168,7 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
         try:
             sp = problem_io.read_problem(arm)
             start = sp.x0 if self.include_pose else None
-            data = scenario_to_dict(sp.problem, _rig_source(arm), sp.options, start, arm.name)
+            data = scenario_to_dict(sp.problem, rig_source(arm), sp.options, start, arm.name)
             motion_keys.export_motion(data, context.scene, arm)
             if (carried := carried_object.carried_table(arm)) is not None:
                 data["carried"] = carried

@@ -20,7 +20,7 @@ from types import ModuleType
 from ..errors import UsageError
 from ..threads import single_threaded_blas
 from .plan import Run
-from .runner import failed, run_chunk
+from .runner import failed, head, run_chunk
 
 IN_FLIGHT = 3  # chunks under way per worker: enough to keep it busy, few enough to hold little in memory
 MAX_CHUNK = 50  # runs per chunk at most: a chunk is also what a crash or Ctrl-C can lose
@@ -41,8 +41,7 @@ def chunked(runs: list[Run], size: int) -> Iterator[list[Run]]:
 def lost(chunk: list[Run], why: str) -> list[dict]:
     """Rows for runs whose worker was lost: failed, with the reason."""
     reason = f"worker lost ({why}); rerun the study to retry"
-    return [failed(dict(run_id=r.run_id, seed=r.seed, scenario=r.scenario.name, manikin=r.manikin_name)
-                   | {f"p_{k}": v for k, v in r.parameters.items()}, reason) for r in chunk]  # fmt: skip
+    return [failed(head(r), reason) for r in chunk]
 
 
 def outcome(future, chunk: list[Run]) -> tuple[list[dict], bool]:

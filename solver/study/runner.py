@@ -4,6 +4,7 @@ evaluate its ergonomics and return its row. A run that cannot be done is a row w
 A row's columns (README "Population studies"); units m, N, kg, s; peaks are the largest over a motion's frames:
 
     run_id, seed, scenario, manikin, p_<parameter> ...    what was run
+    role, sex, stature_m, mass_kg, <measurement>_m ...   a family member's facts (a family folder with an index)
     status, converged, held, frames, frames_converged    "converged" / "not converged" / "failed" (converged false,
                                                          the rest empty); held: supports, loops and balance
                                                          (priority 1) held in every frame
@@ -46,9 +47,10 @@ MODEL_CACHE = 8  # bodies a worker keeps built (the runs of a chunk mostly share
 MODELS: dict[str, Model] = {}  # body key -> Model, oldest first
 
 
-def columns(parameters: list[str], record: tuple[str, ...]) -> list[str]:
-    """The row's columns for a study with these parameter names that records these groups."""
-    out = ["run_id", "seed", "scenario", "manikin"] + [f"p_{name}" for name in parameters] + OUTCOME
+def columns(parameters: list[str], record: tuple[str, ...], members: list[str] | None = None) -> list[str]:
+    """The row's columns for a study with these parameter names that records these groups (``members``: the
+    family members' fact columns, :func:`.spec.member_columns`)."""
+    out = ["run_id", "seed", "scenario", "manikin", *(members or [])] + [f"p_{name}" for name in parameters] + OUTCOME
     for group in record:
         out += GROUPS[group]
     return out + TIMING + ["failure"]
@@ -59,10 +61,16 @@ def run_chunk(runs: list[Run]) -> list[dict]:
     return [run_one(run) for run in runs]
 
 
+def head(run: Run) -> dict[str, Any]:
+    """What a row says of its run: ids, scenario, manikin (and its family facts), parameter values."""
+    row: dict[str, Any] = dict(run_id=run.run_id, seed=run.seed, scenario=run.scenario.name, manikin=run.manikin_name)
+    row |= run.manikin.member if run.manikin is not None else {}
+    return row | {f"p_{k}": v for k, v in run.parameters.items()}
+
+
 def run_one(run: Run) -> dict:
     """The row of one run; a run that fails (a bad scenario after substitution, a solver exception) says why."""
-    row: dict[str, Any] = dict(run_id=run.run_id, seed=run.seed, scenario=run.scenario.name, manikin=run.manikin_name)
-    row |= {f"p_{k}": v for k, v in run.parameters.items()}
+    row = head(run)
     t0 = time.perf_counter()
     try:
         solved, row["solve_s"] = _solve(run)

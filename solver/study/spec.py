@@ -4,6 +4,8 @@ studies"). Every problem is one ScenarioError line naming the study file and the
 ::
 
     manikins = ["female_5", "male_95", "bodies/tall.toml", "family_95/"]   # presets, body files, family folders
+    # a family folder written by `python -m solver family` has an index (family.toml): its rows then say each
+    # member's role, sex and measurements (columns role, sex, stature_m, mass_kg, <measurement>_m)
 
     [study]
     name = "box height"   # optional
@@ -28,9 +30,9 @@ from __future__ import annotations
 import hashlib
 import json
 import re
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..bodies import MANIKINS_DIR as PRESET_BODIES
 from ..bodies import body_from_dict, list_presets
@@ -40,7 +42,11 @@ from ..io.files import read_toml
 from ..io.scenario_read import scenario_from_dict
 from ..io.table_reader import TableReader, is_number
 from ..model import Model
+from ..population.family_files import INDEX, read_family
 from . import keypath
+
+if TYPE_CHECKING:
+    from ..population.family import Member
 
 RECORD = ("shortfall", "rula", "reba", "l4_l5", "strength", "niosh")
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -50,12 +56,14 @@ MAX_REPEATS, MAX_JITTER = 1000, 1.0  # runs per combination; rad
 
 @dataclass(frozen=True)
 class Manikin:
-    """A study's manikin: its row name, a preset name or an absolute body file, and the body's tables (run id)."""
+    """A study's manikin: its row name, a preset name or an absolute body file, the body's tables (run id) and,
+    for a member of a family folder with an index, its ``member`` facts (row columns: :func:`member_facts`)."""
 
     name: str
     preset: str | None
     file: Path | None
     body: dict
+    member: dict = field(default_factory=dict)
 
     @property
     def key(self) -> str:
@@ -70,6 +78,18 @@ class Manikin:
         """The body built (as the scenario's [manikin] table would build it)."""
         where = PRESET_BODIES / f"{self.preset}.toml" if self.preset else self.file
         return body_from_dict(self.body, str(where), self.preset or self.file.stem)
+
+
+def member_facts(member: Member) -> dict:
+    """A family member's row columns (a :class:`solver.population.Member`): role, sex, stature (m), mass (kg) and
+    each extra measurement (m)."""
+    facts = dict(role=member.role, sex=member.sex, stature_m=member.stature, mass_kg=member.mass)
+    return facts | {f"{key}_m": value for key, value in member.measurements.items()}
+
+
+def member_columns(study: Study) -> list[str]:
+    """The member columns of the study's manikins, in order of first appearance (none without a family index)."""
+    return list(dict.fromkeys(key for m in study.manikins for key in m.member))
 
 
 def digest(value: Any) -> str:
@@ -183,11 +203,25 @@ def _resolve(where: TableReader, kind: str, text: str, here: Path, name: str | N
         bodies = [p for p in sorted(path.glob("*.toml")) if "body" in read_toml(p, ScenarioError)]
         if not bodies:
             raise where.fail("", f"a family folder with body TOML files ({path} has none)", text)
-        return [_manikin(where, f"{name or path.name}/{_body_name(p)}", None, p) for p in bodies]
+        members = _members(where, path, text)
+        return [_manikin(where, f"{name or path.name}/{_body_name(p)}", None, p, members.get(p.resolve(), {}))
+                for p in bodies]  # fmt: skip
     if kind == "family" or not path.is_file():
         what = "a family folder" if kind == "family" else "a preset name, a body file or a family folder"
         raise where.fail("", f"{what} (not found: {path})", text)
     return [_manikin(where, name or _body_name(path), None, path)]
+
+
+def _members(where: TableReader, folder: Path, text: str) -> dict[Path, dict]:
+    """The row facts of each body file a family folder's index lists ({} without an index); an index that does
+    not read is one line naming it."""
+    if not (folder / INDEX).is_file():
+        return {}
+    try:
+        family = read_family(folder)
+    except ManikinError as exc:
+        raise where.fail("", f"a family folder whose {INDEX} reads ({exc})", text) from None
+    return {file.resolve(): member_facts(m) for m, file in zip(family.members, family.files, strict=True)}
 
 
 def _body_name(path: Path) -> str:
@@ -196,14 +230,14 @@ def _body_name(path: Path) -> str:
     return name if isinstance(name, str) and name else path.stem
 
 
-def _manikin(where: TableReader, name: str, preset: str | None, path: Path) -> Manikin:
+def _manikin(where: TableReader, name: str, preset: str | None, path: Path, member: dict | None = None) -> Manikin:
     """Check the body builds (one line naming it if not) and keep its tables for the run ids."""
     data = read_toml(path, ScenarioError)
     try:
         body_from_dict(data, str(path), name)
     except ManikinError as exc:
         raise where.fail("", f"a body that builds ({exc})") from None
-    return Manikin(name, preset, None if preset else path.resolve(), data)
+    return Manikin(name, preset, None if preset else path.resolve(), data, member or {})
 
 
 def _scenario(t: TableReader, here: Path, checked: set[str]) -> StudyScenario:

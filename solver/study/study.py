@@ -14,7 +14,7 @@ from .outputs import Journal, read_journal, write_tables
 from .plan import Run, parameter_names, plan
 from .plots import write_plots
 from .runner import columns
-from .spec import Study, load_study
+from .spec import Study, load_study, member_columns
 
 
 @dataclass
@@ -137,7 +137,7 @@ def _finish(study: Study, runs: list[Run], rows: dict, folder: Path, outcome: St
         outcome.not_converged += status == "not converged"
         outcome.failed += status == "failed"
     names = parameter_names(study)
-    outcome.written = write_tables(folder, columns(names, study.record), ordered)
+    outcome.written = write_tables(folder, columns(names, study.record, member_columns(study)), ordered)
     panels = [(s.name, p.name) for s in study.scenarios for p in s.parameters]
     panels += [(s.name, None) for s in study.scenarios if not s.parameters]
     manikins = list(dict.fromkeys(r.manikin_name for r in runs))

@@ -1,0 +1,275 @@
+"""Operators of the "Population Study" panel: run a study of the active manikin's targets for a family in the
+background, cancel it, and load one row's manikin and pose into the scene. Errors reach the user via report().
+
+Run Study writes the scene as a scenario (as Export Scenario does, without the pose: every run starts from the
+scenario's default start) and a study file into ``<output>/<manikin>/``, checks them as the study command will (so
+bad input is one line at once) and starts ``scene.study_job.StudyJob``. A ``bpy.app.timers`` timer (:func:`poll_job`)
+reads its journal twice a second and fills the table when it ends; nothing waits on the subprocess. Load Row solves
+the row's scenario (``python -m solver study --scenario-of RUN_ID``, through the solver API) and poses a manikin of
+that body where the study's manikin stands, as Solve Pose does.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tempfile
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import bpy
+
+from ...solver.errors import ManikinError, UsageError
+from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, rig_of
+
+if TYPE_CHECKING:
+    from ..scene.study_job import StudyJob
+
+POLL_S = 0.5  # s between two looks at the journal
+_job: StudyJob | None = None
+_scene_name = ""  # the scene whose table the running study fills
+
+
+def current_job() -> StudyJob | None:
+    """The study started last in this session (running or ended), or None."""
+    return _job
+
+
+def stop_job() -> None:
+    """Cancel a running study and stop watching it (add-on disabled); its journal keeps the finished rows."""
+    global _job
+    if bpy.app.timers.is_registered(poll_job):
+        bpy.app.timers.unregister(poll_job)
+    if _job is not None and _job.state == "running":
+        _job.cancel()
+    _job = None
+
+
+def _redraw() -> None:
+    for window in bpy.context.window_manager.windows:  # none in background mode
+        for area in window.screen.areas:
+            if area.type == "VIEW_3D":
+                area.tag_redraw()
+
+
+def poll_job() -> float | None:
+    """Timer: read the rows finished so far; when the study has ended, fill the table and stop (None)."""
+    if _job is None:
+        return None
+    running = _job.poll()
+    if not running:
+        scene = bpy.data.scenes.get(_scene_name)
+        if scene is not None:
+            fill_table(scene.manikin_study, _job.ordered_rows())
+            scene.manikin_study.status = _job.line()
+    _redraw()
+    return POLL_S if running else None
+
+
+def _cell(value, scale: float = 1.0, digits: int = 0) -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return f"{value * scale:.{digits}f}"
+
+
+def fill_table(settings, rows: list[dict]) -> None:
+    """The table's rows from the study's rows (in its order)."""
+    settings.rows.clear()
+    for row in rows:
+        item = settings.rows.add()
+        item.name = str(row.get("manikin", ""))
+        item.run_id = str(row.get("run_id", ""))
+        item.role = str(row.get("role") or "")
+        item.parameters = " ".join(f"{k[2:]}={v:g}" if isinstance(v, float) else f"{k[2:]}={v}"
+                                   for k, v in row.items() if k.startswith("p_"))  # fmt: skip
+        item.status = str(row.get("failure") or row.get("status", ""))
+        item.converged = bool(row.get("converged"))
+        item.rula, item.reba = _cell(row.get("rula_peak")), _cell(row.get("reba_peak"))
+        item.l4_l5, item.shortfall = _cell(row.get("l4_l5_peak_N")), _cell(row.get("shortfall_m"), 1e3)
+    settings.row_index = 0
+
+
+def family_folder(settings) -> Path:
+    """The chosen family's folder, checked by reading its index (one ManikinError line if it does not read)."""
+    from ...solver.population import read_family
+    from .study_panel import FAMILIES, FOLDER
+
+    if settings.family != FOLDER:
+        folder = FAMILIES / settings.family
+    elif not settings.family_folder.strip():
+        raise UsageError("Family folder: choose a folder written by `python -m solver family`")
+    else:
+        folder = Path(bpy.path.abspath(settings.family_folder))
+    read_family(folder)
+    return folder.resolve()
+
+
+def offsets(settings) -> tuple[str, tuple[str, ...], tuple[float, ...]]:
+    """(axis or "", the targets' TCP names, the values in m) of the parameter the study varies."""
+    if settings.vary == "NONE":
+        return "", (), ()
+    tcps = tuple(settings.tcps.replace(",", " ").split())
+    if not tcps:
+        raise UsageError("Targets: name the TCPs of the targets to move, e.g. hand_r hand_l")
+    try:
+        values = tuple(float(v) for v in re.split(r"[,\s;]+", settings.values.strip()) if v)
+    except ValueError:
+        raise UsageError(f"Values: expected offsets in m separated by commas, got {settings.values!r}") from None
+    if not values or not all(math.isfinite(v) for v in values):
+        raise UsageError(f"Values: expected finite offsets in m separated by commas, got {settings.values!r}")
+    return settings.vary, tcps, values
+
+
+def study_folder(settings, arm: bpy.types.Object, family: Path, inputs: list) -> Path:
+    """``<output>/<manikin>_<family>_<hash of the inputs>``, in the output setting or in manikin_studies beside the
+    .blend (or in the temp folder): the same study again goes on in its folder, another gets its own."""
+    from ...solver.study.spec import digest
+
+    if settings.folder.strip():
+        base = Path(bpy.path.abspath(settings.folder))
+    elif bpy.data.filepath:
+        base = Path(bpy.data.filepath).parent / "manikin_studies"
+    else:
+        base = Path(tempfile.gettempdir()) / "manikin_studies"
+    return base / bpy.path.clean_name(f"{arm.name}_{family.name}_{digest(inputs)[:8]}")
+
+
+class MANIKIN_OT_study_run(bpy.types.Operator):
+    """Run a study of this manikin's targets for every member of the family (and each value of the parameter) in
+    the background; the table fills when it ends"""
+
+    bl_idname = "manikin.study_run"
+    bl_label = "Run Study"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        if _job is not None and _job.state in ("running", "cancelling"):
+            cls.poll_message_set("A study is running")
+            return False
+        return rig_of(context.active_object) is not None
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        global _job, _scene_name
+        from ...solver.io.files import write_text
+        from ...solver.io.scenario_write import write_scenario_files
+        from ...solver.study import load_study
+        from ...solver.study.plan import plan
+        from ..scene import study_job
+
+        arm = rig_of(context.active_object)
+        settings = context.scene.manikin_study
+        context.evaluated_depsgraph_get()
+        try:
+            family = family_folder(settings)
+            axis, tcps, values = offsets(settings)
+            scenario = scene_scenario(arm)
+            text = study_job.study_text(family, "scenario.toml", f"{arm.name} x {family.name}", axis, tcps, values)
+            folder = study_folder(settings, arm, family, [scenario, text])
+            write_scenario_files(folder / "scenario.toml", scenario)
+            study = Path(write_text(folder / "study.toml", text))
+            run_ids = [run.run_id for run in plan(load_study(study))]
+            job = study_job.StudyJob(study, folder / "out", run_ids, settings.workers)
+        except (ManikinError, OSError) as exc:
+            self.report({"ERROR"}, " ".join(str(exc).split()))
+            return {"CANCELLED"}
+        _job, _scene_name = job, context.scene.name
+        settings.rows.clear()
+        settings.status, settings.study_file, settings.source = "", str(study), arm.name
+        if not bpy.app.timers.is_registered(poll_job):
+            bpy.app.timers.register(poll_job, first_interval=POLL_S, persistent=True)
+        kept = f", {job.kept} done before" if job.kept else ""
+        self.report({"INFO"}, f"Study started: {job.total} runs{kept} in {folder}")
+        return {"FINISHED"}
+
+
+def scene_scenario(arm: bpy.types.Object) -> dict:
+    """The manikin's targets, loops, loads, obstacles, carried box and settings as a scenario (no start pose)."""
+    from ...solver import scenario_to_dict
+    from ..scene import carried_object, problem_io
+    from .scenario_operators import rig_source
+
+    sp = problem_io.read_problem(arm, start=False)
+    data = scenario_to_dict(sp.problem, rig_source(arm), sp.options, None, arm.name)
+    if (carried := carried_object.carried_table(arm)) is not None:
+        data["carried"] = carried
+    return data
+
+
+class MANIKIN_OT_study_cancel(bpy.types.Operator):
+    """Stop the running study; the finished runs are kept, and Run Study goes on from them"""
+
+    bl_idname = "manikin.study_cancel"
+    bl_label = "Cancel Study"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return _job is not None and _job.state == "running"
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        _job.cancel()
+        self.report({"INFO"}, f"Stopping the study: {_job.done} of {_job.total} runs done")
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_study_load_row(bpy.types.Operator):
+    """Put the selected row's manikin into the scene where the study's manikin stands, in the row's pose"""
+
+    bl_idname = "manikin.study_load_row"
+    bl_label = "Load Row"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        settings = getattr(context.scene, "manikin_study", None)
+        return context.mode == "OBJECT" and settings is not None and 0 <= settings.row_index < len(settings.rows)
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        settings = context.scene.manikin_study
+        item = settings.rows[settings.row_index]
+        try:
+            arm, result = load_row(context, settings, item.run_id)
+        except (ManikinError, OSError) as exc:
+            self.report({"ERROR"}, " ".join(str(exc).split()))
+            return {"CANCELLED"}
+        for ob in context.view_layer.objects.selected:
+            ob.select_set(False)
+        arm.select_set(True)
+        context.view_layer.objects.active = arm
+        state = "converged" if result.converged else "NOT converged: " + result.verdict()
+        self.report({"INFO"} if result.converged else {"WARNING"}, f"{item.name} {item.parameters}: {state}")
+        return {"FINISHED"}
+
+
+def load_row(context: bpy.types.Context, settings, run_id: str):
+    """Solve the row ``run_id`` of the settings' study and pose a manikin of its body with it: (armature, Result)."""
+    from ... import solver
+    from ...solver.io.files import write_text
+    from ...solver.study.export import row_scenario
+    from ..scene import armature, problem_io
+    from .scenario_operators import body_source
+
+    study = Path(settings.study_file)
+    if not study.is_file():
+        raise UsageError(f"{study}: the study file is gone; run the study again")
+    path = write_text(study.parent / "rows" / f"{run_id}.toml", row_scenario(study, run_id))
+    scenario = solver.load_scenario(path)
+    result = list(solver.solve_motion(scenario))[-1][1]
+    source = body_source(scenario.model)
+    arm = next((ob for ob in context.scene.objects if is_manikin(ob) and _source_of(ob) == source), None)
+    if arm is None:
+        preset, file = source.get("preset", ""), source.get("file", "")
+        arm = armature.create_manikin(context, armature.load_model(preset, file), preset, file, at_cursor=False)
+    where = bpy.data.objects.get(settings.source)
+    if where is not None and where is not arm:
+        arm.matrix_world = where.matrix_world.copy()  # the study's targets are in its manikin's frame
+    context.view_layer.update()
+    problem_io.write_result(arm, result)
+    return arm, result
+
+
+def _source_of(arm: bpy.types.Object) -> dict:
+    preset = arm.get(PRESET_KEY, "")
+    return {"preset": preset} if preset else {"file": str(Path(bpy.path.abspath(arm.get(FILE_KEY, ""))).resolve())}
+
+
+classes = (MANIKIN_OT_study_run, MANIKIN_OT_study_cancel, MANIKIN_OT_study_load_row)
