@@ -113,7 +113,11 @@ def _human(arm: bpy.types.Object, skin: SkinMesh, name: str) -> bpy.types.Object
 
 
 def bodies(arm: bpy.types.Object) -> dict[str, bpy.types.Object]:
-    """The armature's body objects by display mode."""
+    """The armature's body objects by display mode. A manikin saved before the displays existed has its solids
+    untagged as ``<armature>.body``: they are tagged SOLIDS here."""
+    for child in arm.children:
+        if child.type == "MESH" and DISPLAY_KEY not in child and child.name == arm.name + BODY_SUFFIX:
+            child[DISPLAY_KEY] = "SOLIDS"
     return {child[DISPLAY_KEY]: child for child in arm.children if child.get(DISPLAY_KEY) in MODES}
 
 

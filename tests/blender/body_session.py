@@ -5,7 +5,8 @@
 adds a male_50 (its body objects, vertex groups, modifiers and materials recorded; the dense weights saved as
 ``weights.npy``), poses it with the forearms, upper arms and thighs twisted and the elbows and knees bent (the
 evaluated mesh saved as ``twisted.npy``), solves the box lift (``lift.npy``), switches the display through its
-three modes, and adds a snake. Writes what it saw to JSON; bpy is imported here only.
+three modes, and adds a snake (then untags its
+solids, as a file saved before the displays has them). Writes what it saw to JSON; bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -119,6 +120,10 @@ snake = bpy.context.active_object
 seen["snake"] = dict(display=snake.manikin.display, bodies=bodies(snake))
 snake.manikin.display = "HUMAN"  # no human mesh for a snake: the solids stay
 seen["snake_human"] = dict(display=snake.manikin.display, bodies=bodies(snake))
+del snake.children[0]["manikin_display"]  # as saved before the displays existed: the solids untagged
+snake.manikin.display = "CAPSULES"
+snake.manikin.display = "SOLIDS"
+seen["snake_legacy"] = bodies(snake)
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

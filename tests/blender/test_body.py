@@ -159,4 +159,9 @@ def test_display_switches_between_human_capsules_and_solids(session: dict) -> No
 def test_a_snake_gets_the_solids(session: dict) -> None:
     assert session["snake"] == dict(display="SOLIDS", bodies={"snake.body": ["SOLIDS", False, False]})
     assert session["snake_human"] == session["snake"]
+    # A manikin from before the displays: its untagged ``.body`` counts as the solids (not built a second time).
+    assert session["snake_legacy"] == {
+        "snake.body": ["SOLIDS", False, False],
+        "snake.capsules": ["CAPSULES", True, True],
+    }
     assert "Traceback" not in session["log"]
