@@ -5,8 +5,8 @@
 adds a male_50 (its body objects, vertex groups, modifiers and materials recorded; the dense weights saved as
 ``weights.npy``), poses it with the forearms, upper arms and thighs twisted and the elbows and knees bent (the
 evaluated mesh saved as ``twisted.npy``), solves the box lift (``lift.npy``), switches the display through its
-three modes, and adds a snake (then untags its
-solids, as a file saved before the displays has them). Writes what it saw to JSON; bpy is imported here only.
+three modes, and adds a snake (then untags its solids, as a file saved before the displays has them). Writes what it
+saw to JSON; bpy is imported here only.
 """
 
 from __future__ import annotations
