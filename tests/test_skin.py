@@ -219,3 +219,15 @@ def test_smoothing_is_neighbour_averaging(fitted) -> None:
             count[a] += 1
         expected = 0.5 * expected + 0.5 * total / np.maximum(count, 1.0)[:, None]
     np.testing.assert_allclose(smooth(values, faces, 3), expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("preset", ["female_5", "male_95"])
+def test_every_human_preset_gets_a_skin(preset: str) -> None:
+    model = load_body(preset=preset)
+    layout = RigLayout(model)
+    fitted = fit_body(model)
+    skin = skin_mesh(fitted, layout)
+    names, weights = _dense(skin)
+    np.testing.assert_allclose(weights.sum(axis=1), 1.0, atol=1e-12)
+    assert set(names) == {b.name for b in layout.bones} - {"eyes"} | {twist_name(b) for b in twist_bones(layout)}
+    assert len(skin.vertices) == len(fitted.vertices) + 2 * len(eyeball(np.zeros(3), 1.0)[0])

@@ -4,9 +4,9 @@
 
 adds a male_50 (its body objects, vertex groups, modifiers and materials recorded; the dense weights saved as
 ``weights.npy``), poses it with the forearms, upper arms and thighs twisted and the elbows and knees bent (the
-evaluated mesh saved as ``twisted.npy``), solves the box lift (``lift.npy``), switches the display through its
-three modes, and adds a snake (then untags its solids, as a file saved before the displays has them). Writes what it
-saw to JSON; bpy is imported here only.
+evaluated mesh saved as ``twisted.npy``; keyed at a frame and played back: ``keyed.npy``), solves the box lift
+(``lift.npy``), switches the display through its three modes, and adds a snake (then untags its solids, as a file
+saved before the displays has them). Writes what it saw to JSON; bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -99,6 +99,21 @@ for name, degrees in TWISTED.items():
 armature.write_pose(arm, x)
 np.save(WORK / "twisted.npy", evaluated(body))
 seen["twisted"] = pose_of(arm)
+
+# Keyed as a bake keys it (the bones' channels at a frame), played back: the mesh takes the keyed pose again.
+rest_x = np.array(seen["twisted"]["x"])
+rest_x[: model.n] = model.zero_pose()
+for frame, pose in ((5, x), (1, rest_x)):
+    armature.write_pose(arm, pose)
+    for pb in arm.pose.bones:
+        if not pb.name.endswith(".twist"):  # the helpers are driven, never keyed
+            pb.keyframe_insert("rotation_euler", frame=frame)
+            pb.keyframe_insert("location", frame=frame)
+bpy.context.scene.frame_set(5)
+np.save(WORK / "keyed.npy", evaluated(body))
+bpy.context.scene.frame_set(1)
+seen["keyed_rest"] = float(np.abs(evaluated(body) - np.load(WORK / "rest.npy")).max())
+arm.animation_data.action = None  # (animation_data_clear would drop the twist drivers too)
 
 bpy.ops.manikin.import_scenario(filepath=str(ROOT / "presets" / "scenarios" / "box_lift.toml"))
 seen["solve"] = sorted(bpy.ops.manikin.solve_pose())

@@ -115,6 +115,8 @@ def _check_pose(session: dict, key: str, skin: SkinMesh, layout: RigLayout) -> n
 def test_the_posed_mesh_follows_the_bones(session: dict, skin: SkinMesh, layout: RigLayout) -> None:
     np.testing.assert_allclose(_array(session, "rest"), skin.vertices, atol=FLOAT32)
     assert session["solve"] == ["FINISHED"]
+    np.testing.assert_allclose(_array(session, "keyed"), _array(session, "twisted"), atol=FLOAT32)  # played back
+    assert session["keyed_rest"] < FLOAT32
     for key in ("twisted", "lift"):
         shown = _check_pose(session, key, skin, layout)
         # A vertex of the hand (all its weight on hand_r) keeps its place on the hand bone, whatever the pose.
