@@ -51,7 +51,8 @@ def _bake_once(ext: ModuleType, arm, start: np.ndarray, comfort: bool) -> dict:
 
     bake = importlib.import_module(f"{ext.__name__}.blender_manikin.scene.bake")
     armature = importlib.import_module(f"{ext.__name__}.blender_manikin.scene.armature")
-    arm.animation_data_clear()
+    if arm.animation_data is not None:  # the action only: animation_data_clear would drop the twist drivers
+        arm.animation_data.action = None
     armature.write_pose(arm, start)
     arm.manikin.comfort = comfort
     t0 = time.perf_counter()

@@ -15,9 +15,10 @@ from ...solver.bodies import load_body
 from ...solver.ergonomics.worksheet import STRENGTH_BANDS
 from ...solver.errors import ManikinError
 from ...solver.model import Model
-from ..rigging.body_mesh import build_body_mesh
 from ..rigging.bones import RigLayout
-from .schema import FILE_KEY, PRESET_KEY, SKIN_MATERIAL, TCP_KEY, TCP_PREFIX, X_KEY, body_name
+from . import display
+from .schema import FILE_KEY, PRESET_KEY, TCP_KEY, TCP_PREFIX, X_KEY
+from .twist import add_twist_bones, drive_twist_bones
 
 _models: dict[tuple, Model] = {}
 _layouts: dict[int, RigLayout] = {}
@@ -27,6 +28,7 @@ def clear_caches() -> None:
     """Forget cached models and layouts (on unregister, or after a body file changed)."""
     _models.clear()
     _layouts.clear()
+    display.clear_cache()
 
 
 def load_model(preset: str = "", file: str = "") -> Model:
@@ -54,8 +56,9 @@ def _matrix(m: np.ndarray) -> Matrix:
 def create_manikin(
     context: bpy.types.Context, model: Model, preset: str, file: str, at_cursor: bool = True
 ) -> bpy.types.Object:
-    """Armature (one bone per joint group), body mesh and ``tcp.<name>`` empties in a new collection, standing
-    on the floor below the 3D cursor (or at the world origin)."""
+    """Armature (one bone per joint group, and the twist helpers), the skinned human (or the solids for a model
+    without one) and ``tcp.<name>`` empties in a new collection, standing on the floor below the 3D cursor (or at
+    the world origin)."""
     layout = layout_of(model)
     name = preset or Path(file).stem
     collection = bpy.data.collections.new(name)
@@ -69,21 +72,23 @@ def create_manikin(
     arm[PRESET_KEY] = preset
     arm[FILE_KEY] = file
     collection.objects.link(arm)
-    _build_bones(context, arm, layout)
+    helpers = _build_bones(context, arm, layout)
+    drive_twist_bones(arm, helpers)
     for bone in layout.bones:
         pb = arm.pose.bones[bone.name]
         pb.rotation_mode = bone.rotation_mode
         pb.lock_location = bone.lock_location
         pb.lock_rotation = bone.lock_rotation if bone.exact else (False, False, False)
         pb.lock_scale = (True, True, True)
-    _build_body(arm, layout, collection, name)
+    arm.manikin.display = display.show(arm, model, layout, "HUMAN")
     for tcp in model.tcps:
         _add_tcp_empty(arm, layout, tcp, collection)
     write_pose(arm, model.zero_pose())
     return arm
 
 
-def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigLayout) -> None:
+def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigLayout) -> list[str]:
+    """The layout's bones and the twist helpers (their names returned)."""
     for obj in context.view_layer.objects.selected:
         obj.select_set(False)
     context.view_layer.objects.active = arm
@@ -101,27 +106,9 @@ def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigL
             if bone.parent >= 0:
                 eb.parent = made[bone.parent]
             made.append(eb)
+        return add_twist_bones(arm, layout)
     finally:
         bpy.ops.object.mode_set(mode="OBJECT")
-
-
-def _build_body(arm: bpy.types.Object, layout: RigLayout, collection: bpy.types.Collection, name: str) -> None:
-    body = build_body_mesh(layout)
-    mesh = bpy.data.meshes.new(body_name(name))
-    mesh.from_pydata(body.vertices.tolist(), [], body.faces)
-    mesh.shade_smooth()
-    material = bpy.data.materials.get(SKIN_MATERIAL) or bpy.data.materials.new(SKIN_MATERIAL)
-    material.diffuse_color = (0.8, 0.62, 0.5, 1.0)
-    mesh.materials.append(material)
-    obj = bpy.data.objects.new(body_name(name), mesh)
-    obj.parent = arm
-    obj.hide_select = True  # clicks go to the bones and empties, not the skin
-    collection.objects.link(obj)
-    for b, bone in enumerate(layout.bones):
-        idx = np.nonzero(body.vertex_bone == b)[0]
-        if len(idx):
-            obj.vertex_groups.new(name=bone.name).add(idx.tolist(), 1.0, "REPLACE")
-    obj.modifiers.new("Armature", "ARMATURE").object = arm
 
 
 def _add_tcp_empty(arm: bpy.types.Object, layout: RigLayout, tcp: str, collection: bpy.types.Collection) -> None:

@@ -7,6 +7,8 @@ Each function tests for the feature it uses, not for a version number:
   on the channelbag); 5.0 dropped ``Action.fcurves``.
 - Operators such as the exporters gain and rename options between versions: only the known ones are passed.
 - Materials: before 5.0 a new material has no node tree until ``use_nodes`` is set.
+- Cycles' denoiser (OpenImageDenoise) is in the official builds and the bpy wheels of 4.2-5.0 (x86-64 and Apple
+  Silicon), but a build may lack it: ``denoiser_available`` asks Cycles.
 - The viewport overlay draws with ``POLYLINE_UNIFORM_COLOR`` only, the one line shader every version has
   (``POINT_UNIFORM_COLOR`` is missing in 4.2), so it needs no fallback.
 """
@@ -76,3 +78,13 @@ def node_tree(material: bpy.types.Material) -> bpy.types.NodeTree:
     if material.node_tree is None:
         material.use_nodes = True
     return material.node_tree
+
+
+@cache
+def denoiser_available() -> bool:
+    """Whether this Blender's Cycles has OpenImageDenoise (renders then take few samples and are denoised)."""
+    try:
+        import _cycles  # Cycles' own module, there once the add-on is loaded (at startup)
+    except ImportError:
+        return False
+    return bool(getattr(_cycles, "with_openimagedenoise", False))

@@ -1,7 +1,7 @@
 """The baked motion through Blender's own exporters (bpy): FBX, BVH and glTF (.glb / .gltf).
 
-Each exporter gets the manikin's armature (active) and its body mesh (selected), the bake's frame range as the
-scene range, and its settings for a sampled, unsimplified skeletal animation: every frame is written as the
+Each exporter gets the manikin's armature (active) and the body mesh on display (selected), the bake's frame range
+as the scene range, and its settings for a sampled, unsimplified skeletal animation: every frame is written as the
 armature has it, so a re-import reproduces the joint rotations and positions (tests/blender/test_bake.py checks BVH and
 glTF). The scene's selection and frame range are restored afterwards.
 """
@@ -68,7 +68,8 @@ def export(arm: bpy.types.Object, path: str | Path, frame_start: int, frame_end:
     saved_range = (scene.frame_start, scene.frame_end, scene.frame_current)
     for ob in selected:
         ob.select_set(False)
-    bodies = [c for c in arm.children if c.type == "MESH" and c.name in view_layer.objects]
+    shown = [c for c in arm.children if c.type == "MESH" and not c.hide_viewport]  # the body on display, not the rest
+    bodies = [c for c in shown if c.name in view_layer.objects]
     unselectable = [ob for ob in bodies if ob.hide_select]
     for ob in [arm, *bodies]:
         ob.hide_select = False  # the body is click-through in the viewport; exporters skip unselectable objects

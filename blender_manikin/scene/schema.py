@@ -5,10 +5,10 @@ On the armature object: ``manikin_preset`` (preset name, or "" for a body file),
 ""), ``manikin_x`` (the last solution: joint values, then contact-edge weights), ``manikin_result`` (JSON summary
 of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
 that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
-(its TCP's name). On an obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing
-again replaces it). On a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle).
-Settings live in the ``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups
-(``ui/properties.py``).
+(its TCP's name). On each body object (the skinned human, the capsules, the solids): ``manikin_display``. On an
+obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing again replaces it). On
+a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle). Settings live in the
+``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups (``ui/properties.py``).
 """
 
 from __future__ import annotations
@@ -31,7 +31,11 @@ OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacl
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
 PREFIXES = {"TARGET": "target.", "LOOP": "loop.", "LOAD": "load."}  # the empties a user moves, by role
 BODY_SUFFIX = ".body"  # <armature>.body: the mesh (and its object) riding on the bones
+DISPLAY_SUFFIXES = {"CAPSULES": ".capsules", "SOLIDS": ".solids"}  # the other displays' objects (made when chosen)
+DISPLAY_KEY = "manikin_display"  # on each body object: the display it belongs to (HUMAN, CAPSULES, SOLIDS)
 SKIN_MATERIAL = "manikin.skin"  # the bodies' material, shared by every manikin
+EYE_MATERIALS = ("manikin.eye", "manikin.iris")  # the eyeballs' sclera and iris
+SHADED_KEY = "manikin_shaded"  # on a material of ours with its own node setup (skin, eyes): pictures keep it
 PICTURE_PREFIX = "picture."  # picture.floor, picture.sun, ...: the key-pose picture's staging, removed afterwards
 PICTURE_COLLECTION = "manikin.picture"  # the collection holding that staging
 OUR_MATERIALS = ("manikin.", PICTURE_PREFIX)  # name prefixes of the materials we make (a user's stay untouched)

@@ -57,6 +57,7 @@ class MANIKIN_PT_main(_SidebarPanel):
             layout.label(text="Select a manikin or one of its targets", icon="INFO")
             return
         layout.label(text=f"{arm.name} ({arm.get(PRESET_KEY) or arm.get(FILE_KEY)})")
+        layout.row(align=True).prop(arm.manikin, "display", expand=True)
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("manikin.solve_pose", icon="PLAY")

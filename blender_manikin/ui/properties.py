@@ -51,6 +51,21 @@ def _rig_changed(self, context: bpy.types.Context) -> None:
     _resolve_live(self.id_data)
 
 
+def _display_changed(self, context: bpy.types.Context) -> None:
+    """Show the chosen body (built the first time); a model without a human mesh falls back to the solids."""
+    from ...solver.errors import ManikinError
+    from ..scene import armature, display
+
+    arm = self.id_data
+    try:
+        model = armature.model_of(arm)
+    except ManikinError:  # the body file is gone: nothing to build from (the panel's actions report it)
+        return
+    shown = display.show(arm, model, armature.layout_of(model), self.display)
+    if shown != self.display:
+        self.display = shown
+
+
 def _is_manikin(_self, obj: bpy.types.Object) -> bool:
     return is_manikin(obj)
 
@@ -128,8 +143,19 @@ class MANIKIN_PG_obstacle(bpy.types.PropertyGroup):
     shape: EnumProperty(name="Shape", items=SHAPES, default="MESH", description="What the solver keeps clear of")
 
 
+DISPLAYS = (
+    ("HUMAN", "Human", "The skinned human: the MakeHuman mesh fitted to the manikin's body"),
+    ("CAPSULES", "Capsules", "The solver's collision capsules, riding on the bones"),
+    ("SOLIDS", "Solids", "One simple solid per bone, sized by the segment's mass"),
+)
+
+
 class MANIKIN_PG_rig(bpy.types.PropertyGroup):
-    """Solver settings of one manikin (on its armature object)."""
+    """Solver and display settings of one manikin (on its armature object)."""
+
+    display: EnumProperty(
+        name="Display", items=DISPLAYS, default="HUMAN", description="What shows the body", update=_display_changed
+    )
 
     balance: BoolProperty(
         name="Balance", default=True, description="Static balance with unknown contact forces", update=_rig_changed

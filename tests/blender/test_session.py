@@ -13,6 +13,7 @@ import pytest
 from environments import run_python
 
 from blender_manikin.rigging.bones import RigLayout
+from blender_manikin.rigging.skin import twist_bones
 from solver import Problem, load_scenario
 from solver.bodies import load_body
 from solver.model import GRAVITY
@@ -62,7 +63,7 @@ def test_add_manikin_builds_rig_body_tcps_and_supports(session: dict, model) -> 
     assert session["module"] == "bl_ext.user_default.manikin"
     layout = RigLayout(model)
     arm = session["armature"]
-    assert arm["preset"] == "male_50" and arm["bones"] == len(layout.bones)
+    assert arm["preset"] == "male_50" and arm["bones"] == len(layout.bones) + len(twist_bones(layout))  # + helpers
     assert set(arm["objects"]) == {"male_50.body"} | {f"tcp.{t}" for t in model.tcps}
     for bone in layout.bones:
         rest, length, parent = session["rest"][bone.name]
