@@ -1,7 +1,8 @@
 """Everything Manikin registers with Blender, and the one place that registers it.
 
 ``properties`` (the settings groups on objects), ``operators`` (add a manikin, targets, loops, loads; solve;
-reset), ``scenario_operators`` (import/export scenario TOML), ``motion_operators`` (Bake Motion), ``panels`` (the
+reset), ``scenario_operators`` (import/export scenario TOML), ``envelope_operators`` (import a reach envelope),
+``motion_operators`` (Bake Motion), ``panels`` (the
 sidebar tab and menu entries), ``live`` (re-solve while targets move) and ``overlay`` (viewport drawing). They
 import only bpy, the scene schema and the solver's light ``errors``, ``options`` and ``presets``: the solver's
 numerics, scipy and the scene code load inside ``execute``, so enabling the add-on stays fast.
@@ -18,19 +19,20 @@ import bpy
 def _modules() -> tuple[ModuleType, ...]:
     # Imported here, not at module level: with the submodules imported by this module's own body, bpy 4.2 (the
     # wheel) segfaults at exit after unregistering (tests/blender/matrix.py caught it; 4.5 and 5.0 do not).
-    from . import live, motion_operators, operators, overlay, panels, properties, scenario_operators
+    from . import envelope_operators, live, motion_operators, operators, overlay, panels, properties, scenario_operators
 
-    return properties, operators, scenario_operators, motion_operators, panels, live, overlay
+    return properties, operators, scenario_operators, envelope_operators, motion_operators, panels, live, overlay
 
 
 def classes() -> tuple[type, ...]:
     """Every class the add-on registers, in registration order: the property groups before anything that reads
     them, panels after their operators."""
-    properties, operators, scenario_operators, motion_operators, panels, _, _ = _modules()
+    properties, operators, scenario_operators, envelope_operators, motion_operators, panels, _, _ = _modules()
     return (
         *properties.classes,
         *operators.classes,
         *scenario_operators.classes,
+        *envelope_operators.classes,
         *motion_operators.classes,
         *panels.classes,
     )
@@ -38,7 +40,7 @@ def classes() -> tuple[type, ...]:
 
 def register() -> None:
     """Register the classes, the object settings, the menu entries, the live-mode handler and the overlay."""
-    properties, _, _, _, panels, live, overlay = _modules()
+    properties, _, _, _, _, panels, live, overlay = _modules()
     for cls in classes():
         bpy.utils.register_class(cls)
     properties.attach()
@@ -50,7 +52,7 @@ def register() -> None:
 
 def unregister() -> None:
     """Remove everything :func:`register` added, in reverse order, and drop the cached models (if any loaded)."""
-    properties, _, _, _, panels, live, overlay = _modules()
+    properties, _, _, _, _, panels, live, overlay = _modules()
     overlay.unregister()
     live.unregister()
     for menu, draw in panels.MENUS:
