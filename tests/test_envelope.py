@@ -103,6 +103,12 @@ def test_a_heavy_load_in_the_hand_shortens_the_forward_reach_in_balance_only():
     assert free["hand_y"] < free["shoulder_y"] - 0.5 and json.dumps(free)  # a plain row
 
 
+def test_keeping_the_centre_of_pressure_off_the_sole_edges_shortens_the_reach():
+    ahead = (0.0, -1.0, 0.0)
+    whole, inner = (reach_row("male_50", ahead, sole_scale=scale) for scale in (1.0, 0.5))
+    assert inner["reached"] and inner["reach_m"] < whole["reach_m"] - 0.05
+
+
 def parse_glb(data: bytes) -> tuple[dict, bytes]:
     """The JSON and the binary chunk of a GLB, its framing checked."""
     magic, version, length = struct.unpack_from("<III", data, 0)
@@ -166,16 +172,18 @@ def test_the_command_writes_one_envelope_per_family_member(tmp_path):
     assert run_cli("family", "--sex", "female", "--points", "0", "-o", str(family), "-q").returncode == 0
     out = tmp_path / "out"
     done = run_cli("envelope", "--family", str(family), "--frequency", "1", "--hemisphere", "front", "--load", "10",
-                   "-o", str(out), "-q")  # fmt: skip
+                   "--hand", "both", "--processes", "2", "-o", str(out), "-q")  # fmt: skip
     assert done.returncode == 0, done.stderr
     names = sorted(p.name for p in out.iterdir())
     stem = "female_mean_right"
-    assert names == ["envelopes.csv", *(f"{stem}.{ext}" for ext in ("csv", "glb", "obj", "png"))]
+    per_hand = [f"female_mean_{hand}.{ext}" for hand in ("left", "right") for ext in ("csv", "glb", "obj", "png")]
+    assert names == ["envelopes.csv", *per_hand]
     rows = list(csv.DictReader((out / f"{stem}.csv").open(encoding="utf-8")))
     assert len(rows) == len(direction_sphere(1, "front").directions)
     assert all(float(r["reach_balanced_m"]) <= float(r["reach_kinematic_m"]) + TOLERANCE for r in rows)
-    (summary,) = csv.DictReader((out / "envelopes.csv").open(encoding="utf-8"))
-    assert summary["manikin"] == "female_mean" and float(summary["load_kg"]) == 10.0
+    summary = list(csv.DictReader((out / "envelopes.csv").open(encoding="utf-8")))
+    assert sorted(row["hand"] for row in summary) == ["left", "right"]
+    assert all(row["manikin"] == "female_mean" and float(row["load_kg"]) == 10.0 for row in summary)
     assert_closed(read_envelope(out / f"{stem}.glb").meshes[0].faces)
 
 
@@ -189,6 +197,8 @@ def test_the_command_writes_one_envelope_per_family_member(tmp_path):
         (["--tolerance", "0"], "--tolerance: expected m in [0.001, 0.2], got 0.0"),
         (["snake"], "manikin snake: a reach envelope needs the TCPs hand_r, shoulder_r, foot_l, foot_r"),
         (["--family", "nowhere"], "nowhere/family.toml: not found"),
+        (["--sole-scale", "0"], "--sole-scale: expected a fraction in [0.1, 1], got 0.0"),
+        (["--processes", "0"], "--processes: expected a whole number >= 1, got 0"),
         (["--hemisphere", "inside"], "argument --hemisphere: invalid choice: 'inside'"),
     ],
 )

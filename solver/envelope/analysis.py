@@ -26,7 +26,7 @@ def envelope_file(envelope: Envelope) -> EnvelopeFile:
     """Both meshes with the shoulder and a description of the run, ready to write."""
     info = {
         "manikin": envelope.manikin, "hand": envelope.side, "load_kg": f"{envelope.load_kg:g}",
-        "orientation": "free" if envelope.rotation is None else "fixed",
+        "orientation": "free" if envelope.rotation is None else "fixed", "sole_scale": f"{envelope.sole_scale:g}",
         "directions": str(len(envelope.sphere.directions)), "arm_length_m": f"{envelope.arm:.4f}",
     }  # fmt: skip
     return EnvelopeFile([mesh(envelope, which) for which in WHICH], envelope.shoulder.copy(), info)

@@ -68,21 +68,33 @@ class ReachSetup:
 
 
 def reach_setup(
-    model: Model, side: str = "right", load_kg: float = 0.0, rotation: np.ndarray | None = None, balance: bool = True
+    model: Model,
+    side: str = "right",
+    load_kg: float = 0.0,
+    rotation: np.ndarray | None = None,
+    balance: bool = True,
+    sole_scale: float = 1.0,
 ) -> ReachSetup:
     """The setup of ``model``'s ``side`` hand ("right" or "left") holding ``load_kg`` (its weight hangs from the
-    hand), its orientation fixed to ``rotation`` (3x3, world) or free, with or without balance."""
+    hand), its orientation fixed to ``rotation`` (3x3, world) or free, with or without balance; the centre of
+    pressure kept inside each sole scaled by ``sole_scale`` about its centre (1: the whole sole, the static limit;
+    less keeps a margin of stability)."""
     if side not in SIDES:
         raise UsageError(f"--hand: expected right or left, got {side!r}")
     if not (np.isfinite(load_kg) and 0.0 <= load_kg <= MAX_LOAD):
         raise UsageError(f"--load: expected kg in [0, {MAX_LOAD:g}], got {load_kg!r}")
+    if not (np.isfinite(sole_scale) and 0.1 <= sole_scale <= 1.0):
+        raise UsageError(f"--sole-scale: expected a fraction in [0.1, 1], got {sole_scale!r}")
     s = SIDES[side]
     needed = (f"hand_{s}", f"shoulder_{s}", *FEET)
     missing = [name for name in needed if name not in model.tcps]
     if missing:
         raise ModelError(f"manikin {model.name}: a reach envelope needs the TCPs {', '.join(missing)} (a human body)")
     zero = model.forward(model.zero_pose())
-    feet = tuple(Target(f, zero.tcp_frame(model.tcp(f))[1], support=True, friction=0.6) for f in FEET)
+    feet = tuple(
+        Target(f, zero.tcp_frame(model.tcp(f))[1], support=True, friction=0.6, sole=_scaled(model, f, sole_scale))
+        for f in FEET
+    )
     weight = np.asarray(GRAVITY) * load_kg
     loads = [ExternalLoad(f"hand_{s}", weight)] if load_kg > 0.0 else []
     start_hand = Target(f"hand_{s}", zero.tcp_frame(model.tcp(f"hand_{s}"))[1], lock=("x", "y", "z"))
@@ -90,6 +102,12 @@ def reach_setup(
     shoulder = zero.tcp_frame(model.tcp(f"shoulder_{s}"))[1]
     rot = None if rotation is None else np.asarray(rotation, dtype=float)
     return ReachSetup(model, f"hand_{s}", shoulder, feet, float(load_kg), rot, balance, base)
+
+
+def _scaled(model: Model, foot: str, scale: float) -> np.ndarray | None:
+    """The sole of ``foot`` scaled about the TCP by ``scale`` (None: the TCP's own sole, unscaled)."""
+    sole = model.tcp(foot).sole
+    return None if scale == 1.0 or sole is None else np.asarray(sole, dtype=float) * scale
 
 
 def arm_length(model: Model, side: str = "right") -> float:

@@ -26,9 +26,9 @@ def _model(manikin: str) -> Model:
 
 
 @lru_cache(maxsize=64)
-def _setup(manikin: str, hand: str, load_kg: float, rotation: tuple | None, balance: bool) -> ReachSetup:
+def _setup(manikin: str, hand: str, load_kg: float, rotation: tuple | None, balance: bool, sole: float) -> ReachSetup:
     matrix = None if rotation is None else quat_to_matrix(np.array(rotation))
-    return reach_setup(_model(manikin), hand, load_kg, matrix, balance)
+    return reach_setup(_model(manikin), hand, load_kg, matrix, balance, sole)
 
 
 def rotation_of(quaternion: Sequence[float] | None) -> tuple[float, ...] | None:
@@ -49,10 +49,12 @@ def reach_row(
     balance: bool = True,
     rotation: Sequence[float] | None = None,
     tolerance: float = 0.02,
+    sole_scale: float = 1.0,
 ) -> dict:
     """How far ``manikin`` (a preset name or body TOML path) reaches with its ``hand`` ("right"/"left") along
     ``direction`` (3 numbers, world: z up, the manikin faces -y) from its shoulder, feet planted, holding ``load_kg``,
-    in balance or not, the hand's orientation free or fixed to ``rotation`` (w, x, y, z).
+    in balance or not, the hand's orientation free or fixed to ``rotation`` (w, x, y, z), the centre of pressure
+    in the soles scaled by ``sole_scale`` (1: whole soles).
 
     The row: the inputs, ``reach_m`` (0 when not reached), ``reached``, the hand point ``hand_x/y/z`` and the shoulder
     ``shoulder_x/y/z`` (m, world), ``arm_length_m``, ``solves``, ``iterations`` and ``time_s``.
@@ -63,13 +65,13 @@ def reach_row(
         raise UsageError(f"direction: expected 3 finite numbers, not all zero, got {direction!r}")
     check_tolerance(tolerance)
     rot = rotation_of(rotation)
-    setup = _setup(str(manikin), hand, float(load_kg), rot, bool(balance))
+    setup = _setup(str(manikin), hand, float(load_kg), rot, bool(balance), float(sole_scale))
     d = d / np.linalg.norm(d)
     arm = arm_length(setup.model, hand)
     ray = search_ray(setup, d, 0.8 * arm, None, tolerance=tolerance)
     point = setup.shoulder + ray.radius * d
     row = {"manikin": setup.model.name, "hand": hand, "dx": float(d[0]), "dy": float(d[1]), "dz": float(d[2]),
-           "balance": bool(balance), "load_kg": float(load_kg),
+           "balance": bool(balance), "load_kg": float(load_kg), "sole_scale": float(sole_scale),
            "orientation": "free" if rot is None else " ".join(f"{v:g}" for v in rot),
            "reach_m": float(ray.radius), "reached": ray.reached}  # fmt: skip
     row |= {f"hand_{k}": float(v) for k, v in zip("xyz", point, strict=True)}

@@ -34,6 +34,7 @@ class Envelope:
     side: str
     load_kg: float
     rotation: np.ndarray | None
+    sole_scale: float
     shoulder: np.ndarray
     sphere: DirectionSphere
     balanced: np.ndarray
@@ -124,14 +125,15 @@ def sweep_envelope(
     rotation: np.ndarray | None = None,
     tolerance: float = 0.02,
     progress: Callable[[int, int], None] | None = None,
+    sole_scale: float = 1.0,
 ) -> Envelope:
     """The envelope of ``model``'s ``side`` hand over ``sphere``'s directions (reach within ``tolerance`` m), holding
-    ``load_kg`` in that hand, its orientation fixed to ``rotation`` (3x3, world) or free; ``progress(done, total)``
-    after each direction."""
+    ``load_kg`` in that hand, its orientation fixed to ``rotation`` (3x3, world) or free, the centre of pressure in
+    the soles scaled by ``sole_scale`` (see :func:`reach_setup`); ``progress(done, total)`` after each direction."""
     t0 = time.perf_counter()
     tolerance = check_tolerance(tolerance)
-    balanced = _Rays(reach_setup(model, side, load_kg, rotation, True), sphere, tolerance)
-    kinematic = _Rays(reach_setup(model, side, load_kg, rotation, False), sphere, tolerance)
+    balanced = _Rays(reach_setup(model, side, load_kg, rotation, True, sole_scale), sphere, tolerance)
+    kinematic = _Rays(reach_setup(model, side, load_kg, rotation, False, sole_scale), sphere, tolerance)
     first_guess = 0.8 * arm_length(model, side)
     order = visiting_order(sphere)
     for done, i in enumerate(order, 1):
@@ -150,7 +152,7 @@ def sweep_envelope(
     bal, kin = balanced.radii(), kinematic.radii()
     shoulder = balanced.setup.shoulder
     return Envelope(
-        model.name, side, float(load_kg), rotation, shoulder, sphere, bal, kin, arm_length(model, side),
-        balanced.tests + kinematic.tests, time.perf_counter() - t0,
+        model.name, side, float(load_kg), rotation, float(sole_scale), shoulder, sphere, bal, kin,
+        arm_length(model, side), balanced.tests + kinematic.tests, time.perf_counter() - t0,
         {"balanced": balanced.poses(), "kinematic": kinematic.poses()},
     )  # fmt: skip
