@@ -1,6 +1,6 @@
 """A picture of an envelope (matplotlib, PNG): its sections through the shoulder, sagittal, transverse and frontal,
-in balance and without it, with the arm's own reach as a circle. Distances in m; the manikin faces left in the side
-view (forward = -y)."""
+in balance and without it, with the arm's own reach as a circle. Distances in m; forward (the manikin's -y) points
+to the right in the side and top views."""
 
 from __future__ import annotations
 
