@@ -19,7 +19,16 @@ import pytest
 
 from solver import load_preset, solve
 from solver.__main__ import main
-from solver.envelope import comparison, direction_sphere, glb_bytes, obj_text, reach_row, read_envelope, sweep_envelope
+from solver.envelope import (
+    comparison,
+    direction_sphere,
+    glb_bytes,
+    obj_text,
+    reach_row,
+    read_envelope,
+    search_ray,
+    sweep_envelope,
+)
 from solver.envelope.analysis import envelope_file, mesh, section, volume
 from solver.envelope.reach import reach_setup
 from solver.errors import ResultFileError
@@ -101,6 +110,19 @@ def test_a_heavy_load_in_the_hand_shortens_the_forward_reach_in_balance_only():
     unbalanced = reach_row("male_50", ahead_low, load_kg=20.0, balance=False)
     assert unbalanced["reach_m"] > free["reach_m"] + 0.1  # without balance the load changes nothing
     assert free["hand_y"] < free["shoulder_y"] - 0.5 and json.dumps(free)  # a plain row
+
+
+def test_a_fixed_hand_orientation_is_held_at_the_reach_and_reaches_no_farther_than_a_free_one():
+    model = load_preset("male_50")
+    palm_down = np.column_stack([(0.0, -1.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.0, -1.0)])  # fingers ahead
+    out_right = np.array([-1.0, 0.0, 0.0])
+    free = search_ray(reach_setup(model, "right"), out_right, 0.5)
+    fixed = search_ray(reach_setup(model, "right", rotation=palm_down), out_right, 0.5)
+    assert fixed.reached and fixed.radius <= free.radius + TOLERANCE
+    rotation, _ = model.forward(fixed.pose).tcp_frame(model.tcp("hand_r"))
+    assert np.degrees(np.arccos(np.clip((np.trace(rotation.T @ palm_down) - 1) / 2, -1, 1))) < 0.5
+    row = reach_row("male_50", out_right, rotation=(0.0, 0.70710678, -0.70710678, 0.0))  # the same, as w, x, y, z
+    assert row["orientation"] == "0 0.707107 -0.707107 0" and abs(row["reach_m"] - fixed.radius) <= TOLERANCE
 
 
 def test_keeping_the_centre_of_pressure_off_the_sole_edges_shortens_the_reach():
