@@ -166,8 +166,8 @@ def search_ray(
     The search starts at ``seed_radius`` warm-started from ``seed_pose`` (joint values; None: the zero pose); a
     ``known`` seed (a pose already reaching that radius, e.g. the balanced reach when balance is off) is not tested
     again. An unreached seed is retried nearer the shoulder (x SHRINK down to MIN_RADIUS) if ``retry``, else the ray
-    counts as not reached (one test: does this pose get that far?). From the reached radius
-    the step outward doubles until a point is not reached, then the bracket is halved down to ``tolerance``.
+    counts as not reached (one test: does this pose get that far?). From the reached radius the step outward
+    doubles until a point is not reached, then the bracket is halved down to ``tolerance``.
     """
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
