@@ -1,6 +1,6 @@
 """Command line: ``python -m solver solve SCENARIO.toml [-o RESULT.json]``, ``ergo RESULT.json -o ERGO.json``,
 ``study STUDY.toml -o OUT/``, ``bench``, ``presets``, ``urdf PRESET -o OUT.urdf``, ``family ... -o DIR``
-(:mod:`solver.population.cli`).
+(:mod:`solver.population.cli`), ``envelope [MANIKIN ...] -o DIR`` (:mod:`solver.envelope.cli`).
 
 Exit codes: 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input (one line
 on stderr naming the file, the key and what was expected), 130 interrupted (Ctrl-C; the frames solved so far are
@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .envelope.cli import add_envelope_parser
 from .errors import ArgumentParser, ManikinError, UsageError
 from .io.files import STDOUT, write_text
 from .population.cli import add_family_parser
@@ -270,6 +271,7 @@ def build_parser() -> argparse.ArgumentParser:
     p_presets = sub.add_parser("presets", help="list the manikin and scenario presets")
     p_presets.set_defaults(run=_presets)
     add_family_parser(sub)
+    add_envelope_parser(sub)
     return parser
 
 

@@ -7,7 +7,8 @@ of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the
 that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
 (its TCP's name). On each body object (the skinned human, the capsules, the solids): ``manikin_display``. On an
 obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing again replaces it). On
-a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle). Settings live in the
+a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle). On a reach envelope:
+``manikin_envelope`` (the file it came from; importing it again replaces it). Settings live in the
 ``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups (``ui/properties.py``).
 """
 
@@ -26,6 +27,7 @@ ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
 CARRIED_KEY = "manikin_carried"  # on a carried box (scene/carried_object.py)
+ENVELOPE_KEY = "manikin_envelope"  # on a reach envelope object: the file it was imported from (envelope_objects.py)
 OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacle
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP

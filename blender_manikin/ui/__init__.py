@@ -1,65 +1,78 @@
 """Everything Manikin registers with Blender, and the one place that registers it.
 
 ``properties`` (the settings groups on objects), ``operators`` (add a manikin, targets, loops, loads; solve;
-reset), ``scenario_operators`` (import/export scenario TOML), ``motion_operators`` (Bake Motion), ``panels`` (the
-sidebar tab and menu entries), ``live`` (re-solve while targets move), ``overlay`` (viewport drawing) and
-``study_panel`` / ``study_operators`` (a population study in the background, its table, a row loaded). They
-import only bpy, the scene schema and the solver's light ``errors``, ``options`` and ``presets``: the solver's
-numerics, scipy and the scene code load inside ``execute``, so enabling the add-on stays fast.
+reset), ``scenario_operators`` (import/export scenario TOML), ``envelope_operators`` (import a reach envelope),
+``motion_operators`` (Bake Motion), ``panels`` (the sidebar tab and menu entries), ``live`` (re-solve while targets
+move), ``overlay`` (viewport drawing), ``study_panel`` / ``study_operators`` (a population study in the background,
+its table, a row loaded) and ``..retarget``'s settings, operators and panel. They import only bpy, the scene schema
+and the solver's light ``errors``, ``options`` and ``presets``: the solver's numerics, scipy and the scene code
+load inside ``execute``, so enabling the add-on stays fast.
 """
 
 from __future__ import annotations
 
 import sys
-from types import ModuleType
+from types import ModuleType, SimpleNamespace
 
 import bpy
 
 
-def _modules() -> tuple[ModuleType, ...]:
+def _modules() -> SimpleNamespace:
     # Imported here, not at module level: with the submodules imported by this module's own body, bpy 4.2 (the
     # wheel) segfaults at exit after unregistering (tests/blender/matrix.py caught it; 4.5 and 5.0 do not).
-    from . import live, motion_operators, operators, overlay, panels, properties, scenario_operators, study_panel
+    from . import (
+        envelope_operators,
+        live,
+        motion_operators,
+        operators,
+        overlay,
+        panels,
+        properties,
+        scenario_operators,
+        study_panel,
+    )
 
-    return properties, operators, scenario_operators, motion_operators, panels, live, overlay, study_panel
+    found: dict[str, ModuleType] = dict(locals())
+    return SimpleNamespace(**found)
 
 
 def classes() -> tuple[type, ...]:
     """Every class the add-on registers, in registration order: the property groups before anything that reads
     them, panels after their operators."""
-    properties, operators, scenario_operators, motion_operators, panels, _, _, study_panel = _modules()
+    m = _modules()
     return (
-        *properties.classes,
-        *operators.classes,
-        *scenario_operators.classes,
-        *motion_operators.classes,
-        *panels.classes,
-        *study_panel.classes,
+        *m.properties.classes,
+        *m.operators.classes,
+        *m.scenario_operators.classes,
+        *m.envelope_operators.classes,
+        *m.motion_operators.classes,
+        *m.panels.classes,
+        *m.study_panel.classes,
     )
 
 
 def register() -> None:
     """Register the classes, the object settings, the menu entries, the live-mode handler and the overlay."""
-    properties, _, _, _, panels, live, overlay, study_panel = _modules()
+    m = _modules()
     for cls in classes():
         bpy.utils.register_class(cls)
-    properties.attach()
-    study_panel.attach()
-    for menu, draw in panels.MENUS:
+    m.properties.attach()
+    m.study_panel.attach()
+    for menu, draw in m.panels.MENUS:
         getattr(bpy.types, menu).append(draw)
-    live.register()
-    overlay.register()
+    m.live.register()
+    m.overlay.register()
 
 
 def unregister() -> None:
     """Remove everything :func:`register` added, in reverse order, and drop the cached models (if any loaded)."""
-    properties, _, _, _, panels, live, overlay, study_panel = _modules()
-    study_panel.detach()
-    overlay.unregister()
-    live.unregister()
-    for menu, draw in panels.MENUS:
+    m = _modules()
+    m.study_panel.detach()
+    m.overlay.unregister()
+    m.live.unregister()
+    for menu, draw in m.panels.MENUS:
         getattr(bpy.types, menu).remove(draw)
-    properties.detach()
+    m.properties.detach()
     for cls in reversed(classes()):
         bpy.utils.unregister_class(cls)
     armature = sys.modules.get(__package__.rpartition(".")[0] + ".scene.armature")

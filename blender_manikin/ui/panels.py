@@ -29,6 +29,7 @@ def draw_add_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
 
 def draw_import_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
     self.layout.operator("manikin.import_scenario", text="Manikin Scenario (.toml)")
+    self.layout.operator("manikin.import_envelope", text="Manikin Reach Envelope (.obj, .glb)")
 
 
 def draw_export_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
@@ -73,6 +74,7 @@ class MANIKIN_PT_main(_SidebarPanel):
         row = layout.row(align=True)
         row.operator("manikin.import_scenario", icon="IMPORT")
         row.operator("manikin.export_scenario", icon="EXPORT")
+        layout.operator("manikin.import_envelope", icon="MESH_UVSPHERE")
         if arm.get(ERROR_KEY):  # from live mode, which has no report()
             layout.label(text=arm[ERROR_KEY], icon="ERROR")
 

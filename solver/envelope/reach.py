@@ -1,0 +1,204 @@
+"""How far one hand reaches along one direction from its shoulder, with the feet planted, in balance or not.
+
+A point is *reached* when a solve meets every constraint there: the hand on the point (position; and the orientation
+when it is fixed), both feet on their start places (all six axes: planted), the floor and the body's own clearances,
+and, with balance, the static balance of the whole body with its contact forces inside the friction cones and the
+soles (priority 1 in :mod:`solver.priorities`) under the hand-held load. The reach along a ray is the largest radius
+found reached by a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last
+reached pose. A ray is assumed to be reached from the shoulder out to one radius (star-shaped); where it is not (a
+ray through the head), the search returns the end of the reached stretch it started on. Units: m, kg, N.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..errors import ModelError, UsageError
+from ..iteration import TUNING, attempt
+from ..model import GRAVITY, Model
+from ..options import SolverOptions
+from ..problem import Problem
+from ..specs import ExternalLoad, Target
+
+SIDES = {"right": "r", "left": "l"}
+FEET = ("foot_l", "foot_r")
+# A reach test needs no comfort (the farthest point, not the nicest pose): pure least squares from a warm start meets
+# a reachable point in 3-10 iterations; the budget bounds what an unreachable one costs before it is called so.
+TEST_OPTIONS = SolverOptions(max_iterations=30, optimize_comfort=False, restarts=0)
+COLD_OPTIONS = SolverOptions(max_iterations=100, optimize_comfort=False, restarts=0)  # from the zero pose
+# ... and a test whose error falls by less than 10 % over three iterations is a miss (the solver's default, 2 %,
+# is for getting as close as possible): a third less work per envelope, the same radii within a millimetre.
+TEST_TUNING = replace(TUNING, stagnation_gain=0.1)
+FIRST_STEP = 0.04  # m: the first step outward from a reached radius; it doubles while the points are reached
+MAX_RADIUS = 3.0  # m from the shoulder: no human hand reaches farther with its feet planted
+MIN_RADIUS = 0.05  # m: a ray not reached this far counts as not reached
+SHRINK = 0.85  # an unreached seed radius is tried again this much nearer the shoulder
+MAX_LOAD = 100.0  # kg in the hand
+
+
+def check_tolerance(tolerance: float) -> float:
+    """The radius tolerance of a search (m), refused with a UsageError line outside [0.001, 0.2]."""
+    if not (isinstance(tolerance, (int, float)) and np.isfinite(tolerance) and 1e-3 <= tolerance <= 0.2):
+        raise UsageError(f"--tolerance: expected m in [0.001, 0.2], got {tolerance!r}")
+    return float(tolerance)
+
+
+@dataclass(frozen=True)
+class ReachSetup:
+    """What stays the same over a manikin's rays: the model, the hand and shoulder TCPs, the planted feet, the load,
+    the hand's fixed orientation (3x3, world; None = free) and whether balance is required. ``base`` is the problem
+    whose targets each test replaces (so contacts, clearances and comfort are built once)."""
+
+    model: Model
+    hand: str
+    shoulder: np.ndarray  # (3,) m, the shoulder (glenohumeral) centre in the zero pose
+    feet: tuple[Target, ...]
+    load_kg: float
+    rotation: np.ndarray | None
+    balance: bool
+    base: Problem
+
+    def problem(self, point: np.ndarray) -> Problem:
+        """The problem of holding the hand on ``point`` (m, world)."""
+        lock = ("x", "y", "z") if self.rotation is None else ("x", "y", "z", "rx", "ry", "rz")
+        hand = Target(self.hand, np.asarray(point, dtype=float), rotation=self.rotation, lock=lock)
+        return self.base.with_targets([hand, *self.feet])
+
+
+def reach_setup(
+    model: Model,
+    side: str = "right",
+    load_kg: float = 0.0,
+    rotation: np.ndarray | None = None,
+    balance: bool = True,
+    sole_scale: float = 1.0,
+) -> ReachSetup:
+    """The setup of ``model``'s ``side`` hand ("right" or "left") holding ``load_kg`` (its weight hangs from the
+    hand), its orientation fixed to ``rotation`` (3x3, world) or free, with or without balance; the centre of
+    pressure kept inside each sole scaled by ``sole_scale`` about its centre (1: the whole sole, the static limit;
+    less keeps a margin of stability)."""
+    if side not in SIDES:
+        raise UsageError(f"--hand: expected right or left, got {side!r}")
+    if not (np.isfinite(load_kg) and 0.0 <= load_kg <= MAX_LOAD):
+        raise UsageError(f"--load: expected kg in [0, {MAX_LOAD:g}], got {load_kg!r}")
+    if not (np.isfinite(sole_scale) and 0.1 <= sole_scale <= 1.0):
+        raise UsageError(f"--sole-scale: expected a fraction in [0.1, 1], got {sole_scale!r}")
+    s = SIDES[side]
+    needed = (f"hand_{s}", f"shoulder_{s}", *FEET)
+    missing = [name for name in needed if name not in model.tcps]
+    if missing:
+        raise ModelError(f"manikin {model.name}: a reach envelope needs the TCPs {', '.join(missing)} (a human body)")
+    zero = model.forward(model.zero_pose())
+    feet = tuple(
+        Target(f, zero.tcp_frame(model.tcp(f))[1], support=True, friction=0.6, sole=_scaled(model, f, sole_scale))
+        for f in FEET
+    )
+    weight = np.asarray(GRAVITY) * load_kg
+    loads = [ExternalLoad(f"hand_{s}", weight)] if load_kg > 0.0 else []
+    start_hand = Target(f"hand_{s}", zero.tcp_frame(model.tcp(f"hand_{s}"))[1], lock=("x", "y", "z"))
+    base = Problem(model, [start_hand, *feet], loads=loads, balance=balance)
+    shoulder = zero.tcp_frame(model.tcp(f"shoulder_{s}"))[1]
+    rot = None if rotation is None else np.asarray(rotation, dtype=float)
+    return ReachSetup(model, f"hand_{s}", shoulder, feet, float(load_kg), rot, balance, base)
+
+
+def _scaled(model: Model, foot: str, scale: float) -> np.ndarray | None:
+    """The sole of ``foot`` scaled about the TCP by ``scale`` (None: the TCP's own sole, unscaled)."""
+    sole = model.tcp(foot).sole
+    return None if scale == 1.0 or sole is None else np.asarray(sole, dtype=float) * scale
+
+
+def arm_length(model: Model, side: str = "right") -> float:
+    """Shoulder centre to the palm's grasp point with the arm straight (the zero pose), m: the radius of the
+    envelope of the arm alone, trunk and legs still."""
+    s = SIDES[side]
+    zero = model.forward(model.zero_pose())
+    hand, shoulder = (zero.tcp_frame(model.tcp(f"{name}_{s}"))[1] for name in ("hand", "shoulder"))
+    return float(np.linalg.norm(hand - shoulder))
+
+
+@dataclass
+class RayReach:
+    """The reach along one ray: ``radius`` m (0 when not reached), the ``pose`` (joint values) at it (None when not
+    reached), how many solves the search took (``tests``) and their ``iterations``."""
+
+    radius: float
+    pose: np.ndarray | None
+    tests: int = 0
+    iterations: int = 0
+
+    @property
+    def reached(self) -> bool:
+        return self.pose is not None
+
+
+class _Tester:
+    """Reach tests along one ray, counting solves and iterations."""
+
+    def __init__(self, setup: ReachSetup, direction: np.ndarray) -> None:
+        self.setup = setup
+        self.direction = direction
+        self.tests = 0
+        self.iterations = 0
+
+    def __call__(self, radius: float, start: np.ndarray | None, options: SolverOptions = TEST_OPTIONS):
+        """The joint values holding the hand at ``radius`` along the ray (None if not reached)."""
+        problem = self.setup.problem(self.setup.shoulder + radius * self.direction)
+        end = attempt(problem, problem.start(start), options, TEST_TUNING)
+        self.tests += 1
+        self.iterations += end.iterations
+        return problem.to_x(end.trial.x)[: self.setup.model.n].copy() if end.trial.worst <= 1.0 else None
+
+
+def search_ray(
+    setup: ReachSetup,
+    direction: np.ndarray,
+    seed_radius: float,
+    seed_pose: np.ndarray | None = None,
+    known: bool = False,
+    tolerance: float = 0.02,
+    retry: bool = True,
+) -> RayReach:
+    """The farthest radius (within ``tolerance`` m) reached along the unit ``direction`` from the shoulder.
+
+    The search starts at ``seed_radius`` warm-started from ``seed_pose`` (joint values; None: the zero pose); a
+    ``known`` seed (a pose already reaching that radius, e.g. the balanced reach when balance is off) is not tested
+    again. An unreached seed is retried nearer the shoulder (x SHRINK down to MIN_RADIUS) if ``retry``, else the ray
+    counts as not reached (one test: does this pose get that far?). From the reached radius the step outward
+    doubles until a point is not reached, then the bracket is halved down to ``tolerance``.
+    """
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    test = _Tester(setup, d)
+    lo, pose = _seed(test, float(np.clip(seed_radius, MIN_RADIUS, MAX_RADIUS)), seed_pose, known, retry)
+    if pose is None:
+        return RayReach(0.0, None, test.tests, test.iterations)
+    hi, step = None, FIRST_STEP
+    while hi is None or hi - lo > tolerance:
+        radius = min(lo + step, MAX_RADIUS) if hi is None else 0.5 * (lo + hi)
+        if hi is None and radius <= lo:
+            break  # at MAX_RADIUS
+        reached = test(radius, pose)
+        if reached is not None:
+            lo, pose, step = radius, reached, 2.0 * step
+        else:
+            hi = radius
+    return RayReach(lo, pose, test.tests, test.iterations)
+
+
+def _seed(
+    test: _Tester, radius: float, pose: np.ndarray | None, known: bool, retry: bool
+) -> tuple[float, np.ndarray | None]:
+    """(a reached radius, its pose), trying ``radius`` and (if ``retry``) nearer the shoulder; (0, None) if none is
+    reached."""
+    if known and pose is not None:
+        return radius, pose
+    options = TEST_OPTIONS if pose is not None else COLD_OPTIONS
+    while radius >= MIN_RADIUS:
+        reached = test(radius, pose, options)
+        if reached is not None or not retry:
+            return (radius, reached) if reached is not None else (0.0, None)
+        radius *= SHRINK
+    return 0.0, None

@@ -1,0 +1,81 @@
+"""One reach run as a plain function of plain inputs, returning one plain row (for a study runner's process pool or
+a Dask worker): ``reach_row(manikin, direction, ...)`` -> dict. It solves cold (from the zero pose), so a run does
+not depend on any other; :func:`solver.envelope.sweep.sweep_envelope` visits a whole sphere with warm starts instead
+(faster, and each ray starts from its neighbour's pose). Units: m, kg.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import UsageError
+from ..model import Model
+from ..spatial import quat_to_matrix
+from .reach import ReachSetup, arm_length, check_tolerance, reach_setup, search_ray
+
+
+@lru_cache(maxsize=32)
+def _model(manikin: str) -> Model:
+    from ..bodies import load_preset
+
+    return load_preset(manikin)
+
+
+@lru_cache(maxsize=64)
+def _setup(manikin: str, hand: str, load_kg: float, rotation: tuple | None, balance: bool, sole: float) -> ReachSetup:
+    matrix = None if rotation is None else quat_to_matrix(np.array(rotation))
+    return reach_setup(_model(manikin), hand, load_kg, matrix, balance, sole)
+
+
+def rotation_of(quaternion: Sequence[float] | None) -> tuple[float, ...] | None:
+    """A fixed hand orientation as a (w, x, y, z) tuple (None: free); a UsageError line for anything else."""
+    if quaternion is None:
+        return None
+    q = tuple(float(v) for v in quaternion)
+    if len(q) != 4 or not np.all(np.isfinite(q)) or np.linalg.norm(q) < 1e-9:
+        raise UsageError(f"--rotation: expected 4 finite numbers w,x,y,z (a non-zero quaternion), got {quaternion!r}")
+    return q
+
+
+def reach_row(
+    manikin: str,
+    direction: Sequence[float],
+    hand: str = "right",
+    load_kg: float = 0.0,
+    balance: bool = True,
+    rotation: Sequence[float] | None = None,
+    tolerance: float = 0.02,
+    sole_scale: float = 1.0,
+) -> dict:
+    """How far ``manikin`` (a preset name or body TOML path) reaches with its ``hand`` ("right"/"left") along
+    ``direction`` (3 numbers, world: z up, the manikin faces -y) from its shoulder, feet planted, holding ``load_kg``,
+    in balance or not, the hand's orientation free or fixed to ``rotation`` (w, x, y, z), the centre of pressure
+    in the soles scaled by ``sole_scale`` (1: whole soles).
+
+    The row: the inputs, ``reach_m`` (0 when not reached), ``reached``, the hand point ``hand_x/y/z`` and the shoulder
+    ``shoulder_x/y/z`` (m, world), ``arm_length_m``, ``solves``, ``iterations`` and ``time_s``.
+    """
+    t0 = time.perf_counter()
+    d = np.asarray(direction, dtype=float)
+    if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) < 1e-9:
+        raise UsageError(f"direction: expected 3 finite numbers, not all zero, got {direction!r}")
+    check_tolerance(tolerance)
+    rot = rotation_of(rotation)
+    setup = _setup(str(manikin), hand, float(load_kg), rot, bool(balance), float(sole_scale))
+    d = d / np.linalg.norm(d)
+    arm = arm_length(setup.model, hand)
+    ray = search_ray(setup, d, 0.8 * arm, None, tolerance=tolerance)
+    point = setup.shoulder + ray.radius * d
+    row = {"manikin": setup.model.name, "hand": hand, "dx": float(d[0]), "dy": float(d[1]), "dz": float(d[2]),
+           "balance": bool(balance), "load_kg": float(load_kg), "sole_scale": float(sole_scale),
+           "orientation": "free" if rot is None else " ".join(f"{v:g}" for v in rot),
+           "reach_m": float(ray.radius), "reached": ray.reached}  # fmt: skip
+    row |= {f"hand_{k}": float(v) for k, v in zip("xyz", point, strict=True)}
+    row |= {f"shoulder_{k}": float(v) for k, v in zip("xyz", setup.shoulder, strict=True)}
+    row |= {"arm_length_m": arm, "solves": ray.tests, "iterations": ray.iterations,
+            "time_s": time.perf_counter() - t0}  # fmt: skip
+    return row
