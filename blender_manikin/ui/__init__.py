@@ -11,29 +11,23 @@ load inside ``execute``, so enabling the add-on stays fast.
 
 from __future__ import annotations
 
+import importlib
 import sys
-from types import ModuleType, SimpleNamespace
+from types import SimpleNamespace
 
 import bpy
+
+_MODULES = {  # name -> module, relative to this package
+    name: f".{name}"
+    for name in ("properties", "operators", "scenario_operators", "envelope_operators", "motion_operators", "panels",
+                 "live", "overlay", "study_panel")
+}  # fmt: skip
 
 
 def _modules() -> SimpleNamespace:
     # Imported here, not at module level: with the submodules imported by this module's own body, bpy 4.2 (the
     # wheel) segfaults at exit after unregistering (tests/blender/matrix.py caught it; 4.5 and 5.0 do not).
-    from . import (
-        envelope_operators,
-        live,
-        motion_operators,
-        operators,
-        overlay,
-        panels,
-        properties,
-        scenario_operators,
-        study_panel,
-    )
-
-    found: dict[str, ModuleType] = dict(locals())
-    return SimpleNamespace(**found)
+    return SimpleNamespace(**{name: importlib.import_module(path, __package__) for name, path in _MODULES.items()})
 
 
 def classes() -> tuple[type, ...]:
