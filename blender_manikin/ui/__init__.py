@@ -2,9 +2,10 @@
 
 ``properties`` (the settings groups on objects), ``operators`` (add a manikin, targets, loops, loads; solve;
 reset), ``scenario_operators`` (import/export scenario TOML), ``motion_operators`` (Bake Motion), ``panels`` (the
-sidebar tab and menu entries), ``live`` (re-solve while targets move) and ``overlay`` (viewport drawing). They
-import only bpy, the scene schema and the solver's light ``errors``, ``options`` and ``presets``: the solver's
-numerics, scipy and the scene code load inside ``execute``, so enabling the add-on stays fast.
+sidebar tab and menu entries), ``live`` (re-solve while targets move), ``overlay`` (viewport drawing) and
+``..retarget``'s settings, operators and panel. They import only bpy, the scene schema and the solver's light
+``errors``, ``options``, ``presets`` and ``retarget.bone_map``: the solver's numerics, scipy and the scene code load
+inside ``execute``, so enabling the add-on stays fast.
 """
 
 from __future__ import annotations
@@ -23,16 +24,26 @@ def _modules() -> tuple[ModuleType, ...]:
     return properties, operators, scenario_operators, motion_operators, panels, live, overlay
 
 
+def _retarget() -> tuple[ModuleType, ModuleType, ModuleType]:
+    from ..retarget import operators, panel, properties
+
+    return properties, operators, panel
+
+
 def classes() -> tuple[type, ...]:
     """Every class the add-on registers, in registration order: the property groups before anything that reads
     them, panels after their operators."""
     properties, operators, scenario_operators, motion_operators, panels, _, _ = _modules()
+    retarget_properties, retarget_operators, retarget_panel = _retarget()
     return (
         *properties.classes,
+        *retarget_properties.classes,
         *operators.classes,
         *scenario_operators.classes,
         *motion_operators.classes,
+        *retarget_operators.classes,
         *panels.classes,
+        *retarget_panel.classes,
     )
 
 
@@ -42,6 +53,7 @@ def register() -> None:
     for cls in classes():
         bpy.utils.register_class(cls)
     properties.attach()
+    _retarget()[0].attach()
     for menu, draw in panels.MENUS:
         getattr(bpy.types, menu).append(draw)
     live.register()
@@ -56,6 +68,7 @@ def unregister() -> None:
     for menu, draw in panels.MENUS:
         getattr(bpy.types, menu).remove(draw)
     properties.detach()
+    _retarget()[0].detach()
     for cls in reversed(classes()):
         bpy.utils.unregister_class(cls)
     armature = sys.modules.get(__package__.rpartition(".")[0] + ".scene.armature")
