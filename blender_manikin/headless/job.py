@@ -270,7 +270,7 @@ def run(job: Job) -> int:
     if job.retarget is not None:
         from ..retarget.headless import check_name
 
-        check_name(job.retarget)
+        check_name(job.retarget, arm)
     baker = Baker(scene, arm, start, end)
     sinks = baker.on_frame = Sinks(job, arm, baker.model)
     try:

@@ -6,12 +6,16 @@ from __future__ import annotations
 import bpy
 
 from ...solver.errors import UsageError
-from ...solver.retarget.bone_map import SHIPPED_RIGS
+from ...solver.retarget.bone_map import REQUIRED, SHIPPED_RIGS
 from .motion import Summary, check_target, retarget
 
 
-def check_name(name: str) -> None:
-    """UsageError unless ``name`` is a shipped rig or an armature (not a manikin) in the scene."""
+def check_name(name: str, manikin: bpy.types.Object) -> None:
+    """UsageError unless ``name`` is a shipped rig or an armature (not a manikin) in the scene and the manikin is
+    a human (has the bones a bone map needs)."""
+    missing = [b for b in REQUIRED if b not in manikin.data.bones]
+    if missing:
+        raise UsageError(f"--retarget {name}: '{manikin.name}' is not a human manikin (no bone {missing[0]})")
     if name in SHIPPED_RIGS:
         return
     target = bpy.context.scene.objects.get(name)

@@ -4,7 +4,7 @@ target's action (one F-curve per channel, in each bone's own rotation mode; loca
 
 Feet are pinned at the frames where the manikin's target empty for that foot is an enabled support (read at each
 frame, so keyed supports count); hands when the target's ``pin_hands`` option is on. The summary is stored on the
-target (``manikin_retarget`` JSON, :mod:`..scene.schema`).
+target (``manikin_retargeted`` JSON, :mod:`..scene.schema`).
 """
 
 from __future__ import annotations

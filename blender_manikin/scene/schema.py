@@ -7,7 +7,7 @@ of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the
 that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
 (its TCP's name). On an obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing
 again replaces it). On a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle).
-On an armature a motion was retargeted onto: ``manikin_retarget`` (JSON: the source, frames, leg-length ratio).
+On an armature a motion was retargeted onto: ``manikin_retargeted`` (JSON: the source, frames, leg-length ratio).
 Settings live in the ``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups
 (``ui/properties.py``) and, on a retarget target, ``Object.manikin_retarget`` (``retarget/properties.py``: the
 source manikin, the options and the bone map).
@@ -28,7 +28,7 @@ ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
 CARRIED_KEY = "manikin_carried"  # on a carried box (scene/carried_object.py)
-RETARGET_KEY = "manikin_retarget"  # on a retarget target armature (retarget/motion.py)
+RETARGET_KEY = "manikin_retargeted"  # on a retarget target (retarget/motion.py); not the settings group's name
 OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacle
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP

@@ -18,7 +18,7 @@ from ..errors import ModelError
 from .bone_map import SHIPPED_RIGS, load_map, shipped_path
 
 RIG_TABLES = {name: table for name, (table, _) in SHIPPED_RIGS.items()}  # our name -> table in mpfb2_rigs.json
-MIN_BONE = 1e-4  # m: a shorter bone gets this length along its MPFB direction (Blender drops zero-length bones)
+MIN_BONE = 0.01  # m: a zero-length bone gets this length (along MPFB's direction, else up): Blender drops them
 
 
 @dataclass(frozen=True)
@@ -53,8 +53,10 @@ def rig_bones(body: FittedBody, rig: str) -> list[RigBone]:
             add(b["parent"])
         head, tail = placed[name]
         rest_head, rest_tail = np.asarray(b["rest_head"], float), np.asarray(b["rest_tail"], float)
-        if np.linalg.norm(tail - head) < MIN_BONE:
-            tail = head + MIN_BONE * (rest_tail - rest_head) / max(np.linalg.norm(rest_tail - rest_head), 1e-12)
+        if np.linalg.norm(tail - head) < 1e-6:
+            direction = rest_tail - rest_head if np.linalg.norm(rest_tail - rest_head) > 1e-6 else np.eye(3)[2]
+            tail = head + MIN_BONE * direction / np.linalg.norm(direction)
+            rest_tail = rest_head + MIN_BONE * direction / np.linalg.norm(direction)
         out.append(RigBone(name, b["parent"], head, tail, float(b["roll"]), rest_head, rest_tail,
                            bool(b["connect"]), str(b.get("rigify_type", ""))))  # fmt: skip
         done.add(name)
