@@ -56,7 +56,9 @@ class _TargetOperator(bpy.types.Operator):
 
     bl_options = {"REGISTER", "UNDO"}
 
-    target: StringProperty(name="Target", description="The armature to act on (default: the active object)")
+    target: StringProperty(
+        name="Target", description="The armature to act on (default: the active object)", options={"SKIP_SAVE"}
+    )
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -79,8 +81,11 @@ class MANIKIN_OT_retarget(_TargetOperator):
     bl_idname = "manikin.retarget"
     bl_label = "Retarget"
 
-    frame_start: IntProperty(name="Start", description="First frame (default: the manikin's baked range)")
-    frame_end: IntProperty(name="End", description="Last frame (default: the manikin's baked range)")
+    # SKIP_SAVE: a later call (a click in the panel) must not reuse an earlier call's target or range
+    frame_start: IntProperty(name="Start", description="First frame (default: the manikin's baked range)",
+                             options={"SKIP_SAVE"})  # fmt: skip
+    frame_end: IntProperty(name="End", description="Last frame (default: the manikin's baked range)",
+                           options={"SKIP_SAVE"})  # fmt: skip
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from .motion import retarget

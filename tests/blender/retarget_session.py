@@ -23,6 +23,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from session_tools import Layout, draw_panels  # noqa: E402
+
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.dev.build import install  # noqa: E402
 
@@ -44,13 +46,14 @@ skeleton = importlib.import_module(module + ".solver.retarget.skeleton")
 bodymesh = importlib.import_module(module + ".solver.bodymesh")
 exports = importlib.import_module(module + ".blender_manikin.scene.exports")
 compat = importlib.import_module(module + ".blender_manikin.scene.compat")
+panel = importlib.import_module(module + ".blender_manikin.retarget.panel")
 scene = bpy.context.scene
 
 
 def call(label: str, **settings) -> None:
     """Run Retarget; record its result or its error report (bpy raises the operator's error as RuntimeError)."""
     try:
-        seen["calls"][label] = {"result": sorted(bpy.ops.manikin.retarget("EXEC_DEFAULT", **settings))}
+        seen["calls"][label] = {"result": sorted(bpy.ops.manikin.retarget("EXEC_DEFAULT", True, **settings))}
     except RuntimeError as exc:
         seen["calls"][label] = {"error": str(exc)}
 
@@ -196,8 +199,23 @@ for name, mode in (
     character.pose.bones[name].rotation_mode = mode
 seen["character_rows_before"] = len(character.manikin_retarget.bones)
 select(character)
+bpy.ops.ed.undo_push(message="Character built")
 call("character")  # one call: the map is filled in from the names, then the motion keyed
+seen["character_keyed"] = keyed_paths(character)
+bpy.ops.ed.undo()  # takes the keys and the filled-in map away again
+scene, character, manikin = bpy.context.scene, bpy.data.objects["Character"], bpy.data.objects[seen["manikin"]]
+seen["undone"] = {"keyed": keyed_paths(character), "rows": len(character.manikin_retarget.bones)}
+select(character)
+call("character")
 seen["character"] = record(character, manikin)
+seen["panel_character"] = []
+draw_panels([panel.MANIKIN_PT_retarget], seen["panel_character"])
+for item in list(character.manikin_retarget.bones)[:3]:
+    panel.MANIKIN_UL_bone_map.draw_item(None, bpy.context, Layout([]), character.manikin_retarget, item, 0,
+                                        character.manikin_retarget, "active_index")  # fmt: skip
+select(manikin)
+seen["panel_manikin"] = []
+draw_panels([panel.MANIKIN_PT_retarget], seen["panel_manikin"])
 seen["character_modes"] = {n: character.pose.bones[n].rotation_mode for n in ("mixamorig:LeftArm",
                            "mixamorig:LeftForeArm", "mixamorig:RightArm")}  # fmt: skip
 seen["character_source"] = character.manikin_retarget.source.name

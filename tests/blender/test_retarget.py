@@ -176,6 +176,17 @@ def test_bad_input_is_one_line_and_changes_nothing(session: dict, call: str, say
     assert session["no_bake_unchanged"] and session["blob_unchanged"] and session["missing_bone_unchanged"]
 
 
+def test_undo_takes_the_keys_and_the_filled_in_map_away(session: dict) -> None:
+    assert session["character_keyed"] and session["undone"] == {"keyed": [], "rows": 0}
+    assert session["character"]["keyed"] == session["character_keyed"]  # and Retarget again keys the same
+
+
+def test_the_panel_draws_for_a_manikin_and_for_a_character(session: dict) -> None:
+    assert "Then select a rig or your character and Retarget" in session["panel_manikin"]
+    ratio = session["character"]["summary"]["ratio"]
+    assert f"{session['manikin']} 1-16: 52 bones, leg ratio {ratio:.3f}" in session["panel_character"]
+
+
 def test_the_map_and_the_keys_survive_save_and_reload(session: dict) -> None:
     before, after = session["character"], session["reloaded"]
     assert after["map"] == before["map"] and after["keyed"] == before["keyed"]
