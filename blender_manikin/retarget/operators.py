@@ -11,11 +11,19 @@ from bpy.props import EnumProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from ...solver.errors import ManikinError
-from ...solver.retarget.bone_map import BONE_MAPS_DIR, SHIPPED_RIGS
 from ..scene.schema import is_manikin, rig_of
 
-RIG_ITEMS = tuple((name, label, f"MPFB 2's {label} rig, placed on the manikin's body")
-                  for name, (_, label) in SHIPPED_RIGS.items())  # fmt: skip
+_rig_items: list[tuple[str, str, str]] = []  # kept alive: Blender holds on to the strings of dynamic enum items
+
+
+def rig_items(_self, _context) -> list[tuple[str, str, str]]:
+    """The shipped rigs, read when the menu opens (the add-on enables without loading the retarget package)."""
+    if not _rig_items:
+        from ...solver.retarget.bone_map import SHIPPED_RIGS
+
+        _rig_items.extend((name, label, f"MPFB 2's {label} rig, placed on the manikin's body")
+                          for name, (_, label) in SHIPPED_RIGS.items())  # fmt: skip
+    return _rig_items
 
 
 def _target(context: bpy.types.Context, name: str = "") -> bpy.types.Object | None:
@@ -30,7 +38,7 @@ class MANIKIN_OT_add_retarget_rig(bpy.types.Operator):
     bl_label = "Add Target Rig"
     bl_options = {"REGISTER", "UNDO"}
 
-    rig: EnumProperty(name="Rig", items=RIG_ITEMS, default="mixamo")
+    rig: EnumProperty(name="Rig", items=rig_items)
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -149,6 +157,8 @@ class MANIKIN_OT_load_bone_map(_TargetOperator, ImportHelper):
     filter_glob: StringProperty(default="*.toml", options={"HIDDEN"})
 
     def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        from ...solver.retarget.bone_map import BONE_MAPS_DIR
+
         self.filepath = str(BONE_MAPS_DIR) + "/"
         return super().invoke(context, event)
 

@@ -4,8 +4,8 @@
 reset), ``scenario_operators`` (import/export scenario TOML), ``motion_operators`` (Bake Motion), ``panels`` (the
 sidebar tab and menu entries), ``live`` (re-solve while targets move), ``overlay`` (viewport drawing) and
 ``..retarget``'s settings, operators and panel. They import only bpy, the scene schema and the solver's light
-``errors``, ``options``, ``presets`` and ``retarget.bone_map``: the solver's numerics, scipy and the scene code load
-inside ``execute``, so enabling the add-on stays fast.
+``errors``, ``options`` and ``presets``: the solver's numerics, scipy and the scene code load inside ``execute``, so
+enabling the add-on stays fast.
 """
 
 from __future__ import annotations
