@@ -7,7 +7,9 @@ ARGS: --scenario S.toml (a new manikin with keyed target empties) and/or --blend
 opened), --manikin NAME (when the scene has several), --frames START END (default: the scenario's motion or the
 scene's range), --out OUT.blend, --export OUT.fbx|OUT.bvh|OUT.glb|OUT.gltf (repeatable), --report REPORT.json,
 --result RESULT.json (the format of python -m solver solve), --picture KEY_POSES.png, --plots PREFIX (ergonomics
-plots PREFIX_loads.png, PREFIX_scores.png, PREFIX_back.png), -q.
+plots PREFIX_loads.png, PREFIX_scores.png, PREFIX_back.png), --retarget RIG|ARMATURE (key the baked motion onto a
+shipped rig built beside the manikin: mpfb_default, game_engine, mixamo, cmu_mb, rigify; or onto an armature of the
+.blend; the exports then write it instead of the manikin), -q.
 
 Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input (one line
 on stderr), 130 Ctrl-C (the frames solved so far are keyed and kept in the result, the report and the .blend). Run
@@ -67,6 +69,12 @@ def parser() -> argparse.ArgumentParser:
         metavar="PREFIX",
         help="ergonomics plots PREFIX_loads.png, "
         "PREFIX_scores.png, PREFIX_back.png (joint loads, RULA/REBA, back and arms per frame)",
+    )
+    p.add_argument(
+        "--retarget",
+        metavar="RIG",
+        help="key the baked motion onto a shipped rig (mpfb_default, game_engine, mixamo, cmu_mb, rigify) built beside "
+        "the manikin, or onto an armature of the .blend; --export then writes that armature",
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     return p
@@ -153,6 +161,7 @@ def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
                 result=args.result,
                 picture=args.picture,
                 plots=args.plots,
+                retarget=args.retarget,
                 quiet=args.quiet,
             )
         )

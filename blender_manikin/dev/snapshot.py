@@ -11,8 +11,10 @@ Cycles has OpenImageDenoise. Run from the repository root.
 from __future__ import annotations
 
 import argparse
+import atexit
 import importlib
 import os
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -69,8 +71,11 @@ def _materials(bpy, node_tree) -> None:
 
 def snapshot(output: Path, scenario: Path = DEFAULT_SCENARIO, size: int = 640, samples: int = 8) -> Path:
     """Render the solved scenario to ``output`` (PNG); returns its path. Imports bpy (a fresh process only)."""
-    zip_path = build(Path(tempfile.mkdtemp(prefix="manikin-dist-")))[this_platform()]
-    os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp(prefix="manikin-user-")
+    dist, user = tempfile.mkdtemp(prefix="manikin-dist-"), tempfile.mkdtemp(prefix="manikin-user-")
+    for folder in (dist, user):  # about 450 MB a run (zips, installed wheels): left behind, they filled the disk
+        atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    zip_path = build(Path(dist))[this_platform()]
+    os.environ["BLENDER_USER_RESOURCES"] = user
     import bpy
 
     module = install(zip_path)

@@ -50,6 +50,7 @@ class Job:
     result: Path | None = None
     picture: Path | None = None
     plots: Path | None = None
+    retarget: str | None = None  # a shipped rig or an armature of the .blend: exports write it, not the manikin
     quiet: bool = False
 
 
@@ -159,9 +160,11 @@ def report_bake(job: Job, baker: Baker, seconds: float) -> None:
     _say(job, f"baked {n} frames in {seconds:.2f} s ({n / max(seconds, 1e-9):.0f} frames/s), {state}")
 
 
-def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, stopped: int | None) -> list[Path]:
+def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, stopped: int | None,
+                  exported: bpy.types.Object | None = None) -> list[Path]:  # fmt: skip
     """Every requested file, each written path printed; after Ctrl-C (``stopped``: the frame it stopped at) only
-    the result, the report and the .blend, which hold the frames solved. Returns the paths written."""
+    the result, the report and the .blend, which hold the frames solved. Exports write ``exported`` (the retarget
+    target), else the manikin. Returns the paths written."""
     written: list[Path] = []
 
     def wrote(path: Path | None) -> None:
@@ -189,7 +192,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
         return written
     for path in job.exports:
         _say(job, f"exporting {path} ({end - start + 1} frames) ...")
-        wrote(quietly(exports.export, arm, path, start, end))
+        wrote(quietly(exports.export, exported or arm, path, start, end))
     if job.plots is not None:
         for path in report.plots(job.plots.resolve()):
             wrote(path)
@@ -224,6 +227,16 @@ def _carried(arm: bpy.types.Object) -> str:
     return f", {kg:.0f} kg carried" if kg >= 0.5 else ""
 
 
+def retarget_step(job: Job, arm: bpy.types.Object, baker: Baker) -> bpy.types.Object:
+    """Key the baked frames onto ``--retarget``'s armature (a shipped rig is built beside the manikin)."""
+    from ..retarget.headless import retarget_named
+
+    target, done = retarget_named(job.retarget, arm, (baker.frames[0], baker.frames[-1]))
+    _say(job, f"retargeted frames {done.frame_start}-{done.frame_end} onto {target.name}: {done.bones} bones keyed, "
+              f"leg-length ratio {done.ratio:.3f}")  # fmt: skip
+    return target
+
+
 def check_job(job: Job) -> None:
     """The frame range and every output path, before the scene is opened: a bad path never costs a bake."""
     if job.frames is not None:
@@ -254,13 +267,18 @@ def run(job: Job) -> int:
         raise ManikinError("the scenario did not create a manikin")
     scene = bpy.context.scene
     start, end = job.frames or (scene.frame_start, scene.frame_end)
+    if job.retarget is not None:
+        from ..retarget.headless import check_name
+
+        check_name(job.retarget, arm)
     baker = Baker(scene, arm, start, end)
     sinks = baker.on_frame = Sinks(job, arm, baker.model)
     try:
         stopped, seconds = bake(job, baker)
         keyed = baker.write(thin=True)
         report_bake(job, baker, seconds + keyed)
-        written = write_outputs(job, arm, baker, sinks, stopped)
+        target = retarget_step(job, arm, baker) if job.retarget is not None and stopped is None else None
+        written = write_outputs(job, arm, baker, sinks, stopped, target)
     except BaseException as exc:
         sinks.discard(baker, " ".join(str(exc).split()) or type(exc).__name__)
         raise

@@ -8,8 +8,11 @@ that did not converge) and, while live mode cannot solve, ``manikin_error``. On 
 (its TCP's name). On each body object (the skinned human, the capsules, the solids): ``manikin_display``. On an
 obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing again replaces it). On
 a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle). On a reach envelope:
-``manikin_envelope`` (the file it came from; importing it again replaces it). Settings live in the
-``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups (``ui/properties.py``).
+``manikin_envelope`` (the file it came from; importing it again replaces it). On an armature a motion was
+retargeted onto: ``manikin_retargeted`` (JSON: the source, frames, leg-length ratio). Settings live in the
+``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups (``ui/properties.py``)
+and, on a retarget target, ``Object.manikin_retarget`` (``retarget/properties.py``: the source manikin, the options
+and the bone map).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
 CARRIED_KEY = "manikin_carried"  # on a carried box (scene/carried_object.py)
 ENVELOPE_KEY = "manikin_envelope"  # on a reach envelope object: the file it was imported from (envelope_objects.py)
+RETARGET_KEY = "manikin_retargeted"  # on a retarget target (retarget/motion.py); not the settings group's name
 OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacle
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
@@ -112,6 +116,11 @@ def _json(arm: bpy.types.Object, key: str) -> dict | None:
 def last_result(arm: bpy.types.Object) -> dict | None:
     """The summary of the manikin's last solve (converged, residuals, loads, ...), or None."""
     return _json(arm, RESULT_KEY)
+
+
+def last_retarget(arm: bpy.types.Object) -> dict | None:
+    """The summary the last retarget onto ``arm`` stored, or None."""
+    return _json(arm, RETARGET_KEY)
 
 
 def last_bake(arm: bpy.types.Object) -> dict | None:

@@ -21,7 +21,7 @@ _MODULES = {  # name -> module, relative to this package
     name: f".{name}"
     for name in ("properties", "operators", "scenario_operators", "envelope_operators", "motion_operators", "panels",
                  "live", "overlay", "study_panel")
-}  # fmt: skip
+} | {f"retarget_{name}": f"..retarget.{name}" for name in ("properties", "operators", "panel")}  # fmt: skip
 
 
 def _modules() -> SimpleNamespace:
@@ -36,11 +36,14 @@ def classes() -> tuple[type, ...]:
     m = _modules()
     return (
         *m.properties.classes,
+        *m.retarget_properties.classes,
         *m.operators.classes,
         *m.scenario_operators.classes,
         *m.envelope_operators.classes,
         *m.motion_operators.classes,
+        *m.retarget_operators.classes,
         *m.panels.classes,
+        *m.retarget_panel.classes,
         *m.study_panel.classes,
     )
 
@@ -51,6 +54,7 @@ def register() -> None:
     for cls in classes():
         bpy.utils.register_class(cls)
     m.properties.attach()
+    m.retarget_properties.attach()
     m.study_panel.attach()
     for menu, draw in m.panels.MENUS:
         getattr(bpy.types, menu).append(draw)
@@ -66,6 +70,7 @@ def unregister() -> None:
     m.live.unregister()
     for menu, draw in m.panels.MENUS:
         getattr(bpy.types, menu).remove(draw)
+    m.retarget_properties.detach()
     m.properties.detach()
     for cls in reversed(classes()):
         bpy.utils.unregister_class(cls)

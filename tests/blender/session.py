@@ -190,7 +190,11 @@ def registered() -> dict:
     return dict(
         types=[n for n in dir(bpy.types) if n.startswith("MANIKIN_")],
         classes=[c.__name__ for c in ours if c.is_registered],
-        object_props=[p for p in ("manikin", "manikin_obstacle", "manikin_target") if hasattr(bpy.types.Object, p)],
+        object_props=[
+            p
+            for p in ("manikin", "manikin_obstacle", "manikin_retarget", "manikin_target")
+            if hasattr(bpy.types.Object, p)
+        ],  # fmt: skip
         handlers=[h.__module__ for h in handlers if h.__module__.startswith(module)],
         timers=bpy.app.timers.is_registered(live.solve_pending),
         menus=[

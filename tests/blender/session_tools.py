@@ -54,6 +54,16 @@ class Layout:
     def operator_menu_enum(self, idname: str, prop: str, **kw) -> None:
         self.operator(idname, **kw)
 
+    def prop_search(self, data, name: str, search_data, search_name: str, **kw) -> None:
+        assert name in data.bl_rna.properties and search_name in search_data.bl_rna.properties, (name, search_name)
+        self._icon(kw)
+
+    def template_list(self, list_type: str, list_id: str, data, name: str, active_data, active_name: str, **kw) -> None:
+        import bpy
+
+        assert hasattr(bpy.types, list_type), list_type
+        assert name in data.bl_rna.properties and active_name in active_data.bl_rna.properties, (name, active_name)
+
 
 def draw_panels(panels, log: list) -> None:
     """Draw every panel whose poll passes in the current context into a recording :class:`Layout`."""

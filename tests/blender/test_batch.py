@@ -18,6 +18,7 @@ from solver import read_result
 
 BATCH = ROOT / "blender_manikin" / "batch.py"
 SNAKE = ROOT / "presets" / "scenarios" / "snake_motion.toml"
+LIFT = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
 
 
 def install(python: Path, zip_path: Path, user: Path) -> None:
@@ -98,6 +99,8 @@ def test_batch_reports_frames_that_do_not_converge(tmp_path: Path, run) -> None:
         (["--bogus"], "unrecognized arguments: --bogus"),
         (["--blend", "missing.blend"], "missing.blend: file not found"),
         ([], "no manikin in the scene"),
+        (["--scenario", LIFT, "--retarget", "nosuch"], "--retarget nosuch: no shipped rig or object of that name"),
+        (["--scenario", SNAKE, "--retarget", "mixamo"], "--retarget mixamo: 'snake' is not a human manikin"),
     ],
 )
 def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str, run) -> None:
@@ -242,6 +245,31 @@ def test_batch_as_blender_runs_it_on_an_open_blend(tmp_path: Path, run, blender_
     report = json.loads((tmp_path / "again.json").read_text(encoding="utf-8"))
     assert report["converged"] and [f["frame"] for f in report["frames"]] == [1, 2, 3, 4]
     assert report["source"]["blend"] is None and report["source"]["scenario"] is None
+
+
+KEYED = """
+import bpy, json, sys
+bpy.ops.wm.open_mainfile(filepath=sys.argv[1], load_ui=False)
+rig = bpy.data.objects["male_50.mixamo"]
+done = json.loads(rig["manikin_retargeted"])
+print(done["source"], done["bones"], *rig.animation_data.action.frame_range)
+"""
+
+
+def test_batch_retargets_onto_a_shipped_rig_and_exports_it(
+    tmp_path: Path, run, blender_python: Path, user: Path
+) -> None:
+    """``--retarget mixamo``: the Mixamo rig is built beside the manikin, keyed over the baked frames and saved in
+    the .blend, and it (not the manikin) is what the FBX holds."""
+    done = run(["--scenario", LIFT, "--frames", 1, 6, "--retarget", "mixamo", "--out", "lift.blend", "--export",
+                "lift.fbx"], tmp_path)  # fmt: skip
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert "retargeted frames 1-6 onto male_50.mixamo: 52 bones keyed, leg-length ratio 1.000" in done.stdout
+    fbx = (tmp_path / "lift.fbx").read_bytes()
+    assert b"mixamorig:LeftHand" in fbx and b"upper_arm_l" not in fbx
+    done = run_python(blender_python, ["-c", KEYED, tmp_path / "lift.blend"], user, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.strip().splitlines()[-1] == "male_50 52 1.0 6.0"
 
 
 POSE = """

@@ -202,8 +202,8 @@ def test_overlay_geometry(session: dict) -> None:
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
     there = session["registered"]  # before disabling, all of it was there
-    assert len(there["classes"]) == 26 and len(there["types"]) == 21  # PropertyGroups are not in bpy.types' dir
-    assert there["object_props"] == ["manikin", "manikin_obstacle", "manikin_target"]
+    assert len(there["classes"]) == 27 and len(there["types"]) == 22  # PropertyGroups are not in bpy.types' dir
+    assert there["object_props"] == ["manikin", "manikin_obstacle", "manikin_retarget", "manikin_target"]
     assert len(there["handlers"]) == 1 and there["timers"] and len(there["menus"]) == 3 and there["enabled"]
     left = session["left"]
     assert left == dict(types=[], classes=[], object_props=[], handlers=[], timers=False, menus=[], enabled=False)
@@ -216,14 +216,18 @@ def test_sidebar_draws(session: dict) -> None:
     assert any(line.startswith("= 0.00 kg") for line in lines)  # the load panel
 
 
-def test_headless_render(tmp_path: Path, blender_python: Path) -> None:
-    """The snapshot script renders the solved box lift; the manikin's skin shows where the camera looks."""
+def test_headless_render(tmp_path: Path, blender_python: Path, monkeypatch) -> None:
+    """The snapshot script renders the solved box lift; the manikin's skin shows where the camera looks; its build
+    and user folders (about 450 MB) are gone afterwards."""
     import matplotlib.image
 
     png = tmp_path / "manikin.png"
+    (tmp_path / "tmp").mkdir()
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
     args = ["-m", "blender_manikin.dev.snapshot", "-o", png, "--size", 96, "--samples", 2]
     done = run_python(blender_python, args, tmp_path / "user")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert list((tmp_path / "tmp").glob("manikin-*")) == []
     image = matplotlib.image.imread(png)[:, :, :3]
     skin = (image[:, :, 0] - image[:, :, 2]) > 0.03  # reddish: the body; floor and sky are grey-blue
     assert image.shape[:2] == (96, 96) and 0.03 < skin.mean() < 0.5
