@@ -202,7 +202,7 @@ def test_overlay_geometry(session: dict) -> None:
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
     there = session["registered"]  # before disabling, all of it was there
-    assert len(there["classes"]) == 27 and len(there["types"]) == 22  # PropertyGroups are not in bpy.types' dir
+    assert len(there["classes"]) == 35 and len(there["types"]) == 28  # PropertyGroups are not in bpy.types' dir
     assert there["object_props"] == ["manikin", "manikin_obstacle", "manikin_retarget", "manikin_target"]
     assert len(there["handlers"]) == 1 and there["timers"] and len(there["menus"]) == 3 and there["enabled"]
     left = session["left"]
