@@ -79,6 +79,7 @@ class Baker:
             raise
         self.n_x = first.problem.n_x
         self._first: Problem | None = first.problem
+        self._read = first  # the scene's problem last read: the next frame's shares its parts when it can
         self.thetas = np.zeros((len(self.frames), self.model.n))
         self.worlds = np.zeros((len(self.frames), 4, 4))  # the armature object's world matrix at each frame
         self.records: list[FrameRecord] = []
@@ -102,7 +103,8 @@ class Baker:
             problem, self._first = self._first, None
             return problem
         self.scene.frame_set(frame)
-        problem = problem_io.read_problem(self.arm, start=False).problem
+        self._read = problem_io.read_problem(self.arm, start=False, reuse=self._read)
+        problem = self._read.problem
         if problem.n_x != self.n_x:
             raise ManikinError(f"frame {frame}: the supports changed during the range; bake the parts separately")
         return problem

@@ -10,6 +10,8 @@ from shapes so that this gives them back).
 
 from __future__ import annotations
 
+import hashlib
+
 import bpy
 import numpy as np
 
@@ -47,15 +49,29 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
             continue
         world = to_local @ np.array(ob.matrix_world)
         settings = ob.manikin_obstacle
-        common = dict(name=ob.name, clearance=float(settings.clearance))
-        if settings.shape != "MESH":
-            low, high = points.min(axis=0), points.max(axis=0)
-            shapes.append(shape_from_bounds(settings.shape.lower(), world, low, high, **common))
-        else:
-            points = points @ world[:3, :3].T + world[:3, 3]
-            faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier)
-            shapes.append(Mesh(points, faces, **common))
         kind = float(("MESH", "BOX", "SPHERE", "CAPSULE", "PLANE").index(settings.shape))
         counts = np.array([len(points), len(faces), kind, settings.clearance])
-        numbers += [world.ravel(), points.min(axis=0), points.max(axis=0), counts]
+        low, high = points.min(axis=0), points.max(axis=0)
+        numbers += [world.ravel(), low, high, counts]
+        common = dict(name=ob.name, clearance=float(settings.clearance))
+        if settings.shape == "MESH":
+            points = points @ world[:3, :3].T + world[:3, 3]
+            faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier)
+            key = (ob.name, hashlib.blake2b(points.tobytes() + faces.tobytes() + counts.tobytes()).digest())
+        else:
+            key = (ob.name, np.concatenate(numbers[-4:]).tobytes())  # all a shape made from bounds depends on
+        shape = _MADE.get(key)
+        if shape is None:
+            shape = Mesh(points, faces, **common) if settings.shape == "MESH" else \
+                shape_from_bounds(settings.shape.lower(), world, low, high, **common)  # fmt: skip
+            if len(_MADE) >= _KEPT:
+                _MADE.pop(next(iter(_MADE)))
+            _MADE[key] = shape
+        shapes.append(shape)
     return shapes, numbers
+
+
+# Shapes made lately, by object name and what they came from: a bake reads the scene every frame, and an unchanged
+# obstacle is then the same object, made once (so the solver's rows for it can be kept).
+_MADE: dict[tuple[str, bytes], Obstacle] = {}
+_KEPT = 64

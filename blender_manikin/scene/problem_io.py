@@ -74,12 +74,21 @@ class SceneProblem:
     x0: np.ndarray | None
     options: SolverOptions
     inputs: Inputs
+    setup: tuple = ()  # everything read but the targets' poses: the same setup can share the problem's parts
 
 
-def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) -> SceneProblem:
+def read_problem(
+    arm: bpy.types.Object, live: bool = False, start: bool = True, reuse: SceneProblem | None = None
+) -> SceneProblem:
     """The targets, loops and loads of ``arm`` as a solver Problem; raises ManikinError naming the empty.
     ``start``: also read the pose as the start point (a bake, which starts each frame from the previous one's
-    solution, does without: ``x0`` is then None)."""
+    solution, does without: ``x0`` is then None). ``reuse``: the problem read before (a bake's previous frame);
+    when only the targets' poses changed, the new problem shares its constraints (what they built and keep)."""
+    return _read_problem(arm, live, start, reuse)
+
+
+def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: SceneProblem | None) -> SceneProblem:
+    """:func:`read_problem` without reuse."""
     _check_upright(arm)
     model = model_of(arm)
     settings = arm.manikin
@@ -87,7 +96,7 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
     arm_rot = np.array(arm.matrix_world.to_3x3())
     x0 = read_x(arm) if start else None
     kin0 = None  # the pose's kinematics, for loop offsets only
-    targets, loops, loads, labels, numbers = [], [], [], [], []
+    targets, loops, loads, labels, numbers, fixed = [], [], [], [], [], []
     for ob in members(arm):
         s = ob.manikin_target
         for name in (s.tcp, s.other) if s.role == "LOOP" else (s.tcp,):
@@ -114,6 +123,8 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
         labels.append((ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
                        s.priority))  # fmt: skip
         numbers.extend(np.ravel(v) for v in given)
+        if s.role != "TARGET":
+            fixed.extend(np.ravel(v) for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
     weights = ComfortWeights(settings.comfort_range, settings.comfort_load, settings.comfort_contact)
@@ -122,21 +133,27 @@ def read_problem(arm: bpy.types.Object, live: bool = False, start: bool = True) 
         obstacles, shapes = scene_obstacles(arm)
         numbers += shapes
         carried = _carried(arm, model)
-        problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor,
-                          obstacles=obstacles, self_collision=settings.self_collision, carried=carried)  # fmt: skip
+        options = SolverOptions(
+            max_iterations=settings.live_iterations if live else settings.max_iterations,
+            optimize_comfort=settings.comfort,
+            restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
+        )
+        box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
+        labels.append((settings.balance, settings.floor, settings.self_collision, settings.comfort,
+                       settings.reduction, weights, options, box))  # fmt: skip
+        # all but the targets' poses; obstacles by identity (unchanged shapes made from bounds are the same objects)
+        setup = (id(model), repr(labels), np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
+                 tuple(id(o) for o in obstacles))  # fmt: skip
+        if reuse is not None and reuse.setup == setup:
+            problem = reuse.problem.with_targets(targets)
+        else:
+            problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor,
+                              obstacles=obstacles, self_collision=settings.self_collision, carried=carried)  # fmt: skip
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
-    options = SolverOptions(
-        max_iterations=settings.live_iterations if live else settings.max_iterations,
-        optimize_comfort=settings.comfort,
-        restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
-    )
-    box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
-    labels.append((settings.balance, settings.floor, settings.self_collision, settings.comfort, settings.reduction,
-                   weights, options, box))  # fmt: skip
     inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
     warm = x0 if x0 is None or len(x0) == problem.n_x else x0[: model.n]  # remembered forces fit the same supports
-    return SceneProblem(problem, warm, options, inputs)
+    return SceneProblem(problem, warm, options, inputs, setup)
 
 
 def _carried(arm: bpy.types.Object, model: Model) -> Carried | None:

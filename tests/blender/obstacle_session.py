@@ -88,6 +88,23 @@ seen["read"] = dict(
     ball=dict(center=list(read["ball"].center), radius=read["ball"].radius),
     ball_local=list(arm.matrix_world.inverted() @ bpy.data.objects["ball"].matrix_world.translation),
 )
+# Read again as a bake does, the last read given: only the targets' poses changed, so the obstacle rows are shared;
+# a moved obstacle gives new ones (with the new shape).
+first = problem_io.read_problem(arm, start=False)
+again = problem_io.read_problem(arm, start=False, reuse=first)
+bpy.data.objects["ball"].location.z += 0.05
+bpy.context.view_layer.update()
+moved = problem_io.read_problem(arm, start=False, reuse=again)
+seen["reuse"] = dict(
+    shared=again.problem.obstacle_constraint is first.problem.obstacle_constraint,
+    fresh=moved.problem.obstacle_constraint is not again.problem.obstacle_constraint,
+    ball_moved=float(
+        next(o for o in moved.problem.obstacles if o.name == "ball").center[2]
+        - next(o for o in again.problem.obstacles if o.name == "ball").center[2]
+    ),
+)
+bpy.data.objects["ball"].location.z -= 0.05
+bpy.context.view_layer.update()
 
 bpy.context.view_layer.objects.active = arm
 seen["solve"] = sorted(bpy.ops.manikin.solve_pose())

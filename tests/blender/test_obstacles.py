@@ -28,6 +28,12 @@ def test_objects_are_read_as_their_shapes_in_the_armatures_space(session: dict) 
     assert read["ball"]["radius"] == pytest.approx(0.1, abs=F32)
 
 
+def test_a_scene_read_again_shares_the_obstacle_rows_until_an_obstacle_moves(session: dict) -> None:
+    reuse = session["reuse"]
+    assert reuse["shared"] and reuse["fresh"]
+    assert reuse["ball_moved"] == pytest.approx(0.05, abs=F32)
+
+
 def test_overlay_draws_each_close_pair_and_its_distance(session: dict) -> None:
     result, geometry = session["result"], session["geometry"]
     assert session["solve"] == ["FINISHED"] and result["unmet"] == ["hand_r"]
