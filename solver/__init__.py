@@ -21,8 +21,9 @@ Building blocks: ``Model``/``ModelBuilder``, ``Problem`` with ``Target``, ``Loop
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from .lazy import lazy_attributes
 
 _HOMES = {
     "ComfortWeights": "comfort",
@@ -111,9 +112,4 @@ if TYPE_CHECKING:
     from .scenario import Scenario
 
 
-def __getattr__(name: str) -> object:
-    if name not in _HOMES:
-        raise AttributeError(f"module 'solver' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_HOMES[name]}", __name__), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_attributes(__name__, _HOMES, globals())

@@ -15,8 +15,9 @@ importing this package (as the Blender layer does) loads neither scipy nor matpl
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_attributes
 
 _HOMES = {
     "Envelope": "sweep",
@@ -54,9 +55,4 @@ if TYPE_CHECKING:
     from .sweep import Envelope, sweep_envelope
 
 
-def __getattr__(name: str) -> object:
-    if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_HOMES[name]}", __name__), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_attributes(__name__, _HOMES, globals())

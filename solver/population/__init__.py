@@ -13,8 +13,9 @@ first use (PEP 562), so building the command line's parser costs nothing.
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ..lazy import lazy_attributes
 
 _HOMES = {
     "Family": "family_files",
@@ -47,9 +48,4 @@ if TYPE_CHECKING:
     from .model import Population, coverage_radius, population
 
 
-def __getattr__(name: str) -> object:
-    if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_HOMES[name]}", __name__), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_attributes(__name__, _HOMES, globals())
