@@ -55,3 +55,9 @@ def test_tests_import_public_names_only():
                 if isinstance(node.value, ast.Name) and node.value.id in {"solver", "problem", "model", "result"}:
                     private.append(f"{path.name}:{node.lineno} .{node.attr}")
     assert not private, f"tests reaching private names: {private}"
+
+
+def test_no_two_test_files_share_a_name():
+    """Test modules are collected by their file name alone (no packages): two of one name stop the whole run."""
+    names = [p.name for p in (ROOT / "tests").rglob("test_*.py") if "__pycache__" not in p.parts]
+    assert sorted({n for n in names if names.count(n) > 1}) == []
