@@ -7,6 +7,8 @@ row), so a scene's boxes are answered by one set of NumPy calls instead of one s
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .closest import dot, perpendicular, segment_segment, unit
@@ -100,16 +102,31 @@ def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) ->
                     np.broadcast_to(box.half, (k, 3)))  # fmt: skip
 
 
-def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: list[Box], margins) -> list[Proximity]:
+class BoxSet(NamedTuple):
+    """m boxes stacked for one query: ``center`` (m, 3) m, ``rotation`` (m, 3, 3), ``half`` sizes (m, 3) m and
+    ``extent`` (m, 3) m, the half sizes of their world bounding boxes."""
+
+    center: np.ndarray
+    rotation: np.ndarray
+    half: np.ndarray
+    extent: np.ndarray
+
+
+def box_set(boxes: list[Box]) -> BoxSet:
+    """``boxes`` stacked once (a constraint asks about the same boxes at every evaluation)."""
+    m = len(boxes)
+    rotation = np.array([b.rotation for b in boxes]).reshape(m, 3, 3)
+    half = np.array([b.half for b in boxes]).reshape(m, 3)
+    center = np.array([b.center for b in boxes]).reshape(m, 3)
+    return BoxSet(center, rotation, half, np.einsum("mij,mj->mi", np.abs(rotation), half))
+
+
+def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: BoxSet, margins) -> list[Proximity]:
     """Capsules (k rows) vs each of ``boxes``, one Proximity per box: exact for the capsules whose bounding box,
     grown by radius + the box's margin (``margins``, m, one per box), meets the box's, +inf beyond it (see
     :func:`~solver.collision.proximity.near_only_many`)."""
-    m = len(boxes)
-    center = np.array([b.center for b in boxes]).reshape(m, 3)
-    rotation = np.array([b.rotation for b in boxes]).reshape(m, 3, 3)
-    half = np.array([b.half for b in boxes]).reshape(m, 3)
-    extent = np.einsum("mij,mj->mi", np.abs(rotation), half)  # world bounding box: center +- extent
-    margins = np.broadcast_to(np.asarray(margins, dtype=float), (m,))
+    center, rotation, half, extent = boxes
+    margins = np.broadcast_to(np.asarray(margins, dtype=float), (len(center),))
 
     def exact(box: np.ndarray, cap: np.ndarray) -> Proximity:
         return box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])

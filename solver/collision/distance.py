@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .boxes import boxes_distance
+from .boxes import box_set, boxes_distance
 from .closest import cross, dot, perpendicular, point_segment, segment_segment, unit
 from .mesh_distance import mesh_distance
 from .mesh_index import MeshIndex, NearMemory
@@ -92,7 +92,7 @@ def obstacle_distance(
     if isinstance(obstacle, Capsule):
         return capsule_distance(p0, p1, radii, obstacle)
     if isinstance(obstacle, Box):  # only the capsules near the box: most of a scene's boxes are far from most parts
-        return boxes_distance(*_batch(p0, p1, radii), [obstacle], margin)[0]
+        return boxes_distance(*_batch(p0, p1, radii), box_set([obstacle]), margin)[0]
     if isinstance(obstacle, HalfSpace):
         return halfspace_distance(p0, p1, radii, obstacle)
     if isinstance(obstacle, Mesh | MeshIndex):

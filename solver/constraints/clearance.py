@@ -17,6 +17,7 @@ import numpy as np
 
 from ..collision import Box, HalfSpace, Mesh, Obstacle, boxes_distance, obstacle_distance
 from ..collision.body import BodyCapsules, capsules_of
+from ..collision.boxes import box_set
 from ..collision.mesh_index import index_of
 from ..model import Model
 from ..state import State
@@ -166,6 +167,10 @@ class Clearance(ClearanceRows):
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
+        # nothing nearer than its reach (m) is left out of an obstacle's query; the boxes are answered by one query
+        self._reach = [margin + max(ob.clearance, 0.0) for ob in self.obstacles]
+        self._box_rows = [i for i, ob in enumerate(self.obstacles) if isinstance(ob, Box)]
+        self._boxes = (box_set([self.obstacles[i] for i in self._box_rows]), [self._reach[i] for i in self._box_rows])
         self._memories = [q.memory(capsules.names) if isinstance(ob, Mesh) else None
                           for ob, q in zip(self.obstacles, self._queries, strict=True)]  # fmt: skip
         k = len(capsules)
@@ -184,11 +189,10 @@ class Clearance(ClearanceRows):
         caps = self.capsules
         p0, p1 = caps.world(state.kin)
         index = np.arange(len(caps))
-        # nothing nearer than its reach is left out of an obstacle's query
-        reach = [self.margin + max(ob.clearance, 0.0) for ob in self.obstacles]
-        boxes = [i for i, ob in enumerate(self.obstacles) if isinstance(ob, Box)]  # one query answers them all
-        of_box = dict(zip(boxes, boxes_distance(p0, p1, caps.radius, [self.obstacles[i] for i in boxes],
-                                                [reach[i] for i in boxes]) if boxes else [], strict=True))  # fmt: skip
+        reach, boxes = self._reach, self._box_rows
+        of_box = {}
+        if boxes:
+            of_box = dict(zip(boxes, boxes_distance(p0, p1, caps.radius, *self._boxes), strict=True))
         parts = []
         for i, (ob, query, memory) in enumerate(zip(self.obstacles, self._queries, self._memories, strict=True)):
             if isinstance(ob, HalfSpace):
