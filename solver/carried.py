@@ -17,6 +17,8 @@ import numpy as np
 
 from .collision import Box
 from .collision.closest import cross, dot
+from .model import Tcp
+from .state import State
 
 CLEARANCE = 0.0  # m: the body may touch the box (a box carried against the belly) but not enter it
 
@@ -81,3 +83,25 @@ def carried_point_rows(first: np.ndarray, second: np.ndarray, rotation: np.ndarr
     g = bx * normal + by * cross(normal, z) - (along * pa + u * dot(pa, x)[:, None]) / s  # M^T = (u.x) I + u x^T
     h = (g - x * dot(g, x)[:, None]) / length
     return normal / 2.0 - h, normal / 2.0 + h
+
+
+def held_frame(state: State, tcps: tuple[Tcp, Tcp]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(the two TCPs' world positions (2, 3) m, the box's centre (3,) m and rotation (3, 3)) at ``state``, once per
+    state (the body's and the obstacles' rows of the same box share it)."""
+    key = ("carried box", tcps[0].name, tcps[1].name)
+    got = state.cache.get(key)
+    if got is None:
+        held = np.array([state.kin.tcp_frame(tcp)[1] for tcp in tcps])
+        got = state.cache[key] = (held, *carried_frame(held[0], held[1]))
+    return got
+
+
+def box_motion_terms(state: State, tcps: tuple[Tcp, Tcp], on_box: np.ndarray,
+                     normal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """n . (velocity of the box's material points at ``on_box`` (k, 3), world m) as point-velocity terms of the two
+    TCPs: (links (2k,), points (2k, 3), directions (2k, 3)) for :meth:`~solver.model.Kinematics.jacobian_rows`; row
+    i's derivative is the sum of terms i and k + i."""
+    held, centre, rotation = held_frame(state, tcps)
+    n1, n2 = carried_point_rows(held[0], held[1], rotation, (on_box - centre) @ rotation, normal)
+    k = len(on_box)
+    return np.repeat([t.link for t in tcps], k), np.repeat(held, k, axis=0), np.concatenate([n1, n2])

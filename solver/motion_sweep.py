@@ -20,8 +20,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from .carried import carried_frame
 from .collision.body import capsules_of
-from .collision.sweep import Pose, SweepReport, SweptBody
+from .collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
+from .constraints.carried_obstacles import box_edges
 from .constraints.clearance import Clearance
 from .iteration import solve
 from .options import SolverOptions
@@ -32,6 +34,7 @@ from .specs import Target
 
 MARGIN = 0.05  # m: the least margin of a mesh query (farther rows count as this far)
 MAX_SUBSTEPS = 64  # sub-steps of a re-solved frame at most
+BOX_STEP = 0.02  # m: a carried box's corners move about this far at most between the samples of its way
 SHARE = 2.0  # a sub-step may change each joint by this many times its share of the per-frame bound
 
 
@@ -128,11 +131,9 @@ class MotionSweep:
             return result
         n = problems[1].model.n
         report = self.check(body, previous_x[:n], result.x[:n])
-        if not report.crossings:
-            return result
-        if not self.resolve:
+        if not report.crossings or not self.resolve:
             mark(result, report, frames)
-            return result
+            return mark_carried(result, previous_x[:n], frames)
         retried, done, count = self._substeps(problems, previous_x, body, report, options, steps())
         again = self.check(body, previous_x[:n], retried.x[:n])
         if len(again.crossings) <= len(report.crossings):
@@ -141,9 +142,8 @@ class MotionSweep:
             retried.notes.append(f"frame {frames[1]}: its first solution went {went} on the way from frame "
                                  f"{frames[0]}; re-solved {how}")  # fmt: skip
             result, report = retried, again
-        if report.crossings:
-            mark(result, report, frames)
-        return result
+        mark(result, report, frames)
+        return mark_carried(result, previous_x[:n], frames)
 
     def _substeps(self, problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray, body: SweptBody,
                   report: SweepReport, options: SolverOptions, steps: np.ndarray):  # fmt: skip
@@ -189,6 +189,53 @@ def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | 
     return out
 
 
+def carried_crossings(problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> list[tuple[str, float]]:
+    """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the floor
+    on the way from joint values ``theta_a`` to ``theta_b`` (both ends excluded: each frame's rows keep its own).
+
+    The way is sampled (joint values linearly in between) so that no corner of the box moves more than about
+    ``BOX_STEP`` between samples: a box passing through anything between two frames is inside it at some sample,
+    since it would have to move its own smallest size and the obstacle's thickness. Only when the box's bounds on
+    the way meet an obstacle's."""
+    rows = problem.carried_obstacle_constraint
+    if rows is None:
+        return []
+    model = problem.model
+
+    def placed(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        kin = model.forward(theta)
+        return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in rows.tcps))
+
+    a, b = placed(theta_a), placed(theta_b)
+    corners = [box_edges(*end, rows.half)[0] for end in (a, b)]
+    moved = float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
+    if moved <= BOX_STEP or not rows.near_way(a, b, moved):
+        return []
+    found = []
+    for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
+        found += [(name, float(s)) for name in rows.inside(*placed(theta_a + s * (theta_b - theta_a)), TOLERANCE)]
+    return found
+
+
+def mark_carried(result: Result, theta_a: np.ndarray, frames: tuple[int, int]) -> Result:
+    """``result`` with each obstacle its carried box passes through on the way from ``theta_a`` named in its unmet
+    (the frame is then not converged), e.g. "box passes through table between frames 12 and 13"."""
+    problem = result.problem
+    a, b = frames
+    crossed: dict[str, float] = {}
+    for obstacle, s in carried_crossings(problem, theta_a, result.x[: problem.model.n]):
+        crossed.setdefault(obstacle, s)  # where it is first found inside
+    for obstacle, s in crossed.items():
+        name = f"{problem.carried.name} passes through {obstacle} between frames {a} and {b}"
+        result.unmet.append(name)
+        result.broken.append(name)
+        result.notes.append(f"frame {b}: {name} (inside it at frame {a + s * (b - a):.2f}); more frames between "
+                            "them, or a key that leads around it, would avoid it")  # fmt: skip
+    if crossed:
+        result.converged = False
+    return result
+
+
 def mark(result: Result, report: SweepReport, frames: tuple[int, int]) -> None:
     """Name each crossing in ``result``'s unmet (held at priority 1) and notes; the frame is not converged. A capsule
     whose axis got inside (deeper than its radius) "passes through", a shallower one "cuts into"."""
@@ -201,4 +248,5 @@ def mark(result: Result, report: SweepReport, frames: tuple[int, int]) -> None:
         result.broken.append(name)
         result.notes.append(f"frame {b}: {name} ({c.depth * 1e3:.1f} mm deep at frame {a + c.s * (b - a):.2f}); "
                             "more frames between them, or a key that leads around it, would avoid it")  # fmt: skip
-    result.converged = False
+    if report.crossings:
+        result.converged = False

@@ -18,7 +18,8 @@ from .collision.body import capsules_of
 from .comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
 from .constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
 from .constraints.carried_clearance import CarriedClearance
-from .constraints.clearance import Clearance, ClearanceRows, Closeness, floor_clearance
+from .constraints.carried_obstacles import CarriedObstacles
+from .constraints.clearance import FLOOR, Clearance, ClearanceRows, Closeness, floor_clearance
 from .constraints.inequality import Inequality
 from .constraints.self_clearance import SelfClearance
 from .contacts import Support, build_contacts
@@ -54,7 +55,8 @@ class Problem:
         above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`); the body keeps each of ``obstacles``
         (:mod:`solver.collision` shapes) at its clearance; ``self_collision`` keeps hands and forearms out of the
         trunk, head and thighs and the shanks apart (:mod:`solver.collision.self_pairs`); the body but the holding
-        hands stays out of a ``carried`` box (:mod:`solver.constraints.carried_clearance`)."""
+        hands stays out of a ``carried`` box (:mod:`solver.constraints.carried_clearance`), and the box out of the
+        obstacles and the floor (:mod:`solver.constraints.carried_obstacles`)."""
         validate(model, targets, loops, loads)
         self.model = model
         self.all_targets = list(targets)
@@ -88,6 +90,9 @@ class Problem:
         self.carried = carried
         self.carried_constraint = None if carried is None else CarriedClearance(model, capsules_of(model), carried,
                                                                                 self.n_x)  # fmt: skip
+        around = [*self.obstacles, FLOOR] if floor else self.obstacles
+        self.carried_obstacle_constraint = CarriedObstacles(model, carried, around, self.n_x) \
+            if carried is not None and around else None  # fmt: skip
         self.extra_constraints = list(extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
         self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
@@ -177,7 +182,7 @@ class Problem:
         frames = [*target_constraints, *self.loop_constraints]
         self.frames = FrameGroup(frames) if frames else None
         rows = [self.frames, self.balance_constraint, self.floor_constraint, self.obstacle_constraint,
-                self.self_constraint, self.carried_constraint]  # fmt: skip
+                self.self_constraint, self.carried_constraint, self.carried_obstacle_constraint]  # fmt: skip
         rows += self.extra_constraints
         rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows

@@ -13,7 +13,9 @@ Deliberately plain methods, each obviously right rather than fast:
 - A carried box (a frame's ``carried`` entry) is placed again from the frame's own TCP positions (centre their
   midpoint, x from the first to the second, z world up made square to x, or world y for a near-vertical x), checked
   against the centre and rotation the file states, and then measured like any box, leaving out the capsules on the
-  two holding TCPs' links (the hands holding it).
+  two holding TCPs' links (the hands holding it). It is kept out of the obstacles and above the floor too: its 12
+  edges measured against each obstacle, a box's edges, a capsule's axis or a sphere's centre against it, and a
+  mesh's vertices for being inside it.
 - Penetration is the depth of the deepest point of the capsule's axis inside the obstacle plus the radius, so the
   measured "distance" is negative whenever the capsule and the obstacle overlap; where they are apart it is the
   exact surface-to-surface distance. (For a box the solver reports the shortest separating translation instead,
@@ -234,6 +236,53 @@ def carried_obstacle(frame: dict) -> tuple[dict, set[str], list[str]]:
     return box, {tcps[name]["link"] for name in entry["tcps"]}, out
 
 
+def box_edges(ob: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The 12 edges (starts, ends (12, 3) m) of a box table."""
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    world = np.asarray(ob["center"]) + (corners * np.asarray(ob["size"]) / 2.0) @ _box_rotation(ob).T
+    pairs = [(i, j) for i in range(8) for j in range(i + 1, 8) if np.abs(corners[i] - corners[j]).sum() == 2]
+    return world[[i for i, _ in pairs]], world[[j for _, j in pairs]]
+
+
+def carried_distance(box: dict, ob: dict) -> float:
+    """Signed distance (m) between a carried box and an obstacle: the least over the box's edges to the obstacle and
+    the obstacle's edges (its axis, its centre) to the box (two convex shapes are nearest at an edge of one of them);
+    for a mesh, also its vertices inside the box."""
+    a, b = box_edges(box)
+    distance = float(axis_distance(ob, a, b).min())
+    kind = ob["kind"]
+    if kind == "box":
+        a, b = box_edges(ob)
+        distance = min(distance, float(axis_distance(box, a, b).min()))
+    elif kind in ("capsule", "sphere"):
+        a, b = (ob["a"], ob["b"]) if kind == "capsule" else (ob["center"], ob["center"])
+        distance = min(
+            distance, float(axis_distance(box, np.array([a], float), np.array([b], float))[0]) - ob["radius"]
+        )
+    elif kind == "mesh":
+        corners = ob["triangles"].reshape(-1, 3)
+        distance = min(distance, float(point_box(corners, box["center"], box["size"], _box_rotation(box)).min()))
+    return distance
+
+
+def _carried_problems(frame: dict, box: dict, others: list[dict], tolerance: float) -> list[str]:
+    """The carried box inside an obstacle's clearance or below the floor by more than ``tolerance``; its closest
+    entries against the recomputed distance and surfaces; an obstacle within CONTACT of it missing from them."""
+    out, number = [], frame["frame"]
+    listed = {entry["other"]: entry for entry in frame.get("closest", []) if entry["part"] == box["name"]}
+    for ob in others:
+        distance = carried_distance(box, ob)
+        if distance < ob["clearance"] - tolerance:
+            out.append(f"frame {number}: {box['name']} vs {ob['name']}: {distance:.4f} m, clearance {ob['clearance']}")
+        entry = listed.get(ob["name"])
+        if entry is not None:
+            on_box = abs(float(point_box(np.asarray(entry["point"]), box["center"], box["size"], _box_rotation(box))))
+            out += _reported(frame, entry, distance, surface_distance(ob, np.asarray(entry["other_point"])), on_box)
+        elif distance < ob["clearance"] + CONTACT:
+            out.append(f"frame {number}: {box['name']} vs {ob['name']} at {distance:.4f} m: not in closest")
+    return out
+
+
 def _box_rotation(ob: dict) -> np.ndarray:
     """A box table's rotation matrix: given as one (a carried box) or as a quaternion (default none)."""
     if "rotation_matrix" in ob:
@@ -272,13 +321,13 @@ def frame_problems(frame: dict, obstacles: list[dict], floor: bool, tolerance: f
     link = {n: i for i, n in enumerate(names)}
     out, number = [], frame["frame"]
     held: dict[str, np.ndarray] = {}  # per obstacle, the capsules it leaves out: a carried box's holding hands
+    planes = [dict(kind="plane", name="floor", point=[0, 0, 0], normal=[0, 0, 1], clearance=0.0)] if floor else []
     if "carried" in frame:
         box, holding, wrong = carried_obstacle(frame)
-        out += wrong
+        out += wrong + _carried_problems(frame, box, [*obstacles, *planes], tolerance)
         obstacles = [*obstacles, box]
         held[box["name"]] = np.isin(names, list(holding))
-    others = list(obstacles) + ([dict(kind="plane", name="floor", point=[0, 0, 0], normal=[0, 0, 1], clearance=0.0)]
-                                if floor else [])  # fmt: skip
+    others = list(obstacles) + planes
     distances = {}
     for ob in others:
         distance = axis_distance(ob, p0, p1) - radius
@@ -288,9 +337,12 @@ def frame_problems(frame: dict, obstacles: list[dict], floor: bool, tolerance: f
             out.append(f"frame {number}: {names[i]} vs {ob['name']}: {distance[i]:.4f} m, clearance {ob['clearance']}")
     by_name = {ob["name"]: ob for ob in others}
     listed = set()
+    carried = frame.get("carried", {}).get("name")
     for entry in frame.get("closest", []):
         part, other = entry["part"], entry["other"]
         listed.add((part, other))
+        if part == carried:
+            continue  # the carried box against an obstacle: checked above
         if other in by_name:
             name, _, end = part.rpartition(".") if part.endswith((".start", ".end")) else (part, "", "")
             i = link[name]

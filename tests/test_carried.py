@@ -157,6 +157,67 @@ def test_a_box_too_big_to_hold_leaves_a_hand_short_not_the_body_inside():
     assert min(d for part, d in seen.items() if part not in ("hand_r", "hand_l")) >= -TOLERANCE, seen
 
 
+def test_hands_set_the_box_down_inside_a_table_leave_it_on_the_table_top(tmp_path):
+    """Hand targets that would sink the box's bottom 4 cm into a table top end unmet (priority 2): the box rests on
+    the table top, recomputed from the result JSON alone (the box from its hands, its edges against the table's and
+    the table's against it), and the result lists "box vs table" among the closest pairs."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
+    table = Box(np.array([0.0, -0.35, 0.70]), np.array([0.8, 0.5, 0.04]), name="table")  # top at 0.72 m
+    problem = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[table])
+    result = solver.solve(problem)
+    assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
+    out = tmp_path / "result.json"
+    solver.write_result(out, result)
+    (frame,) = json.loads(out.read_text(encoding="utf-8"))["frames"]
+    placed = carried_box(box, *(np.array(frame["tcps"][t]["position"]) for t in box.tcps))
+    a, b = box_edges(placed)
+    gap = box_distance(a, b, np.zeros(12), table).distance.min()
+    a, b = box_edges(table)
+    assert min(gap, box_distance(a, b, np.zeros(12), placed).distance.min()) >= -TOLERANCE
+    assert gap <= 0.002  # on the top, not held above it
+    assert frame["tcps"]["hand_r"]["position"][2] == pytest.approx(0.84, abs=0.002)  # 4 cm above its target
+    assert "box vs table" in {c["pair"] for c in frame["closest"]}
+
+
+def test_the_box_stays_above_the_floor():
+    """The floor is an obstacle for the box too: hands held 5 cm above it would put the box's bottom 7 cm below."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
+    targets = [t if not t.tcp.startswith("hand") else Target(t.tcp, t.position * [1, 1, 0] + [0, -0.25, 0.05],
+               t.rotation, lock=t.lock) for t in held_low(model, box).all_targets]  # fmt: skip
+    result = solver.solve(Problem(model, targets, carried=box))
+    kin = result.state.kin
+    placed = carried_box(box, *(kin.tcp_frame(model.tcp(t))[1] for t in box.tcps))
+    a, b = box_edges(placed)
+    assert obstacle_distance(a, b, np.zeros(12), FLOOR).distance.min() >= -TOLERANCE
+    assert "hand_r" in result.unmet
+
+
+@pytest.mark.parametrize("plate_y", [-0.15, 0.6])
+def test_a_box_dropped_through_a_plate_between_two_frames_is_named(plate_y):
+    """Two frames with no per-frame bound: the box above a thin plate, then below it. Each frame is clear of the
+    plate; the way between is not, and the frame names it. The plate moved out of the way: both converge."""
+    from solver.motion import solve_frames
+
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
+    plate = Box(np.array([0.0, plate_y, 0.75]), np.array([0.2, 0.2, 0.01]), name="plate")  # between the hands
+
+    def held_at(height: float) -> Problem:
+        targets = [t if not t.tcp.startswith("hand") else Target(t.tcp, t.position * [1, 1, 0] + [0, 0, height],
+                   t.rotation, lock=t.lock) for t in held_low(model, box).all_targets]  # fmt: skip
+        return Problem(model, targets, carried=box, obstacles=[plate])
+
+    problems = {1: held_at(1.0), 2: held_at(0.55)}  # the box's bottom 13 cm above the plate, then its top 8 cm below
+    frames = dict(solve_frames(problems.get, [1, 2], problems[1].start(None), limits=None))
+    assert frames[1].converged
+    if plate_y > 0:
+        assert frames[2].converged
+    else:
+        assert not frames[2].converged and frames[2].unmet == ["box passes through plate between frames 1 and 2"]
+
+
 def test_every_frame_of_a_motion_keeps_the_carried_box():
     """problem_at shares the carried box's rows across frames; other supports (a new problem) keep it too."""
     scenario = solver.load_scenario(SCENARIOS / "box_lift_motion.toml")

@@ -159,6 +159,18 @@ def test_the_check_places_the_carried_box_from_the_tcps(tmp_path):
     assert any(p.endswith("not in closest") and "vs box" in p for p in spoiled(drop=True))
     assert spoiled("hand_l") == []
 
+    # the box itself against obstacles it is not in the scenario with: a bench under it, 1 cm into its bottom or 5 mm
+    # below it (near, but the file's closest pairs do not list it), the floor raised to its bottom
+    entry = frame["carried"]
+    bottom = entry["center"][2] - entry["size"][2] / 2.0
+    bench = dict(kind="box", name="bench", center=[entry["center"][0], entry["center"][1], bottom - 0.09],
+                 size=[0.2, 0.2, 0.2], clearance=0.0)  # fmt: skip
+    assert any(p.startswith("frame 1: box vs bench: -0.0100 m") for p in frame_problems(frame, [bench], floor))
+    bench["center"][2] -= 0.015
+    assert any(p.endswith("not in closest") and "box vs bench" in p for p in frame_problems(frame, [bench], floor))
+    raised = dict(kind="plane", name="step", point=[0, 0, bottom + 0.02], normal=[0, 0, 1], clearance=0.0)
+    assert any(p.startswith("frame 1: box vs step: -0.02") for p in frame_problems(frame, [raised], False))
+
 
 # --------------------------------------------------------------------------------------------- solved scenarios
 

@@ -201,24 +201,68 @@ def carried_cases():
         yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, carried=box), x
 
 
+def clearance_rows_against_differences(c, problem, x, plateau: bool = False) -> np.ndarray:
+    """Check one-sided clearance rows ``c`` at ``x`` against central differences: dg/dx of every row against g, and
+    the step's Jacobian against the error, watched rows against g. Returns how many rows were inside, within the
+    watch band, farther. ``plateau``: leave out rows reading exactly 0 (a segment through a closed mesh with none of
+    its depth samples inside reads 0 until one is: flat, so differences see no slope there)."""
+    state = problem.state(x)
+    value = c.value(state)
+    keep = value != 0.0 if plateau else np.ones(len(value), dtype=bool)
+    numeric = finite_difference(lambda xx: c.value(problem.state(xx)), x, 1e-7)
+    scale = max(1.0, np.abs(numeric).max())
+    np.testing.assert_allclose(c.value_jacobian(state)[keep], numeric[keep], atol=1e-6 * scale)
+    analytic = c.jacobian(state)
+    error = finite_difference(lambda xx: c.error(problem.state(xx)), x, 1e-7)
+    watched = (c.slack(state) > 0.0) & analytic.any(axis=1)
+    error[watched] = numeric[watched]
+    np.testing.assert_allclose(analytic[keep], error[keep], atol=1e-6 * scale)
+    value = value[keep]
+    return np.array([(value < 0).sum(), ((value >= 0) & (value < c.watch)).sum(), (value >= c.watch).sum()])
+
+
 def test_carried_box_jacobian():
     """The carried box's rows (the box moving with both TCPs) against central differences: dg/dx of every row
     against g, and the step's Jacobian against the error, watched rows against g; inside, near and clear rows."""
     seen = np.zeros(3, dtype=int)  # rows inside the box, within the watch band, farther
     for problem, x in carried_cases():
-        c = problem.carried_constraint
-        state = problem.state(x)
-        value = c.value(state)
-        seen += [(value < 0).sum(), ((value >= 0) & (value < c.watch)).sum(), (value >= c.watch).sum()]
-        numeric = finite_difference(lambda xx, c=c, pb=problem: c.value(pb.state(xx)), x, 1e-7)
-        scale = max(1.0, np.abs(numeric).max())
-        np.testing.assert_allclose(c.value_jacobian(state), numeric, atol=1e-6 * scale)
-        analytic = c.jacobian(state)
-        error = finite_difference(lambda xx, c=c, pb=problem: c.error(pb.state(xx)), x, 1e-7)
-        watched = (c.slack(state) > 0.0) & analytic.any(axis=1)
-        error[watched] = numeric[watched]
-        np.testing.assert_allclose(analytic, error, atol=1e-6 * scale)
+        seen += clearance_rows_against_differences(problem.carried_constraint, problem, x)
     assert (seen >= 3).all(), seen
+
+
+def carried_obstacle_cases():
+    """(problem, x) pairs: random trees holding a box between t2 and t3 among a box, a sphere, a capsule and a
+    closed mesh and a tilted half-space placed at random around where the box is, and the floor."""
+    from solver.carried import Carried, carried_frame
+    from solver.collision import Box, Capsule, HalfSpace, Mesh, Sphere
+    from solver.collision.generate import box_mesh
+
+    for seed in range(4):
+        _, problem, x, rng = random_case(seed, 400)
+        size = np.array([0.5, 0.4, 0.3])
+        kin = problem.state(x).kin
+        centre, _ = carried_frame(*(kin.tcp_frame(problem.model.tcp(t))[1] for t in ("t2", "t3")))
+        near = [centre + rng.uniform(-0.45, 0.45, 3) for _ in range(4)]
+        turn = exp_so3(rng.normal(size=3))
+        obstacles = [Box(near[0], np.array([0.3, 0.2, 0.25]), turn, name="b"), Sphere(near[1], 0.15, name="s"),
+                     Capsule(near[2], near[2] + rng.normal(size=3) * 0.2, 0.08, name="c"),
+                     Mesh(*box_mesh(near[3], np.array([0.3, 0.3, 0.2]), 2, turn), name="m"),
+                     HalfSpace(centre - rng.uniform(0.05, 0.25) * turn[:, 2], turn[:, 2], name="h")]  # fmt: skip
+        yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, obstacles=obstacles,
+                      carried=Carried(size, ("t2", "t3"), "crate")), x  # fmt: skip
+
+
+def test_carried_box_obstacle_jacobian():
+    """The carried box's rows against the obstacles and the floor (its edges against each obstacle, the obstacles'
+    edges against it, its corners above the floor) against central differences; inside, near and clear rows."""
+    seen = np.zeros(3, dtype=int)
+    kinds = set()
+    for problem, x in carried_obstacle_cases():
+        c = problem.carried_obstacle_constraint
+        seen += clearance_rows_against_differences(c, problem, x, plateau=True)
+        kinds |= {pair.other for pair in c.closest(problem.state(x))}
+    assert (seen >= 3).all(), seen
+    assert kinds == {"b", "s", "c", "m", "h"}, kinds
 
 
 def test_carried_box_point_velocity():

@@ -7,7 +7,7 @@ may touch the box, as a box carried against the belly does, but not enter it).
 
 The box moves with the hands, so a row's Jacobian has two parts: n . (velocity of the witness on the capsule's
 axis) - n . (velocity of the box's material point at the closest point q), the second from the two TCPs'
-velocities through the box frame (:func:`solver.carried.carried_point_rows`). Like the body's own pairs, the
+velocities through the box frame (:func:`solver.carried.box_motion_terms`). Like the body's own pairs, the
 witnesses' sliding drops out (the envelope theorem, for overlapping pairs too: the two points differ along n).
 Rows rank with supports and balance (priority 1), as every clearance row does.
 """
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..carried import CLEARANCE, Carried, carried_frame, carried_point_rows
+from ..carried import CLEARANCE, Carried, box_motion_terms, held_frame
 from ..collision.body import BodyCapsules
 from ..collision.boxes import box_rows
 from ..model import Model
@@ -44,19 +44,9 @@ class CarriedClearance(ClearanceRows):
         self.floor = np.full(len(names), CLEARANCE)
         self._half = np.asarray(carried.size, dtype=float) / 2.0
 
-    def placed(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(the two TCPs' world positions (2, 3) m, the box's centre (3,) m and rotation (3, 3)) at ``state``, once
-        per state."""
-        key = (self, "placed")
-        got = state.cache.get(key)
-        if got is None:
-            held = np.array([state.kin.tcp_frame(tcp)[1] for tcp in self.tcps])
-            got = state.cache[key] = (held, *carried_frame(held[0], held[1]))
-        return got
-
     def frame(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """(centre (3,) m, rotation (3, 3)) of the box at ``state``."""
-        return self.placed(state)[1:]
+        return held_frame(state, self.tcps)[1:]
 
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps, half = self.capsules, self._half
@@ -83,14 +73,11 @@ class CarriedClearance(ClearanceRows):
         distance, points, normals, capsule = self._evaluate(state)
         normal, k = normals[rows], len(rows)
         on_box = points[rows] - (distance[rows] + self.capsules.radius[capsule[rows]])[:, None] * normal
-        held, centre, rotation = self.placed(state)
-        first, second = held
-        n1, n2 = carried_point_rows(first, second, rotation, (on_box - centre) @ rotation, normal)
         # one call for the three points: the witness on the capsule, and each TCP moving the box's point
-        descendant = self.model.descendant
-        links = np.concatenate([self.capsules.link[capsule[rows]], np.repeat([t.link for t in self.tcps], k)])
-        where = np.concatenate([points[rows], np.repeat(held, k, axis=0)])
-        along = np.concatenate([normal, -n1, -n2])
-        moved = state.kin.jacobian_rows(where, along, np.zeros_like(along), descendant[:, links].T.astype(float))
+        links, where, along = box_motion_terms(state, self.tcps, on_box, -normal)
+        links = np.concatenate([self.capsules.link[capsule[rows]], links])
+        where, along = np.concatenate([points[rows], where]), np.concatenate([normal, along])
+        mask = self.model.descendant[:, links].T.astype(float)
+        moved = state.kin.jacobian_rows(where, along, np.zeros_like(along), mask)
         out[:, : self.model.n] = moved[:k] + moved[k : 2 * k] + moved[2 * k :]
         return out
