@@ -14,7 +14,6 @@ from .mesh_files import EnvelopeFile, EnvelopeMesh
 from .sweep import Envelope
 
 
-
 def mesh(envelope: Envelope, which: str = "balanced") -> EnvelopeMesh:
     """The envelope surface: every direction at its reach (0: the shoulder), in the manikin's frame (m); ``which``
     of :meth:`Envelope.kinds`."""

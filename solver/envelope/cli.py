@@ -41,7 +41,7 @@ def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sole-scale", type=float, default=1.0,
                    help="keep the centre of pressure in the soles scaled by this (default 1: whole soles)")  # fmt: skip
     p.add_argument("--feet", default="planted", choices=("planted", "step"),
-                   help="planted (default), or step: each sole slides and turns on the floor within a step")  # fmt: skip
+                   help="planted (default), or step: each sole slides and turns on the floor")  # fmt: skip
     p.add_argument("--no-balance", action="store_true", help="only the reach without balance (faster)")
     p.add_argument("--processes", type=int, help="envelopes computed at once (default: all cores)")
     p.add_argument("--no-plot", action="store_true", help="do not write the PNG sections")

@@ -11,8 +11,11 @@ import numpy as np
 from .analysis import mesh, section
 from .sweep import Envelope
 
-STYLE = {"balanced": ("#1f8a4c", "-", "in balance"), "kinematic": ("#777777", "--", "without balance"),
-         "planted": ("#c06a1a", "-.", "in balance, feet planted")}  # the last only when stepping
+STYLE = {
+    "balanced": ("#1f8a4c", "-", "in balance"),
+    "kinematic": ("#777777", "--", "without balance"),
+    "planted": ("#c06a1a", "-.", "in balance, feet planted"),
+}  # the last only when stepping
 # (title, plane normal, horizontal axis (world vector, label), vertical axis): each panel's view
 VIEWS = (
     ("side (sagittal)", (1.0, 0.0, 0.0), ((0.0, -1.0, 0.0), "forward (m)"), ((0.0, 0.0, 1.0), "height (m)")),

@@ -15,8 +15,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import ModelError, UsageError
 from ..constraints import AXES
+from ..errors import ModelError, UsageError
 from ..iteration import TUNING, attempt
 from ..model import GRAVITY, Model
 from ..options import SolverOptions
