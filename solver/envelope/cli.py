@@ -19,12 +19,12 @@ if TYPE_CHECKING:
     from .job import EnvelopeSettings
     from .sweep import Envelope
 
-HANDS = {"right": ("right",), "left": ("left",), "both": ("right", "left")}
-
 
 def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
     """The ``envelope`` subcommand on the command line's subparsers ``sub``."""
     from .directions import HEMISPHERES
+    from .job import HANDS
+    from .reach import FEET_MODES
 
     p = sub.add_parser("envelope", help="reach envelopes in balance and without it: CSV, OBJ, GLB and PNG")
     p.add_argument("manikins", nargs="*", help="manikin presets or body TOMLs (default male_50 without --family)")
@@ -40,7 +40,7 @@ def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--tolerance", type=float, default=0.02, help="reach resolution, m (default 0.02)")
     p.add_argument("--sole-scale", type=float, default=1.0,
                    help="keep the centre of pressure in the soles scaled by this (default 1: whole soles)")  # fmt: skip
-    p.add_argument("--feet", default="planted", choices=("planted", "step"),
+    p.add_argument("--feet", default="planted", choices=list(FEET_MODES),
                    help="planted (default), or step: each sole slides and turns on the floor")  # fmt: skip
     p.add_argument("--no-balance", action="store_true", help="only the reach without balance (faster)")
     p.add_argument("--processes", type=int, help="envelopes computed at once (default: all cores)")
@@ -101,7 +101,7 @@ def _check(args: argparse.Namespace) -> tuple[list, EnvelopeSettings]:
     """Every argument checked before any work: ((manikin, hand) runs, the settings)."""
     from ..bodies import load_preset
     from ..population.family_files import check_family_folder
-    from .job import EnvelopeSettings, check_settings
+    from .job import HANDS, EnvelopeSettings, check_settings
 
     if not str(args.output).strip():
         raise UsageError("-o: expected a folder name, got ''")

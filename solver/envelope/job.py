@@ -21,6 +21,8 @@ from .directions import DirectionSphere, direction_sphere
 from .reach import check_tolerance, reach_setup
 from .sweep import Envelope, sweep_envelope
 
+HANDS = {"right": ("right",), "left": ("left",), "both": ("right", "left")}  # what a hand setting names
+
 
 @dataclass(frozen=True)
 class EnvelopeSettings:
