@@ -26,7 +26,7 @@ def envelope_file(envelope: Envelope) -> EnvelopeFile:
     info = {
         "manikin": envelope.manikin, "hand": envelope.side, "load_kg": f"{envelope.load_kg:g}",
         "orientation": "free" if envelope.rotation is None else "fixed", "sole_scale": f"{envelope.sole_scale:g}",
-        "feet": envelope.feet, "balance": str(envelope.balance).lower(),
+        "feet": envelope.feet,
         "directions": str(len(envelope.sphere.directions)), "arm_length_m": f"{envelope.arm:.4f}",
     }  # fmt: skip
     return EnvelopeFile([mesh(envelope, which) for which in envelope.kinds()], envelope.shoulder.copy(), info)

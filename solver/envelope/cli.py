@@ -1,6 +1,6 @@
 """``python -m solver envelope [MANIKIN ...] [--family DIR] -o DIR [--hand right|left|both] [--frequency F]
 [--hemisphere H] [--load KG] [--rotation W,X,Y,Z] [--tolerance M] [--sole-scale S] [--feet planted|step]
-[--no-balance] [--processes N] [--no-plot] [-q]``: balanced reach envelopes, one per manikin (a preset name or body
+[--processes N] [--no-plot] [-q]``: balanced reach envelopes, one per manikin (a preset name or body
 TOML; every member of a family) and hand, written into a new or empty folder (:mod:`.outputs`), several at once in
 worker processes. Bad arguments exit 2 with one line before any work. The settings, the sweep and the files are
 those of a study's ``[envelope]`` (:mod:`.job`)."""
@@ -42,7 +42,6 @@ def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
                    help="keep the centre of pressure in the soles scaled by this (default 1: whole soles)")  # fmt: skip
     p.add_argument("--feet", default="planted", choices=list(FEET_MODES),
                    help="planted (default), or step: each sole slides and turns on the floor")  # fmt: skip
-    p.add_argument("--no-balance", action="store_true", help="only the reach without balance (faster)")
     p.add_argument("--processes", type=int, help="envelopes computed at once (default: all cores)")
     p.add_argument("--no-plot", action="store_true", help="do not write the PNG sections")
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary and no progress")
@@ -108,7 +107,7 @@ def _check(args: argparse.Namespace) -> tuple[list, EnvelopeSettings]:
     if args.processes is not None and args.processes < 1:
         raise UsageError(f"--processes: expected a whole number >= 1, got {args.processes}")
     settings = EnvelopeSettings(args.load, _rotation(args.rotation), args.tolerance, args.sole_scale, args.feet,
-                                not args.no_balance, args.frequency, args.hemisphere)  # fmt: skip
+                                args.frequency, args.hemisphere)  # fmt: skip
     settings.sphere()  # the directions are refused before the manikins are loaded
     names = _manikins(args)
     models = [load_preset(name) for name in names]

@@ -28,7 +28,7 @@ HANDS = {"right": ("right",), "left": ("left",), "both": ("right", "left")}  # w
 class EnvelopeSettings:
     """What an envelope is asked for besides the manikin and the hand: the load (kg) in the hand, its orientation
     (a quaternion w, x, y, z; None: free), the reach ``tolerance`` (m), the soles' scale for the centre of pressure,
-    the ``feet`` ("planted" or "step"), ``balance`` (False: only the reach without balance) and the directions
+    the ``feet`` ("planted" or "step") and the directions
     (a geodesic sphere of ``frequency``, or its ``hemisphere``). Plain values: it travels to worker processes."""
 
     load_kg: float = 0.0
@@ -36,7 +36,6 @@ class EnvelopeSettings:
     tolerance: float = 0.02
     sole_scale: float = 1.0
     feet: str = "planted"
-    balance: bool = True
     frequency: int = 3
     hemisphere: str = "all"
 
@@ -59,8 +58,7 @@ def check_settings(model: Model, side: str, settings: EnvelopeSettings) -> None:
     be computed with (before any work)."""
     settings.sphere()
     check_tolerance(settings.tolerance)
-    reach_setup(model, side, settings.load_kg, settings.matrix(), settings.balance, settings.sole_scale,
-                settings.feet)  # fmt: skip
+    reach_setup(model, side, settings.load_kg, settings.matrix(), True, settings.sole_scale, settings.feet)  # fmt: skip
 
 
 def compute_envelope(
@@ -70,5 +68,5 @@ def compute_envelope(
     ``progress(done, total)`` after each direction."""
     s = settings
     envelope = sweep_envelope(model, s.sphere(), side, s.load_kg, s.matrix(), s.tolerance, progress, s.sole_scale,
-                              s.feet, s.balance)  # fmt: skip
+                              s.feet)  # fmt: skip
     return envelope, comparison(envelope)

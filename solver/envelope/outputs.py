@@ -20,7 +20,7 @@ SUMMARY = "envelopes.csv"
 DIRECTION_COLUMNS = ("manikin", "hand", "load_kg", "feet", "direction", "dx", "dy", "dz", "azimuth_deg",
                      "elevation_deg", "sector", "reach_balanced_m", "reach_kinematic_m", "reach_planted_m",
                      "arm_length_m", "difference_m")  # fmt: skip
-SETTING_COLUMNS = ("manikin", "hand", "load_kg", "feet", "sole_scale", "balance")  # what the envelope was asked for
+SETTING_COLUMNS = ("manikin", "hand", "load_kg", "feet", "sole_scale")  # what the envelope was asked for
 RESULT_COLUMNS = ("directions", "balanced_mean_m", "balanced_min_m", "balanced_max_m", "kinematic_mean_m",
                   "arm_length_m", "mean_difference_m", "max_difference_m", "worst_sector", "front_low_difference_m",
                   "volume_balanced_m3", "volume_kinematic_m3", "volume_lost", "planted_mean_m", "stepping_gain_m",
@@ -69,7 +69,7 @@ def summary_row(envelope: Envelope, stats: dict) -> dict:
                 "stepping_gain_max_m": step.get("gain_max_m"), "volume_planted_m3": vol.get("planted")}  # fmt: skip
     return {
         "manikin": envelope.manikin, "hand": envelope.side, "load_kg": envelope.load_kg, "feet": envelope.feet,
-        "sole_scale": envelope.sole_scale, "balance": envelope.balance,
+        "sole_scale": envelope.sole_scale,
         "directions": o["directions"], "balanced_mean_m": round(o["balanced_mean_m"], 4),
         "balanced_min_m": round(o["balanced_min_m"], 4), "balanced_max_m": round(o["balanced_max_m"], 4),
         "kinematic_mean_m": round(o["kinematic_mean_m"], 4), "arm_length_m": round(envelope.arm, 4),

@@ -48,7 +48,6 @@ class Envelope:
     poses: dict[str, list] = field(default_factory=dict)  # "balanced"/"kinematic": joint values per direction
     feet: str = "planted"  # or "step": the soles slide and turn on the floor within the stance bounds
     planted: np.ndarray | None = None  # stepping only: the reach in balance with the feet planted, per direction
-    balance: bool = True  # False: only the reach without balance was searched (``balanced`` is the same)
 
     def radii(self, which: str = "balanced") -> np.ndarray:
         """The reach per direction (m) of ``which``: "balanced", "kinematic" or (stepping) "planted"."""
@@ -143,47 +142,42 @@ def sweep_envelope(
     progress: Callable[[int, int], None] | None = None,
     sole_scale: float = 1.0,
     feet: str = "planted",
-    balance: bool = True,
 ) -> Envelope:
     """The envelope of ``model``'s ``side`` hand over ``sphere``'s directions (reach within ``tolerance`` m), holding
     ``load_kg`` in that hand, its orientation fixed to ``rotation`` (3x3, world) or free, the centre of pressure in
     the soles scaled by ``sole_scale``, the ``feet`` "planted" or free to "step" (see :func:`reach_setup`);
-    ``progress(done, total)`` after each direction. ``balance`` False searches only the reach without balance (the
-    balanced radii are then the same). Stepping also searches the planted reach in balance (``Envelope.planted``)
-    and starts each stepping ray from it, so a stepping reach is never shorter than the planted one."""
+    ``progress(done, total)`` after each direction. Stepping also searches the planted reach in balance
+    (``Envelope.planted``) and starts each stepping ray from it, so a stepping reach is never shorter."""
     t0 = time.perf_counter()
     tolerance = check_tolerance(tolerance)
 
     def rays(in_balance: bool, mode: str) -> _Rays:
         return _Rays(reach_setup(model, side, load_kg, rotation, in_balance, sole_scale, mode), sphere, tolerance)
 
-    balanced = rays(balance, feet)
-    kinematic = rays(False, feet) if balance else balanced
-    planted = rays(balance, "planted") if feet != "planted" else None
+    balanced, kinematic = rays(True, feet), rays(False, feet)
+    planted = rays(True, "planted") if feet != "planted" else None
     first_guess = 0.8 * arm_length(model, side)
     order = visiting_order(sphere)
     for done, i in enumerate(order, 1):
         ray = _visit(i, balanced, planted, first_guess)
-        if kinematic is not balanced:
-            if ray.reached:
-                kinematic.search(i, ray.radius, ray.pose, known=True)
-            else:
-                kinematic.from_neighbour(i, first_guess)
+        if ray.reached:
+            kinematic.search(i, ray.radius, ray.pose, known=True)
+        else:
+            kinematic.from_neighbour(i, first_guess)
         if progress is not None:
             progress(done, len(order))
     if planted is not None:
         planted.repair()
     balanced.repair()
     _lift(planted, balanced)  # stepping reaches at least as far as the planted feet
-    if kinematic is not balanced:
-        _lift(balanced, kinematic)  # a balanced pose the repair found holds without balance too
-        kinematic.repair()
-    searched = {id(r): r for r in (balanced, kinematic, planted) if r is not None}.values()
+    _lift(balanced, kinematic)  # a balanced pose the repair found holds without balance too
+    kinematic.repair()
+    searched = [r for r in (balanced, kinematic, planted) if r is not None]
     poses = {"balanced": balanced.poses(), "kinematic": kinematic.poses()}
     return Envelope(
         model.name, side, float(load_kg), rotation, float(sole_scale), balanced.setup.shoulder, sphere,
         balanced.radii(), kinematic.radii(), arm_length(model, side), sum(r.tests for r in searched),
-        time.perf_counter() - t0, poses, feet, None if planted is None else planted.radii(), balance,
+        time.perf_counter() - t0, poses, feet, None if planted is None else planted.radii(),
     )  # fmt: skip
 
 

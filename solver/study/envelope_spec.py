@@ -14,7 +14,6 @@ study file and the key.
     hemisphere = "all"        # or front, back, upper, lower, left, right
     tolerance = 0.02          # m, the reach's resolution
     rotation = [1, 0, 0, 0]   # the hand's fixed orientation (w, x, y, z); absent: free
-    balance = true            # false: only the reach without balance
     plot = true               # a PNG of sections per envelope
 
 Every list is a study parameter (``p_hand``, ``p_load_kg``, ``p_feet``, ``p_sole_scale`` columns); the envelope of
@@ -33,7 +32,7 @@ from ..envelope.reach import FEET_MODES, MAX_LOAD
 from ..io.table_reader import TableReader, is_number
 
 KEYS = {"name", "hand", "load_kg", "feet", "sole_scale", "frequency", "hemisphere", "tolerance", "rotation",
-        "balance", "plot"}  # fmt: skip
+        "plot"}  # fmt: skip
 PARAMETERS = ("hand", "load_kg", "feet", "sole_scale")  # the settings a row varies (its p_ columns)
 
 
@@ -50,7 +49,6 @@ class EnvelopeStudy:
     hemisphere: str
     tolerance: float
     rotation: tuple[float, ...] | None
-    balance: bool
     plot: bool
 
     def grid(self) -> list[dict]:
@@ -61,12 +59,12 @@ class EnvelopeStudy:
     def inputs(self) -> dict:
         """What every row shares (its run id hashes them): the fixed settings (not ``plot``, a file choice)."""
         return dict(kind="envelope", name=self.name, frequency=self.frequency, hemisphere=self.hemisphere,
-                    tolerance=self.tolerance, rotation=self.rotation, balance=self.balance)  # fmt: skip
+                    tolerance=self.tolerance, rotation=self.rotation)  # fmt: skip
 
     def settings(self, values: dict) -> EnvelopeSettings:
         """The settings of the combination ``values`` (one of :meth:`grid`)."""
         return EnvelopeSettings(values["load_kg"], self.rotation, self.tolerance, values["sole_scale"],
-                                values["feet"], self.balance, self.frequency, self.hemisphere)  # fmt: skip
+                                values["feet"], self.frequency, self.hemisphere)  # fmt: skip
 
 
 def mesh_name(manikin: str, values: dict) -> str:
@@ -113,6 +111,5 @@ def load_envelope(t: TableReader) -> EnvelopeStudy:
         hemisphere=hemisphere,
         tolerance=t.number("tolerance", 0.02, 0.001, 0.2, "m"),
         rotation=rotation,
-        balance=t.boolean("balance", True),
         plot=t.boolean("plot", True),
     )
