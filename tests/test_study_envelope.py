@@ -125,3 +125,13 @@ def test_a_bad_envelope_key_is_one_line_naming_it_and_exit_2(change, expected, t
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and expected in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_preset_envelope_study_reads_and_plans_every_manikin_and_setting():
+    study = load_study(Path(__file__).resolve().parents[1] / "presets" / "studies" / "reach_envelopes.toml")
+    runs = plan(study)
+    assert study.envelope is not None and not study.scenarios and len(runs) == 3 * 2 * 2
+    assert {r.manikin_name for r in runs} == {"female_5", "male_50", "male_95"}
+    assert {(r.parameters["load_kg"], r.parameters["feet"]) for r in runs} == {
+        (load, feet) for load in (0.0, 10.0) for feet in ("planted", "step")
+    }
