@@ -1,7 +1,9 @@
-"""How far one hand reaches along one direction from its shoulder, with the feet planted, in balance or not.
+"""How far one hand reaches along one direction from its shoulder, with the feet planted or stepping, in balance or
+not.
 
 A point is *reached* when a solve meets every constraint there: the hand on the point (position; and the orientation
-when it is fixed), both feet on their start places (all six axes: planted), the floor and the body's own clearances,
+when it is fixed), both feet on their start places (all six axes: planted; or, stepping, flat on the floor within
+the stance bounds of :mod:`.stance`), the floor and the body's own clearances,
 and, with balance, the static balance of the whole body with its contact forces inside the friction cones and the
 soles (priority 1 in :mod:`solver.priorities`) under the hand-held load. The reach along a ray is the largest radius
 found reached by a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last

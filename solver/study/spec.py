@@ -23,6 +23,10 @@ studies"). Every problem is one ScenarioError line naming the study file and the
     values = [0.35, 0.45, 0.55]
     set = ["targets.hand_r.position[2]", "targets.hand_l.position[2]"]   # key paths (solver/study/keypath.py)
     # or add = [...]: each value is added to the file's number there (an offset)
+
+    [envelope]                # reach envelopes of every manikin, with or instead of [[scenarios]] (.envelope_spec)
+    load_kg = [0.0, 10.0]
+    feet = ["planted", "step"]
 """
 
 from __future__ import annotations
