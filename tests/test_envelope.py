@@ -222,6 +222,7 @@ def test_the_command_writes_one_envelope_per_family_member(tmp_path):
         (["--sole-scale", "0"], "--sole-scale: expected a fraction in [0.1, 1], got 0.0"),
         (["--processes", "0"], "--processes: expected a whole number >= 1, got 0"),
         (["--hemisphere", "inside"], "argument --hemisphere: invalid choice: 'inside'"),
+        (["--feet", "hop"], "argument --feet: invalid choice: 'hop'"),
     ],
 )
 def test_bad_input_exits_2_with_one_line_before_any_work(args, expected, tmp_path, capsys):

@@ -13,23 +13,23 @@ import numpy as np
 from .mesh_files import EnvelopeFile, EnvelopeMesh
 from .sweep import Envelope
 
-WHICH = ("balanced", "kinematic")
-
 
 def mesh(envelope: Envelope, which: str = "balanced") -> EnvelopeMesh:
-    """The envelope surface: every direction at its reach (0: the shoulder), in the manikin's frame (m)."""
-    radii = envelope.balanced if which == "balanced" else envelope.kinematic
+    """The envelope surface: every direction at its reach (0: the shoulder), in the manikin's frame (m); ``which``
+    of :meth:`Envelope.kinds`."""
+    radii = envelope.radii(which)
     return EnvelopeMesh(which, envelope.shoulder + envelope.sphere.vertices(radii), envelope.sphere.faces.copy())
 
 
 def envelope_file(envelope: Envelope) -> EnvelopeFile:
-    """Both meshes with the shoulder and a description of the run, ready to write."""
+    """Its meshes (balanced, kinematic; planted when stepping) with the shoulder and a description of the run."""
     info = {
         "manikin": envelope.manikin, "hand": envelope.side, "load_kg": f"{envelope.load_kg:g}",
         "orientation": "free" if envelope.rotation is None else "fixed", "sole_scale": f"{envelope.sole_scale:g}",
+        "feet": envelope.feet,
         "directions": str(len(envelope.sphere.directions)), "arm_length_m": f"{envelope.arm:.4f}",
     }  # fmt: skip
-    return EnvelopeFile([mesh(envelope, which) for which in WHICH], envelope.shoulder.copy(), info)
+    return EnvelopeFile([mesh(envelope, which) for which in envelope.kinds()], envelope.shoulder.copy(), info)
 
 
 def volume(vertices: np.ndarray, faces: np.ndarray) -> float:
@@ -92,7 +92,7 @@ def comparison(envelope: Envelope) -> dict:
         pick = np.array([n == name for n in names])
         per_sector[name] = _stats(bal[pick], kin[pick])
     worst = int(np.argmax(diff))
-    vol = {which: volume(m.vertices, m.faces) for which in WHICH for m in [mesh(envelope, which)]}
+    vol = {which: volume(m.vertices, m.faces) for which in envelope.kinds() for m in [mesh(envelope, which)]}
     return {
         "overall": _stats(bal, kin),
         "sectors": per_sector,
@@ -101,7 +101,19 @@ def comparison(envelope: Envelope) -> dict:
         "worst_direction": envelope.sphere.directions[worst].tolist(),
         "worst_sector": names[worst],
         "unreached": int(np.sum(bal <= 0.0)),
+        "stepping": None if envelope.planted is None else _stepping(envelope, names, vol),
     }
+
+
+def _stepping(envelope: Envelope, names: list[str], vol: dict) -> dict:
+    """What stepping adds to the planted reach (m; the volume's share): mean, largest (and its sector), least."""
+    gain = envelope.balanced - envelope.planted
+    return {
+        "planted_mean_m": float(envelope.planted.mean()), "gain_mean_m": float(gain.mean()),
+        "gain_max_m": float(gain.max()), "gain_max_sector": names[int(np.argmax(gain))],
+        "gain_min_m": float(gain.min()),
+        "volume_gain": vol["balanced"] / vol["planted"] - 1.0 if vol["planted"] > 0 else 0.0,
+    }  # fmt: skip
 
 
 def _stats(bal: np.ndarray, kin: np.ndarray) -> dict:
@@ -109,6 +121,7 @@ def _stats(bal: np.ndarray, kin: np.ndarray) -> dict:
     relative = np.divide(diff, kin, out=np.zeros_like(diff), where=kin > 0)
     return {
         "directions": len(bal), "balanced_mean_m": float(bal.mean()), "kinematic_mean_m": float(kin.mean()),
+        "balanced_min_m": float(bal.min()), "balanced_max_m": float(bal.max()),
         "mean_difference_m": float(diff.mean()), "max_difference_m": float(diff.max()),
         "mean_relative": float(relative.mean()),
     }  # fmt: skip
@@ -118,7 +131,8 @@ def summary_lines(envelope: Envelope, stats: dict) -> list[str]:
     """A few lines a person reads: volumes, mean and largest differences, the sectors balance cuts most."""
     o, vol = stats["overall"], stats["volume_m3"]
     lines = [
-        f"{envelope.manikin} {envelope.side} hand, load {envelope.load_kg:g} kg: {o['directions']} directions, "
+        f"{envelope.manikin} {envelope.side} hand, load {envelope.load_kg:g} kg, feet {envelope.feet}: "
+        f"{o['directions']} directions, "
         f"{envelope.tests} solves in {envelope.time_s:.1f} s",
         f"  reach in balance {o['balanced_mean_m']:.3f} m mean, without balance {o['kinematic_mean_m']:.3f} m, "
         f"arm alone {envelope.arm:.3f} m",
@@ -128,6 +142,11 @@ def summary_lines(envelope: Envelope, stats: dict) -> list[str]:
     ]
     ranked = sorted(stats["sectors"].items(), key=lambda kv: -kv[1]["mean_difference_m"])[:3]
     lines.append("  most cut: " + ", ".join(f"{n} {s['mean_difference_m'] * 1e3:.0f} mm" for n, s in ranked))
+    step = stats["stepping"]
+    if step is not None:
+        lines.append(f"  stepping adds {step['gain_mean_m'] * 1e3:.0f} mm on average to the planted reach "
+                     f"({step['planted_mean_m']:.3f} m), at most {step['gain_max_m'] * 1e3:.0f} mm "
+                     f"({step['gain_max_sector']}); volume +{step['volume_gain']:.0%}")  # fmt: skip
     if stats["unreached"]:
         lines.append(f"  {stats['unreached']} directions not reached in balance at all")
     return lines

@@ -1,8 +1,9 @@
 """``python -m solver envelope [MANIKIN ...] [--family DIR] -o DIR [--hand right|left|both] [--frequency F]
-[--hemisphere H] [--load KG] [--rotation W,X,Y,Z] [--tolerance M] [--sole-scale S] [--processes N] [--no-plot]
-[-q]``: balanced reach envelopes, one per manikin (a preset name or body TOML; every member of a family) and hand,
-written into a new or empty folder (:mod:`.outputs`), several at once in worker processes. Bad arguments exit 2
-with one line before any work."""
+[--hemisphere H] [--load KG] [--rotation W,X,Y,Z] [--tolerance M] [--sole-scale S] [--feet planted|step]
+[--processes N] [--no-plot] [-q]``: balanced reach envelopes, one per manikin (a preset name or body
+TOML; every member of a family) and hand, written into a new or empty folder (:mod:`.outputs`), several at once in
+worker processes. Bad arguments exit 2 with one line before any work. The settings, the sweep and the files are
+those of a study's ``[envelope]`` (:mod:`.job`)."""
 
 from __future__ import annotations
 
@@ -10,22 +11,20 @@ import argparse
 import os
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 from ..errors import UsageError
 
 if TYPE_CHECKING:
-    import numpy as np
-
-    from .directions import DirectionSphere
+    from .job import EnvelopeSettings
     from .sweep import Envelope
-
-HANDS = {"right": ("right",), "left": ("left",), "both": ("right", "left")}
 
 
 def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
     """The ``envelope`` subcommand on the command line's subparsers ``sub``."""
     from .directions import HEMISPHERES
+    from .job import HANDS
+    from .reach import FEET_MODES
 
     p = sub.add_parser("envelope", help="reach envelopes in balance and without it: CSV, OBJ, GLB and PNG")
     p.add_argument("manikins", nargs="*", help="manikin presets or body TOMLs (default male_50 without --family)")
@@ -41,6 +40,8 @@ def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--tolerance", type=float, default=0.02, help="reach resolution, m (default 0.02)")
     p.add_argument("--sole-scale", type=float, default=1.0,
                    help="keep the centre of pressure in the soles scaled by this (default 1: whole soles)")  # fmt: skip
+    p.add_argument("--feet", default="planted", choices=list(FEET_MODES),
+                   help="planted (default), or step: each sole slides and turns on the floor")  # fmt: skip
     p.add_argument("--processes", type=int, help="envelopes computed at once (default: all cores)")
     p.add_argument("--no-plot", action="store_true", help="do not write the PNG sections")
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary and no progress")
@@ -57,93 +58,82 @@ def _manikins(args: argparse.Namespace) -> list[str]:
     return names or ["male_50"]
 
 
-def _rotation(text: str | None):
-    """The fixed hand orientation (3x3) of ``--rotation w,x,y,z``, None for free."""
+def _rotation(text: str | None) -> tuple[float, ...] | None:
+    """The fixed hand orientation (w, x, y, z) of ``--rotation w,x,y,z``, None for free."""
     if text is None:
         return None
-    from ..spatial import quat_to_matrix
     from .run import rotation_of
 
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
         raise UsageError(f"--rotation: expected 4 numbers w,x,y,z, got {text!r}") from None
-    return quat_to_matrix(rotation_of(values))
+    return rotation_of(values)
 
 
-class Settings(NamedTuple):
-    """What every envelope of a run shares (see :func:`solver.envelope.sweep.sweep_envelope`)."""
-
-    load_kg: float
-    rotation: np.ndarray | None
-    tolerance: float
-    sole_scale: float
-
-
-def _one(name: str, side: str, sphere: DirectionSphere, settings: Settings, shown=None) -> Envelope:
-    """One envelope (in a worker process: the model is loaded there from its name)."""
+def _one(name: str, side: str, settings: EnvelopeSettings, shown=None) -> tuple[Envelope, dict]:
+    """One envelope and its statistics (in a worker process: the model is loaded there from its name)."""
     from ..bodies import load_preset
-    from .sweep import sweep_envelope
+    from .job import compute_envelope
 
-    s = settings
-    return sweep_envelope(load_preset(name), sphere, side, s.load_kg, s.rotation, s.tolerance, shown, s.sole_scale)
+    return compute_envelope(load_preset(name), side, settings, shown)
 
 
-def _sweeps(runs: list, sphere: DirectionSphere, settings: Settings, processes: int, progress) -> Iterator[Envelope]:
-    """The envelope of each (manikin, hand) of ``runs``: in this process with a progress line per direction, or in
-    ``processes`` worker processes (as they finish, progress per envelope)."""
-    n = len(sphere.directions)
+def _sweeps(runs: list, settings: EnvelopeSettings, directions: int, processes: int, progress) -> Iterator[tuple]:
+    """(envelope, statistics) of each (manikin, hand) of ``runs``: in this process with a progress line per
+    direction, or in ``processes`` worker processes (as they finish, progress per envelope)."""
+    n = directions
     if processes <= 1 or len(runs) <= 1:
         for k, (name, side) in enumerate(runs):
-            yield _one(name, side, sphere, settings, lambda done, _total, before=k * n: progress.update(before + done))
+            yield _one(name, side, settings, lambda done, _total, before=k * n: progress.update(before + done))
         return
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     with ProcessPoolExecutor(min(processes, len(runs))) as pool:
-        futures = [pool.submit(_one, name, side, sphere, settings) for name, side in runs]
+        futures = [pool.submit(_one, name, side, settings) for name, side in runs]
         for k, future in enumerate(as_completed(futures), 1):
             progress.update(k * n)
             yield future.result()
 
 
-def _check(args: argparse.Namespace) -> tuple[list, DirectionSphere, Settings]:
-    """Every argument checked before any work: ((manikin, hand) runs, the directions, the settings)."""
+def _check(args: argparse.Namespace) -> tuple[list, EnvelopeSettings]:
+    """Every argument checked before any work: ((manikin, hand) runs, the settings)."""
     from ..bodies import load_preset
     from ..population.family_files import check_family_folder
-    from .directions import direction_sphere
-    from .reach import check_tolerance, reach_setup
+    from .job import HANDS, EnvelopeSettings, check_settings
 
     if not str(args.output).strip():
         raise UsageError("-o: expected a folder name, got ''")
     if args.processes is not None and args.processes < 1:
         raise UsageError(f"--processes: expected a whole number >= 1, got {args.processes}")
-    sphere = direction_sphere(args.frequency, args.hemisphere)
-    settings = Settings(args.load, _rotation(args.rotation), check_tolerance(args.tolerance), args.sole_scale)
+    settings = EnvelopeSettings(args.load, _rotation(args.rotation), args.tolerance, args.sole_scale, args.feet,
+                                args.frequency, args.hemisphere)  # fmt: skip
+    settings.sphere()  # the directions are refused before the manikins are loaded
     names = _manikins(args)
     models = [load_preset(name) for name in names]
     for model in models:
         for side in HANDS[args.hand]:  # refuses a load, a sole scale or a body that cannot be done
-            reach_setup(model, side, settings.load_kg, settings.rotation, True, settings.sole_scale)
+            check_settings(model, side, settings)
     if len({m.name for m in models}) < len(models):
         raise UsageError("manikins: two have the same name; their files would overwrite each other")
     check_family_folder(args.output)
-    return [(name, side) for name in names for side in HANDS[args.hand]], sphere, settings
+    return [(name, side) for name in names for side in HANDS[args.hand]], settings
 
 
 def run_envelope(args: argparse.Namespace) -> int:
     """Check everything, then sweep each manikin and hand and write its files as it is done; exit code 0."""
     from ..progress import Progress
-    from .analysis import comparison, summary_lines
+    from .analysis import summary_lines
     from .outputs import summary_row, write_envelope, write_summary
 
-    runs, sphere, settings = _check(args)
+    runs, settings = _check(args)
     folder = Path(args.output)
     folder.mkdir(parents=True, exist_ok=True)
-    progress = Progress(len(runs) * len(sphere.directions), enabled=not args.quiet, what="directions")
+    directions = len(settings.sphere().directions)
+    progress = Progress(len(runs) * directions, enabled=not args.quiet, what="directions")
     processes = args.processes if args.processes is not None else (os.cpu_count() or 1)
     rows = []
-    for envelope in _sweeps(runs, sphere, settings, processes, progress):
-        stats = comparison(envelope)
+    for envelope, stats in _sweeps(runs, settings, directions, processes, progress):
         write_envelope(envelope, stats, folder, plot=not args.no_plot)
         rows.append(summary_row(envelope, stats))
         write_summary(rows, folder)

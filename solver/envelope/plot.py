@@ -11,7 +11,11 @@ import numpy as np
 from .analysis import mesh, section
 from .sweep import Envelope
 
-STYLE = {"balanced": ("#1f8a4c", "-", "in balance"), "kinematic": ("#777777", "--", "without balance")}
+STYLE = {
+    "balanced": ("#1f8a4c", "-", "in balance"),
+    "kinematic": ("#777777", "--", "without balance"),
+    "planted": ("#c06a1a", "-.", "in balance, feet planted"),
+}  # the last only when stepping
 # (title, plane normal, horizontal axis (world vector, label), vertical axis): each panel's view
 VIEWS = (
     ("side (sagittal)", (1.0, 0.0, 0.0), ((0.0, -1.0, 0.0), "forward (m)"), ((0.0, 0.0, 1.0), "height (m)")),
@@ -29,13 +33,15 @@ def plot_envelope(envelope: Envelope, path: str | Path, stats: dict | None = Non
     from matplotlib.collections import LineCollection
 
     fig, axes = plt.subplots(1, 3, figsize=(13.5, 5.0))
-    meshes = {which: mesh(envelope, which) for which in STYLE}
+    meshes = {which: mesh(envelope, which) for which in envelope.kinds()}
     s = envelope.shoulder
     circle = np.linspace(0.0, 2.0 * np.pi, 181)
     for ax, (title, normal, (hx, hlabel), (vx, vlabel)) in zip(axes, VIEWS, strict=True):
         h_axis, v_axis = np.array(hx), np.array(vx)
-        for which, (colour, dash, label) in STYLE.items():
-            m = meshes[which]
+        for which, m in meshes.items():
+            colour, dash, label = STYLE[which]
+            if which == "balanced" and envelope.feet != "planted":
+                label += ", stepping"
             segments = section(m.vertices, m.faces, s, np.array(normal))
             flat = np.stack([segments @ h_axis, segments @ v_axis], axis=-1)
             ax.add_collection(LineCollection(flat, colors=colour, linestyles=dash, linewidths=2.0, label=label))
@@ -52,7 +58,8 @@ def plot_envelope(envelope: Envelope, path: str | Path, stats: dict | None = Non
         ax.autoscale_view()
         ax.grid(True, linewidth=0.3)
     axes[0].legend(loc="lower left", fontsize=8)
-    head = f"{envelope.manikin}: reach of the {envelope.side} hand, load {envelope.load_kg:g} kg, feet planted"
+    feet = "feet planted" if envelope.feet == "planted" else "stepping"
+    head = f"{envelope.manikin}: reach of the {envelope.side} hand, load {envelope.load_kg:g} kg, {feet}"
     if stats is not None:
         o = stats["overall"]
         head += (f"; balance takes off {o['mean_difference_m'] * 1e3:.0f} mm on average, "

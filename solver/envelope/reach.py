@@ -1,7 +1,9 @@
-"""How far one hand reaches along one direction from its shoulder, with the feet planted, in balance or not.
+"""How far one hand reaches along one direction from its shoulder, with the feet planted or stepping, in balance or
+not.
 
 A point is *reached* when a solve meets every constraint there: the hand on the point (position; and the orientation
-when it is fixed), both feet on their start places (all six axes: planted), the floor and the body's own clearances,
+when it is fixed), both feet on their start places (all six axes: planted; or, stepping, flat on the floor within
+the stance bounds of :mod:`.stance`), the floor and the body's own clearances,
 and, with balance, the static balance of the whole body with its contact forces inside the friction cones and the
 soles (priority 1 in :mod:`solver.priorities`) under the hand-held load. The reach along a ray is the largest radius
 found reached by a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last
@@ -15,15 +17,20 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..constraints import AXES
 from ..errors import ModelError, UsageError
 from ..iteration import TUNING, attempt
 from ..model import GRAVITY, Model
 from ..options import SolverOptions
 from ..problem import Problem
 from ..specs import ExternalLoad, Target
+from .stance import StanceBounds, stance_limits
 
 SIDES = {"right": "r", "left": "l"}
 FEET = ("foot_l", "foot_r")
+# what each feet mode locks of a sole: planted, all six axes; stepping, flat on the floor (z, roll, pitch) while it
+# slides and turns about z within the bounds of :mod:`.stance`
+FEET_MODES = {"planted": AXES, "step": ("z", "rx", "ry")}
 # A reach test needs no comfort (the farthest point, not the nicest pose): pure least squares from a warm start meets
 # a reachable point in 3-10 iterations; the budget bounds what an unreachable one costs before it is called so.
 TEST_OPTIONS = SolverOptions(max_iterations=30, optimize_comfort=False, restarts=0)
@@ -59,6 +66,7 @@ class ReachSetup:
     rotation: np.ndarray | None
     balance: bool
     base: Problem
+    feet_mode: str = "planted"
 
     def problem(self, point: np.ndarray) -> Problem:
         """The problem of holding the hand on ``point`` (m, world)."""
@@ -74,34 +82,42 @@ def reach_setup(
     rotation: np.ndarray | None = None,
     balance: bool = True,
     sole_scale: float = 1.0,
+    feet: str = "planted",
 ) -> ReachSetup:
     """The setup of ``model``'s ``side`` hand ("right" or "left") holding ``load_kg`` (its weight hangs from the
     hand), its orientation fixed to ``rotation`` (3x3, world) or free, with or without balance; the centre of
     pressure kept inside each sole scaled by ``sole_scale`` about its centre (1: the whole sole, the static limit;
-    less keeps a margin of stability)."""
+    less keeps a margin of stability); ``feet`` "planted" (all six axes held) or "step" (each sole flat on the
+    floor, free to slide and turn within the bounds of :mod:`.stance`)."""
     if side not in SIDES:
         raise UsageError(f"--hand: expected right or left, got {side!r}")
     if not (np.isfinite(load_kg) and 0.0 <= load_kg <= MAX_LOAD):
         raise UsageError(f"--load: expected kg in [0, {MAX_LOAD:g}], got {load_kg!r}")
     if not (np.isfinite(sole_scale) and 0.1 <= sole_scale <= 1.0):
         raise UsageError(f"--sole-scale: expected a fraction in [0.1, 1], got {sole_scale!r}")
+    if feet not in FEET_MODES:
+        raise UsageError(f"--feet: expected {' or '.join(FEET_MODES)}, got {feet!r}")
     s = SIDES[side]
     needed = (f"hand_{s}", f"shoulder_{s}", *FEET)
     missing = [name for name in needed if name not in model.tcps]
     if missing:
         raise ModelError(f"manikin {model.name}: a reach envelope needs the TCPs {', '.join(missing)} (a human body)")
     zero = model.forward(model.zero_pose())
-    feet = tuple(
-        Target(f, zero.tcp_frame(model.tcp(f))[1], support=True, friction=0.6, sole=_scaled(model, f, sole_scale))
+    lock = FEET_MODES[feet]
+    soles = tuple(
+        Target(f, zero.tcp_frame(model.tcp(f))[1], lock=lock, support=True, friction=0.6,
+               sole=_scaled(model, f, sole_scale))
         for f in FEET
-    )
+    )  # fmt: skip
+    extra = [] if feet == "planted" else [StanceBounds(model, stance_limits(model), {f: zero.tcp_frame(model.tcp(f))
+                                                                                    for f in FEET})]  # fmt: skip
     weight = np.asarray(GRAVITY) * load_kg
     loads = [ExternalLoad(f"hand_{s}", weight)] if load_kg > 0.0 else []
     start_hand = Target(f"hand_{s}", zero.tcp_frame(model.tcp(f"hand_{s}"))[1], lock=("x", "y", "z"))
-    base = Problem(model, [start_hand, *feet], loads=loads, balance=balance)
+    base = Problem(model, [start_hand, *soles], loads=loads, balance=balance, extra_constraints=extra)
     shoulder = zero.tcp_frame(model.tcp(f"shoulder_{s}"))[1]
     rot = None if rotation is None else np.asarray(rotation, dtype=float)
-    return ReachSetup(model, f"hand_{s}", shoulder, feet, float(load_kg), rot, balance, base)
+    return ReachSetup(model, f"hand_{s}", shoulder, soles, float(load_kg), rot, balance, base, feet)
 
 
 def _scaled(model: Model, foot: str, scale: float) -> np.ndarray | None:

@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import UsageError
 from ..model import Model
 from ..spatial import quat_to_matrix
-from .reach import ReachSetup, arm_length, check_tolerance, reach_setup, search_ray
+from .reach import FEET, ReachSetup, arm_length, check_tolerance, reach_setup, search_ray
 
 
 @lru_cache(maxsize=32)
@@ -26,9 +26,10 @@ def _model(manikin: str) -> Model:
 
 
 @lru_cache(maxsize=64)
-def _setup(manikin: str, hand: str, load_kg: float, rotation: tuple | None, balance: bool, sole: float) -> ReachSetup:
+def _setup(manikin: str, hand: str, load_kg: float, rotation: tuple | None, balance: bool, sole: float,
+           feet: str = "planted") -> ReachSetup:  # fmt: skip
     matrix = None if rotation is None else quat_to_matrix(np.array(rotation))
-    return reach_setup(_model(manikin), hand, load_kg, matrix, balance, sole)
+    return reach_setup(_model(manikin), hand, load_kg, matrix, balance, sole, feet)
 
 
 def rotation_of(quaternion: Sequence[float] | None) -> tuple[float, ...] | None:
@@ -50,14 +51,18 @@ def reach_row(
     rotation: Sequence[float] | None = None,
     tolerance: float = 0.02,
     sole_scale: float = 1.0,
+    feet: str = "planted",
 ) -> dict:
     """How far ``manikin`` (a preset name or body TOML path) reaches with its ``hand`` ("right"/"left") along
-    ``direction`` (3 numbers, world: z up, the manikin faces -y) from its shoulder, feet planted, holding ``load_kg``,
-    in balance or not, the hand's orientation free or fixed to ``rotation`` (w, x, y, z), the centre of pressure
-    in the soles scaled by ``sole_scale`` (1: whole soles).
+    ``direction`` (3 numbers, world: z up, the manikin faces -y) from its shoulder, the ``feet`` "planted" or free
+    to "step" (:mod:`.stance`), holding ``load_kg``, in balance or not, the hand's orientation free or fixed to
+    ``rotation`` (w, x, y, z), the centre of pressure in the soles scaled by ``sole_scale`` (1: whole soles).
+    Stepping searches the planted reach first and goes on from its pose (so it never reaches less).
 
-    The row: the inputs, ``reach_m`` (0 when not reached), ``reached``, the hand point ``hand_x/y/z`` and the shoulder
-    ``shoulder_x/y/z`` (m, world), ``arm_length_m``, ``solves``, ``iterations`` and ``time_s``.
+    The row: the inputs, ``reach_m`` (0 when not reached), ``reached``, ``planted_reach_m`` (the same with planted
+    feet), the hand point ``hand_x/y/z`` and the shoulder ``shoulder_x/y/z`` (m, world), where each sole stands at
+    the reach ``foot_l_x/y`` (m) and ``foot_l_yaw_deg`` (its turn about z; likewise ``foot_r``; empty when not
+    reached), ``arm_length_m``, ``solves``, ``iterations`` and ``time_s``.
     """
     t0 = time.perf_counter()
     d = np.asarray(direction, dtype=float)
@@ -65,17 +70,36 @@ def reach_row(
         raise UsageError(f"direction: expected 3 finite numbers, not all zero, got {direction!r}")
     check_tolerance(tolerance)
     rot = rotation_of(rotation)
-    setup = _setup(str(manikin), hand, float(load_kg), rot, bool(balance), float(sole_scale))
+    planted = _setup(str(manikin), hand, float(load_kg), rot, bool(balance), float(sole_scale))
+    setup = planted if feet == "planted" else _setup(str(manikin), hand, float(load_kg), rot, bool(balance),
+                                                     float(sole_scale), feet)  # fmt: skip
     d = d / np.linalg.norm(d)
     arm = arm_length(setup.model, hand)
-    ray = search_ray(setup, d, 0.8 * arm, None, tolerance=tolerance)
+    base = ray = search_ray(planted, d, 0.8 * arm, None, tolerance=tolerance)
+    if setup is not planted and base.reached:
+        ray = search_ray(setup, d, base.radius, base.pose, known=True, tolerance=tolerance)
     point = setup.shoulder + ray.radius * d
     row = {"manikin": setup.model.name, "hand": hand, "dx": float(d[0]), "dy": float(d[1]), "dz": float(d[2]),
-           "balance": bool(balance), "load_kg": float(load_kg), "sole_scale": float(sole_scale),
+           "balance": bool(balance), "load_kg": float(load_kg), "sole_scale": float(sole_scale), "feet": feet,
            "orientation": "free" if rot is None else " ".join(f"{v:g}" for v in rot),
-           "reach_m": float(ray.radius), "reached": ray.reached}  # fmt: skip
+           "reach_m": float(ray.radius), "reached": ray.reached, "planted_reach_m": float(base.radius)}  # fmt: skip
     row |= {f"hand_{k}": float(v) for k, v in zip("xyz", point, strict=True)}
     row |= {f"shoulder_{k}": float(v) for k, v in zip("xyz", setup.shoulder, strict=True)}
-    row |= {"arm_length_m": arm, "solves": ray.tests, "iterations": ray.iterations,
-            "time_s": time.perf_counter() - t0}  # fmt: skip
+    row |= _soles(setup.model, ray.pose)
+    searches = [base] if ray is base else [base, ray]
+    row |= {"arm_length_m": arm, "solves": sum(r.tests for r in searches),
+            "iterations": sum(r.iterations for r in searches), "time_s": time.perf_counter() - t0}  # fmt: skip
     return row
+
+
+def _soles(model: Model, pose: np.ndarray | None) -> dict:
+    """Where each sole stands in ``pose``: ``foot_l_x``, ``foot_l_y`` (m, world) and ``foot_l_yaw_deg`` (its turn
+    about z from straight ahead; likewise ``foot_r``); None each when there is no pose."""
+    kin = None if pose is None else model.forward(pose)
+    out = {}
+    for foot in FEET:
+        rotation, position = kin.tcp_frame(model.tcp(foot)) if kin is not None else (None, None)
+        out[f"{foot}_x"] = None if kin is None else float(position[0])
+        out[f"{foot}_y"] = None if kin is None else float(position[1])
+        out[f"{foot}_yaw_deg"] = None if kin is None else float(np.degrees(np.arctan2(rotation[1, 0], rotation[0, 0])))
+    return out

@@ -4,7 +4,10 @@ The directions are visited outward from straight ahead (breadth first over the s
 starts from the reached pose of its farthest-reaching visited neighbour (continuation: a few iterations per test
 instead of a cold solve). The reach without balance starts from the balanced one (that pose holds without balance
 too, so it is never less). A final pass searches again, from a neighbour's pose, each ray that reaches clearly less
-than a neighbour (a local solve can stall on a ray where its neighbours' poses get farther). Units: m, kg.
+than a neighbour (a local solve can stall on a ray where its neighbours' poses get farther). With stepping feet
+each ray is also searched with the feet planted first, and the stepping search goes on from there when its
+neighbours did not take it as far (stepping only loosens the planted problem, so it never reaches less). Units: m,
+kg.
 """
 
 from __future__ import annotations
@@ -43,11 +46,23 @@ class Envelope:
     tests: int = 0
     time_s: float = 0.0
     poses: dict[str, list] = field(default_factory=dict)  # "balanced"/"kinematic": joint values per direction
+    feet: str = "planted"  # or "step": the soles slide and turn on the floor within the stance bounds
+    planted: np.ndarray | None = None  # stepping only: the reach in balance with the feet planted, per direction
+
+    def radii(self, which: str = "balanced") -> np.ndarray:
+        """The reach per direction (m) of ``which``: "balanced", "kinematic" or (stepping) "planted"."""
+        radii = {"balanced": self.balanced, "kinematic": self.kinematic, "planted": self.planted}.get(which)
+        if radii is None:
+            raise ValueError(f"this envelope has no {which!r} reach")
+        return radii
+
+    def kinds(self) -> tuple[str, ...]:
+        """The reaches this envelope has: balanced and kinematic, and planted when stepping."""
+        return ("balanced", "kinematic") + (("planted",) if self.planted is not None else ())
 
     def points(self, which: str = "balanced") -> np.ndarray:
         """(k, 3) world points m: the shoulder plus each direction times its reach."""
-        radii = self.balanced if which == "balanced" else self.kinematic
-        return self.shoulder + self.sphere.directions * radii[:, None]
+        return self.shoulder + self.sphere.directions * self.radii(which)[:, None]
 
 
 def visiting_order(sphere: DirectionSphere) -> list[int]:
@@ -126,33 +141,65 @@ def sweep_envelope(
     tolerance: float = 0.02,
     progress: Callable[[int, int], None] | None = None,
     sole_scale: float = 1.0,
+    feet: str = "planted",
 ) -> Envelope:
     """The envelope of ``model``'s ``side`` hand over ``sphere``'s directions (reach within ``tolerance`` m), holding
     ``load_kg`` in that hand, its orientation fixed to ``rotation`` (3x3, world) or free, the centre of pressure in
-    the soles scaled by ``sole_scale`` (see :func:`reach_setup`); ``progress(done, total)`` after each direction."""
+    the soles scaled by ``sole_scale``, the ``feet`` "planted" or free to "step" (see :func:`reach_setup`);
+    ``progress(done, total)`` after each direction. Stepping also searches the planted reach in balance
+    (``Envelope.planted``) and starts each stepping ray from it, so a stepping reach is never shorter."""
     t0 = time.perf_counter()
     tolerance = check_tolerance(tolerance)
-    balanced = _Rays(reach_setup(model, side, load_kg, rotation, True, sole_scale), sphere, tolerance)
-    kinematic = _Rays(reach_setup(model, side, load_kg, rotation, False, sole_scale), sphere, tolerance)
+
+    def rays(in_balance: bool, mode: str) -> _Rays:
+        return _Rays(reach_setup(model, side, load_kg, rotation, in_balance, sole_scale, mode), sphere, tolerance)
+
+    balanced, kinematic = rays(True, feet), rays(False, feet)
+    planted = rays(True, "planted") if feet != "planted" else None
     first_guess = 0.8 * arm_length(model, side)
     order = visiting_order(sphere)
     for done, i in enumerate(order, 1):
-        ray = balanced.from_neighbour(i, first_guess)
+        ray = _visit(i, balanced, planted, first_guess)
         if ray.reached:
             kinematic.search(i, ray.radius, ray.pose, known=True)
         else:
             kinematic.from_neighbour(i, first_guess)
         if progress is not None:
             progress(done, len(order))
+    if planted is not None:
+        planted.repair()
     balanced.repair()
-    for i, ray in enumerate(balanced.found):  # a balanced pose the repair found holds without balance too
-        if ray.reached and ray.radius > kinematic.found[i].radius:
-            kinematic.search(i, ray.radius, ray.pose, known=True)
+    _lift(planted, balanced)  # stepping reaches at least as far as the planted feet
+    _lift(balanced, kinematic)  # a balanced pose the repair found holds without balance too
     kinematic.repair()
-    bal, kin = balanced.radii(), kinematic.radii()
-    shoulder = balanced.setup.shoulder
+    searched = [r for r in (balanced, kinematic, planted) if r is not None]
+    poses = {"balanced": balanced.poses(), "kinematic": kinematic.poses()}
     return Envelope(
-        model.name, side, float(load_kg), rotation, float(sole_scale), shoulder, sphere, bal, kin,
-        arm_length(model, side), balanced.tests + kinematic.tests, time.perf_counter() - t0,
-        {"balanced": balanced.poses(), "kinematic": kinematic.poses()},
+        model.name, side, float(load_kg), rotation, float(sole_scale), balanced.setup.shoulder, sphere,
+        balanced.radii(), kinematic.radii(), arm_length(model, side), sum(r.tests for r in searched),
+        time.perf_counter() - t0, poses, feet, None if planted is None else planted.radii(),
     )  # fmt: skip
+
+
+def _visit(i: int, rays: _Rays, planted: _Rays | None, first_guess: float) -> RayReach:
+    """Search ray ``i`` of ``rays`` from its neighbours; when stepping, after the ray of the ``planted`` feet, from
+    whose pose the stepping ray then goes on if its neighbours did not get it as far."""
+    if planted is None:
+        return rays.from_neighbour(i, first_guess)
+    base = planted.from_neighbour(i, first_guess)
+    ray = None
+    if rays.best_neighbour(i) is not None or not base.reached:
+        ray = rays.from_neighbour(i, first_guess)
+    if base.reached and (ray is None or base.radius > ray.radius):
+        ray = rays.search(i, base.radius, base.pose, known=True)
+    return ray
+
+
+def _lift(shorter: _Rays | None, longer: _Rays) -> None:
+    """Each ray of ``longer`` (a looser setup: no balance, or stepping feet) that ``shorter`` reaches farther is
+    searched on from ``shorter``'s pose there (it holds in ``longer``'s setup too)."""
+    if shorter is None:
+        return
+    for i, ray in enumerate(shorter.found):
+        if ray.reached and ray.radius > longer.found[i].radius:
+            longer.search(i, ray.radius, ray.pose, known=True)

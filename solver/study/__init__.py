@@ -2,7 +2,8 @@
 
 ``python -m solver study STUDY.toml -o OUT/`` (README "Population studies"). One module, one job: ``spec`` (the
 study file), ``keypath`` (where a parameter goes in a scenario), ``plan`` (the runs, their seeds and ids),
-``runner`` (one run -> its row), ``execute`` (local processes or Dask), ``outputs`` (journal, CSV, columns),
+``runner`` (one run -> its row), ``envelope_spec`` / ``envelope_runs`` (an ``[envelope]``: its settings, its
+runs' rows and files), ``execute`` (local processes or Dask), ``outputs`` (journal, CSV, columns),
 ``plots`` (PNG), ``study`` (the command: resume, run, write).
 """
 

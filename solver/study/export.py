@@ -38,6 +38,11 @@ def row_scenario(study_file: str | Path, run_id: str) -> str:
     from ..io.scenario_read import scenario_from_dict
 
     run = find_run(plan(load_study(study_file)), run_id)
+    if run.envelope is not None:
+        raise UsageError(
+            f"--scenario-of {run_id}: that run is a reach envelope ([envelope] {run.envelope.name}), "
+            "not a scenario; its meshes are in the output folder's envelopes/ (the rows' mesh column)"
+        )
     try:
         data = run.tables()
     except ValueError as exc:

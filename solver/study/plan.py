@@ -7,6 +7,9 @@ seed of a run is a hash of its inputs, the study's seed and the repeat number; t
 the seed. Inputs are the substituted scenario tables, the manikin's body tables, the parameter values, the task
 facts, the start jitter and what is recorded (not files a scenario names, such as an obstacle mesh: change one,
 and start in a new output folder).
+
+A study's ``[envelope]`` adds, after the scenarios' runs, one run per manikin and combination of its settings (hand,
+load, feet, sole scale; no repeats: an envelope is deterministic), its id a hash of the settings and the body.
 """
 
 from __future__ import annotations
@@ -16,7 +19,9 @@ import itertools
 from dataclasses import dataclass
 from typing import Any
 
+from ..errors import ScenarioError
 from . import keypath
+from .envelope_spec import PARAMETERS, EnvelopeStudy, mesh_name
 from .spec import Manikin, Study, StudyScenario, digest
 
 
@@ -28,15 +33,23 @@ class Run:
     index: int  # its row's place in the study's outputs
     run_id: str
     seed: int
-    scenario: StudyScenario
+    scenario: StudyScenario | None  # None: an envelope run
     manikin: Manikin | None  # None: the scenario's own
     manikin_name: str
     parameters: dict[str, Any]
     start_jitter: float = 0.0
     record: tuple[str, ...] = ()
+    envelope: EnvelopeStudy | None = None  # an envelope run: its [envelope]; ``parameters`` are its settings
+
+    @property
+    def kind(self) -> str:
+        """The rows' ``scenario`` column: the scenario's name or the envelope's."""
+        return self.scenario.name if self.scenario is not None else self.envelope.name
 
     def tables(self) -> dict:
         """The scenario's tables with the parameters and the manikin put in (ValueError if a value does not go)."""
+        if self.scenario is None:
+            raise ValueError(f"run {self.run_id} is a reach envelope ([envelope] {self.envelope.name}): no scenario")
         return substitute(self.scenario, self.parameters, self.manikin)
 
 
@@ -85,6 +98,27 @@ def plan(study: Study) -> list[Run]:
                     seed = int(digest([base, study.seed, repeat])[:8], 16) & 0x7FFFFFFF
                     runs.append(Run(len(runs), digest([base, seed])[:16], seed, scenario, manikin, name, values,
                                     study.start_jitter, study.record))  # fmt: skip
+    if study.envelope is not None:
+        runs += envelope_runs(study, study.envelope, len(runs))
+    return runs
+
+
+def envelope_runs(study: Study, envelope: EnvelopeStudy, first: int) -> list[Run]:
+    """The runs of the study's ``envelope``: per manikin, every combination of its settings; ``first`` is the
+    first run's row index."""
+    inputs = digest(envelope.inputs())
+    runs: list[Run] = []
+    for manikin in study.manikins:
+        for values in envelope.grid():
+            base = digest([inputs, values, manikin.name, manikin.key])
+            seed = int(digest([base, study.seed, 0])[:8], 16) & 0x7FFFFFFF
+            runs.append(Run(first + len(runs), digest([base, seed])[:16], seed, None, manikin, manikin.name, values,
+                            envelope=envelope))  # fmt: skip
+    names = [mesh_name(r.manikin_name, r.parameters) for r in runs]
+    if len(set(names)) < len(names):
+        twice = sorted({n for n in names if names.count(n) > 1})[0]
+        raise ScenarioError(f"{study.path}: manikins: names whose envelope files would be the same ({twice}); "
+                            'rename one with {preset|file|family = "...", name = "..."}')  # fmt: skip
     return runs
 
 
@@ -93,4 +127,6 @@ def parameter_names(study: Study) -> list[str]:
     names: list[str] = []
     for scenario in study.scenarios:
         names += [p.name for p in scenario.parameters if p.name not in names]
+    if study.envelope is not None:
+        names += [name for name in PARAMETERS if name not in names]
     return names

@@ -5,15 +5,22 @@
   the share (they say nothing about the body). A scenario without parameters is one bar.
 * ``scores.png``: per manikin, the peak RULA, REBA, L4/L5 compression (N) and percent of joint strength of each of
   its runs (filled: converged, open: not), with the limits of the worksheet (NIOSH 3400 / 6400 N; 30 / 60 %).
+* ``envelopes.png`` (a study with an ``[envelope]``): per manikin and setting (hand, load, feet, sole scale), the
+  mean reach from the shoulder in the set conditions (bar; its range over the directions as a line) and without
+  balance (a tick), and the envelope's volume (bar) and without balance (a tick).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..io.files import open_output
 
-FEASIBILITY, SCORES = "feasibility.png", "scores.png"
+if TYPE_CHECKING:
+    from .envelope_spec import EnvelopeStudy
+
+FEASIBILITY, SCORES, ENVELOPES = "feasibility.png", "scores.png", "envelopes.png"
 COLOURS = ("#2f6fa8", "#d9731a", "#3a9a3a", "#8e4fb0", "#c8372d", "#7a7a7a")
 PANELS = [  # (recorded group, column, title, limits drawn)
     ("rula", "rula_peak", "RULA (peak)", ()),
@@ -113,12 +120,60 @@ def _scenario_points(ax, rows: list[dict], scenario: str, column: str, place: di
             ax.scatter(*zip(*pts, strict=True), s=16, label=scenario if ok else None, **style)
 
 
-def write_plots(folder: Path, rows: list[dict], panels: list, manikins: list[str], record: tuple) -> list[Path]:
-    """Both plots in ``folder``; [] without matplotlib (the rows are all there still)."""
+def _setting(row: dict) -> str:
+    """An envelope row's settings in a few words: "right, 10 kg, step" (and the sole scale when not 1)."""
+    text = f"{row['p_hand']}, {row['p_load_kg']:g} kg, {row['p_feet']}"
+    return text + (f", soles x{row['p_sole_scale']:g}" if row["p_sole_scale"] != 1.0 else "")
+
+
+def envelopes(path: Path, rows: list[dict], manikins: list[str]) -> Path:
+    """The envelope rows' mean reach and volume by manikin, a colour per setting (see the module docstring)."""
+    from matplotlib.figure import Figure
+
+    done = [r for r in rows if r.get("status") != "failed" and r.get("balanced_mean_m") is not None]
+    settings = list(dict.fromkeys(_setting(r) for r in done))
+    place = {name: i for i, name in enumerate(manikins)}
+    width = max(6.0, min(24.0, 0.45 * len(manikins) * max(1, len(settings)) + 2.5))
+    fig = Figure(figsize=(width, 6.0), layout="constrained")
+    panels = (("balanced_mean_m", "kinematic_mean_m", "mean reach from the shoulder, m"),
+              ("volume_balanced_m3", "volume_kinematic_m3", "envelope volume, m$^3$"))  # fmt: skip
+    step = 0.8 / max(1, len(settings))
+    for k, (column, without, title) in enumerate(panels):
+        ax = fig.add_subplot(2, 1, k + 1)
+        for j, setting in enumerate(settings):
+            mine = [r for r in done if _setting(r) == setting and r["manikin"] in place]
+            x = [place[r["manikin"]] + (j - (len(settings) - 1) / 2) * step for r in mine]
+            colour = COLOURS[j % len(COLOURS)]
+            ax.bar(x, [r[column] for r in mine], width=step * 0.9, color=colour, label=setting)
+            ax.scatter(x, [r[without] for r in mine], marker="_", s=120, color="black",
+                       label="without balance" if j == 0 else None)  # fmt: skip
+            if k == 0:
+                low = [r[column] - r["balanced_min_m"] for r in mine]
+                high = [r["balanced_max_m"] - r[column] for r in mine]
+                ax.errorbar(x, [r[column] for r in mine], yerr=[low, high], fmt="none", ecolor="#333333", lw=0.8)
+        ax.set_title(title + (" (line: shortest to longest direction)" if k == 0 else ""), fontsize=9, loc="left")
+        many = len(manikins) > 8
+        ax.set_xticks(range(len(manikins)), manikins if k == 1 else [""] * len(manikins), fontsize=7,
+                      rotation=60 if many else 0, ha="right" if many else "center")  # fmt: skip
+        ax.set_xlim(-0.6, len(manikins) - 0.4)
+        if k == 0:
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    fig.suptitle("Reach envelopes by manikin (bars: in the set conditions)", fontsize=10)
+    return _save(fig, path)
+
+
+def write_plots(folder: Path, rows: list[dict], panels: list, manikins: list[str], record: tuple,
+                envelope: EnvelopeStudy | None = None) -> list[Path]:  # fmt: skip
+    """The plots in ``folder`` (feasibility with scenario ``panels``, scores with ``record``ed groups, envelopes
+    with an ``envelope``); [] without matplotlib (the rows are all there still)."""
     try:
         import matplotlib  # noqa: F401
     except ImportError:
         return []
-    out = [feasibility(folder / FEASIBILITY, rows, panels)]
+    out = [feasibility(folder / FEASIBILITY, rows, panels)] if panels else []
     drawn = scores(folder / SCORES, rows, manikins, record)
-    return out + ([drawn] if drawn else [])
+    out += [drawn] if drawn else []
+    if envelope is not None:
+        mine = [r for r in rows if r["scenario"] == envelope.name]
+        out.append(envelopes(folder / ENVELOPES, mine, list(dict.fromkeys(r["manikin"] for r in mine))))
+    return out

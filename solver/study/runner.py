@@ -13,6 +13,7 @@ A row's columns (README "Population studies"); units m, N, kg, s; peaks are the 
     rula_peak, reba_peak, l4_l5_peak_N, strength_peak_pct, strength_joint
     niosh_li, niosh_rwl_kg                               only when the hands carry a load (a lift), else empty;
                                                          LI inf where the RWL is 0 (outside the equation's limits)
+    balanced_mean_m, ..., mesh                           an [envelope] run's columns (:mod:`.envelope_runs`)
     solve_s, eval_s, run_s, failure                      times (s, not reproducible: solving, the ergonomics, the
                                                          whole run with building the scenario), why a run failed
 """
@@ -25,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .envelope_runs import ENVELOPE_COLUMNS, envelope_row
 from .plan import Run
 
 if TYPE_CHECKING:
@@ -47,12 +49,20 @@ MODEL_CACHE = 8  # bodies a worker keeps built (the runs of a chunk mostly share
 MODELS: dict[str, Model] = {}  # body key -> Model, oldest first
 
 
-def columns(parameters: list[str], record: tuple[str, ...], members: list[str] | None = None) -> list[str]:
+def columns(
+    parameters: list[str],
+    record: tuple[str, ...],
+    members: list[str] | None = None,
+    scenarios: bool = True,
+    envelope: bool = False,
+) -> list[str]:
     """The row's columns for a study with these parameter names that records these groups (``members``: the
-    family members' fact columns, :func:`.spec.member_columns`)."""
-    out = ["run_id", "seed", "scenario", "manikin", *(members or [])] + [f"p_{name}" for name in parameters] + OUTCOME
-    for group in record:
+    family members' fact columns, :func:`.spec.member_columns`), with ``scenarios`` and (or) an ``envelope``."""
+    out = ["run_id", "seed", "scenario", "manikin", *(members or [])] + [f"p_{name}" for name in parameters]
+    out += OUTCOME if scenarios else OUTCOME[:2]
+    for group in record if scenarios else ():
         out += GROUPS[group]
+    out += ENVELOPE_COLUMNS if envelope else []
     return out + TIMING + ["failure"]
 
 
@@ -63,7 +73,7 @@ def run_chunk(runs: list[Run]) -> list[dict]:
 
 def head(run: Run) -> dict[str, Any]:
     """What a row says of its run: ids, scenario, manikin (and its family facts), parameter values."""
-    row: dict[str, Any] = dict(run_id=run.run_id, seed=run.seed, scenario=run.scenario.name, manikin=run.manikin_name)
+    row: dict[str, Any] = dict(run_id=run.run_id, seed=run.seed, scenario=run.kind, manikin=run.manikin_name)
     row |= run.manikin.member if run.manikin is not None else {}
     return row | {f"p_{k}": v for k, v in run.parameters.items()}
 
@@ -73,15 +83,21 @@ def run_one(run: Run) -> dict:
     row = head(run)
     t0 = time.perf_counter()
     try:
-        solved, row["solve_s"] = _solve(run)
-        row |= outcome([result for _, result in solved])
-        if any(group in run.record for group in ERGONOMIC):
-            t1 = time.perf_counter()
-            row |= scores(_evaluate(solved, run))
-            row["eval_s"] = round(time.perf_counter() - t1, 4)
+        row |= envelope_row(run, _model(run.manikin)) if run.envelope is not None else _scenario_columns(run)
     except Exception as exc:  # noqa: BLE001 (any failure of one run is its row's reason; the study goes on)
         row = failed(row, _reason(exc))
     row["run_s"] = round(time.perf_counter() - t0, 4)
+    return row
+
+
+def _scenario_columns(run: Run) -> dict:
+    """A scenario run's columns: solved, its outcome and (if recorded) its scores, with the times."""
+    solved, solve_s = _solve(run)
+    row = outcome([result for _, result in solved]) | {"solve_s": solve_s}
+    if any(group in run.record for group in ERGONOMIC):
+        t1 = time.perf_counter()
+        row |= scores(_evaluate(solved, run))
+        row["eval_s"] = round(time.perf_counter() - t1, 4)
     return row
 
 

@@ -23,6 +23,10 @@ studies"). Every problem is one ScenarioError line naming the study file and the
     values = [0.35, 0.45, 0.55]
     set = ["targets.hand_r.position[2]", "targets.hand_l.position[2]"]   # key paths (solver/study/keypath.py)
     # or add = [...]: each value is added to the file's number there (an offset)
+
+    [envelope]                # reach envelopes of every manikin, with or instead of [[scenarios]] (.envelope_spec)
+    load_kg = [0.0, 10.0]
+    feet = ["planted", "step"]
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ from ..io.table_reader import TableReader, is_number
 from ..model import Model
 from ..population.family_files import INDEX, read_family
 from . import keypath
+from .envelope_spec import EnvelopeStudy, load_envelope
 
 if TYPE_CHECKING:
     from ..population.family import Member
@@ -132,13 +137,14 @@ class Study:
     seed: int
     repeats: int
     start_jitter: float
+    envelope: EnvelopeStudy | None = None  # [envelope]: reach envelopes of every manikin (.envelope_spec)
 
 
 def load_study(path: str | Path) -> Study:
     """Read and check a study file; every problem is one ScenarioError line."""
     path = Path(path)
     root = TableReader(path, read_toml(path, ScenarioError), error=ScenarioError)
-    root.known({"manikins", "study", "scenarios"})
+    root.known({"manikins", "study", "scenarios", "envelope"})
     head = root.table("study")
     if "manikins" in head.data:  # TOML puts every key after a [table] header into that table
         raise head.fail("manikins", "manikins = [...] at the top of the file, before [study] (unknown key here)")
@@ -147,17 +153,26 @@ def load_study(path: str | Path) -> Study:
     if not isinstance(record, list) or not all(r in RECORD for r in record):
         raise head.fail("record", "a list of " + ", ".join(RECORD), record)
     checked: set[str] = set()  # the scenario files found valid (a study may name one file many times)
-    scenarios = tuple(_scenario(t, path.parent, checked) for t in root.table_list("scenarios", non_empty=True))
-    _unique(root, "scenarios", [s.name for s in scenarios], "scenario names (give each a name)")
+    if "scenarios" not in root.data and "envelope" not in root.data:
+        raise root.fail("scenarios", "a non-empty array of tables [[scenarios]], or an [envelope] table")
+    listed = root.table_list("scenarios", non_empty="envelope" not in root.data)
+    scenarios = tuple(_scenario(t, path.parent, checked) for t in listed)
+    envelope = load_envelope(root.table("envelope")) if "envelope" in root.data else None
+    names = [s.name for s in scenarios] + ([envelope.name] if envelope else [])
+    _unique(root, "scenarios", names, "scenario names (give each a name; the [envelope]'s name is one too)")
+    manikins = _manikins(root, path.parent)
+    if envelope is not None and not manikins:
+        raise root.fail("manikins", "at least one manikin for the [envelope] (presets, body files or a family)")
     return Study(
         path=path,
         name=head.string("name", path.stem),
-        manikins=_manikins(root, path.parent),
+        manikins=manikins,
         scenarios=scenarios,
         record=tuple(r for r in RECORD if r in record),
         seed=head.integer("seed", 0, 0, 2**31 - 1),
         repeats=head.integer("repeats", 1, 1, MAX_REPEATS),
         start_jitter=head.number("start_jitter", 0.0, 0.0, MAX_JITTER, "rad"),
+        envelope=envelope,
     )
 
 

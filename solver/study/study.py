@@ -9,6 +9,7 @@ from pathlib import Path
 
 from ..errors import UsageError
 from ..progress import Progress
+from .envelope_runs import keep_files
 from .execute import chunk_size, run_dask, run_local
 from .outputs import Journal, read_journal, write_tables
 from .plan import Run, parameter_names, plan
@@ -108,6 +109,7 @@ def _run(study: Study, todo: list[Run], rows: dict, folder: Path, outcome: Study
 
     def on_rows(new: list[dict], keep: bool) -> None:
         nonlocal missed
+        keep_files(folder, new)  # an envelope's files before its row: a row in the journal has its files
         if keep:
             journal.add(new)
         for row in new:
@@ -137,8 +139,11 @@ def _finish(study: Study, runs: list[Run], rows: dict, folder: Path, outcome: St
         outcome.not_converged += status == "not converged"
         outcome.failed += status == "failed"
     names = parameter_names(study)
-    outcome.written = write_tables(folder, columns(names, study.record, member_columns(study)), ordered)
+    scenarios, envelope = bool(study.scenarios), study.envelope is not None
+    table = columns(names, study.record, member_columns(study), scenarios, envelope)
+    outcome.written = write_tables(folder, table, ordered)
     panels = [(s.name, p.name) for s in study.scenarios for p in s.parameters]
     panels += [(s.name, None) for s in study.scenarios if not s.parameters]
     manikins = list(dict.fromkeys(r.manikin_name for r in runs))
-    outcome.written += write_plots(folder, ordered, panels, manikins, study.record)
+    record = study.record if scenarios else ()
+    outcome.written += write_plots(folder, ordered, panels, manikins, record, study.envelope)
