@@ -119,6 +119,11 @@ def test_bad_key_paths_say_why(path, values, add, words):
         (('"female_5"', '"female_55"'), ["manikins[0]", "female_55"]),
         (('"male_95"', '"female_5"'), ["manikins", "distinct manikin names"]),
         (("values = [0.0, 0.3]", "values = []"), ["raise.values", "non-empty"]),
+        (('name = "lift"', 'name = "lift"\nwith = { carried = 3 }'), ["scenarios[0].with.carried", "a table"]),
+        (
+            ('name = "lift"', 'name = "lift"\nwith = { carried = { size = [0.3], tcps = ["hand_r", "hand_l"] } }'),
+            ["scenarios[0].with", "a valid scenario", "size"],
+        ),
         (('name = "slippery"', 'name = "lift"'), ["scenarios", "distinct scenario names"]),
         (
             ('manikins = ["female_5", "male_95"]', '[study]\nmanikins = ["female_5"]'),
@@ -132,6 +137,21 @@ def test_a_bad_study_file_is_one_scenario_error_naming_the_key(tmp_path, change,
         load_study(study)
     message = str(err.value)
     assert "\n" not in message and str(study) in message and all(w in message for w in words), message
+
+
+def test_a_scenario_can_be_given_the_box_its_hands_hold(tmp_path):
+    """``with`` puts tables into the scenario's data: with the box between the handles raised to 0.9 m, the smallest
+    manikin lifts it in front of her (a finite NIOSH lifting index); without it her feet slide past the handles and
+    she holds them behind her back (asymmetry 180 deg: the NIOSH multipliers reach zero, the index infinity)."""
+    box = 'with = { carried = { name = "box", size = [0.35, 0.26, 0.24], tcps = ["hand_r", "hand_l"] } }'
+    text = STUDY.replace("values = [0.0, 0.3]", "values = [0.45]").replace('name = "lift"', f'name = "lift"\n{box}')
+    text = text.replace('manikins = ["female_5", "male_95"]', 'manikins = ["female_5"]')
+    lift = plan(load_study(write(tmp_path, text)))[0]
+    assert lift.scenario.data["carried"]["size"] == [0.35, 0.26, 0.24]
+    held = run_one(lift)
+    assert held["status"] == "converged" and 0.0 < held["niosh_li"] < 1.0
+    behind = run_one(plan(load_study(write(tmp_path, text.replace(box, ""), "bare.toml")))[0])
+    assert behind["niosh_li"] == np.inf
 
 
 def test_a_family_folder_gives_each_body_file_and_skips_its_index(tmp_path):

@@ -19,6 +19,8 @@ studies"). Every problem is one ScenarioError line naming the study file and the
     name = "lift"            # default: the file's stem
     keep_manikin = false     # true: the scenario's own [manikin], not the study's manikins
     ergonomics = { frequency = 2.0, duration = "moderate" }   # NIOSH / RULA task facts (ErgoOptions)
+    with = { carried = { size = [0.35, 0.26, 0.24], tcps = ["hand_r", "hand_l"] } }   # tables put into the file's
+    # data (one of the same name replaced), e.g. the box the hands hold, before the parameters are applied
     [scenarios.parameters.box_height]
     values = [0.35, 0.45, 0.55]
     set = ["targets.hand_r.position[2]", "targets.hand_l.position[2]"]   # key paths (solver/study/keypath.py)
@@ -256,16 +258,21 @@ def _manikin(where: TableReader, name: str, preset: str | None, path: Path, memb
 
 
 def _scenario(t: TableReader, here: Path, checked: set[str]) -> StudyScenario:
-    t.known({"file", "name", "keep_manikin", "ergonomics", "parameters"})
+    t.known({"file", "name", "keep_manikin", "ergonomics", "parameters", "with"})
     t.required("file")
     path = Path(t.string("file"))
     path = (path if path.is_absolute() else here / path).resolve()
     data = read_toml(path, ScenarioError)
+    extra = t.table("with")
+    for key, value in extra.data.items():
+        if not isinstance(value, dict):
+            raise extra.fail(key, "a table (a scenario table such as carried or floor)", value)
+    data = {**data, **extra.data}
     if digest([str(path), data]) not in checked:
         try:
             scenario_from_dict(data, path)  # the file as it is must be a scenario; a parameter's value may still fail
         except ManikinError as exc:
-            raise t.fail("file", f"a valid scenario ({exc})") from None
+            raise t.fail("with" if extra.data else "file", f"a valid scenario ({exc})") from None
         checked.add(digest([str(path), data]))
     ergo = t.table("ergonomics")
     ergo.known(ERGO_KEYS)
