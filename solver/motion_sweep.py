@@ -131,31 +131,36 @@ class MotionSweep:
             return result
         n = problems[1].model.n
         report = self.check(body, previous_x[:n], result.x[:n])
-        if not report.crossings or not self.resolve:
+        boxed = carried_crossings(problems[1], previous_x[:n], result.x[:n])
+        if not (report.crossings or boxed) or not self.resolve:
             mark(result, report, frames)
-            return mark_carried(result, previous_x[:n], frames)
-        retried, done, count = self._substeps(problems, previous_x, body, report, options, steps())
+            return mark_carried(result, frames, boxed)
+        retried, done, count = self._substeps(problems, previous_x, body, report, options, steps(), result.x)
         again = self.check(body, previous_x[:n], retried.x[:n])
-        if len(again.crossings) <= len(report.crossings):
-            went = ", ".join(f"{c.part} through {c.obstacle}" for c in report.crossings)
+        boxed_again = carried_crossings(problems[1], previous_x[:n], retried.x[:n])
+        if len(again.crossings) + len(boxed_again) <= len(report.crossings) + len(boxed):
+            went = ", ".join([f"{c.part} through {c.obstacle}" for c in report.crossings]
+                             + [f"{problems[1].carried.name} through {name}" for name in dict(boxed)])  # fmt: skip
             how = f"in {count} sub-steps" if done == count else f"in sub-steps, blocked after {done} of {count}"
             retried.notes.append(f"frame {frames[1]}: its first solution went {went} on the way from frame "
                                  f"{frames[0]}; re-solved {how}")  # fmt: skip
-            result, report = retried, again
+            result, report, boxed = retried, again, boxed_again
         mark(result, report, frames)
-        return mark_carried(result, previous_x[:n], frames)
+        return mark_carried(result, frames, boxed)
 
     def _substeps(self, problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray, body: SweptBody,
-                  report: SweepReport, options: SolverOptions, steps: np.ndarray):  # fmt: skip
+                  report: SweepReport, options: SolverOptions, steps: np.ndarray, first_x: np.ndarray):  # fmt: skip
         """(result, sub-steps kept, sub-steps planned): the frame solved again from ``previous_x`` in sub-steps, its
         targets moved from the previous frame's a share of the way each time, each sub-step within its share of the
-        per-frame bound ``steps`` (per solver variable; see the module docstring)."""
+        per-frame bound ``steps`` (per solver variable; see the module docstring). ``first_x``: the first try, whose
+        crossing capsules' travel over their radius (a carried box's over BOX_STEP) sets the number of sub-steps."""
         before, _, problem = problems
         n = problem.model.n
         crossing = [body.capsules.names.index(c.part) for c in report.crossings]
-        moved = body.bound(self._pose(body, previous_x[:n]), report.b)[crossing]  # m: how far the first try took them
+        moved = body.bound(self._pose(body, previous_x[:n]), self._pose(body, first_x[:n]))[crossing]  # m
         room = body.capsules.radius[crossing] - 2.0 * body.tolerance
-        count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room)))))
+        box = box_travel(problem, previous_x[:n], first_x[:n]) / BOX_STEP
+        count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room, initial=box)))))
         share = steps * min(1.0, SHARE / count)
         x, iterations, seconds, done = previous_x, 0, 0.0, 0
         for i in range(1, count + 1):
@@ -164,7 +169,7 @@ class MotionSweep:
             last = solve(aimed.with_bounds(problem.bounds.around(problem.to_variables(x), share)), x, options)
             iterations, seconds = iterations + last.iterations, seconds + last.time_s
             self.substeps += 1
-            if self.check(body, x[:n], last.x[:n]).crossings:
+            if self.check(body, x[:n], last.x[:n]).crossings or carried_crossings(problem, x[:n], last.x[:n]):
                 break  # the frame stays where its way was last clear
             x, done = last.x, i
             if not last.converged:  # blocked, or the targets need more than the sub-step's share: stop here
@@ -189,6 +194,22 @@ def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | 
     return out
 
 
+def _box_placed(problem: Problem, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(centre m, rotation) of ``problem``'s carried box at joint values ``theta``."""
+    kin = problem.model.forward(theta)
+    return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in problem.carried_obstacle_constraint.tcps))
+
+
+def box_travel(problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> float:
+    """How far (m) the corner of ``problem``'s carried box that moves most moves from ``theta_a`` to ``theta_b``; 0
+    without a box kept out of obstacles."""
+    rows = problem.carried_obstacle_constraint
+    if rows is None:
+        return 0.0
+    corners = [box_edges(*_box_placed(problem, theta), rows.half)[0] for theta in (theta_a, theta_b)]
+    return float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
+
+
 def carried_crossings(problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> list[tuple[str, float]]:
     """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the floor
     on the way from joint values ``theta_a`` to ``theta_b`` (both ends excluded: each frame's rows keep its own).
@@ -198,32 +219,26 @@ def carried_crossings(problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray
     since it would have to move its own smallest size and the obstacle's thickness. Only when the box's bounds on
     the way meet an obstacle's."""
     rows = problem.carried_obstacle_constraint
-    if rows is None:
+    moved = box_travel(problem, theta_a, theta_b)
+    if moved <= BOX_STEP:
         return []
-    model = problem.model
-
-    def placed(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        kin = model.forward(theta)
-        return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in rows.tcps))
-
-    a, b = placed(theta_a), placed(theta_b)
-    corners = [box_edges(*end, rows.half)[0] for end in (a, b)]
-    moved = float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
-    if moved <= BOX_STEP or not rows.near_way(a, b, moved):
+    if not rows.near_way(_box_placed(problem, theta_a), _box_placed(problem, theta_b), moved):
         return []
     found = []
     for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
-        found += [(name, float(s)) for name in rows.inside(*placed(theta_a + s * (theta_b - theta_a)), TOLERANCE)]
+        placed = _box_placed(problem, theta_a + s * (theta_b - theta_a))
+        found += [(name, float(s)) for name in rows.inside(*placed, TOLERANCE)]
     return found
 
 
-def mark_carried(result: Result, theta_a: np.ndarray, frames: tuple[int, int]) -> Result:
-    """``result`` with each obstacle its carried box passes through on the way from ``theta_a`` named in its unmet
-    (the frame is then not converged), e.g. "box passes through table between frames 12 and 13"."""
+def mark_carried(result: Result, frames: tuple[int, int], found: list[tuple[str, float]]) -> Result:
+    """``result`` with each obstacle its carried box passes through on the way from the previous frame (``found``:
+    :func:`carried_crossings`) named in its unmet (the frame is then not converged), e.g. "box passes through table
+    between frames 12 and 13"."""
     problem = result.problem
     a, b = frames
     crossed: dict[str, float] = {}
-    for obstacle, s in carried_crossings(problem, theta_a, result.x[: problem.model.n]):
+    for obstacle, s in found:
         crossed.setdefault(obstacle, s)  # where it is first found inside
     for obstacle, s in crossed.items():
         name = f"{problem.carried.name} passes through {obstacle} between frames {a} and {b}"

@@ -194,28 +194,44 @@ def test_the_box_stays_above_the_floor():
     assert "hand_r" in result.unmet
 
 
-@pytest.mark.parametrize("plate_y", [-0.15, 0.6])
-def test_a_box_dropped_through_a_plate_between_two_frames_is_named(plate_y):
-    """Two frames with no per-frame bound: the box above a thin plate, then below it. Each frame is clear of the
-    plate; the way between is not, and the frame names it. The plate moved out of the way: both converge."""
+def plate_drop(resolve: bool, plate_y: float = -0.15) -> dict:
+    """Two frames solved with no per-frame bound: the box held 13 cm above a thin plate (between the hands), then
+    where it would be 8 cm below it. {frame: result}."""
     from solver.motion import solve_frames
+    from solver.motion_sweep import MotionSweep
 
     model = load_body(preset="male_50")
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
-    plate = Box(np.array([0.0, plate_y, 0.75]), np.array([0.2, 0.2, 0.01]), name="plate")  # between the hands
+    plate = Box(np.array([0.0, plate_y, 0.75]), np.array([0.2, 0.2, 0.01]), name="plate")
 
     def held_at(height: float) -> Problem:
         targets = [t if not t.tcp.startswith("hand") else Target(t.tcp, t.position * [1, 1, 0] + [0, 0, height],
                    t.rotation, lock=t.lock) for t in held_low(model, box).all_targets]  # fmt: skip
         return Problem(model, targets, carried=box, obstacles=[plate])
 
-    problems = {1: held_at(1.0), 2: held_at(0.55)}  # the box's bottom 13 cm above the plate, then its top 8 cm below
-    frames = dict(solve_frames(problems.get, [1, 2], problems[1].start(None), limits=None))
-    assert frames[1].converged
-    if plate_y > 0:
-        assert frames[2].converged
-    else:
-        assert not frames[2].converged and frames[2].unmet == ["box passes through plate between frames 1 and 2"]
+    problems = {1: held_at(1.0), 2: held_at(0.55)}
+    start = problems[1].start(None)
+    return dict(solve_frames(problems.get, [1, 2], start, limits=None, sweep=MotionSweep(resolve=resolve)))
+
+
+def test_a_box_dropped_through_a_plate_between_two_frames_is_named_when_not_re_solved():
+    """Each frame alone is clear of the plate; the way between is not, and the frame names it. The plate moved out
+    of the way: both converge."""
+    frames = plate_drop(resolve=False)
+    assert frames[1].converged and not frames[2].converged
+    assert frames[2].unmet == ["box passes through plate between frames 1 and 2"]
+    assert all(f.converged for f in plate_drop(resolve=False, plate_y=0.6).values())
+
+
+def test_a_box_dropped_through_a_plate_between_two_frames_is_re_solved_in_sub_steps_and_stops_on_it():
+    """By default the frame is solved again in sub-steps: the box comes down onto the plate and stays there, the
+    hands short of their targets (not converged, nothing passes through), the note saying so."""
+    frame = plate_drop(resolve=True)[2]
+    assert not frame.converged and set(frame.unmet) == {"hand_r", "hand_l"}
+    kin, model = frame.state.kin, frame.problem.model
+    placed = carried_box(frame.problem.carried, *(kin.tcp_frame(model.tcp(t))[1] for t in ("hand_r", "hand_l")))
+    assert placed.center[2] - placed.half[2] == pytest.approx(0.755, abs=0.002)  # on the plate's top
+    assert any("went box through plate" in note and "re-solved" in note for note in frame.notes), frame.notes
 
 
 def test_every_frame_of_a_motion_keeps_the_carried_box():
