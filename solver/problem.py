@@ -191,6 +191,10 @@ class Problem:
         self.one_sided = np.concatenate([np.full(c.rows, isinstance(c, Inequality)) for c in rows]) if rows \
             else np.zeros(0, dtype=bool)  # fmt: skip
         self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)
+        # per row: an obstacle's clearance (the scene's, not the floor's or the body's own: docs/TUNING.md)
+        obstacles = (self.obstacle_constraint, self.carried_obstacle_constraint)
+        self.obstacle_rows = np.concatenate([np.full(c.rows, any(c is o for o in obstacles)) for c in rows]) if rows \
+            else np.zeros(0, dtype=bool)  # fmt: skip
         self.n_rows = len(self.row_tolerance)
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian

@@ -62,6 +62,9 @@ class Evaluator:
         return both
 
 
+CONTACT_LOOKAHEAD = 0.05  # m: a clearance row farther than this at the start counts as this far (the query's margin)
+
+
 @dataclass(slots=True)
 class Outcome:
     """What the line search found: the accepted trial (None if every try failed) and how it was reached."""
@@ -128,6 +131,7 @@ class LineSearch:
         alpha = 1.0
         for _ in range(tries):
             trial = self.evaluate(problem.bounds.clip(at.x + alpha * direction * problem.scale))
+            trial, alpha = self._short_of_contact(trial, alpha, direction)
             if with_comfort and self.near and trial.worst > hopeless:
                 alpha *= 0.5  # too far off for a correction to bring it back: halve without trying one
                 continue
@@ -142,6 +146,25 @@ class LineSearch:
                 guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
                 alpha = float(np.clip(guess, 0.1 * alpha, 0.5 * alpha))
         return None, alpha
+
+    def _short_of_contact(self, trial: Trial, alpha: float, direction: np.ndarray) -> tuple[Trial, float]:
+        """(trial, alpha), cut back to where the first obstacle row met at the start would reach its clearance, when
+        the trial goes into it by more than its tolerance: the step's linear model sees only the rows near contact,
+        so a long step would carry a hand into an obstacle it did not know of (and out again only slowly). Linear in
+        alpha from the row's slack (at most CONTACT_LOOKAHEAD: rows farther are not measured exactly) to its depth.
+        The floor's and the body's own rows are not cut for: parts pass them on the way to good poses and come back
+        out quickly (docs/TUNING.md)."""
+        at, problem = self.at, self.problem
+        entered = problem.obstacle_rows & (at.err == 0.0) & (trial.err * self.evaluate.unweight < -1.0)
+        if not entered.any():
+            return trial, alpha
+        scale = (problem.row_weight / problem.row_tolerance)[entered]
+        slack = np.minimum(problem.scaled_slack(at.state)[entered], CONTACT_LOOKAHEAD * scale)
+        share = float(np.min(slack / (slack - trial.err[entered])))
+        if share < self.tuning.least_contact_share:
+            return trial, alpha  # already touching it: the step's hold keeps it, a cut would stall
+        alpha *= share
+        return self.evaluate(problem.bounds.clip(at.x + alpha * direction * problem.scale)), alpha
 
     def _corrected(self, trial: Trial, with_comfort: bool, alpha: float) -> Trial:
         """The trial after a second-order correction, when one applies and lowers the error below its bar.

@@ -28,6 +28,7 @@ class Tuning:
     memory: int = 6  # curvature pairs kept by the limited-memory BFGS model
     # Trials and their acceptance
     comfort_slack: float = 10.0  # within this error a step is "near" and carries comfort
+    least_contact_share: float = 0.05  # a step cut short of a new contact to less than this share is not cut
     hopeless: float = 5.0  # a near trial worse than this x comfort_slack is halved without a correction
     max_turn: float = 0.3  # rad: largest joint rotation of a step far from the constraints
     max_slide: float = 0.3  # m: the same for a prismatic joint
