@@ -22,6 +22,7 @@ bending and twisting moments and co-contraction are ignored (they are reported, 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -110,16 +111,40 @@ def _num(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
+@dataclass
+class JointLoads:
+    """A frame's joint loads as arrays, in the frame's joint order: moment (n, 3) about each joint (N*m, world),
+    axis_moment (n,) and percent (n,) of strength (NaN where unknown); ``l4_l5`` as :func:`l4_l5` has it."""
+
+    names: list[str]
+    moment: np.ndarray
+    axis_moment: np.ndarray
+    percent: np.ndarray
+    l4_l5: dict
+
+    def as_dict(self) -> dict:
+        """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``: plain floats, null where not finite
+        (JSON-safe as they are, but ``l4_l5``)."""
+        out: dict = {}
+        rows, axis, share = self.moment.tolist(), self.axis_moment.tolist(), self.percent.tolist()
+        if not (np.isfinite(self.moment).all() and np.isfinite(self.axis_moment).all()):
+            rows, axis = [[_num(v) for v in row] for row in rows], [_num(v) for v in axis]
+        for i, name in enumerate(self.names):
+            out[name] = dict(moment=rows[i], axis_moment=axis[i], percent_strength=_num(share[i]))
+        out["l4_l5"] = self.l4_l5
+        return out
+
+
+def load_arrays(frame: Frame, strength: np.ndarray) -> JointLoads:
+    """The joint loads of ``frame`` with the joint capacities ``strength`` ((n, 2), as :func:`percent_of_strength`)."""
+    moments, tau, sub_force = joint_moments(frame)
+    return JointLoads(
+        frame.joint_names, moments, tau, percent_of_strength(tau, strength), l4_l5(frame, moments, sub_force)
+    )
+
+
 def joint_loads(frame: Frame, strength: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
     """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``; also returns (tau, percent) arrays. The
     per-joint values are plain floats, null where not finite (JSON-safe as they are)."""
-    moments, tau, sub_force = joint_moments(frame)
-    percent = percent_of_strength(tau, strength)
-    out: dict = {}
-    rows, axis, share = moments.tolist(), tau.tolist(), percent.tolist()
-    if not (np.isfinite(moments).all() and np.isfinite(tau).all()):
-        rows, axis = [[_num(v) for v in row] for row in rows], [_num(v) for v in axis]
-    for i, name in enumerate(frame.joint_names):
-        out[name] = dict(moment=rows[i], axis_moment=axis[i], percent_strength=_num(share[i]))
-    out["l4_l5"] = l4_l5(frame, moments, sub_force)
-    return out, tau, percent
+    loads = load_arrays(frame, strength)
+    return loads.as_dict(), loads.axis_moment, loads.percent
