@@ -68,7 +68,7 @@ def test_a_new_layout_gets_a_new_template(frames) -> None:
     pose = PoseText()
     pose(frames[0])
     names = list(frames[1].joint_names)
-    names[2] = "root %s and 100 % \"quoted\""  # the template's own characters in a name
+    names[2] = 'root %s and 100 % "quoted"'  # the template's own characters in a name
     limits = frames[1].joint_range.copy()
     limits[7] = [-1.0, np.inf]
     renamed = dataclasses.replace(frames[1], joint_names=names, joint_range=limits)
