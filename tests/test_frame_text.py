@@ -117,3 +117,34 @@ def test_plot_series_reads_the_arrays_as_the_dicts(parts) -> None:
         from_dicts.add(report | {"joint_loads": loads.as_dict()})
         from_arrays.add(report, loads)
     assert from_arrays.report() == from_dicts.report()
+
+
+def test_tcp_frames_in_one_go_are_those_of_each(solved) -> None:
+    for _, result in solved:
+        kin = result.state.kin
+        tcps = list(result.problem.model.tcps.values())
+        rotations, positions = kin.tcp_frames(tcps)
+        for tcp, rotation, position in zip(tcps, rotations, positions, strict=True):
+            one = kin.tcp_frame(tcp)
+            assert np.array_equal(rotation, one[0]) and np.array_equal(position, one[1])  # bit for bit
+    assert kin.tcp_frames([])[0].shape == (0, 3, 3)
+
+
+def test_a_result_evaluates_its_pose_once(solved, monkeypatch) -> None:
+    """The writer and the report of a frame share the result's state; a solved result's is its solve's last."""
+    calls = []
+    forward = solver.Model.forward
+    monkeypatch.setattr(solver.Model, "forward", lambda self, theta: calls.append(1) or forward(self, theta))
+    scenario = solver.load_scenario(BOX_LIFT_MOTION)
+    result = solver.solve(scenario.problem, scenario.start, scenario.options)
+    before = len(calls)
+    state = result.state
+    assert state is result.state and state.kin is result.state.kin and state.statics is result.state.statics
+    assert len(calls) == before  # no kinematics computed again
+    fresh = result.problem.state_of_x(result.x.copy())
+    assert np.array_equal(fresh.kin.position, state.kin.position) and np.array_equal(fresh.kin.com, state.kin.com)
+    np.testing.assert_array_equal(fresh.statics.load_points, state.statics.load_points)
+    result.x = result.x.copy()  # another x: another state
+    assert result.state is not state and result.state.x is result.x
+    other = result.problem.state_of_x(result.x + 0.01)
+    assert "kin" not in result.problem.state_of_x(result.x).adopt(other).__dict__  # not the same point: not taken

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..io.frame import Frame
+from ..spatial import cross  # np.cross's arithmetic, without its overhead on small arrays
 
 MUSCLE_MOMENT_ARM = 0.05  # m, single equivalent extensor muscle about L4/L5 (Chaffin et al., see above)
 DISC_ACTION_LIMIT = 3400.0  # N, NIOSH 1981 action limit
@@ -50,9 +51,9 @@ def subtree_sums(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
         forces.append(force[None, :])
         on.append(np.array([frame.tcp_link[tcp]]))
     q, f, link = np.vstack(points), np.vstack(forces), np.concatenate(on)
-    acts = frame.below[:, link].astype(float)  # [j, k]: point force k acts inside the subtree of link j
+    acts = frame.below_weights[:, link]  # [j, k]: point force k acts inside the subtree of link j
     sub_force = acts @ f
-    sub_moment = acts @ np.cross(q, f) + frame.below.astype(float) @ free
+    sub_moment = acts @ cross(q, f) + frame.below_weights @ free
     return sub_force, sub_moment
 
 
@@ -60,7 +61,7 @@ def joint_moments(frame: Frame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(n, 3) moment about each joint (N*m, world), (n,) axis component and (n, 3) subtree force (N)."""
     sub_force, sub_moment = subtree_sums(frame)
     f = sub_force[frame.joint_link]
-    m = sub_moment[frame.joint_link] - np.cross(frame.joint_position, f)
+    m = sub_moment[frame.joint_link] - cross(frame.joint_position, f)
     tau = np.einsum("ni,ni->n", frame.joint_axis, m)
     tau = np.where(frame.prismatic, np.einsum("ni,ni->n", frame.joint_axis, f), tau)
     return m, tau, f
