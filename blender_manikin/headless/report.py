@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from dataclasses import asdict
+from dataclasses import asdict, fields
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -55,6 +55,7 @@ class MotionReport:
         # each frame's part, kept in a temporary file until the lift (and so every frame's NIOSH) is known
         self._frames = None if self.path is None else tempfile.TemporaryFile("w+", encoding="utf-8")
         self._loads = LoadsText()
+        self._fields: list[str] = []  # a frame record's fields, in order
 
     def add(self, record: FrameRecord, result: Result, state: State | None = None) -> None:
         """One baked frame (``state``: the result's, if the caller has it): its ergonomics, appended to the frames
@@ -74,7 +75,9 @@ class MotionReport:
 
     def _text(self, record: FrameRecord, ergo: dict, loads: JointLoads) -> str:
         """The frame's JSON: the record, then the ergonomics (the joint loads written from their arrays)."""
-        frame = clean(asdict(record)) | {"ergonomics": {k: ergo[k] for k in ERGONOMICS} | {"joint_loads": SLOT}}
+        self._fields = self._fields or [f.name for f in fields(record)]
+        values = {name: getattr(record, name) for name in self._fields}  # asdict without its deep copy: clean copies
+        frame = clean(values) | {"ergonomics": {k: ergo[k] for k in ERGONOMICS} | {"joint_loads": SLOT}}
         text = dumps_filled(frame, self._loads(loads))
         if text is None:  # a note holding the slot's text: the dicts as they are
             frame["ergonomics"]["joint_loads"] = loads.as_dict()

@@ -58,7 +58,7 @@ class Frame:
     index: dict[str, int] = field(init=False)  # joint name -> index
 
     def __post_init__(self) -> None:
-        tree = tuple(int(p) for p in self.link_parent)
+        tree = tuple(np.asarray(self.link_parent, dtype=int).tolist())
         self.below, self.below_weights = _below(tree), _below_weights(tree)
         self.index = {n: i for i, n in enumerate(self.joint_names)}
 
