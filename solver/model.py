@@ -268,6 +268,16 @@ class Kinematics:
         r = self.rotation[tcp.link]
         return r @ tcp.rotation, self.position[tcp.link] + r @ tcp.position
 
+    def tcp_frames(self, tcps: list[Tcp]) -> tuple[np.ndarray, np.ndarray]:
+        """(rotations (k, 3, 3), positions (k, 3) m) of TCPs in the world: :meth:`tcp_frame` of each in one go (the
+        same numbers: matmul multiplies each matrix of a stack as it multiplies a single one)."""
+        if not tcps:
+            return np.zeros((0, 3, 3)), np.zeros((0, 3))
+        links = [t.link for t in tcps]
+        r = self.rotation[links]
+        local = np.array([t.rotation for t in tcps], dtype=float), np.array([t.position for t in tcps], dtype=float)
+        return r @ local[0], self.position[links] + (r @ local[1][:, :, None])[:, :, 0]
+
     def body_com(self) -> np.ndarray:
         """Whole-body center of mass, m."""
         m = self.model.mass

@@ -38,13 +38,15 @@ class Result:
     shortfall: dict[str, dict[str, float]] = field(default_factory=dict)
     # clearance rows within their margin at x, nearest first (kept: recomputing them costs a distance query)
     closest: list[Closeness] = field(default_factory=list)
+    # (problem, x, the State of x) once asked for (see ``state``); a field, so Result(**vars(result)) copies it
+    _state: tuple | None = field(default=None, repr=False, compare=False)
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
         unmet = problem.unmet(state)
         parts = problem.comfort.parts(state)
         residuals = problem.residuals(state)
-        return cls(
+        result = cls(
             problem=problem,
             x=state.x.copy(),
             converged=not unmet,
@@ -60,6 +62,8 @@ class Result:
             shortfall=shortfalls(problem, unmet, residuals),
             closest=problem.closest(state),
         )
+        result.state.adopt(state)
+        return result
 
     @property
     def theta(self) -> np.ndarray:
@@ -68,7 +72,13 @@ class Result:
 
     @property
     def state(self) -> State:
-        return self.problem.state_of_x(self.x)
+        """The evaluation point of ``x``, made once per Result (and per ``problem`` and ``x`` it is given): a writer
+        and a report of the same frame share its kinematics and statics, and a solved Result starts with those of
+        its solve's last evaluation."""
+        kept = self._state
+        if kept is None or kept[0] is not self.problem or kept[1] is not self.x:
+            kept = self._state = (self.problem, self.x, self.problem.state_of_x(self.x))
+        return kept[2]
 
     def joint_values(self) -> dict[str, float]:
         return dict(zip(self.problem.model.joint_names, map(float, self.theta), strict=True))

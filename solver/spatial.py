@@ -124,6 +124,12 @@ _NEXT = np.array([1, 2, 0])  # component i+1 (mod 3) of a 3-vector
 _AFTER_NEXT = np.array([2, 0, 1])  # component i+2 (mod 3)
 
 
+def length(v: np.ndarray) -> float:
+    """``np.linalg.norm`` of a float vector: the square root of its dot product with itself, as ``norm`` computes it
+    (the same number), without ``norm``'s overhead on a 3-vector."""
+    return math.sqrt(v.dot(v))
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (..., 3) arrays (broadcasting); much cheaper than np.cross for small stacks.
 

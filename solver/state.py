@@ -34,3 +34,12 @@ class State:
     @cached_property
     def statics(self) -> Statics:
         return self._layout.evaluate(self.kin, self.w)
+
+    def adopt(self, other: State) -> State:
+        """This state, with the kinematics and statics ``other`` computed already when it is the same point of the
+        same problem layout (a result keeps its solve's last evaluation instead of repeating it)."""
+        if other._layout is self._layout and other.n_joints == self.n_joints and np.array_equal(other.x, self.x):
+            for name in ("kin", "statics"):
+                if name in other.__dict__:  # computed (functools.cached_property keeps it there)
+                    self.__dict__.setdefault(name, other.__dict__[name])
+        return self

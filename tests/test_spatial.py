@@ -10,6 +10,7 @@ from solver.spatial import (
     cross,
     exp_so3,
     left_jacobian_inverse_so3,
+    length,
     log_so3,
     matrix_to_quat,
     quat_to_matrix,
@@ -51,3 +52,12 @@ def test_cross_and_skew_agree_with_numpy():
     a, b = rng.normal(size=(5, 3)), rng.normal(size=(5, 3))
     np.testing.assert_allclose(cross(a, b), np.cross(a, b))
     np.testing.assert_allclose(skew(a[0]) @ b[0], np.cross(a[0], b[0]))
+
+
+def test_cross_and_length_are_numpys_numbers_bit_for_bit():
+    """The ergonomics uses them in place of np.cross and np.linalg.norm: its report must not change by a bit."""
+    rng = np.random.default_rng(4)
+    a, b = rng.normal(size=(200, 3)) * 10.0 ** rng.integers(-8, 8, (200, 1)), rng.normal(size=(200, 3))
+    assert np.array_equal(cross(a, b), np.cross(a, b))
+    assert np.array_equal(cross(np.array([0.0, 0.0, 1.0]), b), np.cross([0.0, 0.0, 1.0], b))  # broadcast
+    assert all(length(v) == np.linalg.norm(v) for v in np.vstack([a, b, np.zeros((1, 3)), [[-0.0, 3e-300, 1e300]]]))

@@ -12,18 +12,21 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from dataclasses import asdict
+from dataclasses import asdict, fields
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...solver.ergonomics import ErgoOptions, checked, niosh
+from ...solver.ergonomics.loads import JointLoads
 from ...solver.ergonomics.manikin import working_area
-from ...solver.ergonomics.report import SOURCES, clean, frame_report
+from ...solver.ergonomics.report import SOURCES, clean, frame_parts
+from ...solver.ergonomics.report_text import LoadsText, dumps_filled
 from ...solver.ergonomics.stream import PlotSeries
 from ...solver.io.files import open_output
 from ...solver.io.frame import Frame, frame_of_result
+from ...solver.io.frame_text import SLOT
 
 if TYPE_CHECKING:
     from ...solver import Model, Result
@@ -51,23 +54,35 @@ class MotionReport:
         self.path = None if path is None else Path(os.path.abspath(path))  # a device path stays itself
         # each frame's part, kept in a temporary file until the lift (and so every frame's NIOSH) is known
         self._frames = None if self.path is None else tempfile.TemporaryFile("w+", encoding="utf-8")
+        self._loads = LoadsText()
+        self._fields: list[str] = []  # a frame record's fields, in order
 
     def add(self, record: FrameRecord, result: Result, state: State | None = None) -> None:
         """One baked frame (``state``: the result's, if the caller has it): its ergonomics, appended to the frames
         file."""
         f = frame_of_result(result, record.frame, state)
-        ergo = frame_report(f, self.options, self.model, self.area, None)[0]
+        ergo, loads, _ = frame_parts(f, self.options, self.model, self.area, None)
         self.ends = [self.ends[0] if self.ends else f, f]
         self.points.append(niosh.hand_point(f))
         if self.series is not None:
-            self.series.add(ergo)
-        compression = ergo["joint_loads"]["l4_l5"].get("compression")
+            self.series.add(ergo, loads)
+        compression = loads.l4_l5.get("compression")
         trunk = ergo["posture"].get("trunk_flexion")
         self.shown.append((record.frame, record.converged, ergo["reba"]["score"], ergo["rula"]["score"], trunk,
                            compression))  # fmt: skip
         if self._frames is not None:
-            frame = clean(asdict(record)) | {"ergonomics": {k: ergo[k] for k in ERGONOMICS}}
-            self._frames.write(json.dumps(frame, allow_nan=False)[:-2] + "\n")  # open: "niosh" comes at the end
+            self._frames.write(self._text(record, ergo, loads)[:-2] + "\n")  # open: "niosh" comes at the end
+
+    def _text(self, record: FrameRecord, ergo: dict, loads: JointLoads) -> str:
+        """The frame's JSON: the record, then the ergonomics (the joint loads written from their arrays)."""
+        self._fields = self._fields or [f.name for f in fields(record)]
+        values = {name: getattr(record, name) for name in self._fields}  # asdict without its deep copy: clean copies
+        frame = clean(values) | {"ergonomics": {k: ergo[k] for k in ERGONOMICS} | {"joint_loads": SLOT}}
+        text = dumps_filled(frame, self._loads(loads))
+        if text is None:  # a note holding the slot's text: the dicts as they are
+            frame["ergonomics"]["joint_loads"] = loads.as_dict()
+            text = json.dumps(frame, allow_nan=False)
+        return text
 
     def lift(self) -> dict:
         """The NIOSH lift from the first to the last frame added."""

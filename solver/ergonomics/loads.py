@@ -22,10 +22,12 @@ bending and twisting moments and co-contraction are ignored (they are reported, 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..io.frame import Frame
+from ..spatial import cross  # np.cross's arithmetic, without its overhead on small arrays
 
 MUSCLE_MOMENT_ARM = 0.05  # m, single equivalent extensor muscle about L4/L5 (Chaffin et al., see above)
 DISC_ACTION_LIMIT = 3400.0  # N, NIOSH 1981 action limit
@@ -49,9 +51,9 @@ def subtree_sums(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
         forces.append(force[None, :])
         on.append(np.array([frame.tcp_link[tcp]]))
     q, f, link = np.vstack(points), np.vstack(forces), np.concatenate(on)
-    acts = frame.below[:, link].astype(float)  # [j, k]: point force k acts inside the subtree of link j
+    acts = frame.below_weights[:, link]  # [j, k]: point force k acts inside the subtree of link j
     sub_force = acts @ f
-    sub_moment = acts @ np.cross(q, f) + frame.below.astype(float) @ free
+    sub_moment = acts @ cross(q, f) + frame.below_weights @ free
     return sub_force, sub_moment
 
 
@@ -59,7 +61,7 @@ def joint_moments(frame: Frame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(n, 3) moment about each joint (N*m, world), (n,) axis component and (n, 3) subtree force (N)."""
     sub_force, sub_moment = subtree_sums(frame)
     f = sub_force[frame.joint_link]
-    m = sub_moment[frame.joint_link] - np.cross(frame.joint_position, f)
+    m = sub_moment[frame.joint_link] - cross(frame.joint_position, f)
     tau = np.einsum("ni,ni->n", frame.joint_axis, m)
     tau = np.where(frame.prismatic, np.einsum("ni,ni->n", frame.joint_axis, f), tau)
     return m, tau, f
@@ -110,16 +112,40 @@ def _num(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
+@dataclass
+class JointLoads:
+    """A frame's joint loads as arrays, in the frame's joint order: moment (n, 3) about each joint (N*m, world),
+    axis_moment (n,) and percent (n,) of strength (NaN where unknown); ``l4_l5`` as :func:`l4_l5` has it."""
+
+    names: list[str]
+    moment: np.ndarray
+    axis_moment: np.ndarray
+    percent: np.ndarray
+    l4_l5: dict
+
+    def as_dict(self) -> dict:
+        """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``: plain floats, null where not finite
+        (JSON-safe as they are, but ``l4_l5``)."""
+        out: dict = {}
+        rows, axis, share = self.moment.tolist(), self.axis_moment.tolist(), self.percent.tolist()
+        if not (np.isfinite(self.moment).all() and np.isfinite(self.axis_moment).all()):
+            rows, axis = [[_num(v) for v in row] for row in rows], [_num(v) for v in axis]
+        for i, name in enumerate(self.names):
+            out[name] = dict(moment=rows[i], axis_moment=axis[i], percent_strength=_num(share[i]))
+        out["l4_l5"] = self.l4_l5
+        return out
+
+
+def load_arrays(frame: Frame, strength: np.ndarray) -> JointLoads:
+    """The joint loads of ``frame`` with the joint capacities ``strength`` ((n, 2), as :func:`percent_of_strength`)."""
+    moments, tau, sub_force = joint_moments(frame)
+    return JointLoads(
+        frame.joint_names, moments, tau, percent_of_strength(tau, strength), l4_l5(frame, moments, sub_force)
+    )
+
+
 def joint_loads(frame: Frame, strength: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
     """Per joint {moment, axis_moment, percent_strength} plus ``l4_l5``; also returns (tau, percent) arrays. The
     per-joint values are plain floats, null where not finite (JSON-safe as they are)."""
-    moments, tau, sub_force = joint_moments(frame)
-    percent = percent_of_strength(tau, strength)
-    out: dict = {}
-    rows, axis, share = moments.tolist(), tau.tolist(), percent.tolist()
-    if not (np.isfinite(moments).all() and np.isfinite(tau).all()):
-        rows, axis = [[_num(v) for v in row] for row in rows], [_num(v) for v in axis]
-    for i, name in enumerate(frame.joint_names):
-        out[name] = dict(moment=rows[i], axis_moment=axis[i], percent_strength=_num(share[i]))
-    out["l4_l5"] = l4_l5(frame, moments, sub_force)
-    return out, tau, percent
+    loads = load_arrays(frame, strength)
+    return loads.as_dict(), loads.axis_moment, loads.percent

@@ -17,6 +17,9 @@ from ..bodies import is_body_file, load_preset
 from ..errors import ManikinError, UsageError
 from ..io.frame import Frame
 from ..model import Model
+from ..spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
+
+_UP = np.array([0.0, 0.0, 1.0])
 
 
 @dataclass(frozen=True)
@@ -39,7 +42,7 @@ class WorkingArea:
         """Distance (m) of a feet-frame point outside the box; 0 inside."""
         lo = np.array([-self.x_half, self.y_back, self.z_low])
         hi = np.array([self.x_half, self.y_front, self.z_high])
-        return float(np.linalg.norm(np.maximum(lo - p, 0.0) + np.maximum(p - hi, 0.0)))
+        return length(np.maximum(lo - p, 0.0) + np.maximum(p - hi, 0.0))
 
     def as_dict(self) -> dict:
         return dict(x=[-self.x_half, self.x_half], y=[self.y_back, self.y_front], z=[self.z_low, self.z_high])
@@ -54,9 +57,9 @@ def feet_frame(tcp_position: dict, tcp_rotation: dict) -> tuple[np.ndarray, np.n
     origin = np.array([origin[0], origin[1], 0.0])
     heading = -(tcp_rotation["foot_l"][:, 1] + tcp_rotation["foot_r"][:, 1])
     heading[2] = 0.0
-    norm = np.linalg.norm(heading)
+    norm = length(heading)
     forward = heading / norm if norm > 1e-9 else np.array([0.0, -1.0, 0.0])
-    left = np.cross([0.0, 0.0, 1.0], forward)
+    left = cross(_UP, forward)
     return origin, forward, left
 
 

@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ..io.frame import Frame
+from ..spatial import length
 from .manikin import feet_frame
 from .options import ErgoOptions
 
@@ -87,14 +88,14 @@ def hand_point(frame: Frame) -> dict | None:
     line = hands - ankle
     line[2] = 0.0
     _, forward, left = feet
-    h = float(np.linalg.norm(line))
+    h = length(line)
     a = abs(math.degrees(math.atan2(line @ left, line @ forward))) if h > 1e-9 else 0.0
     return dict(H=100.0 * h, V=100.0 * float(hands[2]), A=a)
 
 
 def hand_load_kg(frame: Frame) -> float:
     """Mass (kg) of the loads hanging on hand/knuckle TCPs: their downward force / g."""
-    g = float(np.linalg.norm(frame.gravity)) or 9.81
+    g = length(np.asarray(frame.gravity, dtype=float)) or 9.81
     down = frame.gravity / g
     total = sum(float(f @ down) for tcp, _, f in frame.loads if tcp.startswith(("hand_", "knuckles_")))
     return max(total, 0.0) / g

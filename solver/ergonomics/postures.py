@@ -33,6 +33,7 @@ import math
 import numpy as np
 
 from ..io.frame import Frame
+from ..spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
 from .manikin import feet_frame
 
 SIDES = ("l", "r")
@@ -48,8 +49,13 @@ _TCPS = ("head", "hand_l", "hand_r", "foot_l", "foot_r")
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    n = np.linalg.norm(v)
+    n = length(v)
     return v / n if n > 1e-12 else v
+
+
+def _clip(x: float) -> float:
+    """``np.clip(x, -1.0, 1.0)`` of a number (NaN stays NaN), without its overhead."""
+    return min(max(float(x), -1.0), 1.0)
 
 
 def _deg(x: float) -> float:
@@ -60,7 +66,7 @@ def _signed_angle(a: np.ndarray, b: np.ndarray, axis: np.ndarray) -> float:
     """Angle (deg) from a to b about ``axis`` after projecting both normal to it."""
     a = _unit(a - (a @ axis) * axis)
     b = _unit(b - (b @ axis) * axis)
-    return _deg(math.atan2(float(np.cross(a, b) @ axis), float(a @ b)))
+    return _deg(math.atan2(float(cross(a, b) @ axis), float(a @ b)))
 
 
 def missing_for_posture(frame: Frame) -> str | None:
@@ -84,16 +90,16 @@ def measure(frame: Frame) -> dict:
     thorax_line = frame.pos("clavicle_l_rx") - frame.pos("clavicle_r_rx")
     hip_line = frame.pos("hip_l_flexion") - frame.pos("hip_r_flexion")
     left_t = _unit(thorax_line - (thorax_line @ u) * u)
-    fwd_t = np.cross(left_t, u)
+    fwd_t = cross(left_t, u)
     head = frame.tcp_rotation["head"]
     h = head[:, 2]
     out: dict = dict(
         trunk_flexion=_deg(math.atan2(u @ forward, u @ z)),
-        trunk_side_bend=_deg(math.asin(np.clip(u @ left, -1.0, 1.0))),
+        trunk_side_bend=_deg(math.asin(_clip(u @ left))),
         trunk_twist=_signed_angle(hip_line, thorax_line, u),
         head_tilt=_deg(math.atan2(h @ forward, h @ z)),
         neck_flexion=_deg(math.atan2(h @ fwd_t, h @ u)),
-        neck_side_bend=_deg(math.asin(np.clip(h @ left_t, -1.0, 1.0))),
+        neck_side_bend=_deg(math.asin(_clip(h @ left_t))),
         neck_twist=_signed_angle(left_t, head[:, 0], u),
     )
     sternum = 0.5 * (frame.pos("clavicle_l_rx") + frame.pos("clavicle_r_rx"))
@@ -117,11 +123,11 @@ def measure(frame: Frame) -> dict:
         limit = hi if pro >= 0 else lo
         share = abs(pro / limit) if math.isfinite(limit) and limit != 0 else 0.0
         out[s] = dict(
-            upper_arm_elevation=_deg(math.acos(np.clip(-(a @ u), -1.0, 1.0))),
+            upper_arm_elevation=_deg(math.acos(_clip(-(a @ u)))),
             upper_arm_flexion=_deg(math.atan2(a @ fwd_t, -(a @ u))),
             upper_arm_abduction=_deg(math.atan2(a @ outward, -(a @ u))),
             shoulder_elevation=_deg(frame.value(f"clavicle_{s}_elevation")),
-            elbow_flexion=_deg(math.acos(np.clip(a @ fa, -1.0, 1.0))),
+            elbow_flexion=_deg(math.acos(_clip(a @ fa))),
             wrist_flexion=_deg(frame.value(f"wrist_{s}_flexion")),
             wrist_deviation=_deg(frame.value(f"wrist_{s}_deviation")),
             forearm_rotation=_deg(pro),

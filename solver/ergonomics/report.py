@@ -15,7 +15,7 @@ from ..io.files import write_json as write_file
 from ..io.frame import Frame
 from ..model import Model
 from . import niosh, postures
-from .loads import joint_loads
+from .loads import JointLoads, load_arrays
 from .manikin import strengths, working_area
 from .options import ErgoOptions
 from .owas import owas
@@ -70,8 +70,19 @@ def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift
     """The ergonomics of one frame (JSON-safe) and where its joint strengths came from. ``area``: the working
     area of ``model`` (or None); ``lift``: the motion's NIOSH lift (:func:`niosh.lift`), whose D and FM every
     frame's NIOSH values use (None: the frame's ``niosh`` is left out, for :func:`niosh.at_point` later)."""
+    report, loads, strength_note = frame_parts(f, options, model, area, lift)
+    report["joint_loads"] = loads.as_dict()
+    return report, strength_note
+
+
+def frame_parts(
+    f: Frame, options: ErgoOptions, model: Model | None, area, lift: dict | None
+) -> tuple[dict, JointLoads, str]:
+    """:func:`frame_report` with its ``joint_loads`` (None in the report) as arrays, their ``l4_l5`` JSON-safe: the
+    report, the loads, where the strengths came from. A long motion writes the loads as text from the arrays
+    (:mod:`.report_text`) without building a dict per joint."""
     strength, strength_note = strengths(f, model)
-    loads, _, percent = joint_loads(f, strength)
+    loads = load_arrays(f, strength)
     posture = postures.measure(f)
     load_kg = options.load_mass if options.load_mass is not None else niosh.hand_load_kg(f)
     report = dict(
@@ -79,17 +90,16 @@ def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift
         converged=f.converged,
         status=f.status(),
         posture=posture if "reason" in posture else postures.rounded(posture),
-        joint_loads=None,  # JSON-safe already (joint_loads): not walked by clean, the bulk of a frame's values
+        joint_loads=None,  # JSON-safe already (JointLoads.as_dict): not walked by clean, the bulk of a frame's values
         rula=rula(posture, load_kg, options),
         reba=reba(posture, load_kg, options),
         owas=owas(f, posture, load_kg),
-        worksheet=worksheet(f, posture, percent, loads["l4_l5"], area),
+        worksheet=worksheet(f, posture, loads.percent, loads.l4_l5, area),
     )
     if lift is not None:
         report["niosh"] = niosh.at_point(niosh.hand_point(f), lift, options.coupling)
-    report = clean(report)
-    report["joint_loads"] = loads | {"l4_l5": clean(loads["l4_l5"])}
-    return report, strength_note
+    loads.l4_l5 = clean(loads.l4_l5)
+    return clean(report), loads, strength_note
 
 
 def report_head(

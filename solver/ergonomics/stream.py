@@ -16,6 +16,7 @@ from ..errors import UsageError
 from ..io.files import OutputFile
 from ..io.result_read import ResultStream
 from . import niosh
+from .loads import JointLoads
 from .manikin import check_fits, resolve_model, strengths, working_area
 from .options import ErgoOptions
 from .report import csv_cells, csv_header, csv_row, frame_report, report_head, worksheet_items
@@ -33,12 +34,16 @@ class PlotSeries:
         self.percent: list[np.ndarray] = []
         self.rows: list[dict] = []
 
-    def add(self, f: dict) -> None:
-        loads = f["joint_loads"]
+    def add(self, f: dict, arrays: JointLoads | None = None) -> None:
+        """One frame's report (:func:`.report.frame_report`), or :func:`.report.frame_parts`'s report and loads."""
+        loads = f["joint_loads"] if arrays is None else {"l4_l5": arrays.l4_l5}
         if self.joints is None:
-            self.joints = [j for j in loads if j != "l4_l5"]
-        p = [loads[j]["percent_strength"] for j in self.joints]
-        self.percent.append(np.array([math.nan if v is None else v for v in p], dtype=float))
+            self.joints = [j for j in loads if j != "l4_l5"] if arrays is None else list(arrays.names)
+        if arrays is None:
+            p = [loads[j]["percent_strength"] for j in self.joints]
+            self.percent.append(np.array([math.nan if v is None else v for v in p], dtype=float))
+        else:  # as_dict's null (not finite) is NaN here
+            self.percent.append(np.where(np.isfinite(arrays.percent), arrays.percent, math.nan))
         scores = {k: {key: f[k][key] for key in ("score", "reason") if key in f[k]} for k in ("rula", "reba")}
         items = {k: {"value": f["worksheet"][k]["value"], "level": f["worksheet"][k]["level"]} for k in PLOTTED_ITEMS
                  if k in f["worksheet"]}  # fmt: skip

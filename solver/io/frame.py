@@ -54,10 +54,12 @@ class Frame:
         default_factory=list
     )  # (link, ends m, r m)
     below: np.ndarray = field(init=False)  # (L, L) bool
+    below_weights: np.ndarray = field(init=False)  # (L, L) float: below as 0.0 / 1.0, for sums over subtrees
     index: dict[str, int] = field(init=False)  # joint name -> index
 
     def __post_init__(self) -> None:
-        self.below = _below(tuple(int(p) for p in self.link_parent))
+        tree = tuple(np.asarray(self.link_parent, dtype=int).tolist())
+        self.below, self.below_weights = _below(tree), _below_weights(tree)
         self.index = {n: i for i, n in enumerate(self.joint_names)}
 
     def joint(self, name: str) -> int | None:
@@ -93,6 +95,14 @@ def _below(parent: tuple[int, ...]) -> np.ndarray:
     return below
 
 
+@lru_cache(maxsize=16)
+def _below_weights(parent: tuple[int, ...]) -> np.ndarray:
+    """:func:`_below` as floats, shared read-only the same way."""
+    weights = _below(parent).astype(float)
+    weights.setflags(write=False)
+    return weights
+
+
 def frame_of_result(result: Result, number: int = 1, state: State | None = None) -> Frame:
     """The frame of a solve's result (what its result file would hold, without writing it); ``state`` is the
     result's state when the caller has it already."""
@@ -114,7 +124,7 @@ def frame_of_pose(
 ) -> Frame:
     """The frame of ``model`` posed as ``kin`` (its forward kinematics) with these contacts and loads; ``status``:
     the Frame's fields about the solve (``number``, ``converged``, and optionally ``unmet``, ``broken``)."""
-    frames = {name: kin.tcp_frame(tcp) for name, tcp in model.tcps.items()}
+    rotations, positions = kin.tcp_frames(list(model.tcps.values()))
     capsules = capsules_of(model)
     ends = capsules.world(kin)
     shapes = [(n, a, b, float(r)) for n, a, b, r in zip(capsules.names, *ends, capsules.radius, strict=True)]
@@ -132,8 +142,8 @@ def frame_of_pose(
         link_parent=np.asarray(model.parent, dtype=int).copy(),
         link_mass=model.mass.copy(),
         link_com=kin.com.copy(),
-        tcp_position={name: pos for name, (_, pos) in frames.items()},
-        tcp_rotation={name: rot for name, (rot, _) in frames.items()},
+        tcp_position=dict(zip(model.tcps, positions, strict=True)),
+        tcp_rotation=dict(zip(model.tcps, rotations, strict=True)),
         tcp_link={name: tcp.link for name, tcp in model.tcps.items()},
         gravity=np.asarray(gravity, dtype=float).copy(),
         contacts=contacts,

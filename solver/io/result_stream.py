@@ -22,7 +22,8 @@ from typing import TYPE_CHECKING
 from ..errors import ManikinError
 from ..result import Result
 from .files import OutputFile
-from .result_write import compact_frame_dict, compact_header, result_to_dict
+from .frame_text import PoseText
+from .result_write import compact_frame_dict, compact_header
 
 if TYPE_CHECKING:
     from ..state import State
@@ -92,6 +93,7 @@ class ResultWriter:
         self._file = self._out.stream
         self.closed = False
         self.written: Path | None = None  # the file once closed with frames in it
+        self._pose = PoseText()  # the result JSON's frames as text, the parts the frames share encoded once
         if not self.compact:
             head = {} if self.scenario is None else {"scenario": self.scenario}
             self._file.write(json.dumps(head)[:-1] + (", " if head else "") + '"frames": [')
@@ -103,7 +105,7 @@ class ResultWriter:
             head = "" if self.count else json.dumps(compact_header(result.problem.model, self.scenario)) + "\n"
             text = head + json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":")) + "\n"
         else:
-            text = ("\n" if self.count == 0 else ",\n") + json.dumps(result_to_dict(result, frame, state))
+            text = ("\n" if self.count == 0 else ",\n") + self._pose.result_frame(result, frame, state)
         with interrupts_held():
             try:
                 self._file.write(text)

@@ -99,13 +99,15 @@ def compact_header(model: Model, scenario: str | Path | None) -> dict:
                 gravity=floats(GRAVITY), model=model_to_dict(model))  # fmt: skip
 
 
-def frame_to_dict(f: Frame) -> dict:
+def frame_to_dict(f: Frame, slot: str | None = None) -> dict:
     """The pose part of a result frame: gravity, joints, tcps, links, contacts, loads and the body's collision
-    shapes (capsules: link, world end points m, radius m)."""
+    shapes (capsules: link, world end points m, radius m). ``slot``: put in place of every value that changes from
+    frame to frame (a number, a list of numbers, the contacts, the loads), for :mod:`.frame_text`'s template."""
+    moving = _moving(f) if slot is None else _slots(f, slot)
     ranges = [[finite_or_none(lo), finite_or_none(hi)] for lo, hi in f.joint_range.tolist()]
     strength = None if f.joint_strength is None else f.joint_strength.tolist()
-    position, axis, value = f.joint_position.tolist(), f.joint_axis.tolist(), f.joint_value.tolist()
     kinds = ["prismatic" if p else "revolute" for p in f.prismatic.tolist()]
+    value, position, axis = moving["value"], moving["position"], moving["axis"]
     joints = {}
     for i, name in enumerate(f.joint_names):
         joints[name] = dict(value=value[i], min=ranges[i][0], max=ranges[i][1], type=kinds[i],
@@ -114,24 +116,60 @@ def frame_to_dict(f: Frame) -> dict:
             joints[name]["strength"] = [finite_or_none(s) for s in strength[i]]
         joints[name].update(position=position[i], axis=axis[i])
     tcps = {
-        name: dict(position=floats(p), rotation=quaternion(f.tcp_rotation[name]), link=f.link_names[f.tcp_link[name]])
-        for name, p in f.tcp_position.items()
+        name: dict(position=p, rotation=q, link=f.link_names[f.tcp_link[name]])
+        for name, p, q in zip(f.tcp_position, moving["tcp_position"], moving["tcp_rotation"], strict=True)
     }
-    parents, masses, coms = f.link_parent.tolist(), f.link_mass.tolist(), f.link_com.tolist()
+    parents, masses, coms = f.link_parent.tolist(), f.link_mass.tolist(), moving["com"]
     links = [
         dict(name=name, parent=None if parents[i] < 0 else f.link_names[parents[i]], mass=masses[i], com=coms[i])
         for i, name in enumerate(f.link_names)
     ]
+    shapes = zip(f.collision_shapes, moving["start"], moving["end"], strict=True)
     return dict(
-        gravity=floats(f.gravity),
+        gravity=moving["gravity"],
         joints=joints,
         tcps=tcps,
         links=links,
-        contacts={tcp: dict(point=floats(p), force=floats(fc), moment=floats(m)) for tcp, p, fc, m in f.contacts},
-        loads=[dict(tcp=tcp, point=floats(p), force=floats(fc)) for tcp, p, fc in f.loads],
-        collision_shapes=[dict(link=name, start=a.tolist(), end=b.tolist(), radius=r)
-                          for name, a, b, r in f.collision_shapes],
-    )  # fmt: skip
+        contacts=moving["contacts"],
+        loads=moving["loads"],
+        collision_shapes=[dict(link=s[0], start=a, end=b, radius=s[3]) for s, a, b in shapes],
+    )
+
+
+def _moving(f: Frame) -> dict:
+    """The values of a pose that change from frame to frame, as JSON takes them (see :func:`frame_to_dict`)."""
+    return dict(
+        gravity=floats(f.gravity),
+        value=f.joint_value.tolist(),
+        position=f.joint_position.tolist(),
+        axis=f.joint_axis.tolist(),
+        tcp_position=[floats(p) for p in f.tcp_position.values()],
+        tcp_rotation=[quaternion(f.tcp_rotation[name]) for name in f.tcp_position],
+        com=f.link_com.tolist(),
+        contacts=contacts_dict(f),
+        loads=loads_list(f),
+        start=[a.tolist() for _, a, _, _ in f.collision_shapes],
+        end=[b.tolist() for _, _, b, _ in f.collision_shapes],
+    )
+
+
+def _slots(f: Frame, slot: str) -> dict:
+    """:func:`_moving` with ``slot`` for each value (lists of numbers: a list holding ``slot``)."""
+    n, k, m = len(f.joint_names), len(f.tcp_position), len(f.collision_shapes)
+    row = [slot]
+    return dict(gravity=slot, value=[slot] * n, position=[row] * n, axis=[row] * n, tcp_position=[row] * k,
+                tcp_rotation=[row] * k, com=[row] * len(f.link_names), contacts=slot, loads=slot, start=[row] * m,
+                end=[row] * m)  # fmt: skip
+
+
+def contacts_dict(f: Frame) -> dict:
+    """A frame's contact wrenches as the result JSON has them: {tcp: {point, force, moment}}."""
+    return {tcp: dict(point=floats(p), force=floats(fc), moment=floats(m)) for tcp, p, fc, m in f.contacts}
+
+
+def loads_list(f: Frame) -> list[dict]:
+    """A frame's external loads as the result JSON has them: [{tcp, point, force}]."""
+    return [dict(tcp=tcp, point=floats(p), force=floats(fc)) for tcp, p, fc in f.loads]
 
 
 def result_document(frames: Iterable[tuple[int, Result]], scenario: str | Path | None = None) -> dict:

@@ -15,10 +15,21 @@ import pytest
 from environments import ROOT, run_python
 
 from solver import read_result
+from solver.ergonomics import ErgoOptions, checked
+from solver.ergonomics.report import frame_report
 
 BATCH = ROOT / "blender_manikin" / "batch.py"
 SNAKE = ROOT / "presets" / "scenarios" / "snake_motion.toml"
 LIFT = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
+
+
+def numbers(value: object, path: str = "") -> dict:
+    """{path: leaf} of a report part: every number, string and null by where it is."""
+    if isinstance(value, dict):
+        return {k: v for key, item in value.items() for k, v in numbers(item, f"{path}.{key}").items()}
+    if isinstance(value, list):
+        return {k: v for i, item in enumerate(value) for k, v in numbers(item, f"{path}[{i}]").items()}
+    return {path: value}
 
 
 def install(python: Path, zip_path: Path, user: Path) -> None:
@@ -69,7 +80,13 @@ def test_batch_writes_every_output(tmp_path: Path, run) -> None:
         # each locked axis within 1 mm (so the 3-axis norm within sqrt(3) mm); force balance within 1 N
         assert frame["residuals"]["top.position"] < 3**0.5 * 1e-3 and frame["residuals"]["balance.force"] < 1.0
         assert set(frame["ergonomics"]) >= {"rula", "reba", "owas", "worksheet", "niosh", "joint_loads", "posture"}
-    assert len(read_result(out / "result.json").frames) == 6  # python -m solver ergo reads it
+    frames = read_result(out / "result.json").frames
+    assert len(frames) == 6  # python -m solver ergo reads it
+    for f, written in zip(frames, report["frames"], strict=True):  # the joint loads, written from arrays: as ergo's
+        loads = json.loads(json.dumps(frame_report(f, checked(ErgoOptions()), None, None, None)[0]["joint_loads"]))
+        mine, theirs = numbers(written["ergonomics"]["joint_loads"]), numbers(loads)
+        assert mine.keys() == theirs.keys() and len(mine) > 100  # the file's axes differ in the last bit (read back)
+        assert all(mine[k] == theirs[k] or abs(mine[k] - theirs[k]) <= 1e-9 * abs(theirs[k]) + 1e-12 for k in mine)
     import matplotlib.image
 
     picture = matplotlib.image.imread(out / "poses.png")

@@ -1,0 +1,48 @@
+"""A report frame's JSON text with its joint loads written from arrays (:class:`~.loads.JointLoads`): the same
+characters as ``json.dumps(..., allow_nan=False)`` of the dicts :func:`.report.frame_report` builds, cheaper.
+
+The per-joint loads are most of a report frame (160 joints of the human body: 22 of its 27 KB). Their names and
+keys are encoded once per body into a template (:func:`solver.io.frame_text.template`); each frame only turns its
+numbers into text, a value that is not finite written as null as :meth:`~.loads.JointLoads.as_dict` has it.
+"""
+
+from __future__ import annotations
+
+import json
+
+from ..io.frame_text import SLOT, Numbers, interleave, template
+from .loads import JointLoads
+
+_MARK = json.dumps(SLOT)
+
+
+class LoadsText:
+    """``json.dumps(loads.as_dict(), allow_nan=False)`` of frame after frame, the template kept while the joint
+    names stay the same."""
+
+    def __init__(self) -> None:
+        self._names: list[str] | None = None
+        self._template = ""
+        self._slots = 0
+
+    def __call__(self, loads: JointLoads) -> str:
+        if loads.names != self._names:
+            row = [SLOT]
+            layout = {name: dict(moment=row, axis_moment=SLOT, percent_strength=SLOT) for name in loads.names}
+            layout["l4_l5"] = SLOT
+            self._template, self._slots = template(layout, allow_nan=False)
+            self._names = list(loads.names)
+        numbers = Numbers()
+        moments, axis = numbers.rows(loads.moment), numbers.items(loads.axis_moment)
+        percent = ["null" if "n" in p else p for p in Numbers().items(loads.percent)]  # nan, inf: null
+        filled = (*interleave(moments, axis, percent), json.dumps(loads.l4_l5, allow_nan=False))
+        if not numbers.finite or len(filled) != self._slots:  # a moment not finite, or names the dict merges
+            return json.dumps(loads.as_dict(), allow_nan=False)
+        return self._template % filled
+
+
+def dumps_filled(value: object, filling: str) -> str | None:
+    """``json.dumps(value, allow_nan=False)`` with the one :data:`~solver.io.frame_text.SLOT` string in ``value``
+    replaced by the JSON text ``filling``; None if ``value`` does not hold it exactly once."""
+    text = json.dumps(value, allow_nan=False)
+    return text.replace(_MARK, filling) if text.count(_MARK) == 1 else None
