@@ -158,6 +158,9 @@ class LineSearch:
         entered = problem.obstacle_rows & (at.err == 0.0) & (trial.err * self.evaluate.unweight < -1.0)
         if not entered.any():
             return trial, alpha
+        entered[self.lin.live] = False  # rows in the step's model (within their watch band) are held by the step
+        if not entered.any():
+            return trial, alpha
         scale = (problem.row_weight / problem.row_tolerance)[entered]
         slack = np.minimum(problem.scaled_slack(at.state)[entered], CONTACT_LOOKAHEAD * scale)
         share = float(np.min(slack / (slack - trial.err[entered])))
