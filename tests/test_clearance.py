@@ -233,3 +233,24 @@ def test_a_long_step_stops_at_an_obstacle_it_did_not_see_coming(male50, kind):
         loop.LineSearch.run = original
     assert result.converged and result.iterations <= 12
     assert min(deepest) > -0.005, min(deepest)
+
+
+def test_the_rows_are_measured_once_for_the_same_joint_values(male50):
+    """A motion's next frame starts where the last ended: a new state, the same rows, the same joint values. The
+    distances are measured again only when the joint values change, and equal a fresh measurement."""
+    table = Box(np.array([0.0, 0.0, 0.5]), np.array([2.0, 2.0, 0.1]), name="table")  # through the thighs
+    problem = Problem(male50, [Target(f, np.array([x, 0.0, 0.0]), support=True)
+                               for f, x in zip(FEET, (-0.083, 0.083), strict=True)], obstacles=[table])  # fmt: skip
+    rows = problem.obstacle_constraint
+    x = problem.start(None)
+    calls = []
+    measure = rows._distances
+    rows._distances = lambda state: calls.append(1) or measure(state)
+    first = rows.value(problem.state(x))
+    again = rows.value(problem.state(x.copy()))
+    assert len(calls) == 1 and np.array_equal(first, again)
+    moved = x.copy()
+    moved[: male50.n] += 0.01
+    value = rows.value(problem.state(moved))
+    assert len(calls) == 2 and np.array_equal(value, measure(problem.state(moved))[0])
+    assert (value < rows.margin).any()  # something near: the rows measured are real distances

@@ -79,6 +79,7 @@ class ClearanceRows(Inequality):
     _parts: list[str]  # per row, the body part: "hand_r", or "shank_r.end" for a half-space row
     _others: list[str]  # per row, what it keeps clear of: an obstacle or another body part
     _pairs: list[str]  # per row, "part vs other" without the capsule end
+    _last: tuple[bytes, tuple] | None = None  # the joint values last measured and what they gave
 
     @property
     def rows(self) -> int:
@@ -89,10 +90,19 @@ class ClearanceRows(Inequality):
 
     def _evaluate(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(distance (rows,) m, witness points on the part's axis (rows, 3), unit normals towards the part
-        (rows, 3), the part's capsule of each row), once per state."""
+        (rows, 3), the part's capsule of each row), once per state; and once per joint values while they are the
+        last asked about (the next frame of a motion starts where the last one ended: the rows are shared, the
+        state is new)."""
         cached = state.cache.get(self)
         if cached is None:
-            cached = state.cache[self] = self._distances(state)
+            key = state.theta.tobytes()
+            last = self._last
+            if last is not None and last[0] == key:
+                cached = last[1]
+            else:
+                cached = self._distances(state)
+                self._last = (key, cached)
+            state.cache[self] = cached
         return cached
 
     @abstractmethod
