@@ -23,7 +23,7 @@ import numpy as np
 from .carried import carried_frame
 from .collision.body import capsules_of
 from .collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
-from .constraints.carried_obstacles import box_edges
+from .constraints.carried_obstacles import CarriedObstacles, box_corners
 from .constraints.clearance import Clearance
 from .iteration import solve
 from .options import SolverOptions
@@ -50,6 +50,7 @@ class MotionSweep:
         self._poses: dict[tuple, Pose] = {}
         self._distances: dict[tuple, np.ndarray] = {}
         self._anchor: tuple[SweptBody, Pose, np.ndarray] | None = None  # the last pose queried and its distances
+        self._boxes: dict[tuple, tuple] = {}  # a carried box's placements (centre, rotation) by joint values
         self.queries = 0  # poses whose distances were queried
         self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
         self.substeps = 0  # sub-step solves so far
@@ -131,13 +132,13 @@ class MotionSweep:
             return result
         n = problems[1].model.n
         report = self.check(body, previous_x[:n], result.x[:n])
-        boxed = carried_crossings(problems[1], previous_x[:n], result.x[:n])
+        boxed = self.carried_crossings(problems[1], previous_x[:n], result.x[:n], result.state.kin)
         if not (report.crossings or boxed) or not self.resolve:
             mark(result, report, frames)
             return mark_carried(result, frames, boxed)
         retried, done, count = self._substeps(problems, previous_x, body, report, options, steps(), result.x)
         again = self.check(body, previous_x[:n], retried.x[:n])
-        boxed_again = carried_crossings(problems[1], previous_x[:n], retried.x[:n])
+        boxed_again = self.carried_crossings(problems[1], previous_x[:n], retried.x[:n])
         if len(again.crossings) + len(boxed_again) <= len(report.crossings) + len(boxed):
             went = ", ".join([f"{c.part} through {c.obstacle}" for c in report.crossings]
                              + [f"{problems[1].carried.name} through {name}" for name in dict(boxed)])  # fmt: skip
@@ -147,6 +148,52 @@ class MotionSweep:
             result, report, boxed = retried, again, boxed_again
         mark(result, report, frames)
         return mark_carried(result, frames, boxed)
+
+    def _box_at(self, problem: Problem, theta: np.ndarray, kin=None) -> tuple[np.ndarray, np.ndarray]:
+        """(centre m, rotation) of ``problem``'s carried box at joint values ``theta`` (``kin``: their kinematics, if
+        at hand), kept: a frame's end is the next frame's start."""
+        rows = problem.carried_obstacle_constraint
+        key = (rows.tcps[0].name, rows.tcps[1].name, theta.tobytes())
+        found = self._boxes.get(key)
+        if found is None or found[0] is not problem.model:
+            if len(self._boxes) >= self.KEPT:
+                self._boxes.pop(next(iter(self._boxes)))
+            kin = problem.model.forward(theta) if kin is None else kin
+            found = self._boxes[key] = (problem.model, _placed(rows, kin))
+        return found[1]
+
+    def _box_travel(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> float:
+        """How far (m) the corner of ``problem``'s carried box that moves most moves from ``theta_a`` to ``theta_b``;
+        0 without a box kept out of obstacles."""
+        rows = problem.carried_obstacle_constraint
+        if rows is None:
+            return 0.0
+        corners = [box_corners(*self._box_at(problem, theta), rows.half) for theta in (theta_a, theta_b)]
+        return float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
+
+    def carried_crossings(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray,
+                          kin_b=None) -> list[tuple[str, float]]:  # fmt: skip
+        """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the
+        floor on the way from joint values ``theta_a`` to ``theta_b`` (``kin_b``: the kinematics there, if at hand;
+        both ends excluded: each frame's rows keep its own).
+
+        The way is sampled (joint values linearly in between) so that no corner of the box moves more than about
+        ``BOX_STEP`` between samples: a box passing through anything between two frames is inside it at some
+        sample, since it would have to move its own smallest size and the obstacle's thickness. Only when the box's
+        bounds on the way meet an obstacle's."""
+        rows = problem.carried_obstacle_constraint
+        if rows is None:
+            return []
+        self._box_at(problem, theta_b, kin_b)
+        moved = self._box_travel(problem, theta_a, theta_b)
+        ends = self._box_at(problem, theta_a), self._box_at(problem, theta_b)
+        if moved <= BOX_STEP or not rows.near_way(*ends, moved):
+            return []
+        found = []
+        for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
+            placed = _placed(rows, problem.model.forward(theta_a + s * (theta_b - theta_a)))
+            found += [(name, float(s)) for name in rows.inside(*placed, TOLERANCE)]
+        return found
 
     def _substeps(self, problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray, body: SweptBody,
                   report: SweepReport, options: SolverOptions, steps: np.ndarray, first_x: np.ndarray):  # fmt: skip
@@ -159,7 +206,7 @@ class MotionSweep:
         crossing = [body.capsules.names.index(c.part) for c in report.crossings]
         moved = body.bound(self._pose(body, previous_x[:n]), self._pose(body, first_x[:n]))[crossing]  # m
         room = body.capsules.radius[crossing] - 2.0 * body.tolerance
-        box = box_travel(problem, previous_x[:n], first_x[:n]) / BOX_STEP
+        box = self._box_travel(problem, previous_x[:n], first_x[:n]) / BOX_STEP
         count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room, initial=box)))))
         share = steps * min(1.0, SHARE / count)
         x, iterations, seconds, done = previous_x, 0, 0.0, 0
@@ -169,7 +216,7 @@ class MotionSweep:
             last = solve(aimed.with_bounds(problem.bounds.around(problem.to_variables(x), share)), x, options)
             iterations, seconds = iterations + last.iterations, seconds + last.time_s
             self.substeps += 1
-            if self.check(body, x[:n], last.x[:n]).crossings or carried_crossings(problem, x[:n], last.x[:n]):
+            if self.check(body, x[:n], last.x[:n]).crossings or self.carried_crossings(problem, x[:n], last.x[:n]):
                 break  # the frame stays where its way was last clear
             x, done = last.x, i
             if not last.converged:  # blocked, or the targets need more than the sub-step's share: stop here
@@ -194,47 +241,15 @@ def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | 
     return out
 
 
-def _box_placed(problem: Problem, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(centre m, rotation) of ``problem``'s carried box at joint values ``theta``."""
-    kin = problem.model.forward(theta)
-    return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in problem.carried_obstacle_constraint.tcps))
-
-
-def box_travel(problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> float:
-    """How far (m) the corner of ``problem``'s carried box that moves most moves from ``theta_a`` to ``theta_b``; 0
-    without a box kept out of obstacles."""
-    rows = problem.carried_obstacle_constraint
-    if rows is None:
-        return 0.0
-    corners = [box_edges(*_box_placed(problem, theta), rows.half)[0] for theta in (theta_a, theta_b)]
-    return float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
-
-
-def carried_crossings(problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> list[tuple[str, float]]:
-    """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the floor
-    on the way from joint values ``theta_a`` to ``theta_b`` (both ends excluded: each frame's rows keep its own).
-
-    The way is sampled (joint values linearly in between) so that no corner of the box moves more than about
-    ``BOX_STEP`` between samples: a box passing through anything between two frames is inside it at some sample,
-    since it would have to move its own smallest size and the obstacle's thickness. Only when the box's bounds on
-    the way meet an obstacle's."""
-    rows = problem.carried_obstacle_constraint
-    moved = box_travel(problem, theta_a, theta_b)
-    if moved <= BOX_STEP:
-        return []
-    if not rows.near_way(_box_placed(problem, theta_a), _box_placed(problem, theta_b), moved):
-        return []
-    found = []
-    for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
-        placed = _box_placed(problem, theta_a + s * (theta_b - theta_a))
-        found += [(name, float(s)) for name in rows.inside(*placed, TOLERANCE)]
-    return found
+def _placed(rows: CarriedObstacles, kin) -> tuple[np.ndarray, np.ndarray]:
+    """(centre m, rotation) of the box that ``rows`` keep out of obstacles, with the body at kinematics ``kin``."""
+    return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in rows.tcps))
 
 
 def mark_carried(result: Result, frames: tuple[int, int], found: list[tuple[str, float]]) -> Result:
     """``result`` with each obstacle its carried box passes through on the way from the previous frame (``found``:
-    :func:`carried_crossings`) named in its unmet (the frame is then not converged), e.g. "box passes through table
-    between frames 12 and 13"."""
+    :meth:`MotionSweep.carried_crossings`) named in its unmet (the frame is then not converged), e.g. "box passes
+    through table between frames 12 and 13"."""
     problem = result.problem
     a, b = frames
     crossed: dict[str, float] = {}

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from collision_check import box_edges as edges_of
 
 import solver
 from solver.bodies import load_body
@@ -43,11 +44,8 @@ def capsules(frame: dict) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray
 
 
 def box_edges(box: Box) -> tuple[np.ndarray, np.ndarray]:
-    """The 12 edges of ``box`` as segments (world, m)."""
-    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
-    pairs = [(i, j) for i in range(8) for j in range(i + 1, 8) if np.abs(corners[i] - corners[j]).sum() == 2]
-    world = box.center + (corners * box.half) @ box.rotation.T
-    return world[[i for i, _ in pairs]], world[[j for _, j in pairs]]
+    """The 12 edges of ``box`` as segments (world, m), by the independent check's own construction."""
+    return edges_of(dict(center=box.center, size=box.size, rotation_matrix=box.rotation))
 
 
 def assert_clear_of_obstacles(scenario: solver.Scenario, frames: list[dict]) -> None:

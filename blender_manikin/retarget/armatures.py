@@ -15,7 +15,7 @@ from mathutils import Matrix
 
 from ...solver.retarget.shipped import rig_bones, rig_map
 from ...solver.retarget.skeleton import Skeleton, object_scale, rigid_world, rotation_between, skeleton
-from ..scene.armature import model_of
+from ..scene.armature import editing_bones, model_of
 from .properties import write_rows
 
 RIG_OFFSET = (1.0, 0.0, 0.0)  # m, world: where a new shipped rig stands relative to its manikin
@@ -80,13 +80,7 @@ def add_shipped_rig(context: bpy.types.Context, manikin: bpy.types.Object, rig: 
     arm.show_in_front = True
     collection = manikin.users_collection[0] if manikin.users_collection else context.scene.collection
     collection.objects.link(arm)
-    for ob in context.view_layer.objects.selected:
-        ob.select_set(False)
-    context.view_layer.objects.active = arm
-    arm.select_set(True)
-    bpy.ops.object.mode_set(mode="EDIT")
-    try:
-        edit = arm.data.edit_bones
+    with editing_bones(context, arm) as edit:
         for b in bones:
             eb = edit.new(b.name)
             eb.matrix = _roll_matrix(b.head, b.tail, b.rest_head, b.rest_tail, b.roll, eb)
@@ -95,8 +89,6 @@ def add_shipped_rig(context: bpy.types.Context, manikin: bpy.types.Object, rig: 
             if b.parent is not None:
                 edit[b.name].parent = edit[b.parent]
                 edit[b.name].use_connect = b.connect
-    finally:
-        bpy.ops.object.mode_set(mode="OBJECT")
     for b in bones:
         pb = arm.pose.bones[b.name]
         if b.rigify_type and hasattr(pb, "rigify_type"):  # only while the Rigify add-on is enabled

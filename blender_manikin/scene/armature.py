@@ -5,6 +5,8 @@ The custom properties it writes (preset, body file, last solution) are named in 
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import bpy
@@ -87,15 +89,23 @@ def create_manikin(
     return arm
 
 
-def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigLayout) -> list[str]:
-    """The layout's bones and the twist helpers (their names returned)."""
+@contextmanager
+def editing_bones(context: bpy.types.Context, arm: bpy.types.Object) -> Iterator[bpy.types.ArmatureEditBones]:
+    """``arm``'s edit bones, with ``arm`` alone selected and active in edit mode; back in object mode after."""
     for obj in context.view_layer.objects.selected:
         obj.select_set(False)
     context.view_layer.objects.active = arm
     arm.select_set(True)
     bpy.ops.object.mode_set(mode="EDIT")
     try:
-        edit = arm.data.edit_bones
+        yield arm.data.edit_bones
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+
+
+def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigLayout) -> list[str]:
+    """The layout's bones and the twist helpers (their names returned)."""
+    with editing_bones(context, arm) as edit:
         made = []
         for bone in layout.bones:
             eb = edit.new(bone.name)
@@ -107,8 +117,6 @@ def _build_bones(context: bpy.types.Context, arm: bpy.types.Object, layout: RigL
                 eb.parent = made[bone.parent]
             made.append(eb)
         return add_twist_bones(arm, layout)
-    finally:
-        bpy.ops.object.mode_set(mode="OBJECT")
 
 
 def _add_tcp_empty(arm: bpy.types.Object, layout: RigLayout, tcp: str, collection: bpy.types.Collection) -> None:

@@ -30,9 +30,14 @@ _NO_RADIUS = np.zeros(12)  # the box's edges are segments
 _EDGES = np.array([(i, j) for i in range(8) for j in range(i + 1, 8) if np.abs(_CORNERS[i] - _CORNERS[j]).sum() == 2])
 
 
+def box_corners(center: np.ndarray, rotation: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """The 8 corners ((8, 3) world m) of the box ``center``, ``rotation`` (axes as columns), ``half`` sizes."""
+    return center + (_CORNERS * half) @ rotation.T
+
+
 def box_edges(center: np.ndarray, rotation: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The 12 edges (starts, ends: (12, 3) world m) of the box ``center``, ``rotation`` (axes as columns), ``half``."""
-    corners = center + (_CORNERS * half) @ rotation.T
+    corners = box_corners(center, rotation, half)
     return corners[_EDGES[:, 0]], corners[_EDGES[:, 1]]
 
 
@@ -118,10 +123,10 @@ class CarriedObstacles(ClearanceRows):
         if not near.size and not planes:
             return self._far
         distance, on_box, normal, on_other = (array.copy() for array in self._far)
-        a, b = box_edges(centre, rotation, half)
+        corners = box_corners(centre, rotation, half)
+        a, b = corners[_EDGES[:, 0]], corners[_EDGES[:, 1]]
         for i in planes:
             ob, part = self.obstacles[i], slice(self._starts[i], self._starts[i] + 8)
-            corners = centre + (_CORNERS * half) @ rotation.T
             height = (corners - ob.point) @ ob.normal
             distance[part], on_box[part], normal[part] = height, corners, ob.normal
             on_other[part] = corners - height[:, None] * ob.normal
