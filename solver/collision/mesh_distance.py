@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .closest import dot, segment_triangle, unit
+from .closest import dot, unit
 from .mesh_index import MeshIndex, NearMemory
 from .proximity import Proximity, near_only
 from .tree import group_argmin
@@ -23,18 +23,13 @@ SAMPLES = 9  # axis points where the depth inside a closed mesh is measured (t =
 TOUCH = 1e-12  # m: an axis this close to the surface touches it (its normal is then the face's)
 
 
-def _exact(p0, p1, seg, tri, index: MeshIndex) -> tuple[np.ndarray, ...]:
-    t, x, y = segment_triangle(p0[seg], p1[seg], index.a[tri], index.b[tri], index.c[tri])
-    return np.sqrt(dot(x - y, x - y)), t, x, y
-
-
 def _closest_triangles(p0, p1, reach, index: MeshIndex, memory: NearMemory | None, ids) -> tuple[np.ndarray, ...]:
     """Per segment: the nearest triangle within reach (-1 if none), the distance (inf if none), t and the points."""
     k = len(p0)
     which, dist, t, x, y = np.full(k, -1), np.full(k, np.inf), np.zeros(k), p0.copy(), p0.copy()
     seg, tri = index.candidates(p0, p1, reach, memory, ids)
     if seg.size:
-        tt, xx, yy = segment_triangle(p0[seg], p1[seg], index.a[tri], index.b[tri], index.c[tri])
+        tt, xx, yy = index.frames.closest(p0[seg], p1[seg], tri)
         d = np.sqrt(dot(xx - yy, xx - yy))
         best = group_argmin(seg, d, k)
         rows = np.flatnonzero(best >= 0)

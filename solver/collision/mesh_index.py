@@ -14,6 +14,7 @@ from .closest import dot, point_segment, point_triangle, unit
 from .grid import UniformGrid
 from .shapes import Mesh
 from .tree import TriangleTree, group_argmin, group_min
+from .triangle_frames import TriangleFrames
 
 TIE = 1e-12  # m: distances closer than this to the best found count as ties
 
@@ -71,6 +72,7 @@ class MeshIndex:
         self.centroid = tri.mean(axis=1)
         self.bound = np.sqrt(np.max(np.sum((tri - self.centroid[:, None]) ** 2, axis=2), axis=1))
         self.tree = TriangleTree(self.a, self.b, self.c)
+        self.frames = TriangleFrames(self.a, self.b, self.c)
         self.lo, self.hi = mesh.vertices.min(axis=0), mesh.vertices.max(axis=0)
         self.closed = mesh.is_closed()
         outward = -1.0 if self.closed and mesh.signed_volume() < 0 else 1.0
