@@ -1,7 +1,11 @@
-"""A mesh's edges, each once, with a uniform grid over their bounds: which edges come near a box (m).
+"""A mesh's edges that may be nearest a box, each once, with a tree over their bounds (m).
 
 The carried box measures a mesh's own edges against itself (:mod:`solver.constraints.carried_obstacles`): a mesh
-corner poking into the middle of one of its faces touches none of its edges. Built once per mesh, kept with its
+corner poking into the middle of one of its faces touches none of its edges. An edge between two coplanar
+triangles (a flat one, inside a planar region of the mesh) is left out: a box apart from such a region is nearest it
+at one of its own edges or at the region's rim (the non-flat edges around it), never nearer a flat edge than those;
+and a box that meets the region either has one of its own edges through it or a rim edge inside it. So a flat face
+of many triangles costs no rows. Built once per mesh, kept with its
 :class:`~solver.collision.mesh_index.MeshIndex` (:meth:`~solver.collision.mesh_index.MeshIndex.edges`).
 """
 
@@ -9,22 +13,94 @@ from __future__ import annotations
 
 import numpy as np
 
-from .grid import UniformGrid
+from .closest import cross, dot
+from .tree import TIE, TriangleTree
+
+FLAT = 1e-9  # sine of the bend (rad) below which an edge between two triangles counts as flat
+
+
+def _box_bounds(mid: np.ndarray, half_edge: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds (k,) m of the signed distances (negative: minus the penetration depth) of segments
+    mid +- half_edge (k, 3), in box coordinates, to the box |x_i| <= half_i.
+
+    Lower: the gap between the segment's bounds and the box, or where they overlap, minus the least overlap along a
+    face axis (the depth is the least over the separating axes, these among them). Upper: the nearer end's signed
+    distance (a segment is no farther than its ends, and pushing it out moves each end out)."""
+    overlap = half + np.abs(half_edge) - np.abs(mid)  # per axis: of the segment's bounds with the box's (< 0: a gap)
+    least = _least(overlap)
+    gap = np.maximum(-overlap, 0.0)
+    lower = np.where(least >= 0.0, -least, np.sqrt(dot(gap, gap)))
+    upper = None
+    for end in (mid - half_edge, mid + half_edge):
+        beyond = np.abs(end) - half
+        out = np.maximum(beyond, 0.0)
+        signed = np.sqrt(dot(out, out)) - np.maximum(-_most(beyond), 0.0)
+        upper = signed if upper is None else np.minimum(upper, signed)
+    return lower, upper
+
+
+def _least(x: np.ndarray) -> np.ndarray:
+    """Row minima of (k, 3) (column by column: NumPy's reduction along a short last axis is several times slower)."""
+    return np.minimum(np.minimum(x[:, 0], x[:, 1]), x[:, 2])
+
+
+def _most(x: np.ndarray) -> np.ndarray:
+    """Row maxima of (k, 3), as :func:`_least`."""
+    return np.maximum(np.maximum(x[:, 0], x[:, 1]), x[:, 2])
 
 
 class MeshEdges:
-    """The unique edges of triangles ``faces`` (F, 3) over ``vertices`` (V, 3) m: ``start``, ``end`` (E, 3) m, and a
-    grid over their bounding boxes."""
+    """The unique edges of triangles ``faces`` (F, 3) over ``vertices`` (V, 3) m, but the flat ones: ``start``,
+    ``end`` (E, 3) m, and a tree over their bounding boxes."""
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
-        pairs = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-        pairs = np.unique(pairs, axis=0)  # an edge shared by two faces once
-        self.start, self.end = vertices[pairs[:, 0]], vertices[pairs[:, 1]]
-        self.grid = UniformGrid(np.minimum(self.start, self.end), np.maximum(self.start, self.end))
+        first, second, third = (np.concatenate([faces[:, i], faces[:, (i + 1) % 3], faces[:, (i + 2) % 3]])
+                                for i in range(3))  # fmt: skip
+        n = np.int64(len(vertices))
+        key = np.minimum(first, second) * n + np.maximum(first, second)
+        order = np.argsort(key, kind="stable")
+        _, at, count = np.unique(key[order], return_index=True, return_counts=True)
+        keep = np.ones(len(at), dtype=bool)
+        two = np.flatnonzero(count == 2)  # an edge of two triangles: flat if the other's far corner lies in this
+        i, j = order[at[two]], order[at[two] + 1]  # one's plane, across the edge from its own
+        a, along = vertices[first[i]], vertices[second[i]] - vertices[first[i]]
+        p, q = vertices[third[i]] - a, vertices[third[j]] - a
+        up = cross(along, p)
+        height = np.abs(dot(up, q)) / np.maximum(np.sqrt(dot(up, up) * dot(q, q)), 1e-300)
+        keep[two] = (height > FLAT) | (dot(up, cross(along, q)) >= 0.0)
+        edge = order[at[keep]]
+        self.start, self.end = vertices[first[edge]], vertices[second[edge]]
+        self.mid, self.half_edge = (self.start + self.end) / 2.0, (self.end - self.start) / 2.0
+        low, high = np.minimum(self.start, self.end), np.maximum(self.start, self.end)
+        self._low, self._high = tuple(np.ascontiguousarray(low.T)), tuple(np.ascontiguousarray(high.T))  # per axis
+        # a tree of the edges as triangles of no area (its search walks only the nodes near the box; a uniform grid
+        # suits edges of one length, not a mesh's long rims and small rounded corners together)
+        self.tree = TriangleTree(self.start, self.end, self.end)
 
     def __len__(self) -> int:
         return len(self.start)
 
     def meeting(self, low: np.ndarray, high: np.ndarray) -> np.ndarray:
         """Indices (ascending) of the edges whose bounding boxes meet the world box ``low``..``high`` (3,) m."""
-        return np.sort(self.grid.overlapping(low[None], high[None])[1])
+        edge = self.tree.order[self.tree.meeting(low, high)]
+        meet = (self._low[0][edge] <= high[0]) & (self._high[0][edge] >= low[0])
+        for d in (1, 2):
+            meet &= (self._low[d][edge] <= high[d]) & (self._high[d][edge] >= low[d])
+        return np.sort(edge[meet])
+
+    def near_box(self, centre: np.ndarray, rotation: np.ndarray, half: np.ndarray, reach: float,
+                 count: int) -> np.ndarray:  # fmt: skip
+        """Indices (ascending) of edges among which are the ``count`` nearest the box ``centre`` (m), ``rotation``
+        (axes as columns), ``half`` sizes (m), of those whose bounds meet the box's world bounds grown by ``reach``
+        (m): every such edge whose lower bound is below the count-th least upper bound by more than TIE, and the
+        count edges of least upper bounds (so the j-th least distance among them is within TIE of the true one,
+        and a flat of many edges at one distance costs ``count`` exact queries, not one per edge)."""
+        grown = np.abs(rotation) @ half + reach
+        near = self.meeting(centre - grown, centre + grown)
+        if len(near) <= count:
+            return near
+        lower, upper = _box_bounds((self.mid[near] - centre) @ rotation, self.half_edge[near] @ rotation, half)
+        best = np.argpartition(upper, count - 1)[:count]
+        keep = lower < upper[best].max() - TIE
+        keep[best] = True
+        return near[keep]

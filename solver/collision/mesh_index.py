@@ -14,9 +14,7 @@ from .closest import dot, point_segment, point_triangle, unit
 from .grid import UniformGrid
 from .mesh_edges import MeshEdges
 from .shapes import Mesh
-from .tree import TriangleTree, group_argmin, group_min
-
-TIE = 1e-12  # m: distances closer than this to the best found count as ties
+from .tree import TIE, TriangleTree, group_argmin, group_min
 
 
 class _Column:
@@ -91,7 +89,7 @@ class MeshIndex:
         self._edges: MeshEdges | None = None
 
     def edges(self) -> MeshEdges:
-        """The mesh's unique edges with a grid over them, built on first use and kept with the index."""
+        """The mesh's edges that may be nearest a box, with a tree over them, built on first use and kept here."""
         if self._edges is None:
             self._edges = MeshEdges(self.mesh.vertices, self.mesh.faces)
         return self._edges

@@ -146,7 +146,7 @@ class CarriedObstacles(ClearanceRows):
             part = slice(at, at + 12)
             distance[part] = np.where(np.isfinite(got.distance), got.distance, reach + 1.0)
             on_box[part], normal[part], on_other[part] = got.point, got.normal, got.closest
-            back = self._reverse_rows(i, centre, rotation, extent + reach)
+            back = self._reverse_rows(i, centre, rotation, reach)
             if back is not None:
                 got, radii = back
                 part = slice(at + 12, at + 12 + len(radii))
@@ -155,12 +155,13 @@ class CarriedObstacles(ClearanceRows):
         return distance, on_box, normal, on_other
 
     def _reverse_rows(self, i: int, centre: np.ndarray, rotation: np.ndarray,
-                      grown: np.ndarray) -> tuple[Proximity, np.ndarray] | None:  # fmt: skip
-        """Obstacle ``i``'s own edges (axis, centre) against the box at ``centre`` (m), ``rotation`` (bounds: centre
-        +- ``grown``, m): (their Proximity, radii (k,) m), a mesh's nearest first (at most EDGE_ROWS); None if none."""
+                      reach: float) -> tuple[Proximity, np.ndarray] | None:  # fmt: skip
+        """Obstacle ``i``'s own edges (axis, centre) against the box at ``centre`` (m), ``rotation``: (their Proximity,
+        radii (k,) m); a mesh's nearest first, at most EDGE_ROWS of its edges whose bounds come within ``reach`` (m) of
+        the box's; None if none."""
         if i in self._edges:
             edges = self._edges[i]
-            near = edges.meeting(centre - grown, centre + grown)
+            near = edges.near_box(centre, rotation, self.half, reach, EDGE_ROWS)
             if not near.size:
                 return None
             s0, s1, radii = edges.start[near], edges.end[near], np.zeros(len(near))
