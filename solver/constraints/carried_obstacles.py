@@ -7,12 +7,13 @@ Rows, per obstacle: against a half-space (the floor) one per box corner, g = n.(
 (the lowest point of a box is a corner); against any other obstacle one per box edge, g = the edge's (a segment of
 radius 0) signed distance to it; and one per edge of the obstacle (its axis, for a capsule or a sphere) to the
 carried box: two convex shapes are nearest at an edge of one of them, so the two sets of rows see every way they
-meet. For a mesh those are its EDGE_ROWS edges nearest the box, nearest first, among the edges whose bounds come
-within the margin of the box's (a mesh corner poking into the middle of one of the box's faces touches none of the
-box's edges): the k-th smallest distance is continuous, and each row is exact for the edge it holds. The Jacobian
-of a row is n . (velocity of the box's material point at its nearest point), n pointing away from the obstacle,
-through both TCPs (:func:`solver.carried.box_motion_terms`). Only obstacles whose bounds come within the margin of
-the box's bounds are measured.
+meet. For a mesh those are its EDGE_ROWS edges nearest the box, nearest first, among its edges but the flat ones
+(:mod:`solver.collision.mesh_edges`) whose bounds come within the margin of the box's (a mesh corner poking into
+the middle of one of the box's faces touches none of the box's edges): the k-th smallest distance is continuous (to
+1e-12 m at ties), and each row is exact for the edge it holds. The Jacobian of a row is n . (velocity of the box's
+material point at its nearest point), n pointing away from the obstacle, through both TCPs
+(:func:`solver.carried.box_motion_terms`). Only obstacles whose bounds come within the margin of the box's bounds
+are measured.
 """
 
 from __future__ import annotations
