@@ -218,15 +218,17 @@ def test_bad_mesh_files_are_one_line_naming_the_file_and_line(tmp_path):
     one_line_error(lambda: read_mesh(tmp_path / "missing.obj"), "missing.obj", "cannot read")
 
 
-def test_a_mesh_keeps_its_edges_once_but_the_flat_ones():
-    """A box of 6 faces split into d x d squares keeps only its 12 d rim pieces (every edge inside a face is flat);
-    two coplanar triangles drop their shared edge, a fin (the second folded onto the first) keeps it."""
+def test_a_mesh_keeps_its_edges_once_but_the_flat_ones_and_joins_straight_runs():
+    """A box of 6 faces split into d x d squares keeps just its 12 edges, each one segment corner to corner (every edge
+    inside a face is flat, the d pieces of a rim run straight); two coplanar triangles drop their shared edge, a fin
+    (the second folded onto the first) keeps it."""
     turn = exp_so3(np.array([0.3, -0.2, 0.5]))
     for d in (1, 2, 5):
         edges = MeshIndex(Mesh(*box_mesh([0.1, 0.2, 0.3], [1.0, 0.5, 0.9], d, turn))).edges()
-        assert len(edges) == 12 * d
-        local = np.abs((np.concatenate([edges.start, edges.end]) - [0.1, 0.2, 0.3]) @ turn)
-        assert (np.isclose(local, [0.5, 0.25, 0.45]).sum(axis=1) >= 2).all()  # on two faces at once: a rim
+        local = np.abs((np.stack([edges.start, edges.end]) - [0.1, 0.2, 0.3]) @ turn)
+        assert len(edges) == 12 and np.allclose(local, [0.5, 0.25, 0.45])  # corners
+        lengths = np.linalg.norm(edges.end - edges.start, axis=1)
+        np.testing.assert_allclose(np.sort(lengths), np.repeat([0.5, 0.9, 1.0], 4))
     square = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.5, -0.8, 0]], dtype=float)
     assert len(MeshEdges(square, np.array([[0, 1, 2], [1, 0, 3]]))) == 4
     fin = square * [[1, 1, 1], [1, 1, 1], [1, 1, 1], [1, -1, 1]]  # the second's far corner on the first's side

@@ -5,7 +5,8 @@ corner poking into the middle of one of its faces touches none of its edges. An 
 triangles (a flat one, inside a planar region of the mesh) is left out: a box apart from such a region is nearest it
 at one of its own edges or at the region's rim (the non-flat edges around it), never nearer a flat edge than those;
 and a box that meets the region either has one of its own edges through it or a rim edge inside it. So a flat face
-of many triangles costs no rows. Built once per mesh, kept with its
+of many triangles costs no rows; and a straight run of edges (a subdivided rim) is one segment, so that a box
+resting on a rim is held by one row, not by the nearest few of its pieces. Built once per mesh, kept with its
 :class:`~solver.collision.mesh_index.MeshIndex` (:meth:`~solver.collision.mesh_index.MeshIndex.edges`).
 """
 
@@ -49,27 +50,69 @@ def _most(x: np.ndarray) -> np.ndarray:
     return np.maximum(np.maximum(x[:, 0], x[:, 1]), x[:, 2])
 
 
+def _sharp_edges(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The edges (first, second vertex indices (E,)) of triangles ``faces``, each once, but the flat ones: two
+    triangles on them whose far corners lie in one plane on either side (within FLAT)."""
+    first, second, third = (np.concatenate([faces[:, i], faces[:, (i + 1) % 3], faces[:, (i + 2) % 3]])
+                            for i in range(3))  # fmt: skip
+    n = np.int64(len(vertices))
+    key = np.minimum(first, second) * n + np.maximum(first, second)
+    order = np.argsort(key, kind="stable")
+    _, at, count = np.unique(key[order], return_index=True, return_counts=True)
+    keep = np.ones(len(at), dtype=bool)
+    two = np.flatnonzero(count == 2)
+    i, j = order[at[two]], order[at[two] + 1]
+    a, along = vertices[first[i]], vertices[second[i]] - vertices[first[i]]
+    p, q = vertices[third[i]] - a, vertices[third[j]] - a
+    up = cross(along, p)
+    height = np.abs(dot(up, q)) / np.maximum(np.sqrt(dot(up, up) * dot(q, q)), 1e-300)
+    keep[two] = (height > FLAT) | (dot(up, cross(along, q)) >= 0.0)
+    edge = order[at[keep]]
+    return first[edge], second[edge]
+
+
+def _joined(vertices: np.ndarray, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edges u-v (vertex indices) with every straight run joined into one (a subdivided rim is one segment: the
+    same points, so the same distance): a vertex on exactly two edges that go on in one line (within FLAT) is
+    passed through. Returns the runs' end vertices."""
+    count = len(u)
+    ends = np.concatenate([u, v])
+    edge = np.tile(np.arange(count), 2)
+    order = np.argsort(ends, kind="stable")
+    degree = np.bincount(ends, minlength=len(vertices))
+    start = np.concatenate([[0], np.cumsum(degree)])
+    middle = np.flatnonzero(degree == 2)
+    e1, e2 = edge[order[start[middle]]], edge[order[start[middle] + 1]]
+    d1 = vertices[np.where(u[e1] == middle, v[e1], u[e1])] - vertices[middle]
+    d2 = vertices[np.where(u[e2] == middle, v[e2], u[e2])] - vertices[middle]
+    across = cross(d1, d2)
+    straight = (np.sqrt(dot(across, across)) <= FLAT * np.sqrt(dot(d1, d1) * dot(d2, d2))) & (dot(d1, d2) < 0.0)
+    e1, e2 = e1[straight], e2[straight]
+    if not e1.size:
+        return u, v
+    label = np.arange(count)  # each run takes its least edge number (labels spread along the run until settled)
+    while True:
+        low = np.minimum(label[e1], label[e2])
+        spread = label.copy()
+        np.minimum.at(spread, e1, low)
+        np.minimum.at(spread, e2, low)
+        spread = spread[spread]
+        if np.array_equal(spread, label):
+            break
+        label = spread
+    # a run's ends are the vertices met once among its edges' ends (the passed-through ones twice)
+    key, seen = np.unique(np.tile(label, 2) * np.int64(len(vertices)) + ends, return_counts=True)
+    tips = key[seen == 1]  # sorted by run: two per run
+    return tips[0::2] % len(vertices), tips[1::2] % len(vertices)
+
+
 class MeshEdges:
-    """The unique edges of triangles ``faces`` (F, 3) over ``vertices`` (V, 3) m, but the flat ones: ``start``,
-    ``end`` (E, 3) m, and a tree over their bounding boxes."""
+    """The edges of triangles ``faces`` (F, 3) over ``vertices`` (V, 3) m, each once, but the flat ones, straight
+    runs joined: ``start``, ``end`` (E, 3) m, and a tree over their bounding boxes."""
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
-        first, second, third = (np.concatenate([faces[:, i], faces[:, (i + 1) % 3], faces[:, (i + 2) % 3]])
-                                for i in range(3))  # fmt: skip
-        n = np.int64(len(vertices))
-        key = np.minimum(first, second) * n + np.maximum(first, second)
-        order = np.argsort(key, kind="stable")
-        _, at, count = np.unique(key[order], return_index=True, return_counts=True)
-        keep = np.ones(len(at), dtype=bool)
-        two = np.flatnonzero(count == 2)  # an edge of two triangles: flat if the other's far corner lies in this
-        i, j = order[at[two]], order[at[two] + 1]  # one's plane, across the edge from its own
-        a, along = vertices[first[i]], vertices[second[i]] - vertices[first[i]]
-        p, q = vertices[third[i]] - a, vertices[third[j]] - a
-        up = cross(along, p)
-        height = np.abs(dot(up, q)) / np.maximum(np.sqrt(dot(up, up) * dot(q, q)), 1e-300)
-        keep[two] = (height > FLAT) | (dot(up, cross(along, q)) >= 0.0)
-        edge = order[at[keep]]
-        self.start, self.end = vertices[first[edge]], vertices[second[edge]]
+        u, v = _joined(vertices, *_sharp_edges(vertices, faces))
+        self.start, self.end = vertices[u], vertices[v]
         self.mid, self.half_edge = (self.start + self.end) / 2.0, (self.end - self.start) / 2.0
         low, high = np.minimum(self.start, self.end), np.maximum(self.start, self.end)
         self._low, self._high = tuple(np.ascontiguousarray(low.T)), tuple(np.ascontiguousarray(high.T))  # per axis
