@@ -118,13 +118,15 @@ class MeshEdges:
         self._low, self._high = tuple(np.ascontiguousarray(low.T)), tuple(np.ascontiguousarray(high.T))  # per axis
         # a tree of the edges as triangles of no area (its search walks only the nodes near the box; a uniform grid
         # suits edges of one length, not a mesh's long rims and small rounded corners together)
-        self.tree = TriangleTree(self.start, self.end, self.end)
+        self.tree = TriangleTree(self.start, self.end, self.end) if len(u) else None
 
     def __len__(self) -> int:
         return len(self.start)
 
     def meeting(self, low: np.ndarray, high: np.ndarray) -> np.ndarray:
         """Indices (ascending) of the edges whose bounding boxes meet the world box ``low``..``high`` (3,) m."""
+        if self.tree is None:
+            return np.zeros(0, dtype=np.int64)
         edge = self.tree.order[self.tree.meeting(low, high)]
         meet = (self._low[0][edge] <= high[0]) & (self._high[0][edge] >= low[0])
         for d in (1, 2):
