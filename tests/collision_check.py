@@ -14,8 +14,9 @@ Deliberately plain methods, each obviously right rather than fast:
   midpoint, x from the first to the second, z world up made square to x, or world y for a near-vertical x), checked
   against the centre and rotation the file states, and then measured like any box, leaving out the capsules on the
   two holding TCPs' links (the hands holding it). It is kept out of the obstacles and above the floor too: its 12
-  edges measured against each obstacle, a box's edges, a capsule's axis or a sphere's centre against it, and a
-  mesh's vertices for being inside it.
+  edges measured against each obstacle, and a box's edges, a capsule's axis, a sphere's centre or a mesh's edges
+  against it (the signed distance to the box along each segment: a mesh edge through the box with both its ends
+  outside, or a mesh corner poking into the middle of a face, is inside).
 - Penetration is the depth of the deepest point of the capsule's axis inside the obstacle plus the radius, so the
   measured "distance" is negative whenever the capsule and the obstacle overlap; where they are apart it is the
   exact surface-to-surface distance. (For a box the solver reports the shortest separating translation instead,
@@ -246,8 +247,8 @@ def box_edges(ob: dict) -> tuple[np.ndarray, np.ndarray]:
 
 def carried_distance(box: dict, ob: dict) -> float:
     """Signed distance (m) between a carried box and an obstacle: the least over the box's edges to the obstacle and
-    the obstacle's edges (its axis, its centre) to the box (two convex shapes are nearest at an edge of one of them);
-    for a mesh, also its vertices inside the box."""
+    the obstacle's edges (its axis, its centre; every triangle's edges of a mesh) to the box (two convex shapes are
+    nearest at an edge of one of them)."""
     a, b = box_edges(box)
     distance = float(axis_distance(ob, a, b).min())
     kind = ob["kind"]
@@ -260,8 +261,15 @@ def carried_distance(box: dict, ob: dict) -> float:
             distance, float(axis_distance(box, np.array([a], float), np.array([b], float))[0]) - ob["radius"]
         )
     elif kind == "mesh":
-        corners = ob["triangles"].reshape(-1, 3)
-        distance = min(distance, float(point_box(corners, box["center"], box["size"], _box_rotation(box)).min()))
+        tris = ob["triangles"]
+        a, b = tris.reshape(-1, 3), tris[:, [1, 2, 0]].reshape(-1, 3)  # the triangles' edges (shared ones twice)
+        # the box lies in the ball about its centre of radius half its diagonal, so no point p of an edge is nearer
+        # (signed) than |p - centre| - that radius: the edges for which that bound is not below the least so far
+        # cannot lower it
+        reach = float(np.linalg.norm(box["size"])) / 2.0
+        maybe = point_segment(np.asarray(box["center"], dtype=float), a, b) - reach <= distance
+        if maybe.any():
+            distance = min(distance, float(axis_distance(box, a[maybe], b[maybe]).min()))
     return distance
 
 

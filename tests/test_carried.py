@@ -13,11 +13,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 from collision_check import box_edges as edges_of
+from collision_check import carried_distance, carried_obstacle
 
 import solver
 from solver.bodies import load_body
 from solver.carried import Carried, carried_box, carried_frame
-from solver.collision import Box, HalfSpace, box_distance, obstacle_distance
+from solver.collision import Box, HalfSpace, Mesh, box_distance, obstacle_distance
 from solver.collision.body import capsules_of
 from solver.errors import ScenarioError
 from solver.priorities import ranked
@@ -176,6 +177,55 @@ def test_hands_set_the_box_down_inside_a_table_leave_it_on_the_table_top(tmp_pat
     assert gap <= 0.002  # on the top, not held above it
     assert frame["tcps"]["hand_r"]["position"][2] == pytest.approx(0.84, abs=0.002)  # 4 cm above its target
     assert "box vs table" in {c["pair"] for c in frame["closest"]}
+
+
+def spike(tip, height: float = 0.3, half: float = 0.1) -> Mesh:
+    """A closed square pyramid standing on the floor side, its tip (m) up: base ``half`` (m) wide each way,
+    ``height`` (m) below the tip."""
+    tip = np.asarray(tip, dtype=float)
+    base = [tip + [x * half, y * half, -height] for x, y in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    faces = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4], [0, 2, 1], [0, 3, 2]]  # counter-clockwise from outside
+    return Mesh(np.array([*base, tip]), np.array(faces), name="spike")
+
+
+def test_a_mesh_corner_poking_into_the_middle_of_a_box_face_is_measured():
+    """A pyramid's tip 1 cm up into the middle of the box's bottom face touches none of the box's edges; the rows
+    see it (the mesh's own edges against the box) at -1 cm, and the box counts as inside it."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
+    centre, rotation = np.array([0.0, -0.3, 0.9]), np.eye(3)
+    pyramid = spike(centre - [0.0, 0.0, 0.11])
+    rows = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[pyramid])
+    rows = rows.carried_obstacle_constraint
+    a, b = box_edges(Box(centre, box.size, rotation))
+    assert obstacle_distance(a, b, np.zeros(12), pyramid).distance.min() > 0.05  # the box's edges are far from it
+    distance, on_box, normal, on_other = rows.gaps(centre, rotation)
+    deepest = int(np.argmin(distance))
+    assert distance[deepest] == pytest.approx(-0.01, abs=1e-9)
+    assert np.allclose(normal[deepest], [0.0, 0.0, 1.0]) and np.allclose(on_other[deepest], pyramid.vertices[4])
+    assert np.allclose(on_box[deepest], pyramid.vertices[4] - [0.0, 0.0, 0.01])  # on the bottom face, under the tip
+    assert rows.inside(centre, rotation, 1e-3) == ["spike"]
+    assert rows.inside(centre + [0.0, 0.0, 0.02], rotation, 1e-3) == []
+
+
+def test_hands_set_the_box_down_onto_a_spike_leave_it_on_the_tip(tmp_path):
+    """Hand targets that would push a pyramid's tip 4 cm up into the middle of the box's bottom face end unmet: the
+    box rests on the tip, recomputed from the result JSON by the independent check (the mesh's edges against the
+    box too)."""
+    model = load_body(preset="male_50")
+    box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
+    pyramid = spike([0.0, -0.24, 0.72], height=0.2, half=0.04)  # the box's bottom held at 0.68 m
+    problem = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[pyramid])
+    result = solver.solve(problem)
+    assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
+    out = tmp_path / "result.json"
+    solver.write_result(out, result)
+    (frame,) = json.loads(out.read_text(encoding="utf-8"))["frames"]
+    placed, _, wrong = carried_obstacle(frame)
+    table = dict(kind="mesh", name="spike", triangles=pyramid.vertices[pyramid.faces], closed=True, clearance=0.0)
+    assert wrong == [] and -TOLERANCE <= carried_distance(placed, table) <= 0.002  # on the tip, not above it
+    assert frame["carried"]["center"][2] == pytest.approx(0.84, abs=0.002)  # 4 cm above where the hands would hold it
+    assert "box vs spike" in {c["pair"] for c in frame["closest"]}
 
 
 def test_the_box_stays_above_the_floor():

@@ -1,5 +1,5 @@
 """Obstacle shapes validate their geometry with one-line errors; meshes read from OBJ, STL and PLY files round trip;
-closedness, orientation and the inside test of a mesh."""
+closedness, orientation and the inside test of a mesh; a mesh's edges that may be nearest a box."""
 
 from __future__ import annotations
 
@@ -16,12 +16,15 @@ from solver.collision import (
     Mesh,
     MeshIndex,
     Sphere,
+    box_distance,
     degenerate_faces,
     read_mesh,
     write_obj,
 )
 from solver.collision.generate import box_mesh, height_field
+from solver.collision.mesh_edges import MeshEdges
 from solver.errors import ScenarioError
+from solver.spatial import exp_so3
 
 
 def one_line_error(make, *words: str) -> str:
@@ -213,3 +216,46 @@ def test_bad_mesh_files_are_one_line_naming_the_file_and_line(tmp_path):
     bad("i.ply", header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n", "ends before")
     bad("j.mesh", "", "unknown mesh file type", ".obj")
     one_line_error(lambda: read_mesh(tmp_path / "missing.obj"), "missing.obj", "cannot read")
+
+
+def test_a_mesh_keeps_its_edges_once_but_the_flat_ones_and_joins_straight_runs():
+    """A box of 6 faces split into d x d squares keeps just its 12 edges, each one segment corner to corner (every edge
+    inside a face is flat, the d pieces of a rim run straight); two coplanar triangles drop their shared edge, a fin
+    (the second folded onto the first) keeps it."""
+    turn = exp_so3(np.array([0.3, -0.2, 0.5]))
+    for d in (1, 2, 5):
+        edges = MeshIndex(Mesh(*box_mesh([0.1, 0.2, 0.3], [1.0, 0.5, 0.9], d, turn))).edges()
+        local = np.abs((np.stack([edges.start, edges.end]) - [0.1, 0.2, 0.3]) @ turn)
+        assert len(edges) == 12 and np.allclose(local, [0.5, 0.25, 0.45])  # corners
+        lengths = np.linalg.norm(edges.end - edges.start, axis=1)
+        np.testing.assert_allclose(np.sort(lengths), np.repeat([0.5, 0.9, 1.0], 4))
+    square = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.5, -0.8, 0]], dtype=float)
+    assert len(MeshEdges(square, np.array([[0, 1, 2], [1, 0, 3]]))) == 4
+    fin = square * [[1, 1, 1], [1, 1, 1], [1, 1, 1], [1, -1, 1]]  # the second's far corner on the first's side
+    assert len(MeshEdges(fin, np.array([[0, 1, 2], [1, 0, 3]]))) == 5
+    assert len(MeshEdges(fin, np.array([[0, 1, 2], [0, 1, 3]]))) == 5  # either winding
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_edges_near_a_box_hold_the_nearest(seed):
+    """Against every edge measured (box_distance): the edges whose bounds meet a box's are found by the tree, and the
+    few near_box keeps hold the 8 nearest (their 8 least distances equal the 8 least of all), for a bumpy surface
+    and a closed box of triangles, boxes turned at random through, on and near them."""
+    rng = np.random.default_rng(seed)
+    bumps = height_field([-0.5, -0.5, 0.0], [1.0, 1.0], (24, 24), lambda x, y: 0.05 * np.sin(9 * x) * np.cos(7 * y))
+    meshes = [Mesh(*bumps), Mesh(*box_mesh([0.0, 0.0, -0.2], [0.8, 0.6, 0.4], 6, exp_so3(rng.normal(size=3))))]
+    for mesh in meshes:
+        edges = MeshIndex(mesh).edges()
+        for _ in range(10):
+            centre, turn = rng.uniform([-0.3, -0.3, -0.1], [0.3, 0.3, 0.3]), exp_so3(rng.normal(size=3))
+            half = rng.uniform(0.05, 0.2, 3)
+            low, high = centre - np.abs(turn) @ half - 0.05, centre + np.abs(turn) @ half + 0.05
+            meet = np.flatnonzero(np.all((np.minimum(edges.start, edges.end) <= high)
+                                         & (np.maximum(edges.start, edges.end) >= low), axis=1))  # fmt: skip
+            assert np.array_equal(edges.meeting(low, high), meet)
+            box = Box(centre, 2 * half, turn)
+            every = box_distance(edges.start[meet], edges.end[meet], np.zeros(len(meet)), box).distance
+            kept = edges.near_box(centre, turn, half, 0.05, 8)
+            assert set(kept) <= set(meet)
+            mine = box_distance(edges.start[kept], edges.end[kept], np.zeros(len(kept)), box).distance
+            np.testing.assert_allclose(np.sort(mine)[:8], np.sort(every)[:8], atol=1e-12)

@@ -16,6 +16,7 @@ import pytest
 from collision_check import (
     axis_distance,
     capsule_pair,
+    carried_obstacle,
     frame_problems,
     is_closed,
     non_finite,
@@ -170,6 +171,14 @@ def test_the_check_places_the_carried_box_from_the_tcps(tmp_path):
     assert any(p.endswith("not in closest") and "box vs bench" in p for p in frame_problems(frame, [bench], floor))
     raised = dict(kind="plane", name="step", point=[0, 0, bottom + 0.02], normal=[0, 0, 1], clearance=0.0)
     assert any(p.startswith("frame 1: box vs step: -0.02") for p in frame_problems(frame, [raised], False))
+    # a triangle in the box's middle plane across its depth: its bottom edge passes through the box's front and back
+    # faces 9 cm below the top, both its ends 3 cm outside, its tip 7 cm above the top; none of the box's edges
+    # comes within 4 cm of it, no corner of it is inside
+    box = carried_obstacle(frame)[0]
+    corners = np.array([[0.0, -0.16, 0.03], [0.0, 0.16, 0.03], [0.0, 0.0, 0.19]])  # box coordinates, m
+    blade = dict(kind="mesh", name="blade", triangles=(box["center"] + corners @ box["rotation_matrix"].T)[None],
+                 closed=False, clearance=0.0)  # fmt: skip
+    assert any(p.startswith("frame 1: box vs blade: -0.0900 m") for p in frame_problems(frame, [blade], floor))
 
 
 # --------------------------------------------------------------------------------------------- solved scenarios

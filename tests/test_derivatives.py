@@ -201,11 +201,11 @@ def carried_cases():
         yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, carried=box), x
 
 
-def clearance_rows_against_differences(c, problem, x, plateau: bool = False) -> np.ndarray:
+def clearance_rows_against_differences(c, problem, x, plateau: bool = False, counted=slice(None)) -> np.ndarray:
     """Check one-sided clearance rows ``c`` at ``x`` against central differences: dg/dx of every row against g, and
-    the step's Jacobian against the error, watched rows against g. Returns how many rows were inside, within the
-    watch band, farther. ``plateau``: leave out rows reading exactly 0 (a segment through a closed mesh with none of
-    its depth samples inside reads 0 until one is: flat, so differences see no slope there)."""
+    the step's Jacobian against the error, watched rows against g. Returns how many rows (of ``counted``) were
+    inside, within the watch band, farther. ``plateau``: leave out rows reading exactly 0 (a segment through a closed
+    mesh with none of its depth samples inside reads 0 until one is: flat, so differences see no slope there)."""
     state = problem.state(x)
     value = c.value(state)
     keep = value != 0.0 if plateau else np.ones(len(value), dtype=bool)
@@ -217,7 +217,7 @@ def clearance_rows_against_differences(c, problem, x, plateau: bool = False) -> 
     watched = (c.slack(state) > 0.0) & analytic.any(axis=1)
     error[watched] = numeric[watched]
     np.testing.assert_allclose(analytic[keep], error[keep], atol=1e-6 * scale)
-    value = value[keep]
+    value = value[counted][keep[counted]]
     return np.array([(value < 0).sum(), ((value >= 0) & (value < c.watch)).sum(), (value >= c.watch).sum()])
 
 
@@ -230,39 +230,62 @@ def test_carried_box_jacobian():
     assert (seen >= 3).all(), seen
 
 
+def pyramid(tip: np.ndarray, axis: np.ndarray, name: str):
+    """A closed square pyramid (its edges 30 cm long about ``axis``, a rotation whose z axis points from the tip
+    into the pyramid), tip at ``tip`` (m)."""
+    from solver.collision import Mesh
+
+    base = [tip + axis @ [0.1 * x, 0.1 * y, 0.28] for x, y in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    faces = [[0, 4, 1], [1, 4, 2], [2, 4, 3], [3, 4, 0], [0, 1, 2], [0, 2, 3]]
+    return Mesh(np.array([*base, tip]), np.array(faces), name=name)
+
+
 def carried_obstacle_cases():
     """(problem, x) pairs: random trees holding a box between t2 and t3 among a box, a sphere, a capsule and a
-    closed mesh and a tilted half-space placed at random around where the box is, and the floor."""
+    closed mesh and a tilted half-space placed at random around where the box is, the floor, and a pyramid whose
+    tip is a little inside or outside the middle of the box's bottom face (its axis tilted at random)."""
     from solver.carried import Carried, carried_frame
     from solver.collision import Box, Capsule, HalfSpace, Mesh, Sphere
     from solver.collision.generate import box_mesh
 
-    for seed in range(4):
+    for seed, depth in zip(range(4), (0.01, -0.004, 0.003, -0.007), strict=True):
         _, problem, x, rng = random_case(seed, 400)
         size = np.array([0.5, 0.4, 0.3])
         kin = problem.state(x).kin
-        centre, _ = carried_frame(*(kin.tcp_frame(problem.model.tcp(t))[1] for t in ("t2", "t3")))
+        centre, rotation = carried_frame(*(kin.tcp_frame(problem.model.tcp(t))[1] for t in ("t2", "t3")))
         near = [centre + rng.uniform(-0.45, 0.45, 3) for _ in range(4)]
         turn = exp_so3(rng.normal(size=3))
         obstacles = [Box(near[0], np.array([0.3, 0.2, 0.25]), turn, name="b"), Sphere(near[1], 0.15, name="s"),
                      Capsule(near[2], near[2] + rng.normal(size=3) * 0.2, 0.08, name="c"),
                      Mesh(*box_mesh(near[3], np.array([0.3, 0.3, 0.2]), 2, turn), name="m"),
                      HalfSpace(centre - rng.uniform(0.05, 0.25) * turn[:, 2], turn[:, 2], name="h")]  # fmt: skip
+        down = rotation @ np.diag([1.0, -1.0, -1.0]) @ exp_so3(rng.normal(scale=0.3, size=3))  # z: the box's -z, tilted
+        tip = centre - (size[2] / 2 - depth) * rotation[:, 2]
+        obstacles.append(pyramid(tip, down, "p"))
         yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, obstacles=obstacles,
                       carried=Carried(size, ("t2", "t3"), "crate")), x  # fmt: skip
 
 
 def test_carried_box_obstacle_jacobian():
     """The carried box's rows against the obstacles and the floor (its edges against each obstacle, the obstacles'
-    edges against it, its corners above the floor) against central differences; inside, near and clear rows."""
-    seen = np.zeros(3, dtype=int)
+    edges against it, its corners above the floor) against central differences; inside, near and clear rows, also
+    among the meshes' own edges' rows alone (a box of triangles and a pyramid poking its tip into the box)."""
+    from solver.constraints.carried_obstacles import EDGE_ROWS, CarriedObstacles
+
+    seen, edges = np.zeros(3, dtype=int), np.zeros(3, dtype=int)
     kinds = set()
     for problem, x in carried_obstacle_cases():
         c = problem.carried_obstacle_constraint
         seen += clearance_rows_against_differences(c, problem, x, plateau=True)
         kinds |= {pair.other for pair in c.closest(problem.state(x))}
+        meshes = [ob for ob in problem.obstacles if ob.name in ("m", "p")]
+        alone = CarriedObstacles(problem.model, problem.carried, meshes, problem.n_x)  # 12 + EDGE_ROWS rows each
+        assert alone.rows == 2 * (12 + EDGE_ROWS)
+        reverse = np.r_[12 : 12 + EDGE_ROWS, 24 + EDGE_ROWS : 24 + 2 * EDGE_ROWS]
+        edges += clearance_rows_against_differences(alone, problem, x, plateau=True, counted=reverse)
     assert (seen >= 3).all(), seen
-    assert kinds == {"b", "s", "c", "m", "h"}, kinds
+    assert (edges >= 3).all(), edges
+    assert kinds == {"b", "s", "c", "m", "h", "p"}, kinds
 
 
 def test_carried_box_point_velocity():

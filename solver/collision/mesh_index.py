@@ -12,11 +12,10 @@ import numpy as np
 
 from .closest import dot, point_segment, point_triangle, unit
 from .grid import UniformGrid
+from .mesh_edges import MeshEdges
 from .shapes import Mesh
-from .tree import TriangleTree, group_argmin, group_min
+from .tree import TIE, TriangleTree, group_argmin, group_min
 from .triangle_frames import TriangleFrames
-
-TIE = 1e-12  # m: distances closer than this to the best found count as ties
 
 
 class _Column:
@@ -89,6 +88,13 @@ class MeshIndex:
         )
         self._column = _Column(mesh.vertices, mesh.faces) if self.closed else None
         self._memories: dict[tuple[str, ...], NearMemory] = {}
+        self._edges: MeshEdges | None = None
+
+    def edges(self) -> MeshEdges:
+        """The mesh's edges that may be nearest a box, with a tree over them, built on first use and kept here."""
+        if self._edges is None:
+            self._edges = MeshEdges(self.mesh.vertices, self.mesh.faces)
+        return self._edges
 
     def memory(self, capsules: tuple[str, ...]) -> NearMemory:
         """The :class:`NearMemory` of queries by these capsules (named in order), kept with the index: every problem

@@ -16,6 +16,7 @@ from .closest import distances_to_segments, dot
 
 BRANCH = 8
 TOP = 64
+TIE = 1e-12  # m: distances closer than this to the best found count as ties (a search may drop either)
 
 
 def kd_order(points: np.ndarray) -> np.ndarray:
@@ -112,6 +113,19 @@ class TriangleTree:
         seg = np.repeat(seg, BRANCH)
         real = slot < self.size
         return seg[real], slot[real]
+
+    def meeting(self, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+        """Triangle slots under every lowest node whose box meets the box ``low``..``high`` (3,) m: among them every
+        triangle whose own box meets it."""
+        node = np.arange(len(self.levels[0]))
+        for level in self.levels:
+            row = level[node]
+            meet = (row[:, 0] <= high[0]) & (row[:, 3] >= low[0])  # axis by axis: padding nodes (FAR) never meet
+            for d in (1, 2):
+                meet &= (row[:, d] <= high[d]) & (row[:, 3 + d] >= low[d])
+            node = node[meet]
+            node = (node[:, None] * BRANCH + np.arange(BRANCH)).ravel()  # the children: nodes, or at last slots
+        return node[node < self.size]
 
     def search(
         self, p0: np.ndarray, p1: np.ndarray, upper: np.ndarray, slack: float = 0.0

@@ -5,12 +5,15 @@ a table ends unmet, the box on the table top, like any target pulling a body par
 
 Rows, per obstacle: against a half-space (the floor) one per box corner, g = n.(corner - point), exact and smooth
 (the lowest point of a box is a corner); against any other obstacle one per box edge, g = the edge's (a segment of
-radius 0) signed distance to it; against a box, a capsule or a sphere also one per edge of it (its axis, for a
-capsule or a sphere) to the carried box: two convex shapes are nearest at an edge of one of them, so the two sets of
-rows see every way they meet. A mesh's own edges are not measured against the box (a mesh corner poking into the
-middle of one of the box's faces is missed). The Jacobian of a row is n . (velocity of the box's material point at
-its nearest point), n pointing away from the obstacle, through both TCPs (:func:`solver.carried.box_motion_terms`).
-Only obstacles whose bounds come within the margin of the box's bounds are measured.
+radius 0) signed distance to it; and one per edge of the obstacle (its axis, for a capsule or a sphere) to the
+carried box: two convex shapes are nearest at an edge of one of them, so the two sets of rows see every way they
+meet. For a mesh those are its EDGE_ROWS edges nearest the box, nearest first, among its edges but the flat ones
+(:mod:`solver.collision.mesh_edges`) whose bounds come within the margin of the box's (a mesh corner poking into
+the middle of one of the box's faces touches none of the box's edges): the k-th smallest distance is continuous (to
+1e-12 m at ties), and each row is exact for the edge it holds. The Jacobian of a row is n . (velocity of the box's
+material point at its nearest point), n pointing away from the obstacle, through both TCPs
+(:func:`solver.carried.box_motion_terms`). Only obstacles whose bounds come within the margin of the box's bounds
+are measured.
 """
 
 from __future__ import annotations
@@ -18,15 +21,18 @@ from __future__ import annotations
 import numpy as np
 
 from ..carried import Carried, box_motion_terms, held_frame
-from ..collision import Box, Capsule, HalfSpace, Mesh, Obstacle, Sphere, obstacle_distance
+from ..collision import Box, Capsule, HalfSpace, Mesh, Obstacle, Proximity, Sphere, obstacle_distance
 from ..collision.boxes import box_rows
-from ..collision.mesh_index import index_of
+from ..collision.mesh_index import MeshIndex, index_of
 from ..constraints.clearance import ClearanceRows, Closeness
 from ..model import Model
 from ..state import State
 
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
 _NO_RADIUS = np.zeros(12)  # the box's edges are segments
+# a mesh corner poking in brings its fan of edges (about 6 in a regular triangulation), all at its depth: 8 rows hold
+# it and the next nearest edges; the rows are re-chosen at every evaluation
+EDGE_ROWS = 8
 _EDGES = np.array([(i, j) for i in range(8) for j in range(i + 1, 8) if np.abs(_CORNERS[i] - _CORNERS[j]).sum() == 2])
 
 
@@ -43,7 +49,7 @@ def box_edges(center: np.ndarray, rotation: np.ndarray, half: np.ndarray) -> tup
 
 def _segments(obstacle: Obstacle) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """(starts, ends (k, 3) m, radii (k,) m) that ``obstacle`` is swept from, for the reverse rows; None for a mesh
-    or a half-space."""
+    (its edges near the box, chosen at each evaluation) or a half-space."""
     if isinstance(obstacle, Box):
         return (*box_edges(obstacle.center, obstacle.rotation, obstacle.half), np.zeros(12))
     if isinstance(obstacle, Capsule):
@@ -86,12 +92,13 @@ class CarriedObstacles(ClearanceRows):
             if isinstance(ob, Box)
         }
         self._reverse = [_segments(ob) for ob in self.obstacles]
+        self._edges = {i: query.edges() for i, query in enumerate(self._queries) if isinstance(query, MeshIndex)}
         bounds = [_bounds(ob) for ob in self.obstacles]
         grow = np.array([[margin + max(ob.clearance, 0.0)] for ob in self.obstacles]).reshape(-1, 1)
         self._low = np.array([low for low, _ in bounds]).reshape(-1, 3) - grow
         self._high = np.array([high for _, high in bounds]).reshape(-1, 3) + grow
-        counts = [8 if isinstance(ob, HalfSpace) else 12 + (0 if rev is None else len(rev[2]))
-                  for ob, rev in zip(self.obstacles, self._reverse, strict=True)]  # fmt: skip
+        back = [EDGE_ROWS if i in self._edges else 0 if r is None else len(r[2]) for i, r in enumerate(self._reverse)]
+        counts = [8 if isinstance(ob, HalfSpace) else 12 + k for ob, k in zip(self.obstacles, back, strict=True)]
         self._parts = [carried.name] * sum(counts)
         self._others = [ob.name for ob, k in zip(self.obstacles, counts, strict=True) for _ in range(k)]
         self._pairs = [f"{carried.name} vs {other}" for other in self._others]
@@ -140,15 +147,36 @@ class CarriedObstacles(ClearanceRows):
             part = slice(at, at + 12)
             distance[part] = np.where(np.isfinite(got.distance), got.distance, reach + 1.0)
             on_box[part], normal[part], on_other[part] = got.point, got.normal, got.closest
-            if self._reverse[i] is not None:
-                s0, s1, radii = self._reverse[i]
-                k = len(radii)
-                back = box_rows(s0, s1, radii, np.broadcast_to(centre, (k, 3)), np.broadcast_to(rotation, (k, 3, 3)),
-                                np.broadcast_to(half, (k, 3)))  # fmt: skip
-                part = slice(at + 12, at + 12 + k)
-                distance[part], on_box[part], normal[part] = back.distance, back.closest, -back.normal
-                on_other[part] = back.point - radii[:, None] * back.normal
+            back = self._reverse_rows(i, centre, rotation, reach)
+            if back is not None:
+                got, radii = back
+                part = slice(at + 12, at + 12 + len(radii))
+                distance[part], on_box[part], normal[part] = got.distance, got.closest, -got.normal
+                on_other[part] = got.point - radii[:, None] * got.normal
         return distance, on_box, normal, on_other
+
+    def _reverse_rows(self, i: int, centre: np.ndarray, rotation: np.ndarray,
+                      reach: float) -> tuple[Proximity, np.ndarray] | None:  # fmt: skip
+        """Obstacle ``i``'s own edges (axis, centre) against the box at ``centre`` (m), ``rotation``: (their Proximity,
+        radii (k,) m); a mesh's nearest first, at most EDGE_ROWS of its edges whose bounds come within ``reach`` (m) of
+        the box's; None if none."""
+        if i in self._edges:
+            edges = self._edges[i]
+            near = edges.near_box(centre, rotation, self.half, reach, EDGE_ROWS)
+            if not near.size:
+                return None
+            s0, s1, radii = edges.start[near], edges.end[near], np.zeros(len(near))
+        elif self._reverse[i] is not None:
+            s0, s1, radii = self._reverse[i]
+        else:
+            return None
+        k = len(radii)
+        got = box_rows(s0, s1, radii, np.broadcast_to(centre, (k, 3)), np.broadcast_to(rotation, (k, 3, 3)),
+                       np.broadcast_to(self.half, (k, 3)))  # fmt: skip
+        if i in self._edges:  # the nearest first: row j holds the j-th smallest distance (continuous)
+            keep = np.argsort(got.distance, kind="stable")[:EDGE_ROWS]
+            got, radii = Proximity(*(field[keep] for field in got)), radii[keep]
+        return got, radii
 
     def near_way(self, a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray], moved: float) -> bool:
         """Might the box come within the margin of an obstacle on its way from placement ``a`` to ``b`` ((centre m,
