@@ -222,7 +222,7 @@ def report(rows: dict[str, dict], repeats: int, reference: list[float]) -> str:
         " the cold excess comes with the contact, not with the mesh's size. The mesh over the box primitive: near"
         f" {over_primitive['near']:.2f}x, pressing {over_primitive['pressing']:.2f}x; its own part is the query, a"
         " fixed cost per call of NumPy overhead (bounds, the exact kernel; the tree walk is skipped while the capsules"
-        " stay within 2 cm of their last query) rather than of its triangles.",
+        " stay within 3 cm of their last walk) rather than of its triangles.",
     ]
     return "\n".join(lines)
 

@@ -189,7 +189,7 @@ class NearMemory:
     Exact: a triangle T nearest the moved segment has d_old(T) <= d_new(T) + e <= d_new(B) + e <= d_old(B) + 2 e for
     B the old nearest and e the largest end move (the segment's points move at most e), so T was kept."""
 
-    SLACK = 0.04  # m
+    SLACK = 0.06  # m: a re-solve as a target is dragged starts 1-2 cm from the last walk (docs/TUNING.md)
 
     def __init__(self, capsules: int) -> None:
         self.ends = np.full((capsules, 6), np.nan)  # p0, p1 when last asked (m)
