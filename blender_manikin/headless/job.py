@@ -77,6 +77,7 @@ def open_scene(job: Job) -> bpy.types.Object:
     if job.blend is None:  # a fresh session's default cube, camera and light would only be in the way
         for ob in list(bpy.data.objects):
             bpy.data.objects.remove(ob, do_unlink=True)
+        bpy.data.orphans_purge(do_recursive=True)  # and an earlier job's data (the demo's second one): its names
     try:
         quietly(bpy.ops.manikin.import_scenario, filepath=str(job.scenario.resolve()))
     except RuntimeError as exc:
@@ -201,7 +202,8 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
 
         keys = {round(f) for ob in motion_keys.target_empties(arm) for f in keyframes.key_frames(ob)}
         frames = choose_frames(baker.frames, baker.thetas, sorted(keys))
-        title = f"{_title(job, arm)}: {sinks.body}{_carried(arm)}, frames {start}-{end}, " + (
+        shown = f"frame {start}" if start == end else f"frames {start}-{end}"
+        title = f"{_title(job, arm)}: {sinks.body}{_carried(arm)}, {shown}, " + (
             f"{len(baker.not_converged())} not converged" if baker.not_converged() else "all converged"
         )
         _say(job, f"rendering frames {', '.join(map(str, frames))} (Cycles, CPU) ...")

@@ -4,14 +4,16 @@ side by side.
 Every pose is rendered by the same orthographic camera, a view from the manikin's right side (a little from the
 front and above) framed on the body, the obstacles and the carried box over all shown frames, so the poses compare
 at one scale. The scene's obstacles and its carried box (:mod:`..scene.carried_object`, keyed with the hands) are
-rendered as they are; without a carried box, a load held by both hands is drawn as a box between the palms. The
-tiles are put side by side with a caption each by matplotlib. The staging (floor, lights, camera, box) is removed
-again and the render settings restored.
+rendered as they are, but an obstacle standing between the camera and a hand is drawn see-through (a hand in a
+cabinet's compartment shows through its side wall); without a carried box, a load held by both hands is drawn as a
+box between the palms. The tiles are put side by side with a caption each by matplotlib. The staging (floor,
+lights, camera, box, see-through copies) is removed again and the render settings restored.
 """
 
 from __future__ import annotations
 
 import tempfile
+import textwrap
 from pathlib import Path
 
 import bpy
@@ -33,7 +35,9 @@ from ..scene.schema import (
 VIEW = Vector((-1.5, -0.55, 0.45)).normalized()  # from the body towards the camera: right side, a bit to the front
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
 MARGIN = 1.12
+HANDS = ("hand_l", "hand_r")  # the TCPs a picture must show (obstacles hiding them are drawn see-through)
 SKY = (0.85, 0.88, 0.92)
+SEE_THROUGH = (0.78, 0.80, 0.84, 0.2)  # colour and alpha of an obstacle that hides a hand from the camera
 _DATA = {"MESH": "meshes", "LIGHT": "lights", "CAMERA": "cameras"}  # bpy.data collections by ID type
 
 
@@ -64,6 +68,7 @@ class _Stage:
         self.collection = bpy.data.collections.new(PICTURE_COLLECTION)
         scene.collection.children.link(self.collection)
         self.objects: list[bpy.types.Object] = []
+        self.hidden: list[tuple[bpy.types.Object, bool]] = []  # obstacles replaced by see-through copies
         floor_mesh = bpy.data.meshes.new(PICTURE_PREFIX + "floor")
         s = 40.0
         floor_mesh.from_pydata([(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)], [], [(0, 1, 2, 3)])
@@ -92,7 +97,7 @@ class _Stage:
 
     def place_box(self) -> None:
         """Between the palms, as wide as they are apart, upright."""
-        hands = [tcp_empty(self.arm, t) for t in ("hand_l", "hand_r")]
+        hands = [tcp_empty(self.arm, t) for t in HANDS]
         if self.box is None or None in hands:
             return
         a, b = (h.matrix_world.translation for h in hands)
@@ -120,7 +125,29 @@ class _Stage:
         self.camera.matrix_world = Matrix.Translation(center - forward * 10.0) @ rotation
         self.camera.data.clip_end = 50.0
 
+    def see_through(self, hiding: list[bpy.types.Object]) -> None:
+        """Draw ``hiding`` (obstacles) see-through: a copy of each one's evaluated mesh with a see-through material
+        takes its place in the render (the obstacle is hidden from the render until :meth:`remove`)."""
+        if not hiding:
+            return
+        material = _material(PICTURE_PREFIX + "see-through", SEE_THROUGH[:3])
+        bsdf = node_tree(material).nodes.get("Principled BSDF")
+        if bsdf is not None:
+            bsdf.inputs["Alpha"].default_value = SEE_THROUGH[3]
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        for ob in hiding:
+            mesh = bpy.data.meshes.new_from_object(ob.evaluated_get(depsgraph))
+            mesh.materials.clear()
+            mesh.materials.append(material)
+            copy = self._add(PICTURE_PREFIX + "see-through." + ob.name, mesh)
+            copy.matrix_world = ob.matrix_world
+            copy.visible_shadow = False  # the hand inside stays lit
+            self.hidden.append((ob, ob.hide_render))
+            ob.hide_render = True
+
     def remove(self) -> None:
+        for ob, hidden in self.hidden:
+            ob.hide_render = hidden
         for ob in self.objects:
             data = ob.data
             bpy.data.objects.remove(ob, do_unlink=True)
@@ -138,6 +165,37 @@ def _body_points(arm: bpy.types.Object) -> np.ndarray:
     for ob in filter(None, shown):
         ends += [ob.matrix_world @ Vector(corner) for corner in ob.bound_box]
     return np.array([tuple(p) for p in ends])
+
+
+def obstacles_hiding(points: list[Vector]) -> list[bpy.types.Object]:
+    """The rendered obstacles whose bounding box a sight line from one of ``points`` (world) to the camera
+    (along VIEW: the camera is orthographic) passes through."""
+    hiding = []
+    for ob in bpy.context.scene.objects:
+        if ob.type != "MESH" or not is_obstacle(ob) or ob.hide_render or ob.manikin_obstacle.shape == "PLANE":
+            continue
+        corners = np.array([tuple(c) for c in ob.bound_box])
+        low, high = corners.min(axis=0), corners.max(axis=0)
+        inverse = ob.matrix_world.inverted()
+        way = np.array(inverse.to_3x3() @ VIEW)
+        for point in points:
+            if _ray_meets_box(np.array(inverse @ point), way, low, high):
+                hiding.append(ob)
+                break
+    return hiding
+
+
+def _ray_meets_box(start: np.ndarray, way: np.ndarray, low: np.ndarray, high: np.ndarray) -> bool:
+    """Whether the ray start + t way, t >= 0, meets the axis-aligned box low..high (slab test)."""
+    near, far = 0.0, np.inf
+    for axis in range(3):
+        if abs(way[axis]) < 1e-12:
+            if not low[axis] <= start[axis] <= high[axis]:
+                return False
+            continue
+        t0, t1 = sorted(((low[axis] - start[axis]) / way[axis], (high[axis] - start[axis]) / way[axis]))
+        near, far = max(near, t0), min(far, t1)
+    return near <= far
 
 
 def _render_settings(
@@ -166,7 +224,7 @@ def _render_settings(
         (cycles, "glossy_bounces", 1),
         (cycles, "transmission_bounces", 0),
         (cycles, "volume_bounces", 0),
-        (cycles, "transparent_max_bounces", 0),
+        (cycles, "transparent_max_bounces", 4),  # see-through obstacles
         (render, "resolution_x", size[0]),
         (render, "resolution_y", size[1]),
         (render, "resolution_percentage", 100),
@@ -208,11 +266,13 @@ def render_key_poses(
     saved = _render_settings(scene, size, samples)
     tiles = []
     try:
-        points = []
+        points, hands = [], []
         for frame in frames:
             scene.frame_set(frame)
             points.append(_body_points(arm))
+            hands += [e.matrix_world.translation.copy() for e in (tcp_empty(arm, t) for t in HANDS) if e is not None]
         stage.frame_camera(np.concatenate(points), size)
+        stage.see_through(obstacles_hiding(hands))
         scene.camera = stage.camera
         _principled()
         with tempfile.TemporaryDirectory(prefix="manikin-picture-") as tmp:
@@ -231,7 +291,9 @@ def render_key_poses(
     lines = max((c.count("\n") + 1 for c in (captions or {}).values()), default=0)
     width, height = size
     tile_in = 2.8  # inches per tile
-    fig_h = tile_in * height / width + 0.5 + 0.17 * lines
+    heading = textwrap.fill(title, int(12 * tile_in * len(tiles)))  # about 12 characters an inch at 11 pt
+    extra = 0.2 * heading.count("\n")  # inches for the heading's wrapped lines
+    fig_h = tile_in * height / width + 0.5 + 0.17 * lines + extra
     fig = Figure(figsize=(tile_in * len(tiles), fig_h), dpi=130)
     axes = fig.subplots(1, len(tiles), squeeze=False)
     for ax, frame, tile in zip(axes[0], frames, tiles, strict=True):
@@ -242,8 +304,8 @@ def render_key_poses(
             ax.text(0.5, -0.015, captions[frame], transform=ax.transAxes, ha="center", va="top", fontsize=7.5,
                     linespacing=1.35)  # fmt: skip
     bottom = (0.08 + 0.17 * lines) / fig_h
-    fig.subplots_adjust(left=0.005, right=0.995, wspace=0.03, top=1 - 0.42 / fig_h, bottom=bottom)
-    if title:
-        fig.suptitle(title, fontsize=11, y=1 - 0.05 / fig_h, va="top")
+    fig.subplots_adjust(left=0.005, right=0.995, wspace=0.03, top=1 - (0.42 + extra) / fig_h, bottom=bottom)
+    if heading:
+        fig.suptitle(heading, fontsize=11, y=1 - 0.05 / fig_h, va="top")
     fig.savefig(output)
     return output

@@ -207,7 +207,7 @@ def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: P
     assert (done.returncode, done.stdout, done.stderr) == (0, "", "")
     written = sorted(p.name for p in tmp_path.iterdir())
     assert written == ["box_lift.blend", "box_lift.bvh", "box_lift.glb", "box_lift_key_poses.png",
-                       "box_lift_report.json"]  # fmt: skip
+                       "box_lift_report.json", "cabinet_reach.blend", "cabinet_reach.png"]  # fmt: skip
     seen = tmp_path / "seen.json"
     done = run_python(blender_python, ["-c", SCENE, tmp_path / "box_lift.blend", seen], user, cwd=tmp_path)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
@@ -353,3 +353,39 @@ def test_batch_ctrl_c_keys_and_keeps_the_solved_frames(tmp_path: Path, blender_p
             for c in bone.channels:
                 keyed = c.sign * values[f"{bone.name}.{c.prop}[{c.index}]"]
                 assert keyed == pytest.approx(frame.joint_value[c.joint], abs=2e-5), (frame.number, bone.name)
+
+
+SEE_THROUGH = """
+import sys
+from pathlib import Path
+from blender_manikin.batch import load_extension
+extension, _ = load_extension()
+import bpy
+from mathutils import Vector
+picture = __import__("importlib").import_module(extension.__name__ + ".blender_manikin.headless.picture")
+bpy.ops.wm.open_mainfile(filepath=sys.argv[1], load_ui=False)
+hand = next(ob for ob in bpy.data.objects if ob.name == "tcp.hand_r").matrix_world.translation.copy()
+inside = sorted(ob.name for ob in picture.obstacles_hiding([hand]))
+open_air = [ob.name for ob in picture.obstacles_hiding([Vector((0.0, 0.6, 1.0))])]
+arm = next(ob for ob in bpy.data.objects if ob.type == "ARMATURE")
+picture.render_key_poses(arm, [1], Path(sys.argv[2]), size=(60, 80), samples=1)
+left = [ob.name for ob in bpy.data.objects if ob.name.startswith("picture.")]
+hidden = [ob.name for ob in bpy.data.objects if ob.hide_render]
+import json
+print("RESULT", json.dumps([inside, open_air, left, hidden]))
+"""
+
+
+def test_an_obstacle_hiding_a_hand_is_drawn_see_through(tmp_path: Path, blender_python: Path, user: Path) -> None:
+    """The cabinet reach's picture: the right side wall stands between the camera and the hand in the compartment
+    (it is drawn see-through), nothing hides a point in the open; the staging is gone after the render."""
+    reach = ROOT / "presets" / "scenarios" / "cabinet_reach.toml"
+    done = run_python(blender_python, [BATCH, "--scenario", reach, "--out", tmp_path / "c.blend", "-q"], user, cwd=ROOT)
+    assert done.returncode == 0, done.stderr[-3000:]
+    done = run_python(blender_python, ["-c", SEE_THROUGH, tmp_path / "c.blend", tmp_path / "c.png"], user, cwd=ROOT)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    line = next(line for line in done.stdout.splitlines() if line.startswith("RESULT"))
+    inside, open_air, left, hidden = json.loads(line.removeprefix("RESULT"))
+    assert "cabinet side right" in inside and "cabinet shelf" not in inside
+    assert (open_air, left, hidden) == ([], [], [])
+    assert (tmp_path / "c.png").is_file()
