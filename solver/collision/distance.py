@@ -42,8 +42,14 @@ def _segments(p0, p1, q0, q1) -> tuple[np.ndarray, ...]:
     s, t = segment_segment(p0, p1, q0, q1)
     u, v = p1 - p0, q1 - q0
     w, q = p0 + s[:, None] * u, q0 + t[:, None] * v
-    across = unit(cross(u, v), perpendicular(np.where(dot(u, u)[:, None] > 0, u, v)))
-    return s, w, t, q, unit(w - q, across)
+    gap = w - q
+    length = np.sqrt(dot(gap, gap))
+    normal = gap / np.maximum(length, 1e-150)[:, None]
+    meet = np.flatnonzero(length <= 1e-150)  # the axes meet (rare): the normal is made only for these rows
+    if meet.size:
+        um, vm = u[meet], v[meet]
+        normal[meet] = unit(cross(um, vm), perpendicular(np.where(dot(um, um)[:, None] > 0, um, vm)))
+    return s, w, t, q, normal
 
 
 def capsule_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, capsule: Capsule) -> Proximity:
