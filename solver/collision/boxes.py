@@ -25,24 +25,39 @@ _BOX_EDGES = np.array(
 
 def _outside(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Segments a-b (k, 3) in box coordinates vs the boxes |x_i| <= half_i (k, 3), as if disjoint: (t, distance,
-    normal). The nearest axis point is an end or the point nearest one of the 12 edges."""
-    edges = _BOX_EDGES[None] * half[:, None, None, :]
-    s, _ = segment_segment(a[:, None], b[:, None], edges[:, :, 0], edges[:, :, 1])
-    t = np.concatenate([np.zeros((len(a), 1)), np.ones((len(a), 1)), s], axis=1)
-    x = a[:, None] + t[..., None] * (b - a)[:, None]
-    gap = x - np.minimum(np.maximum(x, -half[:, None]), half[:, None])
-    d2 = dot(gap, gap)
+    normal). The squared distance from a + t (b - a) to the box is convex and piecewise quadratic in t, with knots
+    where a coordinate meets a face plane: minimised on each of the pieces between the sorted knots (its quadratic
+    in the coordinates outside their slab there, clipped to the piece), the least of those is exact."""
+    k = len(a)
+    u = b - a
+    knots = np.zeros((k, 8))
+    knots[:, 1] = 1.0
+    # where a coordinate meets a face plane (a coordinate that does not move: a spare knot at 0, harmless)
+    np.divide(np.concatenate([half - a, -half - a], axis=1), np.tile(u, 2), out=knots[:, 2:], where=np.tile(u != 0, 2))
+    np.minimum(np.maximum(knots, 0.0, out=knots), 1.0, out=knots)
+    knots.sort(axis=1)
+    lo, hi = knots[:, :-1], knots[:, 1:]  # (k, 7) pieces on which the clamped coordinates do not change
+    h, column = half[:, None], u[:, :, None]
+    x = a[:, None] + (0.5 * (lo + hi))[..., None] * u[:, None]
+    side = np.minimum(np.maximum(x, -h), h)
+    out = (x != side).astype(float)  # (k, 7, 3): the coordinates outside their slab on each piece
+    squared = (out @ (column * column))[..., 0]
+    pull = ((out * (side - a[:, None])) @ column)[..., 0]
+    t = np.minimum(np.maximum(pull / np.where(squared > 0, squared, 1.0), lo), hi)
+    x = a[:, None] + t[..., None] * u[:, None]
+    gap = x - np.minimum(np.maximum(x, -h), h)
+    d2 = (gap * gap).sum(axis=2)
     best = np.argmin(d2, axis=1)
-    rows = np.arange(len(a))
-    gap, d2, x = gap[rows, best], d2[rows, best], x[rows, best]
-    distance = np.sqrt(d2)
+    rows = np.arange(k)
+    gap, x, t = gap[rows, best], x[rows, best], t[rows, best]
+    distance = np.sqrt(d2[rows, best])
     normal = gap / np.maximum(distance, 1e-150)[:, None]
     touching = np.flatnonzero(distance <= 1e-150)  # on the surface: the face's normal (rare: worked out only here)
     if touching.size:
         x, touched = x[touching], half[touching]
         face = np.eye(3)[np.argmax(np.abs(x) / touched, axis=1)] * np.sign(x)
         normal[touching] = unit(face, perpendicular(b[touching] - a[touching]))
-    return t[rows, best], distance, normal
+    return t, distance, normal
 
 
 def _overlap(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
