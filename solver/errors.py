@@ -43,3 +43,12 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:
         raise UsageError(f"{' '.join(message.split())} (see {self.prog} --help)")
+
+
+SHOWN = 120  # characters of a value an error line shows
+
+
+def shown(value: object, width: int = SHOWN) -> str:
+    """``repr(value)``, cut to ``width`` characters with "..." (an error line names the value, not a whole mesh)."""
+    text = repr(value)
+    return text if len(text) <= width else text[: width - 3] + "..."

@@ -193,6 +193,45 @@ def test_bad_obstacles_are_one_line(tmp_path, entry: str, says: str):
     assert says in message and "\n" not in message and str(tmp_path / "s.toml") in message
 
 
+def test_bad_scenario_lines_name_the_place_once_and_stay_short(tmp_path):
+    """What a user meets: the first bad vertex of a big mesh by its index (not the whole mesh), a repeated obstacle
+    name at the second use, a zero radius, a missing kind, and [floor] / [self_collision] errors naming the file
+    once."""
+    from solver import load_scenario
+    from solver.errors import ScenarioError
+
+    text = open("presets/scenarios/box_lift.toml", encoding="utf-8").read()
+    grid = [[float(i % 50), float(i // 50), 0.5] for i in range(3000)]
+    grid[2000][1] = float("nan")
+    faces = [[0, 1, 50]]
+    cases = [
+        (
+            f"[[obstacles]]\nname = 'm'\nkind = 'mesh'\nvertices = {grid}\nfaces = {faces}",
+            "obstacles[0].vertices[2000]: expected 3 finite numbers, got [0.0, nan, 0.5]",
+        ),
+        (
+            "[[obstacles]]\nname = 's'\nkind = 'sphere'\ncenter = [0, 0, 0]\nradius = 0.1\n"
+            "[[obstacles]]\nname = 's'\nkind = 'sphere'\ncenter = [1, 0, 0]\nradius = 0.1",
+            "obstacles[1].name: expected a name not used by obstacles[0], got 's'",
+        ),
+        (
+            "[[obstacles]]\nname = 's'\nkind = 'sphere'\ncenter = [0, 0, 0]\nradius = 0",
+            "obstacles[0].radius: expected a number in (0, 1000] m, got 0",
+        ),
+        ("[[obstacles]]\nname = 's'\ncenter = [0, 0, 0]", "obstacles[0].kind: expected the kind of obstacle"),
+        ("[floor]\nheight = 1", "floor.height: expected one of enabled (unknown key)"),
+        ("[self_collision]\nenabled = 1", "self_collision.enabled: expected true or false, got 1"),
+    ]
+    path = tmp_path / "s.toml"
+    for entry, says in cases:
+        path.write_text(text + "\n" + entry + "\n", encoding="utf-8")
+        with pytest.raises(ScenarioError) as err:
+            load_scenario(path)
+        message = str(err.value)
+        assert message == f"{path}: {says}" or (message.startswith(f"{path}: {says}") and "missing" in message)
+        assert len(message) < 300 + len(str(path))
+
+
 def test_a_mesh_read_again_is_indexed_once():
     """Each baked frame reads the scene's obstacle meshes again: the same content reuses its index."""
     from solver.collision import Mesh

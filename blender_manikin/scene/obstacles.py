@@ -17,6 +17,7 @@ import numpy as np
 
 from ...solver.collision import Mesh, Obstacle, degenerate_faces
 from ...solver.collision.placed import shape_from_bounds
+from ...solver.errors import ManikinError
 from .schema import is_obstacle
 
 
@@ -57,6 +58,9 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
         if settings.shape == "MESH":
             points = points @ world[:3, :3].T + world[:3, 3]
             faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier)
+            if not len(faces):
+                raise ManikinError(f"obstacle {ob.name!r}: every triangle has zero area (a flattened object? give it"
+                                   " some thickness, or untick Obstacle)")  # fmt: skip
             key = (ob.name, hashlib.blake2b(points.tobytes() + faces.tobytes() + counts.tobytes()).digest())
         else:
             key = (ob.name, np.concatenate(numbers[-4:]).tobytes())  # all a shape made from bounds depends on

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ScenarioError
+from ..errors import ScenarioError, shown
 
 # A triangle whose doubled area is below this fraction of its longest edge squared has collinear corners.
 DEGENERATE_RATIO = 1e-10
@@ -28,12 +28,15 @@ def _frozen_array(shape: object, key: str, value: object, dims: tuple[int, ...])
     try:
         arr = np.array(value, dtype=float)
     except (TypeError, ValueError):
-        raise ScenarioError(f"{_label(shape)}: {key}: expected numbers, got {value!r}") from None
+        raise ScenarioError(f"{_label(shape)}: {key}: expected numbers, got {shown(value)}") from None
     if arr.ndim != len(dims) or any(d != -1 and d != n for d, n in zip(dims, arr.shape, strict=True)):
         want = "x".join("N" if d == -1 else str(d) for d in dims)
         raise ScenarioError(f"{_label(shape)}: {key}: expected shape {want}, got {arr.shape}")
     if not np.isfinite(arr).all():
-        raise ScenarioError(f"{_label(shape)}: {key}: expected finite numbers, got {np.asarray(value).tolist()}")
+        if arr.ndim == 2:  # a mesh's vertices: the first bad one
+            row = int(np.flatnonzero(~np.isfinite(arr).all(axis=1))[0])
+            raise ScenarioError(f"{_label(shape)}: {key}[{row}]: expected finite numbers, got {arr[row].tolist()}")
+        raise ScenarioError(f"{_label(shape)}: {key}: expected finite numbers, got {arr.tolist()}")
     arr.setflags(write=False)
     return arr
 

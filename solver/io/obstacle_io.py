@@ -47,9 +47,10 @@ def read_obstacles(tables: list[TableReader], folder: Path) -> list[Obstacle]:
             message = str(exc)
             raise ScenarioError(message if message.startswith(str(t.path)) else f"{t.path}: {message}") from None
     names = [ob.name for ob in out]
-    for name in names:
-        if names.count(name) > 1:
-            raise tables[0].fail("obstacles", "obstacles with different names", f"two named {name!r}")
+    for later, name in enumerate(names):
+        first = names.index(name)
+        if first < later:
+            raise tables[later].fail("name", f"a name not used by obstacles[{first}]", name)
     return out
 
 
@@ -60,10 +61,10 @@ def _shape(t: TableReader, kind: str, folder: Path, common: dict) -> Obstacle:
         return Box(t.vector("center", 3, limit=LIMIT), t.vector("size", 3, limit=LIMIT),
                    np.eye(3) if rotation is None else rotation, **common)  # fmt: skip
     if kind == "sphere":
-        return Sphere(t.vector("center", 3, limit=LIMIT), t.number("radius", None, 0.0, LIMIT), **common)
+        return Sphere(t.vector("center", 3, limit=LIMIT), t.positive("radius", LIMIT, "m"), **common)
     if kind == "capsule":
         a, b = t.vector("a", 3, limit=LIMIT), t.vector("b", 3, limit=LIMIT)
-        return Capsule(a, b, t.number("radius", None, 0.0, LIMIT), **common)
+        return Capsule(a, b, t.positive("radius", LIMIT, "m"), **common)
     if kind == "plane":
         return HalfSpace(t.vector("point", 3, limit=LIMIT), t.vector("normal", 3, limit=LIMIT), **common)
     if "file" in t.data:

@@ -79,10 +79,10 @@ def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
     frames, limits = _read_motion(root, tracks)
     obstacles = read_obstacles(root.table_list("obstacles"), path.parent)
     carried = _read_carried(root, model)
+    floor, self_collision = _enabled(root, "floor"), _enabled(root, "self_collision")
     try:
         problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
-                          floor=_enabled(root, "floor"), obstacles=obstacles,
-                          self_collision=_enabled(root, "self_collision"), carried=carried)  # fmt: skip
+                          floor=floor, obstacles=obstacles, self_collision=self_collision, carried=carried)  # fmt: skip
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)

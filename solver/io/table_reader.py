@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ManikinError
+from ..errors import ManikinError, shown
 from ..options import AXES
 from ..spatial import quat_to_matrix
 
@@ -54,8 +54,8 @@ class TableReader:
         self.path, self.data, self.prefix, self.error = path, data, prefix, error
 
     def fail(self, key: str, expected: str, value: Any = _MISSING) -> ManikinError:
-        """The error for ``key``: ``path: prefix.key: expected ..., got value`` (one line)."""
-        got = "" if value is _MISSING else f", got {value!r}"
+        """The error for ``key``: ``path: prefix.key: expected ..., got value`` (one line; a long value cut short)."""
+        got = "" if value is _MISSING else f", got {shown(value)}"
         where = f"{self.prefix}{key}".rstrip(".")
         return self.error(f"{self.path}: {where}: expected {expected}{got}")
 
@@ -96,6 +96,15 @@ class TableReader:
             raise self.fail(key, span(low, high) + unit_of(unit), value)
         return float(value)
 
+    def positive(self, key: str, high: float, unit: str = "") -> float:
+        """A required number in (0, high] (a radius, a length: zero is not one)."""
+        value = self.data.get(key)
+        if value is None:
+            raise self.fail(key, "a number (missing)")
+        if not is_number(value) or not 0 < value <= high:
+            raise self.fail(key, f"a number in (0, {high:g}]" + unit_of(unit), value)
+        return float(value)
+
     def integer(self, key: str, default: int | None, low: float, high: float, what: str = "a whole number") -> int:
         """A whole number in [low, high] (``what`` says which, e.g. "a whole frame number")."""
         value = self.data.get(key, default)
@@ -124,6 +133,8 @@ class TableReader:
     def choice(self, key: str, options: Collection[str], what: str) -> str:
         """A string among ``options`` (``what`` says which, e.g. "a TCP of the manikin")."""
         value = self.data.get(key)
+        if key not in self.data:
+            raise self.fail(key, f"{what}: " + ", ".join(sorted(options)) + " (missing)")
         if not isinstance(value, str) or value not in options:
             raise self.fail(key, f"{what}: " + ", ".join(sorted(options)), value)
         return value
@@ -140,10 +151,11 @@ class TableReader:
     def points(self, key: str, dimension: int, what: str) -> np.ndarray:
         """A non-empty list of points of ``dimension`` finite numbers each (``what`` describes them)."""
         value = self.data.get(key)
-        ok = isinstance(value, list) and len(value) >= 1
-        ok = ok and all(isinstance(p, list) and len(p) == dimension and all(is_number(c) for c in p) for p in value)
-        if not ok:
+        if not isinstance(value, list) or not value:
             raise self.fail(key, f"{what} (finite numbers)", value)
+        for i, p in enumerate(value):  # the first bad point by its index
+            if not (isinstance(p, list) and len(p) == dimension and all(is_number(c) for c in p)):
+                raise self.fail(f"{key}[{i}]", f"{dimension} finite numbers", p)
         return np.asarray(value, dtype=float)
 
     def rotation(self, key: str, default: Any = None) -> np.ndarray | None:

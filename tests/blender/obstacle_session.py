@@ -203,5 +203,13 @@ seen["missing_mesh"] = error_of(lambda: bpy.ops.manikin.import_scenario(filepath
 bpy.context.view_layer.objects.active = other
 seen["unwritable"] = error_of(lambda: bpy.ops.manikin.export_scenario(filepath=str(WORK / "blocked" / "s.toml")))
 
+# A mesh obstacle flattened to no thickness (every triangle of zero area): one line naming it.
+flat = add("plane", "flat", "MESH", 0.0, size=0.5, location=(2.0, 2.0, 0.5))
+flat.scale = (0.0, 1.0, 1.0)
+bpy.context.view_layer.update()
+bpy.context.view_layer.objects.active = other
+seen["flat"] = error_of(lambda: bpy.ops.manikin.solve_pose())
+bpy.data.objects.remove(flat, do_unlink=True)
+
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

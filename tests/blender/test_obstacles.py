@@ -129,6 +129,8 @@ def test_importing_again_replaces_its_own_objects_only(session: dict) -> None:
 def test_failures_are_one_line_reports(session: dict) -> None:
     missing = session["missing_mesh"].strip()
     assert "nowhere.obj: cannot read the mesh file" in missing and "\n" not in missing
+    flat = session["flat"].strip()
+    assert "obstacle 'flat': every triangle has zero area" in flat and "\n" not in flat
     unwritable = session["unwritable"].strip()
     assert "blocked" in unwritable and "cannot write" in unwritable and "\n" not in unwritable
     assert "Traceback" not in session["log"]
