@@ -293,3 +293,13 @@ def test_the_rows_are_measured_once_for_the_same_joint_values(male50):
     value = rows.value(problem.state(moved))
     assert len(calls) == 2 and np.array_equal(value, measure(problem.state(moved))[0])
     assert (value < rows.margin).any()  # something near: the rows measured are real distances
+
+
+def test_a_touching_pair_is_written_as_zero_not_minus_zero():
+    import math
+
+    from solver.constraints.clearance import Closeness
+
+    entry = Closeness("hand_r", "floor", -0.0, 0.0, np.array([0.0, -0.0, 0.0]), np.array([-0.0, 0.0, 0.0])).to_dict()
+    assert math.copysign(1.0, entry["distance"]) == 1.0
+    assert all(math.copysign(1.0, v) == 1.0 for v in entry["point"] + entry["other_point"])

@@ -176,8 +176,9 @@ def _carried(arm: bpy.types.Object, model: Model) -> Carried | None:
 
 def summarize(result: Result) -> dict:
     """What the sidebar and the overlay show, armature space, JSON-ready: ``closest`` the clearance pairs within
-    their margin (as in the result file, plus ``below``: under the clearance by more than the solver's tolerance)
-    and ``capsules`` the body's collision capsules (start, end, radius; m) in this pose."""
+    their margin (as in the result file, plus ``below``: under the clearance by more than the solver's tolerance,
+    and ``body``: a pair of two body parts) and ``capsules`` the body's collision capsules (start, end, radius; m)
+    in this pose."""
     state = result.state
     problem = result.problem
     model = problem.model
@@ -186,6 +187,7 @@ def summarize(result: Result) -> dict:
     rank = np.where(np.isfinite(percent) & ~model.prismatic, percent, -1.0)
     top = np.argsort(-rank, kind="stable")[:TOP_LOADS]
     corners = problem.contacts.corner_points(state.kin) if problem.contacts.n_vars else np.zeros((0, 3))
+    parts = set(capsules_of(model).names)  # a pair with another body part (self-collision) is marked ``body``
     return dict(
         converged=bool(result.converged),
         iterations=int(result.iterations),
@@ -206,7 +208,10 @@ def summarize(result: Result) -> dict:
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
         joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
         scores=scores(result),
-        closest=[dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE)) for c in result.closest],
+        closest=[
+            dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE), body=c.other in parts)
+            for c in result.closest
+        ],  # fmt: skip
         capsules=capsules(problem.model, state),
     )
 

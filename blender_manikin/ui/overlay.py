@@ -116,7 +116,7 @@ def geometry(arm: bpy.types.Object, data: dict, capsules: bool = True) -> dict[s
         if empty is not None:
             lines["load"] += _arrow(empty.matrix_world.translation, rot @ Vector(ld["force"]) * FORCE_SCALE)
     lines["near"], lines["below"] = [], []
-    for pair in data.get("closest", []):
+    for pair in drawn_pairs(data):
         lines["below" if pair.get("below") else "near"] += [m @ Vector(pair["point"]), m @ Vector(pair["other_point"])]
     lines["capsules"] = _capsule_lines(arm, data) if capsules else []
     return lines
@@ -136,13 +136,20 @@ def _capsule_lines(arm: bpy.types.Object, data: dict) -> list[Vector]:
     return lines
 
 
+def drawn_pairs(data: dict) -> list[dict]:
+    """The clearance pairs the overlay draws: every one with the floor, an obstacle or the carried box within the
+    margin, and a pair of two body parts only when it is below its clearance (an arm resting on the trunk sits at
+    its allowed, often negative, distance: drawn, it would crowd the hips with numbers that are no fault)."""
+    return [pair for pair in data.get("closest", []) if pair.get("below") or not pair.get("body")]
+
+
 def labels(arm: bpy.types.Object, data: dict) -> list[tuple[Vector, str, tuple[float, ...]]]:
     """(world point, text, colour) of each clearance pair's distance: mm, at the middle of its line."""
     m: Matrix = arm.matrix_world
     out = []
-    for pair in data.get("closest", []):
+    for pair in drawn_pairs(data):
         middle = m @ ((Vector(pair["point"]) + Vector(pair["other_point"])) / 2.0)
-        out.append((middle, f"{1e3 * pair['distance']:.0f} mm", BELOW_COLOR if pair.get("below") else NEAR_COLOR))
+        out.append((middle, f"{round(1e3 * pair['distance']):d} mm", BELOW_COLOR if pair.get("below") else NEAR_COLOR))
     return out
 
 

@@ -48,10 +48,11 @@ class Closeness(NamedTuple):
         return f"{self.part} vs {self.other}"
 
     def to_dict(self) -> dict:
-        """The result JSON's entry: pair, part, other, distance, clearance (m), point, other_point (m)."""
-        return dict(pair=self.pair, part=self.part, other=self.other, distance=self.distance,
-                    clearance=self.clearance, point=[float(v) for v in self.point],
-                    other_point=[float(v) for v in self.other_point])  # fmt: skip
+        """The result JSON's entry: pair, part, other, distance, clearance (m), point, other_point (m); a -0.0 (a
+        touching pair's exact zero) written as 0.0."""
+        return dict(pair=self.pair, part=self.part, other=self.other, distance=self.distance + 0.0,
+                    clearance=self.clearance + 0.0, point=[float(v) + 0.0 for v in self.point],
+                    other_point=[float(v) + 0.0 for v in self.other_point])  # fmt: skip
 
 
 def floor_clearance(model: Model, targets: list, n_x: int) -> Clearance:

@@ -42,16 +42,21 @@ def test_overlay_draws_each_close_pair_and_its_distance(session: dict) -> None:
     assert all(pair["distance"] - pair["clearance"] < 0.05 for pair in closest)
     below = [pair for pair in closest if pair["below"]]
     assert all(pair["distance"] < pair["clearance"] - 1e-3 for pair in below)
-    assert len(geometry["near"]) == 2 * (len(closest) - len(below)) and len(geometry["below"]) == 2 * len(below)
+    # two body parts resting at their allowed distance are in the result, not drawn (only when below it)
+    assert any(pair["body"] and not pair["below"] for pair in closest)
+    assert all(pair["body"] == (pair["other"] not in ("floor", "shelf.top", "table")) for pair in closest)
+    drawn_pairs = [pair for pair in closest if pair["below"] or not pair["body"]]
+    near = [pair for pair in drawn_pairs if not pair["below"]]
+    assert len(geometry["near"]) == 2 * len(near) and len(geometry["below"]) == 2 * len(below)
     matrix = np.array(session["matrix"])
     lines = np.array(geometry["near"] + geometry["below"])[:, :3]
-    ends = [p for pair in closest if not pair["below"] for p in (pair["point"], pair["other_point"])]
+    ends = [p for pair in near for p in (pair["point"], pair["other_point"])]
     ends += [p for pair in below for p in (pair["point"], pair["other_point"])]
     world = np.array(ends) @ matrix[:3, :3].T + matrix[:3, 3]  # the result is in the armature's space
     np.testing.assert_allclose(lines, world, atol=F32)
     labels = session["labels"]
-    assert [text for _, text, _ in labels] == [f"{1e3 * pair['distance']:.0f} mm" for pair in closest]
-    for (point, _, color), pair in zip(labels, closest, strict=True):
+    assert [text for _, text, _ in labels] == [f"{round(1e3 * pair['distance']):d} mm" for pair in drawn_pairs]
+    for (point, _, color), pair in zip(labels, drawn_pairs, strict=True):
         middle = matrix[:3, :3] @ (0.5 * (np.array(pair["point"]) + pair["other_point"])) + matrix[:3, 3]
         np.testing.assert_allclose(point, middle, atol=F32)
         assert (color[0] == 1.0 and color[1] < 0.5) == pair["below"]  # red below the clearance
