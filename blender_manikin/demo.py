@@ -42,7 +42,8 @@ def reach_args(out_dir: Path, quiet: bool = False) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m blender_manikin.demo", description=__doc__.splitlines()[0])
+    summary = " ".join(__doc__.split("\n\n")[0].split())  # the first paragraph, on one line
+    parser = argparse.ArgumentParser(prog="python -m blender_manikin.demo", description=summary)
     parser.add_argument("--out-dir", type=Path, default=Path("out"), help="where the files go (default: out/)")
     parser.add_argument("--frames", type=int, nargs=2, metavar=("START", "END"), help="bake part of the motion")
     parser.add_argument("-q", "--quiet", action="store_true", help="print errors only")

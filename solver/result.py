@@ -132,8 +132,11 @@ def shortfall_text(parts: dict[str, float]) -> str:
     return ", ".join(shown)
 
 
+CLEARANCES = ("floor", "obstacles", "self_collision", "carried", "carried_obstacles")  # rows of distances (m)
+
+
 def _unit(name: str) -> str:
-    if name.endswith(".position"):
+    if name.endswith(".position") or name in {f"{c}.shortfall" for c in CLEARANCES}:
         return "mm"
     if name.endswith(".rotation"):
         return "deg"

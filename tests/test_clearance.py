@@ -303,3 +303,10 @@ def test_a_touching_pair_is_written_as_zero_not_minus_zero():
     entry = Closeness("hand_r", "floor", -0.0, 0.0, np.array([0.0, -0.0, 0.0]), np.array([-0.0, 0.0, 0.0])).to_dict()
     assert math.copysign(1.0, entry["distance"]) == 1.0
     assert all(math.copysign(1.0, v) == 1.0 for v in entry["point"] + entry["other_point"])
+
+
+def test_the_summary_gives_a_clearance_shortfall_in_mm(male50):
+    free, _ = reach_below(male50, [])
+    result = solve(Problem(male50, free.targets))
+    line = next(line for line in result.summary().splitlines() if "floor.shortfall" in line)
+    assert line.rstrip().endswith(" mm")

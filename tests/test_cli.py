@@ -397,3 +397,14 @@ def test_presets_lists_manikins_and_scenarios():
     assert proc.returncode == 0, proc.stderr
     assert "male_50" in proc.stdout
     assert "box_lift.toml" in proc.stdout
+
+
+def test_a_reader_that_stops_early_ends_the_output_quietly():
+    """``solve ... -o - | head -c 100`` (a motion: megabytes of JSON): the output stops at the closed pipe, no error
+    line, exit 141."""
+    command = [sys.executable, "-m", "solver", "solve", "presets/scenarios/box_lift_motion.toml", "-o", "-"]
+    solve = subprocess.Popen(command, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert solve.stdout is not None and solve.stdout.read(100)
+    solve.stdout.close()  # as head does once it has its bytes
+    _, err = solve.communicate(timeout=120)
+    assert solve.returncode == 141 and err == b""

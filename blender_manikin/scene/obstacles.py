@@ -54,7 +54,8 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
         counts = np.array([len(points), len(faces), kind, settings.clearance])
         low, high = points.min(axis=0), points.max(axis=0)
         numbers += [world.ravel(), low, high, counts]
-        common = dict(name=ob.name, clearance=float(settings.clearance))
+        # the property is single precision: 0.03 typed is 0.0299999993; its shortest decimal is what was meant
+        common = dict(name=ob.name, clearance=float(f"{settings.clearance:.7g}"))
         if settings.shape == "MESH":
             points = points @ world[:3, :3].T + world[:3, 3]
             faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier)

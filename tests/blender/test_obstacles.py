@@ -105,7 +105,7 @@ def test_export_writes_meshes_beside_and_shapes_inside(session: dict) -> None:
     np.testing.assert_allclose(table.size, [0.8, 0.4, 0.8], atol=F32)
     assert rail.radius == pytest.approx(0.02, abs=F32)
     assert np.linalg.norm(rail.b - rail.a) == pytest.approx(0.5 - 2 * 0.02, abs=F32)
-    assert table.clearance == pytest.approx(0.02, abs=1e-7)
+    assert table.clearance == 0.02 and "clearance = 0.02\n" in text  # as typed, not its single-precision value
 
 
 def test_import_recreates_the_obstacles_and_export_gives_them_again(session: dict) -> None:
