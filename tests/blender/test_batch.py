@@ -373,6 +373,8 @@ left = [ob.name for ob in bpy.data.objects if ob.name.startswith("picture.")]
 hidden = [ob.name for ob in bpy.data.objects if ob.hide_render]
 import json
 print("RESULT", json.dumps([inside, open_air, left, hidden]))
+from blender_manikin.batch import exit_process
+exit_process(0)  # as batch.py ends: bpy 4.2 / 4.5 modules crash at a normal exit after a render
 """
 
 
