@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ScenarioError
-from .shapes import Mesh
+from .shapes import Mesh, degenerate_faces
 
 _PLY_TYPES = {
     "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2", "ushort": "u2",
@@ -35,9 +35,12 @@ def _obj_index(token: str, count: int, where: str) -> int:
     return i - 1 if i > 0 else count + i
 
 
-def _read_obj(path: Path, text: str) -> tuple[np.ndarray, np.ndarray]:
+def _read_obj(path: Path, text: str) -> tuple[np.ndarray, np.ndarray, list[int], list[int]]:
+    """(vertices, triangles, and the file's line of each vertex and of each triangle, for messages)."""
     vertices: list[list[float]] = []
     faces: list[list[int]] = []
+    vertex_lines: list[int] = []
+    face_lines: list[int] = []
     for number, raw in enumerate(text.splitlines(), start=1):
         words = raw.split("#", 1)[0].split()
         where = f"{path}: line {number}"
@@ -50,12 +53,29 @@ def _read_obj(path: Path, text: str) -> tuple[np.ndarray, np.ndarray]:
                 raise ScenarioError(f"{where}: expected 'v x y z' with numbers, got {raw.strip()!r}") from None
             if len(vertices[-1]) != 3:
                 raise ScenarioError(f"{where}: expected 'v x y z', got {raw.strip()!r}")
+            vertex_lines.append(number)
         elif words[0] == "f":
             polygon = [_obj_index(token, len(vertices), where) for token in words[1:]]
             if len(polygon) < 3:
                 raise ScenarioError(f"{where}: a face needs at least 3 vertices, got {raw.strip()!r}")
-            faces += _fan(polygon)
-    return np.array(vertices, dtype=float).reshape(-1, 3), np.array(faces, dtype=np.int64).reshape(-1, 3)
+            fan = _fan(polygon)
+            faces += fan
+            face_lines += [number] * len(fan)
+    points = np.array(vertices, dtype=float).reshape(-1, 3)
+    return points, np.array(faces, dtype=np.int64).reshape(-1, 3), vertex_lines, face_lines
+
+
+def _obj_lines_check(path: Path, vertices: np.ndarray, faces: np.ndarray, vertex_lines: list[int],
+                     face_lines: list[int]) -> None:  # fmt: skip
+    """An OBJ's non-finite vertex or degenerate triangle, named by its line in the file."""
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
+    if bad.size:
+        raise ScenarioError(f"{path}: line {vertex_lines[bad[0]]}: expected finite numbers, got "
+                            f"{vertices[bad[0]].tolist()}")  # fmt: skip
+    flat = np.flatnonzero(degenerate_faces(vertices, faces))
+    if flat.size:
+        raise ScenarioError(f"{path}: line {face_lines[flat[0]]}: degenerate triangle (zero area), {flat.size} such "
+                            "face(s)")  # fmt: skip
 
 
 def _weld(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -203,7 +223,9 @@ def read_mesh(path: str | Path, name: str = "", clearance: float = 0.0) -> Mesh:
     except OSError as exc:
         raise ScenarioError(f"{path}: cannot read the mesh file ({exc.strerror or exc})") from None
     if suffix == ".obj":
-        vertices, faces = _read_obj(path, data.decode("utf-8", errors="replace"))
+        vertices, faces, vertex_lines, face_lines = _read_obj(path, data.decode("utf-8", errors="replace"))
+        if len(faces):
+            _obj_lines_check(path, vertices, faces, vertex_lines, face_lines)
     elif suffix == ".stl":
         vertices, faces = _read_stl(path, data)
     else:
