@@ -11,9 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .closest import TINY, clip01
-
-PARALLEL = 1e-12  # relative: a segment with sin^2(angle to an edge) below this is treated as parallel to it
+from .closest import PARALLEL, TINY, clip01
 
 
 class TriangleFrames:
