@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .constraints.clearance import ClearanceRows
 from .priorities import hard_unmet, shortfalls
 
 if TYPE_CHECKING:
@@ -107,8 +108,9 @@ class Result:
         for name, parts in self.shortfall.items():
             lines.append(f"  short: {name} by " + shortfall_text(parts))
         lines.extend(f"  note: {note}" for note in self.notes)
+        distances = {f"{c.name}.shortfall" for c in self.problem.constraints if isinstance(c, ClearanceRows)}
         for name, value in self.residuals.items():
-            unit = _unit(name)
+            unit = "mm" if name in distances else _unit(name)  # a clearance's shortfall is a distance (m)
             shown = np.rad2deg(value) if unit == "deg" else value * (1e3 if unit == "mm" else 1.0)
             lines.append(f"  {name:<32s} {shown:10.3f} {unit}")
         for c in self.contacts:
@@ -132,11 +134,8 @@ def shortfall_text(parts: dict[str, float]) -> str:
     return ", ".join(shown)
 
 
-CLEARANCES = ("floor", "obstacles", "self_collision", "carried", "carried_obstacles")  # rows of distances (m)
-
-
 def _unit(name: str) -> str:
-    if name.endswith(".position") or name in {f"{c}.shortfall" for c in CLEARANCES}:
+    if name.endswith(".position"):
         return "mm"
     if name.endswith(".rotation"):
         return "deg"

@@ -108,6 +108,15 @@ def test_the_box_lift_holds_the_box_by_its_sides_between_a_shelf_and_a_table(tmp
     assert bottom[-1] == pytest.approx(table.center[2] + table.half[2], abs=0.01)  # ends standing on the table
 
 
+def solved_pose(problem: Problem, tmp_path: Path) -> tuple[solver.Result, dict]:
+    """``problem`` solved, and its frame as the result JSON gives it."""
+    result = solver.solve(problem)
+    out = tmp_path / "result.json"
+    solver.write_result(out, result)
+    (frame,) = json.loads(out.read_text(encoding="utf-8"))["frames"]
+    return result, frame
+
+
 def held_low(model, carried: Carried | None) -> Problem:
     """Feet on the floor, the palms on the sides of a box held low in front of the hips (hands at 0.8 m, 15 cm
     ahead of the ankles: a box 30 cm deep reaches back over the hips)."""
@@ -164,11 +173,8 @@ def test_hands_set_the_box_down_inside_a_table_leave_it_on_the_table_top(tmp_pat
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     table = Box(np.array([0.0, -0.35, 0.70]), np.array([0.8, 0.5, 0.04]), name="table")  # top at 0.72 m
     problem = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[table])
-    result = solver.solve(problem)
+    result, frame = solved_pose(problem, tmp_path)
     assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
-    out = tmp_path / "result.json"
-    solver.write_result(out, result)
-    (frame,) = json.loads(out.read_text(encoding="utf-8"))["frames"]
     placed = carried_box(box, *(np.array(frame["tcps"][t]["position"]) for t in box.tcps))
     a, b = box_edges(placed)
     gap = box_distance(a, b, np.zeros(12), table).distance.min()
@@ -216,11 +222,8 @@ def test_hands_set_the_box_down_onto_a_spike_leave_it_on_the_tip(tmp_path):
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     pyramid = spike([0.0, -0.24, 0.72], height=0.2, half=0.04)  # the box's bottom held at 0.68 m
     problem = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[pyramid])
-    result = solver.solve(problem)
+    result, frame = solved_pose(problem, tmp_path)
     assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
-    out = tmp_path / "result.json"
-    solver.write_result(out, result)
-    (frame,) = json.loads(out.read_text(encoding="utf-8"))["frames"]
     placed, _, wrong = carried_obstacle(frame)
     table = dict(kind="mesh", name="spike", triangles=pyramid.vertices[pyramid.faces], closed=True, clearance=0.0)
     assert wrong == [] and -TOLERANCE <= carried_distance(placed, table) <= 0.002  # on the tip, not above it

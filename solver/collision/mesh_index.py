@@ -77,15 +77,11 @@ class MeshIndex:
         outward = -1.0 if self.closed and mesh.signed_volume() < 0 else 1.0
         raw = np.cross(self.b - self.a, self.c - self.a) * outward
         self.normals = unit(raw, np.array([0.0, 0.0, 1.0]))
-        ab, ac = self.b - self.a, self.c - self.a
-        d00, d01, d11 = dot(ab, ab), dot(ab, ac), dot(ac, ac)
         offset = dot(self.normals, self.a)
-        # one row per triangle for the bounds: centroid, unit normal, plane offset, bounding radius, corner a,
-        # edges ab and ac, and their Gram entries with the inverse determinant (barycentric coordinates)
-        inv = 1.0 / (d00 * d11 - d01 * d01)
-        self._rows = np.column_stack(
-            [self.centroid, self.normals, offset, self.bound, self.a, ab, ac, d00, d01, d11, inv]
-        )
+        # one row per triangle for the bounds: centroid, unit normal, plane offset, bounding radius, corner a and
+        # the dual basis of its edges in the plane (p - a -> face coordinates v, w; the frames' rows)
+        dual = self.frames.local
+        self._rows = np.column_stack([self.centroid, self.normals, offset, self.bound, self.a, dual[:, 0], dual[:, 1]])
         self._column = _Column(mesh.vertices, mesh.faces) if self.closed else None
         self._memories: dict[tuple[str, ...], NearMemory] = {}
         self._edges: MeshEdges | None = None
@@ -118,10 +114,8 @@ class MeshIndex:
         upper = np.sqrt(dot(near - c, near - c))
         h0, h1, h = dot(n, p0) - offset, dot(n, p1) - offset, dot(n, near) - offset
         lower = np.maximum(upper - bound, np.where(h0 * h1 > 0, np.minimum(np.abs(h0), np.abs(h1)), 0.0))
-        ap = near - h[:, None] * n - row[:, 8:11]
-        d20, d21 = dot(ap, row[:, 11:14]), dot(ap, row[:, 14:17])
-        d00, d01, d11, inv = row[:, 17], row[:, 18], row[:, 19], row[:, 20]
-        v, w = (d11 * d20 - d01 * d21) * inv, (d00 * d21 - d01 * d20) * inv
+        ap = near - row[:, 8:11]  # the dual basis lies in the plane: no need to project onto it first
+        v, w = dot(ap, row[:, 11:14]), dot(ap, row[:, 14:17])
         over = (v >= 0) & (w >= 0) & (v + w <= 1)
         return lower, np.where(over, np.minimum(upper, np.abs(h)), upper)
 
