@@ -28,35 +28,35 @@ from .lazy import lazy_attributes
 _HOMES = {
     "ComfortWeights": "comfort",
     "ErgoOptions": "ergonomics",
-    "ExternalLoad": "problem",
-    "Frame": "io.frame",
-    "Loop": "problem",
+    "ExternalLoad": "problem.problem",
+    "Frame": "io.result.frame",
+    "Loop": "problem.problem",
     "ManikinError": "errors",
-    "Model": "model",
-    "ModelBuilder": "model_builder",
+    "Model": "body.model",
+    "ModelBuilder": "body.builder",
     "ModelError": "errors",
-    "Problem": "problem",
-    "Result": "result",
-    "ResultFile": "io.result_read",
+    "Problem": "problem.problem",
+    "Result": "iteration.result",
+    "ResultFile": "io.result.read",
     "ResultFileError": "errors",
-    "Scenario": "scenario",
+    "Scenario": "problem.scenario",
     "ScenarioError": "errors",
     "SolverOptions": "options",
-    "Target": "problem",
+    "Target": "problem.problem",
     "UsageError": "errors",
-    "dumps_scenario": "io.scenario_write",
+    "dumps_scenario": "io.scenario.write",
     "evaluate": "ergonomics",
-    "frame_of_result": "io.frame",
-    "load_motion": "io.scenario_read",
-    "load_preset": "bodies",
-    "load_scenario": "io.scenario_read",
-    "read_result": "io.result_read",
-    "result_to_dict": "io.result_write",
-    "scenario_to_dict": "io.scenario_write",
+    "frame_of_result": "io.result.frame",
+    "load_motion": "io.scenario.read",
+    "load_preset": "io.scenario.bodies",
+    "load_scenario": "io.scenario.read",
+    "read_result": "io.result.read",
+    "result_to_dict": "io.result.document",
+    "scenario_to_dict": "io.scenario.write",
     "solve": "iteration",
-    "solve_motion": "motion",
-    "write_result": "io.result_write",
-    "write_scenario": "io.scenario_write",
+    "solve_motion": "motion.frames",
+    "write_result": "io.result.write",
+    "write_scenario": "io.scenario.write",
 }
 __all__ = [
     "ComfortWeights",
@@ -93,23 +93,24 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from .bodies import load_preset
+    from .body.builder import ModelBuilder
+    from .body.model import Model
     from .comfort import ComfortWeights
     from .ergonomics import ErgoOptions, evaluate
     from .errors import ManikinError, ModelError, ResultFileError, ScenarioError, UsageError
-    from .io.frame import Frame, frame_of_result
-    from .io.result_read import ResultFile, read_result
-    from .io.result_write import result_to_dict, write_result
-    from .io.scenario_read import load_motion, load_scenario
-    from .io.scenario_write import dumps_scenario, scenario_to_dict, write_scenario
+    from .io.result.document import result_to_dict
+    from .io.result.frame import Frame, frame_of_result
+    from .io.result.read import ResultFile, read_result
+    from .io.result.write import write_result
+    from .io.scenario.bodies import load_preset
+    from .io.scenario.read import load_motion, load_scenario
+    from .io.scenario.write import dumps_scenario, scenario_to_dict, write_scenario
     from .iteration import solve
-    from .model import Model
-    from .model_builder import ModelBuilder
-    from .motion import solve_motion
+    from .iteration.result import Result
+    from .motion.frames import solve_motion
     from .options import SolverOptions
-    from .problem import ExternalLoad, Loop, Problem, Target
-    from .result import Result
-    from .scenario import Scenario
+    from .problem.problem import ExternalLoad, Loop, Problem, Target
+    from .problem.scenario import Scenario
 
 
 __getattr__ = lazy_attributes(__name__, _HOMES, globals())

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from helpers import random_tree
 
-from solver.model import Model
+from solver.body.model import Model
 
 
 @pytest.fixture(params=[0, 1, 2])

@@ -9,8 +9,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from solver.model import Model  # noqa: E402
-from solver.model_builder import ModelBuilder  # noqa: E402
+from solver.body.builder import ModelBuilder  # noqa: E402
+from solver.body.model import Model  # noqa: E402
+from solver.io.result.frame import Frame  # noqa: E402
 
 
 def random_tree(seed: int, n_interior: int = 14) -> Model:
@@ -52,3 +53,69 @@ def finite_difference(fun, x: np.ndarray, eps: float = 1e-6) -> np.ndarray:
         dx[i] = eps
         cols.append((np.asarray(fun(x + dx)) - np.asarray(fun(x - dx))) / (2 * eps))
     return np.array(cols).T
+
+
+def same_frames(a: Frame, b: Frame) -> None:
+    """Equal up to the quaternion round trip of the TCP rotations (the file holds quaternions)."""
+    assert (a.number, a.converged, a.joint_names, a.link_names) == (b.number, b.converged, b.joint_names, b.link_names)
+    for name in ("joint_value", "joint_range", "joint_position", "joint_axis", "prismatic", "joint_link",
+                 "joint_strength", "link_parent", "link_mass", "link_com", "below", "gravity"):  # fmt: skip
+        np.testing.assert_allclose(getattr(a, name), getattr(b, name), atol=1e-12, err_msg=name)
+    assert a.tcp_link == b.tcp_link and a.tcp_position.keys() == b.tcp_position.keys()
+    for tcp in a.tcp_position:
+        np.testing.assert_allclose(a.tcp_position[tcp], b.tcp_position[tcp], atol=1e-12)
+        np.testing.assert_allclose(a.tcp_rotation[tcp], b.tcp_rotation[tcp], atol=1e-12)
+    assert [c[0] for c in a.contacts] == [c[0] for c in b.contacts] and len(a.loads) == len(b.loads)
+    for x, y in zip(a.contacts + a.loads, b.contacts + b.loads, strict=True):
+        assert x[0] == y[0]
+        for u, v in zip(x[1:], y[1:], strict=True):
+            np.testing.assert_allclose(u, v, atol=1e-12)
+
+
+def leaves(report: object, path: str = "") -> dict:
+    """{path: value} of every leaf of a report, for comparisons up to rounding (the file rounds axes, rotations)."""
+    if isinstance(report, dict):
+        return {k: v for key, item in report.items() for k, v in leaves(item, f"{path}.{key}").items()}
+    if isinstance(report, list):
+        return {k: v for i, item in enumerate(report) for k, v in leaves(item, f"{path}[{i}]").items()}
+    return {path: report}
+
+
+OBSTACLES_TOML = """
+[[obstacles]]
+name = "table"
+kind = "box"
+center = [0.0, -0.55, 0.4]
+size = [0.8, 0.4, 0.8]
+clearance = 0.01
+
+[[obstacles]]
+name = "ball"
+kind = "sphere"
+center = [1.0, 1.0, 1.0]
+radius = 0.1
+
+[[obstacles]]
+name = "rail"
+kind = "capsule"
+a = [1.0, 0.0, 1.0]
+b = [1.0, 1.0, 1.0]
+radius = 0.02
+
+[[obstacles]]
+name = "wall"
+kind = "plane"
+point = [0.0, 2.0, 0.0]
+normal = [0.0, -1.0, 0.0]
+
+[[obstacles]]
+name = "plate"
+kind = "mesh"
+vertices = [[2.0, 2.0, 0.0], [3.0, 2.0, 0.0], [2.0, 3.0, 0.0]]
+faces = [[0, 1, 2]]
+
+[[obstacles]]
+name = "cube"
+kind = "mesh"
+file = "cube.obj"
+"""  # a scenario's obstacles of every kind (appended to a scenario TOML)

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("solver", "blender_manikin")
+PACKAGES = ("solver", "blender_manikin", "bench")
 MAX_FILE_LINES = 400
 MAX_FUNCTION_LINES = 80
 
@@ -61,3 +63,9 @@ def test_no_two_test_files_share_a_name():
     """Test modules are collected by their file name alone (no packages): two of one name stop the whole run."""
     names = [p.name for p in (ROOT / "tests").rglob("test_*.py") if "__pycache__" not in p.parts]
     assert sorted({n for n in names if names.count(n) > 1}) == []
+
+
+def test_the_code_is_ruff_clean() -> None:
+    ruff = Path(sys.executable).with_name("ruff")
+    run = subprocess.run([str(ruff), "check", "--no-cache", "."], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-1000:]

@@ -28,7 +28,7 @@ def _toml(name: str) -> dict:
 def test_the_package_is_the_extension_s_version_and_requirements_install_it() -> None:
     project = _toml("pyproject.toml")["project"]
     assert project["version"] == _toml("blender_manifest.toml")["version"]
-    assert project["scripts"]["manikin"] == "solver.__main__:main"
+    assert project["scripts"]["manikin"] == "solver.cli.main:main"
     text = (ROOT / "requirements.txt").read_text(encoding="utf-8")
     assert "-e ." in [line.split("#")[0].strip() for line in text.splitlines()]
 

@@ -89,7 +89,7 @@ def run(output: Path, runs: int = 3) -> str:
     ext, registered = load_extension()
     job = importlib.import_module(f"{ext.__name__}.blender_manikin.headless.job")
     solver = importlib.import_module(f"{ext.__name__}.solver")
-    bench = importlib.import_module(f"{ext.__name__}.solver.bench.scenarios")
+    bench = importlib.import_module("bench.scenarios")  # the checkout's: machine() and write_section() only
     with tempfile.TemporaryDirectory(prefix="manikin-bench-") as tmp:
         path = Path(tmp) / "box_lift_240.toml"
         path.write_text(solver.dumps_scenario(ping_pong()), encoding="utf-8")
@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--runs", type=int, default=3, help="bakes per setting")
     args = parser.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    importlib.import_module("solver.bench").one_core("blender_manikin.dev.bench")  # one core, one BLAS thread
+    importlib.import_module("bench").one_core("blender_manikin.dev.bench")  # one core, one BLAS thread
     with tempfile.TemporaryDirectory(prefix="manikin-bench-user-") as user:
         os.environ.setdefault("BLENDER_USER_RESOURCES", user)
         run(args.output, args.runs)

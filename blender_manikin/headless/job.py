@@ -24,7 +24,7 @@ from ... import solver
 from ...solver import ManikinError
 from ...solver.ergonomics.report import plot_paths
 from ...solver.io.output_paths import check_distinct, check_output
-from ...solver.io.result_stream import ResultWriter
+from ...solver.io.result.write import ResultWriter
 from ...solver.options import MAX_FRAME, MAX_FRAMES
 from ...solver.progress import Progress
 from ..scene import exports, keyframes, motion_keys

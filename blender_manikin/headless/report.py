@@ -25,12 +25,12 @@ from ...solver.ergonomics.report import SOURCES, clean, frame_parts
 from ...solver.ergonomics.report_text import LoadsText, dumps_filled
 from ...solver.ergonomics.stream import PlotSeries
 from ...solver.io.files import open_output
-from ...solver.io.frame import Frame, frame_of_result
-from ...solver.io.frame_text import SLOT
+from ...solver.io.result.frame import Frame, frame_of_result
+from ...solver.io.result.frame_text import SLOT
 
 if TYPE_CHECKING:
     from ...solver import Model, Result
-    from ...solver.state import State
+    from ...solver.body.state import State
     from ..scene.bake import Baker, FrameRecord
 
 ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet")  # then "niosh", known at the end

@@ -16,12 +16,12 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
+from ...solver.body.spatial import matrix_to_quat
 from ...solver.errors import ManikinError, UsageError
 from ...solver.retarget.bone_map import check_map
 from ...solver.retarget.names import auto_map
 from ...solver.retarget.skeleton import object_scale
 from ...solver.retarget.transfer import LIMBS, Plan, basis_matrices, plan, pose_frame
-from ...solver.spatial import matrix_to_quat
 from ..scene import keyframes
 from ..scene.compat import object_fcurves
 from ..scene.schema import RETARGET_KEY, is_manikin, last_bake, members

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:  # plain NumPy at run time, so the layout is testable without bpy or the package context
-    from ...solver.model import Kinematics, Model
+    from ...solver.body.model import Kinematics, Model
 
 LETTERS = "XYZ"
 MIN_LENGTH = 0.01  # m, shortest bone

@@ -13,10 +13,10 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ...solver.bodies import load_body
+from ...solver.body.model import Model
 from ...solver.ergonomics.worksheet import STRENGTH_BANDS
 from ...solver.errors import ManikinError
-from ...solver.model import Model
+from ...solver.io.scenario.bodies import load_body
 from ..rigging.bones import RigLayout
 from . import display
 from .schema import FILE_KEY, PRESET_KEY, TCP_KEY, TCP_PREFIX, X_KEY

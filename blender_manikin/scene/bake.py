@@ -2,7 +2,7 @@
 
 For each frame the scene is set to it (so keyed, constrained or parented target empties are where the user
 animated them), the scene is read into a solver problem exactly as Solve Pose reads it, and
-:func:`solver.motion.solve_frames` solves it warm-started from the previous frame within the per-frame change
+:func:`solver.motion.frames.solve_frames` solves it warm-started from the previous frame within the per-frame change
 bound (a frame that would need a jump does not converge and its notes say which target moved too far). The
 solutions are buffered; :meth:`Baker.write` keys every joint's bone channel (and a carried box) at once, so a
 cancelled bake leaves the scene as it was. :class:`Baker` works in steps so a modal operator can show progress
@@ -21,9 +21,9 @@ import bpy
 import numpy as np
 
 from ...solver import ManikinError, Problem, Result
-from ...solver.io.result_stream import interrupts_held
-from ...solver.motion import MotionLimits, solve_frames
-from ...solver.spatial import matrix_to_quat
+from ...solver.body.spatial import matrix_to_quat
+from ...solver.io.result.write import interrupts_held
+from ...solver.motion.frames import MotionLimits, solve_frames
 from . import carried_object, keyframes, problem_io
 from .armature import layout_of, model_of, read_x, write_pose
 from .schema import BAKE_KEY

@@ -1,4 +1,5 @@
-"""A scenario's carried box (``[carried]``, :mod:`solver.carried`) as an object: a box mesh made by scenario import,
+"""A scenario's carried box (``[carried]``, :mod:`solver.collision.carried`) as an object: a box mesh made by scenario
+import,
 placed between its two TCPs after every solve (Solve Pose, live mode), keyed with the hands by every bake (the
 sidebar's and the batch's: :meth:`.bake.Baker.write`), written back by scenario export.
 
@@ -16,9 +17,9 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ...solver.carried import Carried, carried_frame
-from ...solver.model import Model
-from ...solver.spatial import matrix_to_quat
+from ...solver.body.model import Model
+from ...solver.body.spatial import matrix_to_quat
+from ...solver.collision.carried import Carried, carried_frame
 from . import keyframes
 from .armature import model_of
 from .schema import CARRIED_KEY, tcp_empty
@@ -81,7 +82,7 @@ def add_carried(arm: bpy.types.Object, carried: Carried) -> bpy.types.Object:
 
 def box_world(model: Model, tcps: tuple[str, str], theta: np.ndarray, world: np.ndarray) -> np.ndarray:
     """The box's 4x4 world matrix for the joint values ``theta`` with the armature object at ``world`` (4x4): its
-    centre midway between the two TCPs (m), its axes as :func:`solver.carried.carried_frame` says."""
+    centre midway between the two TCPs (m), its axes as :func:`solver.collision.carried.carried_frame` says."""
     kin = model.forward(np.asarray(theta, dtype=float)[: model.n])
     points = [world[:3, :3] @ kin.tcp_frame(model.tcp(tcp))[1] + world[:3, 3] for tcp in tcps]
     return _matrix(*carried_frame(*points))

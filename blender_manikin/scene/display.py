@@ -16,9 +16,9 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from ...solver.body.model import Model
 from ...solver.collision.body import capsules_of
 from ...solver.errors import ModelError
-from ...solver.model import Model
 from ..rigging.body_mesh import BodyMesh, build_body_mesh, capsule_mesh
 from ..rigging.bones import RigLayout
 from ..rigging.skin import SkinMesh, skin_mesh

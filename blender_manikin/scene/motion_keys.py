@@ -14,8 +14,8 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ...solver.scenario import Scenario
-from ...solver.spatial import matrix_to_quat
+from ...solver.body.spatial import matrix_to_quat
+from ...solver.problem.scenario import Scenario
 from . import keyframes
 from .schema import members
 

@@ -16,22 +16,22 @@ from mathutils import Matrix
 
 from ... import solver
 from ...solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
+from ...solver.body.contacts import support_polygon
+from ...solver.body.reduction import DEFAULT_GROUPS
 from ...solver.collision.body import capsules_of
 from ...solver.constraints.clearance import TOLERANCE
-from ...solver.contacts import support_polygon
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
-from ...solver.reduction import DEFAULT_GROUPS
-from ...solver.result import shortfall_text
+from ...solver.iteration.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
 from .obstacles import scene_obstacles
 from .schema import ERROR_KEY, RESULT_KEY, members
 
 if TYPE_CHECKING:
-    from ...solver.carried import Carried
-    from ...solver.model import Model
-    from ...solver.state import State
+    from ...solver.body.model import Model
+    from ...solver.body.state import State
+    from ...solver.collision.carried import Carried
 
 TOP_LOADS = 5
 

@@ -12,7 +12,7 @@ import numpy as np
 from mathutils import Matrix
 
 from ...solver import ManikinError
-from ...solver.model import GRAVITY
+from ...solver.body.model import GRAVITY
 from ...solver.options import AXES
 from .armature import model_of, read_x, tcp_world_frame
 from .schema import member_name, members, tcp_empty

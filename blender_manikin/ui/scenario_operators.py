@@ -23,8 +23,8 @@ from ...solver.presets import MANIKINS_DIR
 from ..scene.schema import FILE_KEY, PRESET_KEY, members, rig_of
 
 if TYPE_CHECKING:
-    from ...solver.model import Model
-    from ...solver.scenario import Scenario
+    from ...solver.body.model import Model
+    from ...solver.problem.scenario import Scenario
 
 
 def body_source(model: Model) -> dict:
@@ -160,7 +160,7 @@ class MANIKIN_OT_export_scenario(bpy.types.Operator, ExportHelper):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ...solver import scenario_to_dict
-        from ...solver.io.scenario_write import write_scenario_files
+        from ...solver.io.scenario.write import write_scenario_files
         from ..scene import carried_object, motion_keys, problem_io
 
         arm = rig_of(context.active_object)

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 import bpy
 
 from ...solver.errors import ManikinError, UsageError
+from ...solver.presets import PRESETS_DIR
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, rig_of
 
 if TYPE_CHECKING:
@@ -28,6 +29,9 @@ if TYPE_CHECKING:
 POLL_S = 0.5  # s between two looks at the journal
 _job: StudyJob | None = None
 _scene_name = ""  # the scene whose table the running study fills
+
+FAMILIES = PRESETS_DIR / "families"  # the shipped manikin families
+FOLDER = "FOLDER"  # the family choice that reads a folder of the user's
 
 
 def current_job() -> StudyJob | None:
@@ -92,7 +96,6 @@ def fill_table(settings, rows: list[dict]) -> None:
 def family_folder(settings) -> Path:
     """The chosen family's folder, checked by reading its index (one ManikinError line if it does not read)."""
     from ...solver.population import read_family
-    from .study_panel import FAMILIES, FOLDER
 
     if settings.family != FOLDER:
         folder = FAMILIES / settings.family
@@ -151,7 +154,7 @@ class MANIKIN_OT_study_run(bpy.types.Operator):
     def execute(self, context: bpy.types.Context) -> set[str]:
         global _job, _scene_name
         from ...solver.io.files import write_text
-        from ...solver.io.scenario_write import write_scenario_files
+        from ...solver.io.scenario.write import write_scenario_files
         from ...solver.study import load_study
         from ...solver.study.plan import plan
         from ..scene import study_job

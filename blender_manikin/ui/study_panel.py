@@ -10,12 +10,10 @@ from __future__ import annotations
 import bpy
 from bpy.props import BoolProperty, CollectionProperty, EnumProperty, IntProperty, StringProperty
 
-from ...solver.presets import PRESETS_DIR
 from ..scene.schema import rig_of
 from . import study_operators
+from .study_operators import FAMILIES, FOLDER
 
-FAMILIES = PRESETS_DIR / "families"
-FOLDER = "FOLDER"
 VARY = (
     ("NONE", "Nothing", "Every member on the targets as they are"),
     ("z", "Target height", "Add each value (m) to the height of the chosen targets"),

@@ -21,7 +21,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..model import Model
+from ..body.model import Model
 from .data import BodyData, load_body_data, rig_rest
 from .fit import blend, segment_affines, segment_weights
 from .landmarks import SIDES, mpfb_landmarks, our_joint_names, our_landmarks

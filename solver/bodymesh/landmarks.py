@@ -29,9 +29,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies.anthropometry import HIP_JOINT_SHARE
+from ..body.humans.anthropometry import HIP_JOINT_SHARE
+from ..body.model import Model
 from ..errors import ModelError
-from ..model import Model
 from .data import BodyData
 
 SIDES = ("l", "r")

@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..body.model import Model
 from ..errors import ModelError
-from ..model import Model
 from .landmarks import FINGERS
 
 AXIAL = ("spine05", "spine04", "spine03", "spine02", "spine01", "neck01", "neck02", "neck03", "breast")

@@ -5,7 +5,7 @@ it (the mean of near ties: both hips below the pelvis), or, for an end segment (
 its centre of mass; a link with a sole (a foot, the snake's base) lies on it instead, along the sole and no
 thicker than half the sole's width, so a foot standing on the floor touches it and does not sink in. The radius
 makes a cylinder of that length hold the segment's mass at the density of water (``DENSITY``; de Leva's segment
-masses and Winter's lengths, see :mod:`solver.bodies.anthropometry`, so the shapes follow the manikin's sex,
+masses and Winter's lengths, see :mod:`solver.body.humans.anthropometry`, so the shapes follow the manikin's sex,
 stature and body mass), kept within ``[MIN_RADIUS, MAX_RADIUS]``. A cylinder of the segment's mass is a rough
 body: the trunk comes out round (its width about right, its depth too large), a limb about its mean girth.
 Massless links (fingers, toes, the exterior root) get no capsule.
@@ -18,7 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..model import Kinematics, Model, Tcp
+from ..body.model import Kinematics, Model, Tcp
 
 DENSITY = 1000.0  # kg/m^3, water (a body's mean density is within 10 % of it)
 MIN_RADIUS = 0.01  # m

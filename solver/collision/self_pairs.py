@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import Model
+from ..body.model import Model
 from .body import BodyCapsules
 from .distance import capsule_pairs
 

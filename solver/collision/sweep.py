@@ -28,7 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..model import Model
+from ..body.model import Model
 from .body import BodyCapsules, capsules_of
 from .distance import capsule_pairs, obstacle_distance
 from .mesh_index import MeshIndex, index_of

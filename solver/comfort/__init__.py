@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import Model
-from ..state import State
+from ..body.model import Model
+from ..body.state import State
 from .base import ComfortTerm
 from .contact_spread import ContactSpread
 from .joint_load import JointLoad

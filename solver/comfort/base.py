@@ -6,7 +6,7 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
-from ..state import State
+from ..body.state import State
 
 
 class ComfortTerm(ABC):

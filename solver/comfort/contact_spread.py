@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import GRAVITY, Model
-from ..state import State
+from ..body.model import GRAVITY, Model
+from ..body.state import State
 from .base import ComfortTerm
 
 

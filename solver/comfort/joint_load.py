@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import Model
-from ..state import State
+from ..body.model import Model
+from ..body.state import State
 from .base import ComfortTerm
 
 

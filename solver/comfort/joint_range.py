@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import Model
-from ..state import State
+from ..body.model import Model
+from ..body.state import State
 from .base import ComfortTerm
 
 U_MAX = 0.48 * np.pi

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..state import State
+from ..body.state import State
 from .base import Constraint
 
 FORCE_TOLERANCE = 1.0  # N

@@ -1,13 +1,15 @@
-"""Carried clearance: the body stays out of a box carried between two TCPs (``[carried]``, :mod:`solver.carried`).
+"""Carried clearance: the body stays out of a box carried between two TCPs (``[carried]``,
+:mod:`solver.collision.carried`).
 
 One row per body capsule but those on the two holding TCPs' links (the hands that hold the box: where they sit on
 it is the grip, which their targets decide; a hand touching its side is meant), g = the capsule's signed surface
-distance to the box where the two TCPs put it in this pose (m), g >= :data:`solver.carried.CLEARANCE` (0: the body
+distance to the box where the two TCPs put it in this pose (m), g >= :data:`solver.collision.carried.CLEARANCE` (0: the
+body
 may touch the box, as a box carried against the belly does, but not enter it).
 
 The box moves with the hands, so a row's Jacobian has two parts: n . (velocity of the witness on the capsule's
 axis) - n . (velocity of the box's material point at the closest point q), the second from the two TCPs'
-velocities through the box frame (:func:`solver.carried.box_motion_terms`). Like the body's own pairs, the
+velocities through the box frame (:func:`solver.collision.carried.box_motion_terms`). Like the body's own pairs, the
 witnesses' sliding drops out (the envelope theorem, for overlapping pairs too: the two points differ along n).
 Rows rank with supports and balance (priority 1), as every clearance row does.
 """
@@ -16,11 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..carried import CLEARANCE, Carried, box_motion_terms, held_frame
+from ..body.model import Model
+from ..body.state import State
 from ..collision.body import BodyCapsules
 from ..collision.boxes import box_rows
-from ..model import Model
-from ..state import State
+from ..collision.carried import CLEARANCE, Carried, box_motion_terms, held_frame
 from .clearance import ClearanceRows
 
 

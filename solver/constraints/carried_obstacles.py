@@ -1,6 +1,7 @@
 """The carried box keeps out of the obstacles and above the floor, as the body does (one-sided rows, m).
 
-The box (:mod:`solver.carried`) moves with the two TCPs that hold it, so a hand target that would set it down inside
+The box (:mod:`solver.collision.carried`) moves with the two TCPs that hold it, so a hand target that would set it down
+inside
 a table ends unmet, the box on the table top, like any target pulling a body part into something (priority 1).
 
 Rows, per obstacle: against a half-space (the floor) one per box corner, g = n.(corner - point), exact and smooth
@@ -12,7 +13,8 @@ meet. For a mesh those are its EDGE_ROWS edges nearest the box, nearest first, a
 the middle of one of the box's faces touches none of the box's edges): the k-th smallest distance is continuous (to
 1e-12 m at ties), and each row is exact for the edge it holds. The Jacobian of a row is n . (velocity of the box's
 material point at its nearest point), n pointing away from the obstacle, through both TCPs
-(:func:`solver.carried.box_motion_terms`). Only obstacles whose bounds come within the margin of the box's bounds
+(:func:`solver.collision.carried.box_motion_terms`). Only obstacles whose bounds come within the margin of the box's
+bounds
 are measured.
 """
 
@@ -20,13 +22,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..carried import Carried, box_motion_terms, held_frame
+from ..body.model import Model
+from ..body.state import State
 from ..collision import Box, Capsule, HalfSpace, Mesh, Obstacle, Proximity, Sphere, obstacle_distance
 from ..collision.boxes import box_rows
+from ..collision.carried import Carried, box_motion_terms, held_frame
 from ..collision.mesh_index import MeshIndex, index_of
 from ..constraints.clearance import ClearanceRows, Closeness
-from ..model import Model
-from ..state import State
 
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
 _NO_RADIUS = np.zeros(12)  # the box's edges are segments

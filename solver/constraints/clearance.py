@@ -15,12 +15,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..body.model import Model
+from ..body.state import State
 from ..collision import Box, HalfSpace, Mesh, Obstacle, boxes_distance, obstacle_distance
 from ..collision.body import BodyCapsules, capsules_of
 from ..collision.boxes import box_set
 from ..collision.mesh_index import index_of
-from ..model import Model
-from ..state import State
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met

@@ -21,11 +21,11 @@ import math
 
 import numpy as np
 
+from ..body.model import Model, Tcp
+from ..body.spatial import left_jacobian_inverse_so3, log_so3
+from ..body.state import State
 from ..errors import ManikinError
-from ..model import Model, Tcp
 from ..options import AXES
-from ..spatial import left_jacobian_inverse_so3, log_so3
-from ..state import State
 from .base import Constraint
 
 POSITION_TOLERANCE = 1e-3  # m

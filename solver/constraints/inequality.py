@@ -11,7 +11,7 @@ from abc import abstractmethod
 
 import numpy as np
 
-from ..state import State
+from ..body.state import State
 from .base import Constraint
 
 

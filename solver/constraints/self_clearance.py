@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..body.model import Model
+from ..body.state import State
 from ..collision.body import BodyCapsules
 from ..collision.distance import capsule_pairs
 from ..collision.proximity import PairProximity
 from ..collision.self_pairs import self_pairs
-from ..model import Model
-from ..state import State
 from .clearance import HOLD, ClearanceRows
 
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import Model
+from ..body.model import Model
 from .analysis import comparison
 from .directions import DirectionSphere, direction_sphere
 from .reach import check_tolerance, reach_setup
@@ -47,7 +47,7 @@ class EnvelopeSettings:
         """The hand's fixed orientation (3x3, world), None when free."""
         if self.rotation is None:
             return None
-        from ..spatial import quat_to_matrix
+        from ..body.spatial import quat_to_matrix
         from .run import rotation_of
 
         return quat_to_matrix(np.array(rotation_of(self.rotation)))

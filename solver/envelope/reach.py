@@ -5,7 +5,8 @@ A point is *reached* when a solve meets every constraint there: the hand on the 
 when it is fixed), both feet on their start places (all six axes: planted; or, stepping, flat on the floor within
 the stance bounds of :mod:`.stance`), the floor and the body's own clearances,
 and, with balance, the static balance of the whole body with its contact forces inside the friction cones and the
-soles (priority 1 in :mod:`solver.priorities`) under the hand-held load. The reach along a ray is the largest radius
+soles (priority 1 in :mod:`solver.problem.priorities`) under the hand-held load. The reach along a ray is the largest
+radius
 found reached by a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last
 reached pose. A ray is assumed to be reached from the shoulder out to one radius (star-shaped); where it is not (a
 ray through the head), the search returns the end of the reached stretch it started on. Units: m, kg, N.
@@ -17,13 +18,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..body.model import GRAVITY, Model
 from ..constraints import AXES
 from ..errors import ModelError, UsageError
 from ..iteration import TUNING, attempt
-from ..model import GRAVITY, Model
 from ..options import SolverOptions
-from ..problem import Problem
-from ..specs import ExternalLoad, Target
+from ..problem.problem import Problem
+from ..problem.specs import ExternalLoad, Target
 from .stance import StanceBounds, stance_limits
 
 SIDES = {"right": "r", "left": "l"}

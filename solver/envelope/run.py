@@ -12,15 +12,15 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..body.model import Model
+from ..body.spatial import quat_to_matrix
 from ..errors import UsageError
-from ..model import Model
-from ..spatial import quat_to_matrix
 from .reach import FEET, ReachSetup, arm_length, check_tolerance, reach_setup, search_ray
 
 
 @lru_cache(maxsize=32)
 def _model(manikin: str) -> Model:
-    from ..bodies import load_preset
+    from ..io.scenario.bodies import load_preset
 
     return load_preset(manikin)
 

@@ -21,11 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bodies.anthropometry import WINTER_H
+from ..body.humans.anthropometry import WINTER_H
+from ..body.model import Model
+from ..body.spatial import cross
+from ..body.state import State
 from ..constraints.inequality import Inequality
-from ..model import Model
-from ..spatial import cross
-from ..state import State
 
 STEP_FRACTION = 0.4  # of stature: how far a foot may move from its start, and the feet's largest distance apart
 YAW_MAX_DEG = 45.0  # how far a foot may turn about z from its start

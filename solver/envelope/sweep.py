@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..model import Model
+from ..body.model import Model
 from .directions import DirectionSphere
 from .reach import RayReach, ReachSetup, arm_length, check_tolerance, reach_setup, search_ray
 

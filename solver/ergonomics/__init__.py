@@ -1,6 +1,6 @@
 """Ergonomic evaluation of solved poses and motions (issue 6): joint loads, RULA, REBA, OWAS, NIOSH, a worksheet.
 
-Works on typed frames (:class:`solver.io.frame.Frame`): from a :class:`~solver.Result` directly or from a
+Works on typed frames (:class:`solver.io.result.frame.Frame`): from a :class:`~solver.Result` directly or from a
 result file (README "result JSON"). The manikin (the result's own, ``ErgoOptions.manikin`` or the one the
 result file's scenario names) supplies joint strengths and the standard working area. One module, one job:
 ``manikin`` (strengths, working area), ``loads``, ``postures``, ``rula``, ``reba``, ``owas``, ``niosh``,
@@ -12,11 +12,11 @@ from __future__ import annotations
 from collections.abc import Iterable
 from pathlib import Path
 
+from ..body.model import Model
 from ..errors import UsageError
-from ..io.frame import Frame, frame_of_result
-from ..io.result_read import ResultFile
-from ..model import Model
-from ..result import Result
+from ..io.result.frame import Frame, frame_of_result
+from ..io.result.read import ResultFile
+from ..iteration.result import Result
 from .manikin import check_fits, resolve_model
 from .options import ErgoOptions
 from .report import evaluate_frames, output_files

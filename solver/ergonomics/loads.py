@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..io.frame import Frame
-from ..spatial import cross  # np.cross's arithmetic, without its overhead on small arrays
+from ..body.spatial import cross  # np.cross's arithmetic, without its overhead on small arrays
+from ..io.result.frame import Frame
 
 MUSCLE_MOMENT_ARM = 0.05  # m, single equivalent extensor muscle about L4/L5 (Chaffin et al., see above)
 DISC_ACTION_LIMIT = 3400.0  # N, NIOSH 1981 action limit

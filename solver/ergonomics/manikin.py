@@ -1,9 +1,10 @@
 """The manikin behind a result: joint strengths and the standard working area (thesis §6.1.2) of its own body.
 
 A result file names its scenario (top-level ``scenario``); the scenario's ``[manikin]`` table names a preset or a
-body file, which :func:`solver.bodies.load_body` builds. Strengths come from the result itself when its joints
+body file, which :func:`solver.io.scenario.bodies.load_body` builds. Strengths come from the result itself when its
+joints
 carry ``strength`` ([negative, positive] capacity, N*m, null = unlimited), else from that model
-(:attr:`solver.model.Model.strength`, sources in :mod:`solver.bodies.anthropometry`).
+(:attr:`solver.body.model.Model.strength`, sources in :mod:`solver.body.humans.anthropometry`).
 """
 
 from __future__ import annotations
@@ -13,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bodies import is_body_file, load_preset
+from ..body.model import Model
+from ..body.spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
 from ..errors import ManikinError, UsageError
-from ..io.frame import Frame
-from ..model import Model
-from ..spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
+from ..io.result.frame import Frame
+from ..io.scenario.bodies import is_body_file, load_preset
 
 _UP = np.array([0.0, 0.0, 1.0])
 
@@ -100,7 +101,7 @@ def _scenario_manikin(scenario: Path, result_dir: Path) -> Model:
     if found is None:
         raise ManikinError(f"scenario file {str(scenario)!r} not found")
     # imported here: the scenario reader loads scipy, and the Blender layer imports this package when it enables
-    from ..io.scenario_read import scenario_manikin
+    from ..io.scenario.read import scenario_manikin
 
     return scenario_manikin(found)
 

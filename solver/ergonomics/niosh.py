@@ -22,8 +22,8 @@ import math
 
 import numpy as np
 
-from ..io.frame import Frame
-from ..spatial import length
+from ..body.spatial import length
+from ..io.result.frame import Frame
 from .manikin import feet_frame
 from .options import ErgoOptions
 

@@ -18,7 +18,7 @@ value. Category meanings: 1 normal posture, no action; 2 slightly harmful, corre
 
 from __future__ import annotations
 
-from ..io.frame import Frame
+from ..io.result.frame import Frame
 from . import options as opt
 
 OWAS_TWIST_DEG = 20.0  # twisted / side bent beyond 20 deg (the OWAS summary quoted above)

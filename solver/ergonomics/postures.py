@@ -1,7 +1,7 @@
 """Body angles measured on the manikin of a result frame (degrees), the inputs of RULA, REBA, OWAS and the worksheet.
 
 How each angle is measured (world positions of joints and TCPs from the result; joint names of
-:mod:`solver.bodies.human`; every vertebra's joints sit at its lower disc):
+:mod:`solver.body.humans.human`; every vertebra's joints sit at its lower disc):
 
 * Feet frame: origin between the sole centres, ``forward`` the mean heading of the feet, ``left`` = z x forward.
 * Trunk axis u: from the lumbosacral joint (``l5_rx``, L5/S1) to the C7/T1 joint (``c7_rx``).
@@ -32,8 +32,8 @@ import math
 
 import numpy as np
 
-from ..io.frame import Frame
-from ..spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
+from ..body.spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
+from ..io.result.frame import Frame
 from .manikin import feet_frame
 
 SIDES = ("l", "r")

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..body.model import Model
 from ..io.files import open_output
 from ..io.files import write_json as write_file
-from ..io.frame import Frame
-from ..model import Model
+from ..io.result.frame import Frame
 from . import niosh, postures
 from .loads import JointLoads, load_arrays
 from .manikin import strengths, working_area
@@ -25,7 +25,7 @@ from .worksheet import worksheet
 
 SOURCES = {
     "joint_loads": "Delfs 2012 eq. 3.11 (moments of gravity, contacts and loads over each joint's subtree)",
-    "strength": "solver/bodies/anthropometry.py: Anderson et al. 2007 (hip, knee, ankle); one trained subject "
+    "strength": "solver/body/humans/anthropometry.py: Anderson et al. 2007 (hip, knee, ankle); one trained subject "
     "(rbdl data) for shoulder, elbow, wrist, lumbar flexion/extension; other joints estimates",
     "l4_l5": "estimate: single equivalent muscle, 5 cm moment arm (Chaffin, Andersson & Martin, Occupational "
     "Biomechanics); limits 3400 / 6400 N (NIOSH 1981)",

@@ -2,7 +2,7 @@
 characters as ``json.dumps(..., allow_nan=False)`` of the dicts :func:`.report.frame_report` builds, cheaper.
 
 The per-joint loads are most of a report frame (160 joints of the human body: 22 of its 27 KB). Their names and
-keys are encoded once per body into a template (:func:`solver.io.frame_text.template`); each frame only turns its
+keys are encoded once per body into a template (:func:`solver.io.result.frame_text.template`); each frame only turns its
 numbers into text, a value that is not finite written as null as :meth:`~.loads.JointLoads.as_dict` has it.
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 
-from ..io.frame_text import SLOT, Numbers, interleave, template
+from ..io.result.frame_text import SLOT, Numbers, interleave, template
 from .loads import JointLoads
 
 _MARK = json.dumps(SLOT)
@@ -42,7 +42,7 @@ class LoadsText:
 
 
 def dumps_filled(value: object, filling: str) -> str | None:
-    """``json.dumps(value, allow_nan=False)`` with the one :data:`~solver.io.frame_text.SLOT` string in ``value``
+    """``json.dumps(value, allow_nan=False)`` with the one :data:`~solver.io.result.frame_text.SLOT` string in ``value``
     replaced by the JSON text ``filling``; None if ``value`` does not hold it exactly once."""
     text = json.dumps(value, allow_nan=False)
     return text.replace(_MARK, filling) if text.count(_MARK) == 1 else None

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import UsageError
 from ..io.files import OutputFile
-from ..io.result_read import ResultStream
+from ..io.result.read import ResultStream
 from . import niosh
 from .loads import JointLoads
 from .manikin import check_fits, resolve_model, strengths, working_area

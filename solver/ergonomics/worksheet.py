@@ -15,7 +15,7 @@ Sources of the thresholds:
   to 10 cm outside is yellow (PROJECT DEFAULT), farther is red.
 * L4/L5 compression: NIOSH 1981 action limit 3400 N, maximum permissible limit 6400 N (:mod:`.loads`).
 * Joint strength: the highest percent of strength of any joint, green <= 30 %, yellow <= 60 %, red above
-  (PROJECT DEFAULT; the strengths themselves are partly estimates, see solver/bodies/anthropometry.py).
+  (PROJECT DEFAULT; the strengths themselves are partly estimates, see solver/body/humans/anthropometry.py).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from ..io.frame import Frame
+from ..io.result.frame import Frame
 from .manikin import WorkingArea, feet_frame, to_feet
 
 ISO = "ISO 11226 / EN 1005-4"
@@ -114,7 +114,7 @@ def force_items(frame: Frame, percent: np.ndarray, l4_l5: dict) -> dict:
         items["joint_strength"] = _item(
             round(value, 1), "% of strength", level,
             f"green <= {g:g} %, yellow <= {y:g} %, red > {y:g} % (worst joint)",
-            "project default bands; strengths: solver/bodies/anthropometry.py", joint=frame.joint_names[worst],
+            "project default bands; strengths: solver/body/humans/anthropometry.py", joint=frame.joint_names[worst],
         )  # fmt: skip
     return items
 

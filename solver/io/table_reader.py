@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from ..body.spatial import quat_to_matrix
 from ..errors import ManikinError, shown
 from ..options import AXES
-from ..spatial import quat_to_matrix
 
 _MISSING = object()
 QUATERNION_LIMIT = 1e6  # a quaternion's components: normalised when read, but beyond this its norm overflows

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..spatial import matrix_to_quat
+from ..body.spatial import matrix_to_quat
 
 
 def floats(v: np.ndarray) -> list[float]:

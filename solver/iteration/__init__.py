@@ -15,15 +15,28 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
 5. Phases (``loop``, ``phases``): comfort first, then the constraints restored without comfort if needed;
    stopping rules (``stopping``) record a :class:`StopReason`; a failed solve restarts from the other side of the
    joints it left at a limit (``restarts``). Every knob is one field of :class:`Tuning` (``tuning``).
+
+What a solve returns is :class:`~solver.iteration.result.Result` (``result``). Importing this package loads no
+numerics: its names load on first use, so the result type can be read without SciPy.
 """
 
-from .curvature_memory import CurvatureMemory, null_space_newton
-from .least_squares import LeastSquares
-from .phases import attempt, solve
-from .restarts import restart_pose
-from .stopping import StopReason
-from .tuning import TUNING, Tuning
+from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+from ..lazy import lazy_attributes
+
+_HOMES = {
+    "TUNING": "tuning",
+    "CurvatureMemory": "curvature_memory",
+    "LeastSquares": "least_squares",
+    "StopReason": "stopping",
+    "Tuning": "tuning",
+    "attempt": "phases",
+    "null_space_newton": "curvature_memory",
+    "restart_pose": "restarts",
+    "solve": "phases",
+}
 __all__ = [
     "TUNING",
     "CurvatureMemory",
@@ -35,3 +48,13 @@ __all__ = [
     "restart_pose",
     "solve",
 ]
+
+if TYPE_CHECKING:
+    from .curvature_memory import CurvatureMemory, null_space_newton
+    from .least_squares import LeastSquares
+    from .phases import attempt, solve
+    from .restarts import restart_pose
+    from .stopping import StopReason
+    from .tuning import TUNING, Tuning
+
+__getattr__ = lazy_attributes(__name__, _HOMES, globals())

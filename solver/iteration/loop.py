@@ -7,11 +7,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..options import SolverOptions
-from ..problem import Problem
+from ..problem.problem import Problem
 from .curvature_memory import CurvatureMemory
+from .line_search import LineSearch, Outcome
 from .step import Linearization, Step, compute_step
 from .stopping import StagnationWatch, StopReason
-from .trial import Evaluator, LineSearch, Outcome, Trial
+from .trial import Evaluator, Trial
 from .tuning import Tuning
 
 

@@ -7,11 +7,11 @@ import time
 import numpy as np
 
 from ..options import DEFAULT_OPTIONS, SolverOptions
-from ..priorities import ranked, soft_shortfall
-from ..problem import Problem
-from ..result import Result
+from ..problem.priorities import ranked, soft_shortfall
+from ..problem.problem import Problem
 from .loop import PhaseEnd, run_phase
 from .restarts import restart_pose
+from .result import Result
 from .stopping import StopReason
 from .trial import Evaluator
 from .tuning import TUNING, Tuning
@@ -30,7 +30,7 @@ def solve(
     (but still in its curvature metric, which keeps joints off their limits). A phase ends early when, far
     from the constraints, the error has stopped falling (unreachable targets: the best compromise, sooner).
     A solve that still fails starts again (up to ``options.restarts`` times) from :func:`restart_pose`. If
-    every row cannot be met, the problem is solved again ranked (:mod:`solver.priorities`), on from the best
+    every row cannot be met, the problem is solved again ranked (:mod:`solver.problem.priorities`), on from the best
     unranked end (and from the start if that does not hold priority 1): supports, loops and balance held, reach
     targets as close as they get. The result is the first that meets everything, else
     the one that holds the most of priority 1 and then comes closest to the rest, with the iterations and

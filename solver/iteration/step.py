@@ -15,7 +15,7 @@ from functools import cached_property
 import numpy as np
 from scipy.linalg import lapack
 
-from ..problem import Problem
+from ..problem.problem import Problem
 from .curvature_memory import CurvatureMemory, null_space_newton
 from .least_squares import LeastSquares
 from .trial import Trial

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..bodies.human import SEXES
+from ..body.humans.human import SEXES
 from ..errors import UsageError
 from .model import Population, coverage_radius, population
 

@@ -1,4 +1,5 @@
-"""A family on disk: one body TOML per member (loadable by :func:`solver.bodies.load_body` and by a scenario's
+"""A family on disk: one body TOML per member (loadable by :func:`solver.io.scenario.bodies.load_body` and by a
+scenario's
 ``[manikin] file = ...``) and the index ``family.toml`` beside them::
 
     [family]                       # how it was made

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bodies.human import MASS_RANGE, SEXES, STATURE_RANGE
-from ..bodies.measurements import MEASUREMENTS
+from ..body.humans.human import MASS_RANGE, SEXES, STATURE_RANGE
+from ..body.humans.measurements import MEASUREMENTS
 from ..errors import UsageError
 from . import ansur2
 
@@ -52,7 +52,8 @@ class Population:
     def sample(self, n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """``n`` random bodies: (stature m, mass kg) rows (n, 2) and their extra measurements (n, k), m.
 
-        A draw outside the bodies' valid ranges (:mod:`solver.bodies`) is drawn again, so the distribution is
+        A draw outside the bodies' valid ranges (:mod:`solver.io.scenario.bodies`) is drawn again, so the distribution
+        is
         truncated there (beyond 4 standard deviations: it does not happen in practice)."""
         size, extra = np.empty((n, 2)), np.empty((n, len(self.extras)))
         todo = np.arange(n)

@@ -21,7 +21,7 @@ from ..envelope.outputs import RESULT_COLUMNS, summary_row, write_envelope
 from .envelope_spec import mesh_name
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from ..body.model import Model
     from .plan import Run
 
 FOLDER = "envelopes"  # in the study's output folder

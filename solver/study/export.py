@@ -35,7 +35,7 @@ def absolute_paths(data: dict, folder: Path) -> None:
 
 def row_scenario(study_file: str | Path, run_id: str) -> str:
     """The scenario TOML of the run ``run_id`` of the study (see the module docstring)."""
-    from ..io.scenario_read import scenario_from_dict
+    from ..io.scenario.read import scenario_from_dict
 
     run = find_run(plan(load_study(study_file)), run_id)
     if run.envelope is not None:

@@ -30,8 +30,8 @@ from .envelope_runs import ENVELOPE_COLUMNS, envelope_row
 from .plan import Run
 
 if TYPE_CHECKING:
-    from ..model import Model
-    from ..scenario import Scenario
+    from ..body.model import Model
+    from ..problem.scenario import Scenario
     from .spec import Manikin
 
 OUTCOME = ["status", "converged", "held", "frames", "frames_converged"]
@@ -116,8 +116,8 @@ def _reason(exc: Exception) -> str:
 def _solve(run: Run) -> tuple[list, float]:
     """Every frame of the run's scenario solved (frame, Result), and the time it took (s)."""
     from ..errors import ScenarioError
-    from ..io.scenario_read import scenario_from_dict
-    from ..motion import solve_motion
+    from ..io.scenario.read import scenario_from_dict
+    from ..motion.frames import solve_motion
 
     try:
         tables = run.tables()

@@ -40,14 +40,14 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..bodies import MANIKINS_DIR as PRESET_BODIES
-from ..bodies import body_from_dict, list_presets
+from ..body.model import Model
 from ..ergonomics import ErgoOptions
 from ..errors import ManikinError, ScenarioError
 from ..io.files import read_toml
-from ..io.scenario_read import scenario_from_dict
+from ..io.scenario.bodies import MANIKINS_DIR as PRESET_BODIES
+from ..io.scenario.bodies import body_from_dict, list_presets
+from ..io.scenario.read import scenario_from_dict
 from ..io.table_reader import TableReader, is_number
-from ..model import Model
 from ..population.family_files import INDEX, read_family
 from . import keypath
 from .envelope_spec import EnvelopeStudy, load_envelope

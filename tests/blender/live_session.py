@@ -37,7 +37,7 @@ module = install(ZIP)
 live = importlib.import_module(module + ".blender_manikin.ui.live")
 problem_io = importlib.import_module(module + ".blender_manikin.scene.problem_io")
 carried_object = importlib.import_module(module + ".blender_manikin.scene.carried_object")
-Carried = importlib.import_module(module + ".solver.carried").Carried
+Carried = importlib.import_module(module + ".solver.collision.carried").Carried
 view_layer = bpy.context.view_layer
 
 

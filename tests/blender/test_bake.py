@@ -12,10 +12,10 @@ import pytest
 
 from blender_manikin.rigging.bones import RigLayout
 from solver import Problem, load_scenario
-from solver.bodies import load_body
-from solver.carried import carried_frame
-from solver.motion import solve_frames
-from solver.spatial import log_so3, quat_to_matrix
+from solver.body.spatial import log_so3, quat_to_matrix
+from solver.collision.carried import carried_frame
+from solver.io.scenario.bodies import load_body
+from solver.motion.frames import solve_frames
 
 ROOT = Path(__file__).resolve().parents[2]
 MOTION = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -136,7 +136,8 @@ def test_baked_motion_meets_the_targets_without_jumps(session: dict, model) -> N
 
 def test_bake_keys_the_carried_box_between_the_solved_hands(session: dict, model) -> None:
     """The sidebar's Bake keys the scenario's carried box at every baked frame: its centre where the keyed joint
-    values put the middle of the two hands (within 1 mm), its axes as solver.carried says; it moves with them."""
+    values put the middle of the two hands (within 1 mm), its axes as solver.collision.carried says; it moves with
+    them."""
     frames = list(range(2, 10))
     curves = session["crate_baked"]
     assert sorted(curves) == [f"location[{k}]" for k in range(3)] + [f"rotation_quaternion[{k}]" for k in range(4)]

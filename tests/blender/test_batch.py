@@ -311,9 +311,9 @@ def test_batch_ctrl_c_keys_and_keeps_the_solved_frames(tmp_path: Path, blender_p
     import signal
     import time
 
+    from bench.long_motion import write_long_motion
     from blender_manikin.rigging.bones import RigLayout
-    from solver.bench.long_motion import write_long_motion
-    from solver.bodies import load_body
+    from solver.io.scenario.bodies import load_body
 
     scenario = write_long_motion(tmp_path / "long.toml", 20000)
     args = [str(blender_python), str(BATCH), "--scenario", str(scenario), "--result", "r.jsonl", "--report",

@@ -22,9 +22,9 @@ from blender_manikin.rigging.skin import (
     twist_bones,
     twist_name,
 )
-from solver.bodies import load_body
 from solver.bodymesh import fit_body
 from solver.bodymesh.transfer import MIDLINE, side_of
+from solver.io.scenario.bodies import load_body
 
 FLOAT32 = 2e-4  # m: Blender deforms in single precision, over a chain of bone matrices
 MM = 1e-3

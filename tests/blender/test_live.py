@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from solver.bodies import load_body
-from solver.carried import carried_frame
 from solver.collision import Box, box_distance
 from solver.collision.body import capsules_of
+from solver.collision.carried import carried_frame
+from solver.io.scenario.bodies import load_body
 
 MM = 1e-3
 TOLERANCE = 1e-3  # m: the solver's own (a clearance row this far inside still counts as met)

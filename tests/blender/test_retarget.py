@@ -21,8 +21,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from solver.body.spatial import log_so3
 from solver.retarget.bone_map import REQUIRED, SHIPPED_RIGS
-from solver.spatial import log_so3
 
 FRAMES = [str(f) for f in range(1, 17)]
 ENDS = ("hand_l", "hand_r", "foot_l", "foot_r")

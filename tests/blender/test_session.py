@@ -15,8 +15,8 @@ from environments import run_python
 from blender_manikin.rigging.bones import RigLayout
 from blender_manikin.rigging.skin import twist_bones
 from solver import Problem, load_scenario
-from solver.bodies import load_body
-from solver.model import GRAVITY
+from solver.body.model import GRAVITY
+from solver.io.scenario.bodies import load_body
 
 ROOT = Path(__file__).resolve().parents[2]
 MM = 1e-3
@@ -48,7 +48,7 @@ def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> N
     tags = [w.removesuffix(".whl").split("-")[-1] for w in wheels]
     assert all(tag == "any" or ("linux" in tag and tag.endswith("x86_64")) for tag in tags), tags  # this platform
     for name in names:  # no tests, docs, developer tools or benchmarks (the rule: tests/test_shipped_files.py)
-        assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".", "blender_manikin/dev/", "solver/bench/"))
+        assert not name.startswith(("tests/", "docs/", "dist/", "out/", ".", "blender_manikin/dev/", "bench/"))
         assert "__pycache__" not in name and name not in ("pyproject.toml", "requirements.txt", "README.md")
 
 

@@ -1,0 +1,108 @@
+"""A/B of a refactor: record the random benchmark's per-trial iterates, compare another version's against them, and
+time two versions in one process, interleaved.
+
+    python -m bench.same_iterates record OUT.npz            # before the change
+    python -m bench.same_iterates compare OUT.npz           # after: same iterations, success and x?
+    python -m bench.same_iterates speed OLD_ROOT             # OLD_ROOT/solver_old: a copy of the old package
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+import time
+from types import ModuleType
+
+import numpy as np
+
+SEEDS = (24, 12)  # trials per level: the four benchmark settings, then comfort off
+
+
+def _first_module(*names: str) -> ModuleType:
+    """The first of ``names`` that imports (a version from before the benchmarks left the package has them inside)."""
+    for name in names[:-1]:
+        try:
+            return importlib.import_module(name)
+        except ModuleNotFoundError:
+            continue
+    return importlib.import_module(names[-1])
+
+
+def _package(name: str) -> tuple[ModuleType, ModuleType, object]:
+    pkg = importlib.import_module(name)
+    trials = _first_module(f"{name}.bench.random_targets", "bench.random_targets")
+    model = _first_module(f"{name}.bodies", f"{name}.io.scenario.bodies").load_body(preset=trials.PRESET)
+    return pkg, trials, model
+
+
+def iterates(name: str = "solver") -> dict[str, np.ndarray]:
+    """Per trial: [iterations, converged, comfort, *x], keyed setting_level_seed."""
+    pkg, rt, model = _package(name)
+    box = rt.workspace_box(model)
+    out = {}
+    for index, config in enumerate([*rt.CONFIGS, rt.NO_COMFORT]):
+        balance, groups = rt.CONFIGS["physics + reduction" if config == rt.NO_COMFORT else config]
+        options = pkg.SolverOptions(optimize_comfort=config != rt.NO_COMFORT)
+        for level in range(len(rt.LEVELS)):
+            for seed in range(SEEDS[index == len(rt.CONFIGS)]):
+                problem = rt.trial_problem(
+                    model, rt.draw_targets(model, box, rt.LEVELS[level], 1000 + seed), balance, groups
+                )
+                r = pkg.solve(problem, options=options)
+                out[f"{index}_{level}_{seed}"] = np.concatenate([[r.iterations, r.converged, r.comfort], r.x])
+    return out
+
+
+def compare(path: str) -> str:
+    ref, now = np.load(path), iterates()
+    same_it = sum(ref[k][0] == v[0] for k, v in now.items())
+    same_ok = sum(ref[k][1] == v[1] for k, v in now.items())
+    dx = max(float(np.max(np.abs(ref[k][3:] - v[3:]))) for k, v in now.items())
+    ok_now, ok_ref = sum(v[1] for v in now.values()), sum(ref[k][1] for k in now)
+    both = [k for k, v in now.items() if v[1] and ref[k][1]]
+    it_ref, it_now = sum(ref[k][0] for k in both), sum(now[k][0] for k in both)
+    comfort = np.array([now[k][2] - ref[k][2] for k in both])
+    return (f"{len(now)} trials: same iterations {same_it}, same success {same_ok}, max |dx| {dx:.3g}, "
+            f"successes {ok_now:.0f} (before {ok_ref:.0f}); converged in both: iterations {it_now:.0f} (before "
+            f"{it_ref:.0f}), comfort higher in {int((comfort > 1e-9).sum())}, lower in {int((comfort < -1e-9).sum())}, "
+            f"mean change {comfort.mean():+.4f}")  # fmt: skip
+
+
+def speed(old_root: str, repeats: int = 2) -> str:
+    """Solve time of ``solver_old`` (under ``old_root``) and this tree on the same trials, alternating order."""
+    sys.path.insert(0, old_root)
+    sides = {name: _package(name) for name in ("solver_old", "solver")}
+    times: dict[str, list[float]] = {name: [] for name in sides}
+    for repeat in range(repeats):
+        for config in ("physics + reduction", "physics, no reduction"):
+            for level in range(6):
+                for seed in range(8):
+                    order = list(sides) if (seed + repeat) % 2 == 0 else list(sides)[::-1]
+                    for name in order:
+                        pkg, rt, model = sides[name]
+                        balance, groups = rt.CONFIGS[config]
+                        targets = rt.draw_targets(model, rt.workspace_box(model), rt.LEVELS[level], 7000 + seed)
+                        problem = rt.trial_problem(model, targets, balance, groups)
+                        t0 = time.perf_counter()
+                        pkg.solve(problem)
+                        times[name].append(time.perf_counter() - t0)
+    old, new = np.array(times["solver_old"]), np.array(times["solver"])
+    return (f"{len(old)} solves each, interleaved: before median {np.median(old) * 1e3:.1f} ms, p95 "
+            f"{np.percentile(old, 95) * 1e3:.1f} ms; after median {np.median(new) * 1e3:.1f} ms, p95 "
+            f"{np.percentile(new, 95) * 1e3:.1f} ms; per-solve ratio after/before: median {np.median(new / old):.3f}, "
+            f"total {new.sum() / old.sum():.3f}")  # fmt: skip
+
+
+def main(argv: list[str]) -> None:
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    command, arg = argv[0], argv[1]
+    if command == "record":
+        np.savez(arg, **iterates())
+        print(f"recorded {arg}")
+    else:
+        print(compare(arg) if command == "compare" else speed(arg))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,1 @@
+"""The manikin as a mechanism: its joint tree, kinematics, statics, contacts and variable reduction."""

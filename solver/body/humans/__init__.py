@@ -1,0 +1,1 @@
+"""The bodies the solver poses: the human (published anthropometry) and the thesis' snake."""

@@ -1,0 +1,1 @@
+"""Result files (JSON, compact, JSON lines): written, streamed, scanned and read back into typed frames."""

@@ -1,0 +1,255 @@
+"""Result file (JSON or compact) -> typed :class:`~solver.io.result.frame.Frame` objects; every problem one
+ResultFileError
+line. :class:`ResultStream` reads one frame at a time, :func:`read_result` all of them.
+
+Only what the file holds is used (README "result JSON"): joints (``value``, ``min``, ``max``, ``type``,
+``link``, ``strength``, world ``position`` and ``axis``), links (``name``, ``parent``, ``mass``, world ``com``),
+TCPs (``position``, ``rotation`` (w, x, y, z), ``link``), ``gravity``, contacts (``point``, ``force``,
+``moment`` about the point) and loads (``tcp``, ``point``, ``force``). A compact file holds the model once and per
+frame the joint values; its world positions are those of the model's forward kinematics. Units: m, N, N*m, kg, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...body.model import GRAVITY, Model
+from ...errors import ManikinError, ResultFileError
+from ..table_reader import TableReader
+from .frame import Frame, frame_of_pose
+from .model_json import model_from_dict
+from .scan import is_compact, scan
+
+# bounds of a result file's values, far beyond any pose but small enough that products of them stay finite
+LENGTH, FORCE, MASS, ANGLE = 1e4, 1e7, 1e4, 1e4  # m (positions), N and N*m, kg (a link), rad or m (joint values)
+
+
+@dataclass
+class ResultFile:
+    """A read result file: where it is, the scenario it names (if any), its frames and, for a run that was
+    stopped early, the file's ``interrupted`` entry ({"at_frame", "solved", "reason"})."""
+
+    path: Path | None
+    scenario: str | None
+    frames: list[Frame]
+    interrupted: dict | None = None
+
+
+class ResultStream:
+    """A result file (either format) read frame by frame: iterating it parses one frame at a time, so a long
+    motion is never in memory at once; each iteration reads the file again. ``scenario`` and ``interrupted`` are
+    known once the frames have been read (the writers put the scenario first, so it is known at once for them)."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        self.scenario: str | None = None
+        self.interrupted: dict | None = None
+        self.count: int | None = None  # frames, after a whole pass
+        self._model: Model | None = None
+        self._gravity: list | None = None
+        self.compact = is_compact(self.path, ResultFileError)
+        for kind, key, _ in self._parts():
+            if kind == "frame" or key == "frames":
+                break
+
+    def _parts(self) -> Iterator[tuple[str, Any, Any]]:
+        """The file's parts (:func:`~solver.io.result.scan.scan`), its top-level entries taken in on the way."""
+        for kind, key, value in scan(self.path, ResultFileError):
+            if kind == "key":
+                self._entry(key, value)
+            yield kind, key, value
+
+    def _entry(self, key: str, value: Any) -> None:
+        if key == "scenario":
+            self.scenario = value if isinstance(value, str) else None
+        elif key == "interrupted":
+            self.interrupted = value if isinstance(value, dict) else None
+        elif key == "frames":
+            raise TableReader(self.path, {}, error=ResultFileError).fail("frames", "a non-empty array of tables", value)
+        elif key == "model" and self.compact:
+            try:
+                self._model = model_from_dict(value)
+            except ManikinError as exc:
+                raise ResultFileError(f"{self.path}: model: {exc}") from None
+        elif key == "gravity" and self.compact:
+            self._gravity = value
+
+    def raw(self) -> Iterator[tuple[int, dict]]:
+        """(index, raw frame object) of every frame, without building frames (for a quick pass)."""
+        count = 0
+        for kind, index, value in self._parts():
+            if kind == "frame":
+                count += 1
+                yield index, value
+        if not count:
+            raise TableReader(self.path, {}, error=ResultFileError).fail("frames", "a non-empty array of tables", [])
+        self.count = count
+
+    def frame(self, index: int, raw: Any) -> Frame:
+        """The checked frame of a raw frame object (from :meth:`raw`)."""
+        where = f"frames[{index}]."
+        if not isinstance(raw, dict):
+            raise ResultFileError(f"{self.path}: {where[:-1]}: expected a result frame (an object), got {raw!r:.60}")
+        t = TableReader(self.path, raw, where, ResultFileError)
+        if not self.compact:
+            return _frame(t)
+        if self._model is None:
+            raise ResultFileError(f"{self.path}: model: expected the manikin's model in the header line (missing)")
+        return compact_frame(t, self._model, self._gravity)
+
+    def __iter__(self) -> Iterator[Frame]:
+        for index, raw in self.raw():
+            yield self.frame(index, raw)
+
+
+def read_result(path: str | Path) -> ResultFile:
+    """Read and check a result file (written by ``python -m solver solve`` or :func:`solver.write_result`, either
+    format) with all its frames; :class:`ResultStream` reads a long motion one frame at a time."""
+    stream = ResultStream(path)
+    frames = list(stream)
+    return ResultFile(stream.path, stream.scenario, frames, stream.interrupted)
+
+
+def result_from_dict(data: Any, path: str | Path = "result") -> ResultFile:
+    """The parsed JSON ``data`` of a result file; ``path`` names it in error messages."""
+    if not isinstance(data, dict):
+        raise ResultFileError(f'{path}: expected a JSON object with a "frames" list, got {type(data).__name__}')
+    root = TableReader(path, data, error=ResultFileError)
+    frames = [_frame(t) for t in root.table_list("frames", non_empty=True)]
+    scenario = data.get("scenario") if isinstance(data.get("scenario"), str) else None
+    interrupted = data.get("interrupted") if isinstance(data.get("interrupted"), dict) else None
+    return ResultFile(Path(path) if isinstance(path, Path) else None, scenario, frames, interrupted)
+
+
+def frame_from_dict(raw: Any, where: str = "frame") -> Frame:
+    """One result frame (a dict as in the file's ``frames`` list); ``where`` names it in error messages."""
+    if not isinstance(raw, dict):
+        raise ResultFileError(f"{where}: expected a result frame (an object), got {type(raw).__name__}")
+    return _frame(TableReader(where, raw, error=ResultFileError))
+
+
+def _frame(t: TableReader) -> Frame:
+    t.required("joints", "links", "tcps")
+    link_names, link_parent, mass, com = _links(t.table_list("links", non_empty=True))
+    lindex = {n: i for i, n in enumerate(link_names)}
+    joints = _joints(t.named_tables("joints"), lindex)
+    tcp_position, tcp_rotation, tcp_link = {}, {}, {}
+    for name, tcp in t.named_tables("tcps").items():
+        tcp_position[name] = tcp.vector("position", 3, limit=LENGTH, unit="m")
+        tcp_rotation[name] = tcp.rotation("rotation", [1.0, 0.0, 0.0, 0.0])
+        tcp_link[name] = lindex[tcp.choice("link", lindex, "one of the links' names")]
+    contacts = []
+    for name, c in t.named_tables("contacts").items():
+        if name not in tcp_link:
+            raise t.fail(f"contacts.{name}", "a contact at one of the TCPs: " + ", ".join(sorted(tcp_link)))
+        moment = c.vector("moment", 3, [0.0, 0.0, 0.0], limit=FORCE, unit="N*m")
+        contacts.append(
+            (name, c.vector("point", 3, limit=LENGTH, unit="m"), c.vector("force", 3, limit=FORCE, unit="N"), moment)
+        )
+    loads = []
+    for ld in t.table_list("loads"):
+        tcp = ld.choice("tcp", tcp_link, "a TCP name")
+        loads.append((tcp, ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")))
+    return Frame(
+        **frame_status(t),
+        **joints,
+        link_names=link_names,
+        link_parent=link_parent,
+        link_mass=mass,
+        link_com=com,
+        tcp_position=tcp_position,
+        tcp_rotation=tcp_rotation,
+        tcp_link=tcp_link,
+        gravity=t.vector("gravity", 3, list(GRAVITY), limit=1e3, unit="m/s^2"),
+        contacts=contacts,
+        loads=loads,
+    )
+
+
+def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
+    """A frame of the compact format: the model posed by its ``joint_values``, with its contacts and loads."""
+    values = t.vector("joint_values", model.n, limit=ANGLE, unit="rad or m")
+    contacts = []
+    for name, c in t.named_tables("contacts").items():
+        if name not in model.tcps:
+            raise t.fail(f"contacts.{name}", "a contact at one of the TCPs: " + ", ".join(sorted(model.tcps)))
+        point, force = c.vector("point", 3, limit=LENGTH, unit="m"), c.vector("force", 3, limit=FORCE, unit="N")
+        contacts.append((name, point, force, c.vector("moment", 3, [0.0, 0.0, 0.0], limit=FORCE, unit="N*m")))
+    loads = []
+    for ld in t.table_list("loads"):
+        point, force = ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")
+        loads.append((ld.choice("tcp", model.tcps, "a TCP name"), point, force))
+    g = GRAVITY if gravity is None else TableReader(t.path, {"gravity": gravity}, "", t.error).vector("gravity", 3)
+    return frame_of_pose(model, model.forward(values), frame_status(t), contacts, loads, g)
+
+
+def frame_status(t: TableReader) -> dict:
+    """The Frame fields about the solve, from a frame of either format: ``number``, ``converged``, ``unmet``,
+    ``broken``."""
+    converged = t.get("converged")
+    return dict(
+        number=t.integer("frame", 1, -1e9, 1e9, "a whole frame number"),
+        converged=converged if isinstance(converged, bool) else None,
+        unmet=_names(t.get("unmet")),
+        broken=_names(t.get("broken")),
+    )
+
+
+def _names(value) -> tuple[str, ...]:
+    """A list of constraint names from the file (anything else: none)."""
+    return tuple(v for v in value if isinstance(v, str)) if isinstance(value, list) else ()
+
+
+def _links(links: list[TableReader]) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+    """Names, parent indices (-1: root or unknown parent), masses (kg) and world centres of mass (m)."""
+    names = [lk.string("name") for lk in links]
+    index = {n: i for i, n in enumerate(names)}
+    parent = np.array([index.get(lk.get("parent"), -1) for lk in links], dtype=int)
+    mass = np.array([lk.number("mass", low=0.0, high=MASS, unit="kg") for lk in links])
+    com = np.array([lk.vector("com", 3, limit=LENGTH, unit="m") for lk in links]).reshape(-1, 3)
+    return names, parent, mass, com
+
+
+def _joints(joints: dict[str, TableReader], lindex: dict[str, int]) -> dict[str, Any]:
+    """The joint arrays of :class:`Frame` (keyword arguments), in the file's order."""
+    names, values, ranges, positions, axes, prismatic, links, strengths = [], [], [], [], [], [], [], []
+    for name, jt in joints.items():
+        names.append(name)
+        values.append(jt.number("value", 0.0, -ANGLE, ANGLE))
+        ranges.append([jt.limit("min", -math.inf, ANGLE), jt.limit("max", math.inf, ANGLE)])
+        positions.append(jt.vector("position", 3, limit=LENGTH, unit="m"))
+        axis = jt.vector("axis", 3, limit=LENGTH)
+        if np.linalg.norm(axis) < 1e-9:
+            raise jt.fail("axis", "a non-zero vector", axis.tolist())
+        axes.append(axis / np.linalg.norm(axis))
+        prismatic.append(jt.get("type") == "prismatic")
+        links.append(lindex[jt.choice("link", lindex, "one of the links' names")])
+        strengths.append(_strength(jt))
+    has_strength = any(jt.get("strength") is not None for jt in joints.values())
+    return dict(
+        joint_names=names,
+        joint_value=np.array(values),
+        joint_range=np.array(ranges).reshape(-1, 2),
+        joint_position=np.array(positions).reshape(-1, 3),
+        joint_axis=np.array(axes).reshape(-1, 3),
+        prismatic=np.array(prismatic, dtype=bool),
+        joint_link=np.array(links, dtype=int),
+        joint_strength=np.array(strengths).reshape(-1, 2) if has_strength else None,
+    )
+
+
+def _strength(jt: TableReader) -> list[float]:
+    """[negative, positive] capacity (N*m), inf where the file says null (unlimited), NaN when not given."""
+    value = jt.get("strength")
+    if value is None:
+        return [math.nan, math.nan]
+    if not isinstance(value, list) or len(value) != 2:
+        raise jt.fail("strength", "[negative, positive] capacities (numbers or null)", value)
+    pair = jt.sub("strength", {"negative": value[0], "positive": value[1]})
+    return [pair.limit(side, math.inf, FORCE, "N*m") for side in ("negative", "positive")]

@@ -1,0 +1,282 @@
+"""A motion's frames kept from passing through things between them (issue 20): the swept check of
+:mod:`solver.collision.sweep` on the way from each solved frame to the next, against the floor and every obstacle
+the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on),
+and between the body's own parts that its self-collision rows keep apart.
+
+A frame whose way from its predecessor crosses something is solved again from the previous frame in N sub-steps
+(N: how far the crossing capsules moved on the first try over their radius, 2..``MAX_SUBSTEPS``): the targets move
+from the previous frame's to this frame's a share of the way each time, each sub-step is held within ``SHARE``/N of
+the per-frame bound of the one before, and each sub-step's own way is checked. The sub-steps stop where the way was
+last clear, or after the first one that does not converge (blocked: the clearance rows hold the part on the near
+side). If the way from the previous frame to that pose is clear, it is the frame (a note says so); else the frame
+is not converged and its ``unmet`` names each crossing, e.g. "hand_r passes through shelf between frames 12 and 13".
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
+from ..collision.body import capsules_of
+from ..collision.carried import carried_frame
+from ..collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
+from ..constraints.carried_obstacles import CarriedObstacles, box_corners
+from ..constraints.clearance import Clearance
+from ..iteration import solve
+from ..iteration.result import Result
+from ..options import SolverOptions
+from ..problem.problem import Problem
+from ..problem.specs import Target
+
+MARGIN = 0.05  # m: the least margin of a mesh query (farther rows count as this far)
+MAX_SUBSTEPS = 64  # sub-steps of a re-solved frame at most
+BOX_STEP = 0.02  # m: a carried box's corners move about this far at most between the samples of its way
+SHARE = 2.0  # a sub-step may change each joint by this many times its share of the per-frame bound
+
+
+class MotionSweep:
+    """Swept checks between consecutive frames; keeps the capsule distances of the last few poses it queried."""
+
+    KEPT = 4  # poses whose distances are kept (the previous frame, the attempts at this one)
+
+    def __init__(self, resolve: bool = True) -> None:
+        """``resolve``: re-solve a frame whose way crosses something (else only report it)."""
+        self.resolve = resolve
+        self._bodies: dict[tuple, SweptBody] = {}
+        self._poses: dict[tuple, Pose] = {}
+        self._distances: dict[tuple, np.ndarray] = {}
+        self._anchor: tuple[SweptBody, Pose, np.ndarray] | None = None  # the last pose queried and its distances
+        self._boxes: dict[tuple, tuple] = {}  # a carried box's placements (centre, rotation) by joint values
+        self.queries = 0  # poses whose distances were queried
+        self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
+        self.substeps = 0  # sub-step solves so far
+
+    def body(self, problem: Problem) -> SweptBody | None:
+        """The capsules and obstacles that ``problem``'s clearance rows keep apart, or None when there are none."""
+        rows = [c for c in problem.constraints if isinstance(c, Clearance) and c.obstacles]
+        own = problem.self_constraint.pairs if problem.self_constraint is not None else None
+        if not rows and own is None:
+            return None
+        key = (tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows), id(own))
+        body = self._bodies.get(key)
+        if body is None:
+            if len(self._bodies) >= self.KEPT:  # a scene read afresh every frame (Blender) brings new obstacles
+                self._bodies.pop(next(iter(self._bodies)))
+            obstacles = list({id(o): o for c in rows for o in c.obstacles}.values())
+            column = {id(o): i for i, o in enumerate(obstacles)}
+            names = capsules_of(problem.model).names
+            pairs = np.zeros((len(names), len(obstacles)), dtype=bool)
+            for c in rows:
+                kept = [names.index(name) for name in c.capsules.names]
+                for o in c.obstacles:
+                    pairs[kept, column[id(o)]] = True
+            body = self._bodies[key] = SweptBody(problem.model, obstacles, pairs, own=own)
+        return body
+
+    def check(self, body: SweptBody, theta_a: np.ndarray, theta_b: np.ndarray) -> SweepReport:
+        """The crossings of ``body`` on the way from joint values ``theta_a`` to ``theta_b``.
+
+        Distances are queried only when lower bounds do not already certify the way: the distances d_P at the last
+        pose queried, less the bound on the way from there (d >= d_P - M_P), which is all a long motion of small
+        steps with nothing near needs."""
+        anchored = self._anchor is not None and self._anchor[0] is body
+        if anchored:  # first the path bounds alone, which need no forward kinematics
+            _, p, d_p = self._anchor
+            length = body.length(np.array([p.theta, p.theta, theta_a]), np.array([theta_a, theta_b, theta_b]))
+            if not body.uncertain(d_p - body.relative(length[0]), d_p - body.relative(length[1]), length[2]).any():
+                return SweepReport(None, [], 0, 0)
+        a, b = self._pose(body, theta_a), self._pose(body, theta_b)
+        if anchored:
+            bound = body.bounds([(p, a), (p, b), (a, b)])
+            if not body.uncertain(d_p - body.relative(bound[0]), d_p - body.relative(bound[1]), bound[2]).any():
+                return SweepReport(b, [], 0, 0)
+        margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
+        report = body.check(a, b, self._exact(body, a, margin), self._exact(body, b, margin), margin)
+        self.samples += report.samples
+        return report
+
+    def _pose(self, body: SweptBody, theta: np.ndarray) -> Pose:
+        """``body``'s pose at joint values ``theta``, kept for the next queries."""
+        key = (body, np.asarray(theta, dtype=float).tobytes())  # the body itself: its id is not reused while kept
+        found = self._poses.get(key)
+        if found is None:
+            if len(self._poses) >= self.KEPT:
+                self._poses.pop(next(iter(self._poses)))
+            found = self._poses[key] = body.pose(theta)
+        return found
+
+    def _exact(self, body: SweptBody, pose: Pose, margin: float) -> np.ndarray:
+        """The (k, m) distances at ``pose`` (a mesh's beyond the margin: the margin), kept for the next queries."""
+        key = (body, pose.theta.tobytes())
+        found = self._distances.get(key)
+        if found is None:
+            if len(self._distances) >= self.KEPT:
+                self._distances.pop(next(iter(self._distances)))
+            found = self._distances[key] = body.distances(pose, margin)
+            self.queries += 1
+        self._anchor = (body, pose, found)
+        return found
+
+    def guard(self, frames: tuple[int, int], problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray,
+              result: Result, options: SolverOptions, steps: Callable[[], np.ndarray]) -> Result:  # fmt: skip
+        """``result`` (frame ``frames[1]``) if the way from ``previous_x`` (frame ``frames[0]``) is clear; else the
+        frame re-solved in sub-steps, and reported if that still crosses. ``problems``: the previous frame's, this
+        frame's and this frame's within the per-frame bound (the one solved); ``steps()``: the per-frame bound per
+        solver variable (rad or m), asked for only when the frame is re-solved."""
+        body = self.body(problems[1])
+        if body is None:
+            return result
+        n = problems[1].model.n
+        report = self.check(body, previous_x[:n], result.x[:n])
+        boxed = self.carried_crossings(problems[1], previous_x[:n], result.x[:n], result.state.kin)
+        if not (report.crossings or boxed) or not self.resolve:
+            mark(result, report, frames)
+            return mark_carried(result, frames, boxed)
+        retried, done, count = self._substeps(problems, previous_x, body, report, options, steps(), result.x)
+        again = self.check(body, previous_x[:n], retried.x[:n])
+        boxed_again = self.carried_crossings(problems[1], previous_x[:n], retried.x[:n])
+        if len(again.crossings) + len(boxed_again) <= len(report.crossings) + len(boxed):
+            went = ", ".join([f"{c.part} through {c.obstacle}" for c in report.crossings]
+                             + [f"{problems[1].carried.name} through {name}" for name in dict(boxed)])  # fmt: skip
+            how = f"in {count} sub-steps" if done == count else f"in sub-steps, blocked after {done} of {count}"
+            retried.notes.append(f"frame {frames[1]}: its first solution went {went} on the way from frame "
+                                 f"{frames[0]}; re-solved {how}")  # fmt: skip
+            result, report, boxed = retried, again, boxed_again
+        mark(result, report, frames)
+        return mark_carried(result, frames, boxed)
+
+    def _box_at(self, problem: Problem, theta: np.ndarray, kin=None) -> tuple[np.ndarray, np.ndarray]:
+        """(centre m, rotation) of ``problem``'s carried box at joint values ``theta`` (``kin``: their kinematics, if
+        at hand), kept: a frame's end is the next frame's start."""
+        rows = problem.carried_obstacle_constraint
+        key = (rows.tcps[0].name, rows.tcps[1].name, theta.tobytes())
+        found = self._boxes.get(key)
+        if found is None or found[0] is not problem.model:
+            if len(self._boxes) >= self.KEPT:
+                self._boxes.pop(next(iter(self._boxes)))
+            kin = problem.model.forward(theta) if kin is None else kin
+            found = self._boxes[key] = (problem.model, _placed(rows, kin))
+        return found[1]
+
+    def _box_travel(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> float:
+        """How far (m) the corner of ``problem``'s carried box that moves most moves from ``theta_a`` to ``theta_b``;
+        0 without a box kept out of obstacles."""
+        rows = problem.carried_obstacle_constraint
+        if rows is None:
+            return 0.0
+        corners = [box_corners(*self._box_at(problem, theta), rows.half) for theta in (theta_a, theta_b)]
+        return float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
+
+    def carried_crossings(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray,
+                          kin_b=None) -> list[tuple[str, float]]:  # fmt: skip
+        """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the
+        floor on the way from joint values ``theta_a`` to ``theta_b`` (``kin_b``: the kinematics there, if at hand;
+        both ends excluded: each frame's rows keep its own).
+
+        The way is sampled (joint values linearly in between) so that no corner of the box moves more than about
+        ``BOX_STEP`` between samples: a box passing through anything between two frames is inside it at some
+        sample, since it would have to move its own smallest size and the obstacle's thickness. Only when the box's
+        bounds on the way meet an obstacle's."""
+        rows = problem.carried_obstacle_constraint
+        if rows is None:
+            return []
+        self._box_at(problem, theta_b, kin_b)
+        moved = self._box_travel(problem, theta_a, theta_b)
+        ends = self._box_at(problem, theta_a), self._box_at(problem, theta_b)
+        if moved <= BOX_STEP or not rows.near_way(*ends, moved):
+            return []
+        found = []
+        for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
+            placed = _placed(rows, problem.model.forward(theta_a + s * (theta_b - theta_a)))
+            found += [(name, float(s)) for name in rows.inside(*placed, TOLERANCE)]
+        return found
+
+    def _substeps(self, problems: tuple[Problem, Problem, Problem], previous_x: np.ndarray, body: SweptBody,
+                  report: SweepReport, options: SolverOptions, steps: np.ndarray, first_x: np.ndarray):  # fmt: skip
+        """(result, sub-steps kept, sub-steps planned): the frame solved again from ``previous_x`` in sub-steps, its
+        targets moved from the previous frame's a share of the way each time, each sub-step within its share of the
+        per-frame bound ``steps`` (per solver variable; see the module docstring). ``first_x``: the first try, whose
+        crossing capsules' travel over their radius (a carried box's over BOX_STEP) sets the number of sub-steps."""
+        before, _, problem = problems
+        n = problem.model.n
+        crossing = [body.capsules.names.index(c.part) for c in report.crossings]
+        moved = body.bound(self._pose(body, previous_x[:n]), self._pose(body, first_x[:n]))[crossing]  # m
+        room = body.capsules.radius[crossing] - 2.0 * body.tolerance
+        box = self._box_travel(problem, previous_x[:n], first_x[:n]) / BOX_STEP
+        count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room, initial=box)))))
+        share = steps * min(1.0, SHARE / count)
+        x, iterations, seconds, done = previous_x, 0, 0.0, 0
+        for i in range(1, count + 1):
+            targets = blend_targets(before.all_targets, problem.all_targets, i / count)
+            aimed = problem.with_targets(targets) if targets is not None else problem
+            last = solve(aimed.with_bounds(problem.bounds.around(problem.to_variables(x), share)), x, options)
+            iterations, seconds = iterations + last.iterations, seconds + last.time_s
+            self.substeps += 1
+            if self.check(body, x[:n], last.x[:n]).crossings or self.carried_crossings(problem, x[:n], last.x[:n]):
+                break  # the frame stays where its way was last clear
+            x, done = last.x, i
+            if not last.converged:  # blocked, or the targets need more than the sub-step's share: stop here
+                break
+        result = Result.from_state(problem, problem.state_of_x(x), iterations, seconds)
+        result.stop = last.stop
+        return result, done, count
+
+
+def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | None:
+    """Targets ``s`` of the way from ``a`` to ``b`` (positions linear, rotations by slerp), or None when the two
+    lists do not hold the same TCPs in the same order."""
+    if [t.tcp for t in a] != [t.tcp for t in b]:
+        return None
+    out = []
+    for ta, tb in zip(a, b, strict=True):
+        position = (1.0 - s) * np.asarray(ta.position, dtype=float) + s * np.asarray(tb.position, dtype=float)
+        rotation = tb.rotation
+        if ta.rotation is not None and tb.rotation is not None:
+            rotation = quat_to_matrix(slerp(matrix_to_quat(ta.rotation), matrix_to_quat(tb.rotation), s))
+        out.append(replace(tb, position=position, rotation=rotation))
+    return out
+
+
+def _placed(rows: CarriedObstacles, kin) -> tuple[np.ndarray, np.ndarray]:
+    """(centre m, rotation) of the box that ``rows`` keep out of obstacles, with the body at kinematics ``kin``."""
+    return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in rows.tcps))
+
+
+def mark_carried(result: Result, frames: tuple[int, int], found: list[tuple[str, float]]) -> Result:
+    """``result`` with each obstacle its carried box passes through on the way from the previous frame (``found``:
+    :meth:`MotionSweep.carried_crossings`) named in its unmet (the frame is then not converged), e.g. "box passes
+    through table between frames 12 and 13"."""
+    problem = result.problem
+    a, b = frames
+    crossed: dict[str, float] = {}
+    for obstacle, s in found:
+        crossed.setdefault(obstacle, s)  # where it is first found inside
+    for obstacle, s in crossed.items():
+        name = f"{problem.carried.name} passes through {obstacle} between frames {a} and {b}"
+        result.unmet.append(name)
+        result.broken.append(name)
+        result.notes.append(f"frame {b}: {name} (inside it at frame {a + s * (b - a):.2f}); more frames between "
+                            "them, or a key that leads around it, would avoid it")  # fmt: skip
+    if crossed:
+        result.converged = False
+    return result
+
+
+def mark(result: Result, report: SweepReport, frames: tuple[int, int]) -> None:
+    """Name each crossing in ``result``'s unmet (held at priority 1) and notes; the frame is not converged. A capsule
+    whose axis got inside (deeper than its radius) "passes through", a shallower one "cuts into"."""
+    a, b = frames
+    caps = capsules_of(result.problem.model)
+    for c in report.crossings:
+        verb = "passes through" if c.depth >= caps.radius[caps.names.index(c.part)] else "cuts into"
+        name = f"{c.part} {verb} {c.obstacle} between frames {a} and {b}"
+        result.unmet.append(name)
+        result.broken.append(name)
+        result.notes.append(f"frame {b}: {name} ({c.depth * 1e3:.1f} mm deep at frame {a + c.s * (b - a):.2f}); "
+                            "more frames between them, or a key that leads around it, would avoid it")  # fmt: skip
+    if report.crossings:
+        result.converged = False

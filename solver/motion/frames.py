@@ -1,0 +1,92 @@
+"""Motions: targets keyed over frames (:mod:`solver.problem.tracks`), solved frame by frame, each warm-started from
+the previous one.
+
+Between frames every joint may change by at most
+``max_joint_change`` rad (``max_root_shift`` m for the root translation), so the motion cannot jump; a
+frame that needs more does not converge and says that its target moved too far. On the way from one frame to the
+next (joint values interpolated linearly, as Blender plays the baked keys) no body part may pass through the floor
+or an obstacle: :mod:`solver.motion.between_frames` checks it, re-solves a frame that would, and reports what remains.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..iteration import solve
+from ..iteration.result import Result
+from ..options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOptions
+from ..problem.problem import Problem
+from .between_frames import MotionSweep
+
+if TYPE_CHECKING:
+    from ..problem.scenario import Scenario
+
+
+def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
+    """Largest per-frame change of each solver variable (inf for force variables)."""
+    model = problem.model
+    step = np.full(problem.n_x, np.inf)
+    step[: model.n] = np.where(model.prismatic, limits.max_root_shift, limits.max_joint_change)
+    if problem.reduction is None:
+        return step
+    weights = problem.reduction.slope  # |dx/dbeta|, its largest over the bounds for the shoulder rhythm
+    with np.errstate(divide="ignore"):
+        per_joint = np.where(weights > 0, step[:, None] / weights, np.inf)
+    return per_joint.min(axis=0)
+
+
+def bounded(problem: Problem, previous_x: np.ndarray, limits: MotionLimits) -> Problem:
+    """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``."""
+    step = variable_steps(problem, limits)
+    return problem.with_bounds(problem.bounds.around(problem.to_variables(previous_x), step))
+
+
+def solve_frames(
+    problem_at: Callable[[int], Problem],
+    frames: list[int],
+    start: np.ndarray,
+    options: SolverOptions = DEFAULT_OPTIONS,
+    limits: MotionLimits | None = DEFAULT_LIMITS,
+    sweep: MotionSweep | None = None,
+) -> Iterator[tuple[int, Result]]:
+    """Solve ``frames`` in order, each warm-started from the previous frame's solution.
+
+    The first frame starts from ``start``; later frames are held within ``limits`` of their predecessor, and the
+    way from it is checked for crossings of the floor and obstacles (:mod:`solver.motion.between_frames`; pass
+    ``sweep`` to
+    read its counts). Yields (frame, result) so that callers can report progress or stop early.
+    """
+    sweep = MotionSweep() if sweep is None else sweep
+    x = start
+    previous: tuple[int, Problem, np.ndarray] | None = None  # the previous frame, its problem and solution
+    for frame in frames:
+        full = problem_at(frame)
+        problem = full if (limits is None or previous is None) else bounded(full, previous[2], limits)
+        result = solve(problem, x, options)
+        if not result.converged and problem is not full:
+            v = problem.to_variables(result.x)
+            held = problem.bounds.held(v, full.bounds)
+            if held.any():
+                names = full.variable_names()
+                shown = ", ".join(names[i] for i in np.nonzero(held)[0][:3])
+                result.notes.append(
+                    f"frame {frame}: a target moved too far since the previous frame; joints held at the "
+                    f"per-frame change bound: {shown}"
+                )
+        if previous is not None:
+            step = limits or DEFAULT_LIMITS
+            steps = lambda: variable_steps(problem, step)  # noqa: E731, B023 (called at once, if at all)
+            problems = previous[1], full, problem
+            result = sweep.guard((previous[0], frame), problems, previous[2], result, options, steps)
+        x = result.x
+        previous = (frame, full, result.x)
+        yield frame, result
+
+
+def solve_motion(scenario: Scenario) -> Iterator[tuple[int, Result]]:
+    """Solve every frame of ``scenario`` (one frame for a single pose) with its options and per-frame limits;
+    yields (frame, result) as :func:`solve_frames` does."""
+    return solve_frames(scenario.problem_at, scenario.frames, scenario.start, scenario.options, scenario.limits)

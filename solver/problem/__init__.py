@@ -1,0 +1,1 @@
+"""What is to be solved: targets, loops, loads and priorities, the problem and its variables, scenarios."""

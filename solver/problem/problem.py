@@ -1,0 +1,350 @@
+"""A pose problem: targets, loops, loads, supports and comfort for one model, and its variable vector.
+
+x = [theta (n joints, rad or m), w (contact edge weights, N)]. The solver works in scaled variables
+y = x / scale (forces divided by body weight) on rows divided by their tolerance, so that meters, radians and
+newtons compare and "converged" means max |scaled error| <= 1.
+"""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+
+from ..body.contacts import Support, build_contacts
+from ..body.model import GRAVITY, Model
+from ..body.reduction import build_reduction
+from ..body.state import State
+from ..body.statics import Load, StaticsLayout
+from ..collision import Obstacle
+from ..collision.body import capsules_of
+from ..collision.carried import Carried
+from ..comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
+from ..constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
+from ..constraints.carried_clearance import CarriedClearance
+from ..constraints.carried_obstacles import CarriedObstacles
+from ..constraints.clearance import FLOOR, Clearance, ClearanceRows, Closeness, floor_clearance
+from ..constraints.inequality import Inequality
+from ..constraints.self_clearance import SelfClearance
+from ..errors import ManikinError
+from .bounds import Bounds
+from .specs import ExternalLoad, Loop, Target, validate
+
+
+class Problem:
+    """Everything the solver needs, assembled from plain specifications."""
+
+    def __init__(
+        self,
+        model: Model,
+        targets: list[Target] = (),
+        loops: list[Loop] = (),
+        loads: list[ExternalLoad] = (),
+        balance: bool = True,
+        comfort_weights: ComfortWeights = DEFAULT_COMFORT,
+        reduction: tuple[str, ...] = (),
+        extra_constraints: list[Constraint] = (),
+        comfort: Comfort | None = None,
+        floor: bool = True,
+        obstacles: list[Obstacle] = (),
+        self_collision: bool = True,
+        carried: Carried | None = None,
+    ) -> None:
+        """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
+        ``comfort`` replaces the standard terms weighted by ``comfort_weights``; ``floor`` keeps every body part
+        above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`); the body keeps each of ``obstacles``
+        (:mod:`solver.collision` shapes) at its clearance; ``self_collision`` keeps hands and forearms out of the
+        trunk, head and thighs and the shanks apart (:mod:`solver.collision.self_pairs`); the body but the holding
+        hands stays out of a ``carried`` box (:mod:`solver.constraints.carried_clearance`), and the box out of the
+        obstacles and the floor (:mod:`solver.constraints.carried_obstacles`)."""
+        validate(model, targets, loops, loads)
+        self.model = model
+        self.all_targets = list(targets)
+        self.targets = [t for t in targets if t.enabled]
+        self.loops = list(loops)
+        self.load_specs = list(loads)
+        self.balance = balance
+        zero = self._zero_kin = model.forward(model.zero_pose())
+        supports = []
+        if balance:
+            for t in self.targets:
+                if t.support:
+                    supports.append(Support(model.tcp(t.tcp), self._rotation_of(t, zero), t.friction, t.sole))
+            if not supports:
+                raise ManikinError("balance needs at least one support target (support = true)")
+        self.contacts = build_contacts(model, supports)
+        self.loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in loads]
+        self.layout = StaticsLayout(model, self.contacts, self.loads)
+        n, n_w = model.n, self.contacts.n_vars
+        self.n_x = n + n_w
+        self.loop_constraints = [self._loop_constraint(lp) for lp in self.loops]
+        self.balance_constraint = BalanceConstraint(self.n_x) if balance else None
+        self.floor = floor
+        self.floor_constraint = floor_clearance(model, self.targets, self.n_x) if floor else None
+        self.obstacles = list(obstacles)
+        self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if obstacles else None
+        self.self_collision = self_collision
+        self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if self_collision else None
+        if self.self_constraint is not None and not self.self_constraint.rows:
+            self.self_constraint = None  # a body without the named parts (the snake)
+        self.carried = carried
+        self.carried_constraint = None if carried is None else CarriedClearance(model, capsules_of(model), carried,
+                                                                                self.n_x)  # fmt: skip
+        around = [*self.obstacles, FLOOR] if floor else self.obstacles
+        self.carried_obstacle_constraint = CarriedObstacles(model, carried, around, self.n_x) \
+            if carried is not None and around else None  # fmt: skip
+        self.extra_constraints = list(extra_constraints)
+        self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
+        self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
+        self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
+        self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)
+        xb = self.x_bounds
+        self.reduction_groups = tuple(reduction)
+        self.reduction = build_reduction(model, self.reduction_groups, xb.lower, xb.upper, xb.scale)
+        # The solver's variables v: x itself, or beta with x = phi(beta) when reduced.
+        red = self.reduction
+        self.bounds = xb if red is None else Bounds(red.lower, red.upper, red.scale, red.is_joint)
+        self.n_var = len(self.bounds)
+
+    def with_targets(self, targets: list[Target]) -> Problem:
+        """The same problem (loops, loads, balance, comfort) with other targets.
+
+        When the supports are the same (a motion moving its hands), everything but the target constraints is
+        shared with this problem instead of being built again.
+        """
+        targets = list(targets)
+        if not self._same_supports(targets):
+            return Problem(
+                self.model,
+                targets,
+                self.loops,
+                self.load_specs,
+                self.balance,
+                reduction=self.reduction_groups,
+                extra_constraints=self.extra_constraints,
+                comfort=self.comfort,
+                floor=self.floor,
+                obstacles=self.obstacles,
+                self_collision=self.self_collision,
+                carried=self.carried,
+            )
+        validate(self.model, targets, (), ())
+        moved = copy.copy(self)
+        moved.all_targets = targets
+        moved.targets = [t for t in targets if t.enabled]
+        moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
+        return moved
+
+    def with_frames(self, targets: list[FrameConstraint], comfort: Comfort) -> Problem:
+        """The same problem with only ``targets`` (some of this one's target constraints) and another comfort."""
+        ranked = copy.copy(self)
+        ranked.comfort = comfort
+        ranked._set_constraints(targets)
+        return ranked
+
+    def with_bounds(self, bounds: Bounds) -> Problem:
+        """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
+        narrowed = copy.copy(self)
+        narrowed.bounds = bounds
+        return narrowed
+
+    @property
+    def scale(self) -> np.ndarray:
+        """Scaled-variable unit of each solver variable (see :class:`Bounds`)."""
+        return self.bounds.scale
+
+    def _same_supports(self, targets: list[Target]) -> bool:
+        def key(t: Target) -> tuple:
+            rot = None if t.rotation is None else np.asarray(t.rotation).tobytes()
+            sole = None if t.sole is None else np.asarray(t.sole).tobytes()
+            return (t.tcp, rot, t.friction, sole)
+
+        mine = [key(t) for t in self.targets if t.support] if self.balance else []
+        theirs = [key(t) for t in targets if t.enabled and t.support] if self.balance else []
+        return mine == theirs
+
+    def _target_constraint(self, t: Target, zero_pose_kin) -> FrameConstraint:
+        op = t.operator if t.operator is not None else lock_operator(t.lock)
+        rot = self._rotation_of(t, zero_pose_kin)
+        return FrameConstraint(t.tcp, self.model.tcp(t.tcp), rot, t.position, op, self.n_x, weight=t.weight)
+
+    def _loop_constraint(self, lp: Loop) -> FrameConstraint:
+        op = lp.operator if lp.operator is not None else lock_operator(lp.lock)
+        rot = np.eye(3) if lp.offset_rotation is None else lp.offset_rotation
+        tcp, other = self.model.tcp(lp.tcp), self.model.tcp(lp.other)
+        name = f"loop {lp.tcp}-{lp.other}"
+        return FrameConstraint(name, tcp, rot, lp.offset_position, op, self.n_x, reference=other, weight=lp.weight)
+
+    def _set_constraints(self, target_constraints: list[FrameConstraint]) -> None:
+        """The stacked constraints: targets and loops as one frame group, balance, the extra constraints; and the
+        row scaling."""
+        self.target_constraints = list(target_constraints)
+        frames = [*target_constraints, *self.loop_constraints]
+        self.frames = FrameGroup(frames) if frames else None
+        rows = [self.frames, self.balance_constraint, self.floor_constraint, self.obstacle_constraint,
+                self.self_constraint, self.carried_constraint, self.carried_obstacle_constraint]  # fmt: skip
+        rows += self.extra_constraints
+        rows = [c for c in rows if c is not None]
+        self.constraints: list[Constraint] = rows
+        self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
+        # per row: a one-sided constraint's (an Inequality: met rows have zero error, contact rows are held by the step)
+        self.one_sided = np.concatenate([np.full(c.rows, isinstance(c, Inequality)) for c in rows]) if rows \
+            else np.zeros(0, dtype=bool)  # fmt: skip
+        self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)
+        # per row: an obstacle's clearance (the scene's, not the floor's or the body's own: docs/TUNING.md)
+        obstacles = (self.obstacle_constraint, self.carried_obstacle_constraint)
+        self.obstacle_rows = np.concatenate([np.full(c.rows, any(c is o for o in obstacles)) for c in rows]) if rows \
+            else np.zeros(0, dtype=bool)  # fmt: skip
+        self.n_rows = len(self.row_tolerance)
+        self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
+        self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
+
+    def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """World (rotation (3, 3), position (3,) m) of every target and loop frame at ``state``, by name."""
+        return self.frames.target_frames(state) if self.frames is not None else {}
+
+    @staticmethod
+    def _rotation_of(target: Target, zero_pose_kin) -> np.ndarray:
+        if target.rotation is not None:
+            return np.asarray(target.rotation, dtype=float)
+        return zero_pose_kin.tcp_frame(zero_pose_kin.model.tcp(target.tcp))[0]
+
+    def variable_names(self) -> list[str]:
+        """Names of the solver variables: joints (or reduction groups) then contact force weights."""
+        if self.reduction is not None:
+            return list(self.reduction.names)
+        return list(self.model.joint_names) + [f"force_{k}" for k in range(self.contacts.n_vars)]
+
+    def to_x(self, v: np.ndarray) -> np.ndarray:
+        """Full x = [joints, forces] of solver variables v."""
+        return v if self.reduction is None else self.reduction.phi(v)
+
+    def to_variables(self, x: np.ndarray) -> np.ndarray:
+        """Solver variables closest to a full x."""
+        return x if self.reduction is None else self.reduction.from_x(x)
+
+    def state(self, v: np.ndarray) -> State:
+        """Evaluation point for solver variables v (kept on the state when dphi/dbeta depends on them)."""
+        state = self.state_of_x(self.to_x(v))
+        if self.reduction is not None and not self.reduction.linear:
+            state.variables = np.array(v, dtype=float)
+        return state
+
+    def reduction_jacobian(self, state: State) -> np.ndarray:
+        """dphi/dbeta (n_x, n_var) at ``state``; cached on a state of a nonlinear reduction."""
+        red = self.reduction
+        if red.linear:
+            return red.basis
+        if state.reduction_jacobian is None:
+            v = state.variables
+            state.reduction_jacobian = red.jacobian(red.from_x(state.x) if v is None else v)
+        return state.reduction_jacobian
+
+    def joint_change(self, state: State, dv: np.ndarray) -> np.ndarray:
+        """(n,) change of every model joint (rad or m), to first order, for a change ``dv`` of the solver variables."""
+        red = self.reduction
+        if red is None:
+            dx = dv
+        else:
+            dx = red.basis_times(dv) if red.linear else self.reduction_jacobian(state) @ dv
+        return dx[: self.model.n]
+
+    def state_of_x(self, x: np.ndarray) -> State:
+        """Evaluation point for a full x = [joints, forces]."""
+        return State(x, self.model.n, self.layout)
+
+    def start(self, x0: np.ndarray | None = None) -> np.ndarray:
+        """Valid starting solver variables from ``x0`` (joint values alone, or joints + forces), in bounds.
+
+        Missing or mismatched force values are replaced by an even share of body weight plus loads.
+        """
+        n = self.model.n
+        x0 = self.model.zero_pose() if x0 is None else np.asarray(x0, dtype=float)
+        if x0.shape[0] not in (n, self.n_x) or not np.isfinite(x0).all():
+            raise ManikinError(f"start pose must be {n} finite joint values (or {self.n_x} with forces)")
+        theta = x0[:n]
+        if x0.shape[0] == self.n_x and self.contacts.n_vars:
+            w = x0[n:]
+        else:
+            down = self.body_weight - sum(float(ld.force[2]) for ld in self.loads)
+            w = self.contacts.even_weights(down)
+        x = self.x_bounds.clip(np.concatenate([theta, w]))
+        return self.bounds.clip(self.to_variables(x))
+
+    def scaled_error(self, state: State) -> np.ndarray:
+        """All constraint rows divided by their tolerance and multiplied by their weight."""
+        if not self.constraints:
+            return np.zeros(0)
+        e = np.concatenate([c.error(state) for c in self.constraints])
+        return e * self.row_weight / self.row_tolerance
+
+    def scaled_slack(self, state: State) -> np.ndarray:
+        """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
+        if not self.constraints:
+            return np.zeros(0)
+        parts = [c.slack(state) if isinstance(c, Inequality) else np.zeros(c.rows) for c in self.constraints]
+        return np.concatenate(parts) * self.row_weight / self.row_tolerance
+
+    def scaled_jacobian(self, state: State) -> np.ndarray:
+        """d scaled_error / d (v / scale)."""
+        live, jac = self.live_jacobian(state)
+        out = np.zeros((self.n_rows, self.n_var))
+        out[live] = jac
+        return out
+
+    def live_jacobian(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """(the rows that may be nonzero, their rows of :meth:`scaled_jacobian`): met one-sided rows beyond their
+        watch band (most clearance rows, far from anything) are left out instead of carried as zeros."""
+        if not self.constraints:
+            return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
+        got = [c.jacobian_rows(state) for c in self.constraints]
+        live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
+        jac = self._in_solver_variables(np.concatenate([jac for _, jac in got]), state)
+        jac *= self._row_scale[live]  # in place: a fresh temporary costs page faults, more than the product
+        jac *= self.scale
+        return live, jac
+
+    def _in_solver_variables(self, jac: np.ndarray, state: State) -> np.ndarray:
+        """d rows / dx (k, n_x) -> d rows / dv (k, n_var)."""
+        red = self.reduction
+        if red is None:
+            return jac
+        used = np.flatnonzero(jac.any(axis=1))  # met one-sided rows are zero: not worth carrying through phi
+        reduced = np.zeros((len(jac), self.n_var))
+        reduced[used] = red.times_basis(jac[used]) if red.linear else jac[used] @ self.reduction_jacobian(state)
+        return reduced
+
+    def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """d h / d v and the diagonal curvature model of -h in the solver variables v."""
+        grad, curv = self.comfort.derivatives(state)
+        if self.reduction is None:
+            return grad, curv
+        red = self.reduction
+        if red.linear:
+            return red.times_basis(grad), red.times_basis(curv, squared=True)
+        dphi = self.reduction_jacobian(state)
+        return dphi.T @ grad, (dphi * dphi).T @ curv
+
+    def comfort_rows(self, state: State) -> np.ndarray | None:
+        """Low-rank curvature rows of -h (k, n_var) in the solver variables v, None when comfort has none."""
+        rows = self.comfort.curvature_rows(state)
+        if rows is None or self.reduction is None:
+            return rows
+        red = self.reduction
+        return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
+
+    def closest(self, state: State) -> list[Closeness]:
+        """The clearance rows within their margin (the floor's, the obstacles', the body's own, the carried box's and
+        any extra :class:`~solver.constraints.clearance.Clearance`), nearest first."""
+        near = [pair for c in self.constraints if isinstance(c, ClearanceRows) for pair in c.closest(state)]
+        return sorted(near, key=lambda pair: pair.distance)
+
+    def residuals(self, state: State) -> dict[str, float]:
+        out: dict[str, float] = {}
+        for c in self.constraints:
+            out.update(c.residuals(state))
+        return out
+
+    def unmet(self, state: State) -> list[str]:
+        """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
+        return [name for c in self.constraints for name in c.unmet(state)]

@@ -1,0 +1,144 @@
+"""What a user specifies for a pose, as plain frozen values, and their validation: targets, loops, external loads.
+
+Units: m, N, rad; rotations are 3x3 matrices. :func:`validate` refuses a bad specification with one ManikinError
+line naming the item and what was expected.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..body.model import Model
+from ..constraints import AXES, lock_operator
+from ..errors import ManikinError
+from ..options import MAX_WEIGHT, MIN_WEIGHT
+
+HARD, SOFT = 1, 2  # priority levels: what must hold, and what is met as closely as it can be
+PRIORITIES = (HARD, SOFT)
+
+
+def default_priority(support: bool) -> int:
+    """A support holds the body up (hard); any other target is a reach target (soft)."""
+    return HARD if support else SOFT
+
+
+@dataclass(frozen=True)
+class Target:
+    """Hold ``tcp`` on a world frame. ``rotation`` (3x3) None means the TCP's zero-pose orientation.
+
+    ``lock`` lists the constrained axes of the target frame; ``operator`` (k x 6) replaces it when given.
+    A ``support`` target also carries contact forces (friction coefficient ``friction``, optional sole).
+    ``priority`` 1 must hold, 2 is met as closely as it can be (:mod:`solver.problem.priorities`); None: 1 for a
+    support, 2 otherwise.
+    """
+
+    tcp: str
+    position: np.ndarray
+    rotation: np.ndarray | None = None
+    lock: tuple[str, ...] = AXES
+    operator: np.ndarray | None = None
+    weight: float = 1.0
+    support: bool = False
+    friction: float = 0.6
+    sole: np.ndarray | None = None
+    enabled: bool = True
+    priority: int | None = None
+
+    @property
+    def effective_priority(self) -> int:
+        """1 (must hold) or 2 (reach: as close as possible)."""
+        return self.priority if self.priority is not None else default_priority(self.support)
+
+
+@dataclass(frozen=True)
+class Loop:
+    """Hold ``tcp`` on the frame of ``other`` composed with an offset (in ``other``'s frame)."""
+
+    tcp: str
+    other: str
+    offset_position: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    offset_rotation: np.ndarray | None = None
+    lock: tuple[str, ...] = ("x", "y", "z")
+    operator: np.ndarray | None = None
+    weight: float = 1.0
+
+
+@dataclass(frozen=True)
+class ExternalLoad:
+    """A force (N, world frame) applied at ``tcp``."""
+
+    tcp: str
+    force: np.ndarray
+
+
+MAX_DISTANCE = 1000.0  # m: targets and offsets farther than this from the origin are refused
+MAX_FORCE = 1e6  # N
+
+
+_EYE3 = np.eye(3)  # orthonormality within np.allclose(atol=1e-6) of it: the check without its overhead
+
+
+def _check_vector(what: str, value, size: int, limit: float) -> np.ndarray:
+    v = np.asarray(value, dtype=float)
+    if v.shape != (size,) or not np.isfinite(v).all():
+        raise ManikinError(f"{what}: expected {size} finite numbers, got {value!r}")
+    if np.abs(v).max(initial=0.0) > limit:
+        raise ManikinError(f"{what}: expected values within +-{limit:g}, got {value!r}")
+    return v
+
+
+def _check_rotation(what: str, value) -> None:
+    if value is None:
+        return
+    r = np.asarray(value, dtype=float)
+    ok = r.shape == (3, 3) and np.isfinite(r).all()
+    if not ok or (np.abs(r.T @ r - _EYE3) > 1e-6 + 1e-5 * _EYE3).any() or np.linalg.det(r) < 0:
+        raise ManikinError(f"{what}: expected a rotation matrix (orthonormal, det +1)")
+
+
+def _check_relaxation(what: str, lock, operator) -> None:
+    if operator is None:
+        lock_operator(lock)  # raises on unknown axes
+        if not lock:
+            raise ManikinError(f"{what}: lock must name at least one axis")
+        return
+    op = np.asarray(operator, dtype=float)
+    if op.ndim != 2 or op.shape[1] != 6 or op.shape[0] == 0 or not np.isfinite(op).all():
+        raise ManikinError(f"{what}: operator must be k x 6 finite numbers")
+    if not (np.abs(op).max(axis=1) >= 1e-6).all():
+        raise ManikinError(f"{what}: operator rows must not be zero (largest |entry| >= 1e-06)")
+
+
+def _check_frame(what: str, position, rotation, lock, operator, weight: float) -> None:
+    _check_vector(f"{what} position", position, 3, MAX_DISTANCE)
+    _check_rotation(f"{what} rotation", rotation)
+    _check_relaxation(what, lock, operator)
+    if not (np.isfinite(weight) and MIN_WEIGHT <= weight <= MAX_WEIGHT):
+        raise ManikinError(f"{what}: weight must be a number in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {weight!r}")
+
+
+def validate(model: Model, targets, loops, loads) -> None:
+    """Refuse bad specifications with a ManikinError that names the item and what was expected."""
+    for t in targets:
+        what = f"target {t.tcp}"
+        model.tcp(t.tcp)
+        _check_frame(what, t.position, t.rotation, t.lock, t.operator, t.weight)
+        if t.priority is not None and t.priority not in PRIORITIES:
+            expected = "1 (must hold) or 2 (as close as possible)"
+            raise ManikinError(f"{what}: priority must be {expected}, got {t.priority!r}")
+        if not (np.isfinite(t.friction) and t.friction >= 0):
+            raise ManikinError(f"{what}: friction must be a non-negative number")
+        if t.sole is not None:
+            sole = np.asarray(t.sole, dtype=float)
+            if sole.ndim != 2 or sole.shape[1] != 2 or not np.isfinite(sole).all() or np.abs(sole).max() > 10:
+                raise ManikinError(f"{what}: sole must be a list of finite [x, y] corners (m)")
+    for lp in loops:
+        what = f"loop {lp.tcp}-{lp.other}"
+        model.tcp(lp.tcp)
+        model.tcp(lp.other)
+        _check_frame(what, lp.offset_position, lp.offset_rotation, lp.lock, lp.operator, lp.weight)
+    for ld in loads:
+        model.tcp(ld.tcp)
+        _check_vector(f"load at {ld.tcp} force", ld.force, 3, MAX_FORCE)

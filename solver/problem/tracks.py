@@ -1,0 +1,56 @@
+"""Targets keyed over frames: a track's keys and the target list at any frame.
+
+A keyed target holds its first key before it and its last key after it; in between, positions are
+interpolated linearly and rotations by slerp.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
+from .specs import Target
+
+
+@dataclass(frozen=True)
+class Key:
+    """A target pose at one frame: position (m) and optional rotation (3x3)."""
+
+    frame: int
+    position: np.ndarray
+    rotation: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Track:
+    """The keys of the target at index ``target`` in the scenario's target list, sorted by frame."""
+
+    target: int
+    keys: tuple[Key, ...]
+
+    def pose_at(self, frame: float) -> tuple[np.ndarray, np.ndarray | None]:
+        """Interpolated (position, rotation) at ``frame``."""
+        keys = self.keys
+        if frame <= keys[0].frame:
+            return keys[0].position, keys[0].rotation
+        if frame >= keys[-1].frame:
+            return keys[-1].position, keys[-1].rotation
+        i = int(np.searchsorted([k.frame for k in keys], frame, side="right")) - 1
+        a, b = keys[i], keys[i + 1]
+        t = (frame - a.frame) / (b.frame - a.frame)
+        position = (1.0 - t) * a.position + t * b.position
+        if a.rotation is None or b.rotation is None:
+            return position, a.rotation if b.rotation is None else b.rotation
+        q = slerp(matrix_to_quat(a.rotation), matrix_to_quat(b.rotation), t)
+        return position, quat_to_matrix(q)
+
+
+def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list[Target]:
+    """The target list with every keyed target moved to its pose at ``frame``."""
+    out = list(targets)
+    for track in tracks:
+        position, rotation = track.pose_at(frame)
+        out[track.target] = replace(out[track.target], position=position, rotation=rotation)
+    return out

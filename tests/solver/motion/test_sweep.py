@@ -1,0 +1,247 @@
+"""Swept motion between frames (issue 20, "no part jumps through a thin obstacle between frames"): the path bound,
+the swept check against brute-force sampling, a hand keyed through a 1 cm plate, and no sub-sampling when nothing
+is near."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bench.long_motion import long_motion
+from solver import load_scenario
+from solver.collision import Box, Mesh, Sphere, capsule_pairs, obstacle_distance
+from solver.collision.body import capsules_of
+from solver.collision.generate import box_mesh
+from solver.collision.self_pairs import self_pairs
+from solver.collision.sweep import TOLERANCE, SweptBody, path_weights_of
+from solver.io.scenario.bodies import load_body
+from solver.io.toml_write import dumps_toml
+from solver.motion.between_frames import MotionSweep
+from solver.motion.frames import solve_frames
+
+PLATE_MOTION = """
+name = "hand through a plate"
+[manikin]
+preset = "male_50"
+[motion]
+start = 1
+end = {end}
+[[targets]]
+tcp = "hand_r"
+lock = ["x", "y", "z"]
+[[targets.keys]]
+frame = 2
+position = [-0.35, -0.40, 1.0]
+[[targets.keys]]
+frame = 3
+position = [-0.05, -0.40, 1.0]
+[[targets]]
+tcp = "foot_r"
+position = [-0.083, 0.0, 0.0]
+lock = ["x", "y", "z", "rx", "ry"]
+support = true
+[[targets]]
+tcp = "foot_l"
+position = [0.083, 0.0, 0.0]
+lock = ["x", "y", "z", "rx", "ry"]
+support = true
+"""
+# 1 cm thick, 8 cm square, across the way of the right hand from frame 2 to frame 3 (30 cm to the left)
+PLATE = """
+[[obstacles]]
+name = "plate"
+kind = "box"
+center = [-0.216, -0.43, 0.99]
+size = [0.01, 0.08, 0.08]
+"""
+PLATE_BOX = Box([-0.216, -0.43, 0.99], [0.01, 0.08, 0.08], name="plate")
+
+
+@pytest.fixture(scope="module")
+def male50():
+    return load_body(preset="male_50")
+
+
+def plate_motion(tmp_path: Path, plate: bool, end: int = 3):
+    path = tmp_path / f"plate_{plate}_{end}.toml"
+    path.write_text(PLATE_MOTION.format(end=end) + (PLATE if plate else ""), encoding="utf-8")
+    return load_scenario(path)
+
+
+def deepest_on_the_way(model, theta_a, theta_b, obstacles: list, samples: int = 400) -> np.ndarray:
+    """Brute force: (k, m) the deepest penetration (m, > 0 inside) of each capsule into each obstacle at ``samples``
+    evenly spaced poses of the linear joint interpolation."""
+    caps = capsules_of(model)
+    worst = np.full((len(caps), len(obstacles)), -np.inf)
+    for s in np.linspace(0.0, 1.0, samples):
+        p0, p1 = caps.world(model.forward((1 - s) * theta_a + s * theta_b))
+        for o, ob in enumerate(obstacles):
+            worst[:, o] = np.maximum(worst[:, o], -obstacle_distance(p0, p1, caps.radius, ob).distance)
+    return worst
+
+
+def deepest_part(model, theta_a, theta_b, obstacle, part: str, samples: int = 400) -> float:
+    """:func:`deepest_on_the_way` of one capsule into one obstacle."""
+    return float(
+        deepest_on_the_way(model, theta_a, theta_b, [obstacle], samples)[capsules_of(model).names.index(part), 0]
+    )
+
+
+def random_pair(model, rng, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Two poses within the joint ranges, at most ``scale`` rad (a tenth of it in m for a slide) apart per joint."""
+    lower, upper = np.maximum(model.lower, -2.0), np.minimum(model.upper, 2.0)
+    a = rng.uniform(lower, upper) * 0.5
+    step = rng.uniform(-1.0, 1.0, model.n) * np.where(model.prismatic, 0.1 * scale, scale)
+    return a, np.clip(a + step, model.lower, model.upper)
+
+
+def test_the_bounds_hold_for_every_capsule_point_on_the_way(male50):
+    """The path bound L_k bounds the path length of both ends and the middle of every capsule's axis along the joint
+    interpolation, and M_k (the smaller of L_k and chord + 1.5 W_k L_k) bounds their speed everywhere on it."""
+    caps = capsules_of(male50)
+    body = SweptBody(male50, [], np.zeros((len(caps), 0)))
+    rng = np.random.default_rng(3)
+    for scale in (0.005, 0.05, 0.35, 1.0):
+        for _ in range(3):
+            a, b = random_pair(male50, rng, scale)
+            length, bound = path_weights_of(male50) @ np.abs(b - a), body.bound(body.pose(a), body.pose(b))
+            points = []
+            for s in np.linspace(0.0, 1.0, 401):
+                p0, p1 = caps.world(male50.forward((1 - s) * a + s * b))
+                points.append(np.stack([p0, p1, 0.5 * (p0 + p1)]))
+            moves = np.linalg.norm(np.diff(np.array(points), axis=0), axis=-1)  # (400, 3, k)
+            assert np.all(moves.sum(axis=0) <= length[None, :] + 1e-9), scale
+            assert np.all(moves.max(axis=0) * 400 <= bound[None, :] * (1 + 1e-6) + 1e-12), scale
+            assert np.all(bound <= length + 1e-12)
+            if scale <= 0.005:  # small steps (a long motion's): the chord bound is the tighter one
+                assert bound.sum() < 0.5 * length.sum(), bound.sum() / length.sum()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_swept_check_agrees_with_brute_force_sampling(male50, seed):
+    """Random motions of the right arm past random obstacles (thin plates as boxes and closed meshes, spheres) placed
+    on the hand's way: every pair that brute-force sampling finds deeper than 2 tol is reported, and every reported
+    crossing is real (its own sample is deeper than tol)."""
+    rng = np.random.default_rng(100 + seed)
+    caps = capsules_of(male50)
+    deep = 0
+    for _ in range(3):
+        a, b = random_pair(male50, rng, 0.35)
+        mid = caps.world(male50.forward(0.5 * (a + b)))
+        k = caps.names.index(rng.choice(["hand_r", "forearm_r", "hand_l"]))
+        centre = 0.5 * (mid[0][k] + mid[1][k]) + rng.normal(0.0, 0.03, 3)
+        axis = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        rotation = axis * np.sign(np.linalg.det(axis))
+        size = np.array([rng.uniform(0.005, 0.02), rng.uniform(0.05, 0.3), rng.uniform(0.05, 0.3)])
+        obstacles = [
+            Box(centre, size, rotation, name="plate"),
+            Mesh(*box_mesh(centre + 0.05, size, 1, rotation), name="thin mesh"),
+            Sphere(centre - 0.05, rng.uniform(0.01, 0.05), name="ball"),
+        ]
+        body = SweptBody(male50, obstacles, np.ones((len(caps), len(obstacles)), dtype=bool))
+        pa, pb = body.pose(a), body.pose(b)
+        margin = float(body.bound(pa, pb).max()) + 2 * TOLERANCE
+        d_a, d_b = body.distances(pa, margin), body.distances(pb, margin)
+        report = body.check(pa, pb, d_a, d_b, margin)
+        found = {(c.part, c.obstacle) for c in report.crossings}
+        for c in report.crossings:  # real: the distance at the reported fraction is that deep
+            j, o = caps.names.index(c.part), [ob.name for ob in obstacles].index(c.obstacle)
+            p0, p1 = caps.world(male50.forward((1 - c.s) * a + c.s * b))
+            depth = -obstacle_distance(p0[j], p1[j], caps.radius[j], body.queries[o]).distance[0]
+            assert depth == pytest.approx(c.depth, abs=1e-9) and depth > TOLERANCE
+        brute = deepest_on_the_way(male50, a, b, body.queries, 150)
+        clear = (d_a >= -TOLERANCE) & (d_b >= -TOLERANCE)  # inside at a frame: the frame's own rows report it
+        for j, o in zip(*np.nonzero(clear & (brute > 2 * TOLERANCE)), strict=True):
+            assert (caps.names[j], obstacles[o].name) in found, (caps.names[j], obstacles[o].name, brute[j, o])
+        deep += int((clear & (brute > 2 * TOLERANCE)).sum())
+    assert deep > 0  # the cases do cross
+
+
+def test_a_hand_keyed_through_a_thin_plate_does_not_pass_through_it(tmp_path):
+    """Frame 2 -> 3 moves the right hand 30 cm across a 1 cm plate. Unguarded, the frame's solution lies beyond the
+    plate and the way there crosses it; detected only, the frame names the crossing and is not converged; guarded,
+    the frame is re-solved and the way Blender plays (linear joint interpolation) stays out of the plate."""
+    bare = plate_motion(tmp_path, plate=False)
+    free = list(solve_frames(bare.problem_at, bare.frames, bare.start, bare.options, bare.limits))
+    theta_2, theta_3 = free[1][1].theta, free[2][1].theta
+    assert deepest_part(bare.model, theta_2, theta_3, PLATE_BOX, "hand_r") > 0.02  # the jump is real
+
+    sc = plate_motion(tmp_path, plate=True)
+    told = MotionSweep(resolve=False)
+    reported = list(solve_frames(sc.problem_at, sc.frames, sc.start, sc.options, sc.limits, sweep=told))
+    last = reported[-1][1]
+    assert not last.converged
+    assert "hand_r passes through plate between frames 2 and 3" in last.unmet
+    assert "hand_r passes through plate between frames 2 and 3" in last.broken
+    assert last.verdict().startswith("NOT held")
+    assert any("mm deep at frame 2." in note for note in last.notes)
+
+    guard = MotionSweep()
+    guarded = list(solve_frames(sc.problem_at, sc.frames, sc.start, sc.options, sc.limits, sweep=guard))
+    theta_2, theta_3 = guarded[1][1].theta, guarded[2][1].theta
+    assert deepest_on_the_way(sc.model, theta_2, theta_3, [PLATE_BOX]).max() < 2 * TOLERANCE
+    frame_3 = guarded[2][1]
+    assert any("re-solved in" in note and "hand_r through plate" in note for note in frame_3.notes)
+    assert guard.substeps > 0
+    assert not any("passes through" in name for name in frame_3.unmet)
+
+
+def test_the_target_held_behind_the_plate_stays_blocked(tmp_path):
+    """The hand target stays beyond the plate for frames 3..5: each frame's first solution jumps through again and
+    is held on the near side; every way from frame to frame stays out of the plate."""
+    sc = plate_motion(tmp_path, plate=True, end=5)
+    results = list(solve_frames(sc.problem_at, sc.frames, sc.start, sc.options, sc.limits))
+    thetas = [r.theta for _, r in results]
+    for a, b in zip(thetas[1:], thetas[2:], strict=False):
+        assert deepest_on_the_way(sc.model, a, b, [PLATE_BOX], 100).max() < 2 * TOLERANCE
+    assert all("hand_r" in r.unmet and not r.converged for _, r in results[2:])  # short of the target, not through
+
+
+def test_a_motion_with_nothing_near_does_no_sub_sampling(tmp_path):
+    """The box lift spread over 200 frames, with a cabinet 1 m behind the manikin: lower bounds from the last
+    queried pose certify most frames without a query, and no way is ever sub-sampled or re-solved."""
+    data = long_motion(200)
+    data["obstacles"] = [dict(name="cabinet", kind="box", center=[0.0, 1.0, 0.8], size=[1.0, 0.4, 1.6])]
+    path = tmp_path / "lift.toml"
+    path.write_text(dumps_toml(data), encoding="utf-8")
+    sc = load_scenario(path)
+    sweep = MotionSweep()
+    results = list(solve_frames(sc.problem_at, sc.frames, sc.start, sc.options, sc.limits, sweep=sweep))
+    assert all(r.converged for _, r in results)
+    assert sweep.samples == 0 and sweep.substeps == 0
+    assert sweep.queries < len(results) / 2
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_swept_check_of_the_body_itself_agrees_with_brute_force_sampling(male50, seed):
+    """Random large motions checked for the body's own pairs (hands and forearms vs trunk, head and thighs; the
+    shanks): every pair that dense sampling finds deeper than 2 tol past its least distance (and clear at both ends)
+    is reported, under its two parts' names, and every reported crossing is that deep where it says."""
+    rng = np.random.default_rng(300 + seed)
+    caps = capsules_of(male50)
+    own = self_pairs(male50, caps)
+    body = SweptBody(male50, [], np.zeros((len(caps), 0)), own=own)
+    deep = 0
+    for _ in range(12):
+        a, b = random_pair(male50, rng, 1.0)
+        pa, pb = body.pose(a), body.pose(b)
+        d_a, d_b = body.distances(pa, 0.05), body.distances(pb, 0.05)
+        report = body.check(pa, pb, d_a, d_b, 0.05)
+        found = {(c.part, c.obstacle) for c in report.crossings}
+        pairs = list(zip(own.first, own.second, strict=True))
+        for c in report.crossings:
+            i, j = caps.names.index(c.part), caps.names.index(c.obstacle)
+            p0, p1 = caps.world(male50.forward((1 - c.s) * a + c.s * b))
+            depth = own.least[pairs.index((i, j))] - capsule_pairs(p0, p1, caps.radius, [i], [j]).distance[0]
+            assert depth == pytest.approx(c.depth, abs=1e-9) and depth > TOLERANCE
+        worst = np.full(len(own), -np.inf)
+        for s in np.linspace(0.0, 1.0, 300):
+            p0, p1 = caps.world(male50.forward((1 - s) * a + s * b))
+            worst = np.maximum(worst, own.least - capsule_pairs(p0, p1, caps.radius, own.first, own.second).distance)
+        ends = np.minimum(d_a[own.first, np.arange(len(own))], d_b[own.first, np.arange(len(own))])
+        for m in np.flatnonzero((ends >= -TOLERANCE) & (worst > 2 * TOLERANCE)):
+            assert (caps.names[own.first[m]], caps.names[own.second[m]]) in found, (m, worst[m])
+            deep += 1
+    assert deep > 0  # the cases do cross

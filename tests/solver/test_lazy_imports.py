@@ -1,0 +1,45 @@
+"""``import solver`` is cheap (the Blender add-on enables on it) and its names are the documented objects whatever
+was imported first (the function ``solve``, not a module of that name)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _run(code: str) -> str:
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
+def test_light_modules_load_neither_the_numerics_nor_scipy() -> None:
+    code = "import sys, solver, solver.errors, solver.options, solver.presets; " \
+           "print(sorted(m for m in sys.modules if m.startswith(('solver', 'scipy', 'numpy'))))"  # fmt: skip
+    assert _run(code) == str(["solver", "solver.errors", "solver.lazy", "solver.options", "solver.presets"])
+
+
+def test_package_names_are_the_objects_whatever_loaded_first() -> None:
+    code = "import solver.motion.frames, solver.problem.scenario; from solver import solve, Problem, SolverOptions; " \
+           "print(callable(solve), solve.__module__, Problem.__module__, SolverOptions().max_iterations)"  # fmt: skip
+    assert _run(code) == "True solver.iteration.phases solver.problem.problem 100"
+
+
+def test_io_api_names_are_the_functions_whatever_loaded_first() -> None:
+    code = "import solver.io.result.read, solver.ergonomics, solver.problem.scenario; import solver; " \
+           "print(*(getattr(solver, n).__module__ for n in ('read_result', 'evaluate', 'load_scenario', " \
+           "'write_result', 'load_preset', 'solve_motion', 'Scenario')))"  # fmt: skip
+    expected = ("solver.io.result.read solver.ergonomics solver.io.scenario.read solver.io.result.write "
+                "solver.io.scenario.bodies solver.motion.frames solver.problem.scenario")  # fmt: skip
+    assert _run(code) == expected
+    assert _run("import solver; print(all(getattr(solver, n) is not None for n in solver.__all__))") == "True"
+
+
+def test_ergonomics_and_the_result_reader_load_no_scipy() -> None:
+    """The Blender layer imports the ergonomics (worksheet bands) when it enables, in a Blender without scipy."""
+    code = "import sys, solver.ergonomics.worksheet, solver.io.result.read; " \
+           "print(sorted(m for m in sys.modules if m.startswith('scipy')))"  # fmt: skip
+    assert _run(code) == "[]"
