@@ -14,38 +14,52 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import UsageError
+from .common import EXIT_OK, check_count, check_folder_name
 
 if TYPE_CHECKING:
     from ..envelope.job import EnvelopeSettings
     from ..envelope.sweep import Envelope
 
 
-def add_envelope_parser(sub: argparse._SubParsersAction) -> None:
-    """The ``envelope`` subcommand on the command line's subparsers ``sub``."""
-    from ..envelope.directions import HEMISPHERES
-    from ..envelope.job import HANDS
-    from ..envelope.reach import FEET_MODES
+# The names the options take, written out here so that the parser (``--help``) loads neither numpy nor scipy; they
+# are the keys of envelope.job.HANDS, envelope.directions.HEMISPHERES and envelope.reach.FEET_MODES (a test says so).
+HAND_NAMES = ("both", "left", "right")
+HEMISPHERE_NAMES = ("all", "front", "back", "upper", "lower", "left", "right")
+FEET_NAMES = ("planted", "step")
 
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """The ``envelope`` subcommand on the command line's subparsers ``sub``."""
     p = sub.add_parser("envelope", help="reach envelopes in balance and without it: CSV, OBJ, GLB and PNG")
     p.add_argument("manikins", nargs="*", help="manikin presets or body TOMLs (default male_50 without --family)")
     p.add_argument("--family", help="a family folder (family.toml): one envelope per member")
     p.add_argument("-o", "--output", required=True, help="folder to write (new or empty)")
-    p.add_argument("--hand", default="right", choices=sorted(HANDS), help="which hand (default right)")
-    p.add_argument("--frequency", type=int, default=3,
-                   help="geodesic sphere frequency F: 10 F^2 + 2 directions (default 3: 92)")  # fmt: skip
-    p.add_argument("--hemisphere", default="all", choices=list(HEMISPHERES),
-                   help="only the directions of this half (default all)")  # fmt: skip
+    p.add_argument("--hand", default="right", choices=HAND_NAMES, help="which hand (default right)")
+    p.add_argument(
+        "--frequency", type=int, default=3, help="geodesic sphere frequency F: 10 F^2 + 2 directions (default 3: 92)"
+    )
+    p.add_argument(
+        "--hemisphere", default="all", choices=HEMISPHERE_NAMES, help="only the directions of this half (default all)"
+    )
     p.add_argument("--load", type=float, default=0.0, help="kg held in the hand (default 0)")
     p.add_argument("--rotation", help="fix the hand's orientation to this quaternion w,x,y,z (default free)")
     p.add_argument("--tolerance", type=float, default=0.02, help="reach resolution, m (default 0.02)")
-    p.add_argument("--sole-scale", type=float, default=1.0,
-                   help="keep the centre of pressure in the soles scaled by this (default 1: whole soles)")  # fmt: skip
-    p.add_argument("--feet", default="planted", choices=list(FEET_MODES),
-                   help="planted (default), or step: each sole slides and turns on the floor")  # fmt: skip
+    p.add_argument(
+        "--sole-scale",
+        type=float,
+        default=1.0,
+        help="keep the centre of pressure in the soles scaled by this (default 1: whole soles)",
+    )
+    p.add_argument(
+        "--feet",
+        default="planted",
+        choices=FEET_NAMES,
+        help="planted (default), or step: each sole slides and turns on the floor",
+    )
     p.add_argument("--processes", type=int, help="envelopes computed at once (default: all cores)")
     p.add_argument("--no-plot", action="store_true", help="do not write the PNG sections")
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary and no progress")
-    p.set_defaults(run=run_envelope)
+    p.set_defaults(run=run)
 
 
 def _manikins(args: argparse.Namespace) -> list[str]:
@@ -102,12 +116,11 @@ def _check(args: argparse.Namespace) -> tuple[list, EnvelopeSettings]:
     from ..io.scenario.bodies import load_preset
     from ..population.family_files import check_family_folder
 
-    if not str(args.output).strip():
-        raise UsageError("-o: expected a folder name, got ''")
-    if args.processes is not None and args.processes < 1:
-        raise UsageError(f"--processes: expected a whole number >= 1, got {args.processes}")
-    settings = EnvelopeSettings(args.load, _rotation(args.rotation), args.tolerance, args.sole_scale, args.feet,
-                                args.frequency, args.hemisphere)  # fmt: skip
+    check_folder_name(args.output)
+    check_count(args.processes, "--processes")
+    settings = EnvelopeSettings(
+        args.load, _rotation(args.rotation), args.tolerance, args.sole_scale, args.feet, args.frequency, args.hemisphere
+    )
     settings.sphere()  # the directions are refused before the manikins are loaded
     names = _manikins(args)
     models = [load_preset(name) for name in names]
@@ -120,7 +133,7 @@ def _check(args: argparse.Namespace) -> tuple[list, EnvelopeSettings]:
     return [(name, side) for name in names for side in HANDS[args.hand]], settings
 
 
-def run_envelope(args: argparse.Namespace) -> int:
+def run(args: argparse.Namespace) -> int:
     """Check everything, then sweep each manikin and hand and write its files as it is done; exit code 0."""
     from ..envelope.analysis import summary_lines
     from ..envelope.outputs import summary_row, write_envelope, write_summary
@@ -142,4 +155,4 @@ def run_envelope(args: argparse.Namespace) -> int:
             print("\n".join(summary_lines(envelope, stats)))
     if not args.quiet:
         print(f"wrote {len(runs)} envelopes into {folder} (see {folder / 'envelopes.csv'})")
-    return 0
+    return EXIT_OK
