@@ -1,9 +1,9 @@
 """``python -m solver envelope [MANIKIN ...] [--family DIR] -o DIR [--hand right|left|both] [--frequency F]
 [--hemisphere H] [--load KG] [--rotation W,X,Y,Z] [--tolerance M] [--sole-scale S] [--feet planted|step]
-[--processes N] [--no-plot] [-q]``: balanced reach envelopes, one per manikin (a preset name or body
-TOML; every member of a family) and hand, written into a new or empty folder (:mod:`.outputs`), several at once in
-worker processes. Bad arguments exit 2 with one line before any work. The settings, the sweep and the files are
-those of a study's ``[envelope]`` (:mod:`.job`)."""
+[--processes N] [--no-plot] [-q]``: balanced reach envelopes, one per manikin (a preset name or body TOML; every
+member of a family) and hand, written into a new or empty folder (:mod:`solver.envelope.outputs`), several at once
+in worker processes. Bad arguments exit 2 with one line before any work. The settings, the sweep and the files are
+those of a study's ``[envelope]`` (:mod:`solver.envelope.job`)."""
 
 from __future__ import annotations
 
