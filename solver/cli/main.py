@@ -2,9 +2,10 @@
 ``ergo RESULT.json -o ERGO.json``, ``study STUDY.toml -o OUT/``, ``urdf PRESET -o OUT.urdf``, ``presets``,
 ``family ... -o DIR``, ``envelope [MANIKIN ...] -o DIR``.
 
-Each command is a module of this package named as the command (:data:`COMMANDS`), with ``add_parser(sub)``, which
-adds its subparser and sets ``run``, its ``run(args) -> exit code``. Adding a command is its module and its name
-in COMMANDS. A command module imports its numerics inside ``run``, so that ``--help`` loads neither numpy nor scipy.
+Each command is a module of this package named as the command, with ``add_parser(sub)``, which adds its subparser
+and sets ``run``, and its ``run(args) -> exit code``. Adding a command is its module and one entry in
+:data:`COMMAND_MODULES`. A command module imports its numerics inside ``run``, so that ``--help`` loads neither
+numpy nor scipy.
 
 Exit codes (:mod:`.common`): 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input
 (one line on stderr naming the file, the key and what was expected), 130 interrupted (Ctrl-C; the frames solved so
@@ -16,20 +17,21 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from importlib import import_module
 
 from ..errors import ArgumentParser, ManikinError
+from . import envelope, ergo, family, presets, solve, study, urdf
 from .common import EXIT_BAD_INPUT, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED
 
-COMMANDS = ("solve", "ergo", "study", "urdf", "presets", "family", "envelope")  # in the order --help lists them
+COMMAND_MODULES = (solve, ergo, study, urdf, presets, family, envelope)  # in the order --help lists them
+COMMANDS = tuple(module.__name__.rpartition(".")[2] for module in COMMAND_MODULES)  # the command names
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The command line's parser; a bad argument raises one UsageError line instead of printing the usage."""
     parser = ArgumentParser(prog="python -m solver", description="Manikin pose prediction solver")
     sub = parser.add_subparsers(dest="command", required=True)
-    for name in COMMANDS:
-        import_module(f".{name}", __package__).add_parser(sub)
+    for module in COMMAND_MODULES:
+        module.add_parser(sub)
     return parser
 
 
