@@ -6,7 +6,7 @@ Cases: a standing body whose right hand and forearm come within the margin of a 
 few capsules near), and a body lying 2 cm over the top of a subdivided bed (worst: all 20 within the margin).
 Every repeat jitters the capsules by a few mm, as a solver's iterations do. Also timed: the same capsules vs the
 same box as a primitive, the mesh index build, the solver's own iteration on the box-lift preset (the yardstick
-of the issue's target: a pose near the mesh costs at most 2x the pose without it), and python-fcl's BVH distance
+of the target: a pose near the mesh costs at most 2x the pose without it), and python-fcl's BVH distance
 if it is installed. Writes the ``collision-bench`` section of docs/BENCHMARKS.md.
 """
 

@@ -1,4 +1,4 @@
-"""Long motions (issue 19): the box lift played over 10,000 frames through ``python -m solver solve`` (both
+"""Long motions: the box lift played over 10,000 frames through ``python -m solver solve`` (both
 result formats) and ``blender_manikin/batch.py``, timed with each process's peak memory, into docs/BENCHMARKS.md.
 
     python -m bench.long_motion [--frames 10000] [--runs 3] [--no-batch] [-o docs/BENCHMARKS.md]

@@ -1,4 +1,4 @@
-"""A pose solved near a 10,000-triangle mesh vs the same pose without it (issue 20's target: at most 2x).
+"""A pose solved near a 10,000-triangle mesh vs the same pose without it (the target: at most 2x).
 
     python -m bench.mesh_obstacle [REPEATS] [-o docs/BENCHMARKS.md]
 

@@ -1,4 +1,4 @@
-"""Population studies at scale (issue 22): runs per second of a study on local processes and on a local Dask
+"""Population studies at scale: runs per second of a study on local processes and on a local Dask
 cluster, 1 and 2 workers, the cost of a run and of a task, and what a 100,000-run study takes on paper.
 
     python -m bench.study [--runs 600] [--repeats 3] [-o docs/BENCHMARKS.md]     # about 6 min here

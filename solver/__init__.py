@@ -9,7 +9,7 @@ The public API (every name loads its module on first use, PEP 562, so ``import s
     result = solver.solve(scenario.problem_at(frame), scenario.start, scenario.options)  # one pose -> Result
     motion = solver.load_motion("lift.toml")         # a Scenario that has keyed targets or a frame range
     report = solver.evaluate(result)                 # ergonomics: loads, RULA, REBA, OWAS, NIOSH, worksheet
-    solver.write_result("result.json", solved, scenario.path)   # the result file (README "result JSON")
+    solver.write_result("result.json", solved, scenario.path)   # the result file (docs/reference/result-file.md)
     frames = solver.read_result("result.json")       # -> ResultFile: its typed frames; solver.evaluate takes it
     text = solver.dumps_scenario(solver.scenario_to_dict(problem, {"preset": "male_50"}))  # scenario TOML
 

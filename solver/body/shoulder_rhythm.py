@@ -10,6 +10,7 @@ elevation (0 = coronal, 90 deg = sagittal) and beta_h the elevation (-90 deg = h
 This frame and product order are OUR reading (the original paper was not available). The thesis writes
 Rx(gamma) Ry(-beta) Rz(alpha), which is this product written with coordinate-transformation (passive)
 matrices; read literally (active) it is gimbal-locked at rest and alpha_h does not lift the arm. Evidence:
+
 - searching all signed-axis thorax frames, this is the only one in which rest hangs the arm (R_h e_x =
   (0, 0, -1)), (0, -30) deg abducts it 60 deg in the coronal plane and (90, -30) deg flexes it 60 deg forward;
 - at beta_h = -90 deg the product is gimbal-locked and depends on gamma_h - alpha_h only, and the formula
@@ -18,6 +19,7 @@ matrices; read literally (active) it is gimbal-locked at rest and alpha_h does n
   while the scapula rotates upward and tilts posteriorly, as shoulders do. The other order that passes the
   arm checks with alpha_h as sagittal lift (Ry(-beta) Rz(alpha) Rx(gamma)) turns the scapula 49 deg
   downward at 60 deg abduction and puts the girdle joints far outside their ranges.
+
 tests/test_reduction.py checks these directions through the model's forward kinematics, both sides.
 One oddity stays: with the arm hanging (beta_h = -90 deg) the scapula still follows alpha_h, through gamma_h
 in beta_s (about 30 deg at alpha_h = 90 deg), while the glenohumeral joints keep the arm still.

@@ -4,12 +4,12 @@ joints on a shaped mesh. The bone map of the fit and of the weight transfer rest
 Each landmark is named after our joint (its name without the motion: ``elbow_l`` for ``elbow_l_flexion``) and
 defined on the MPFB side by a joint cube of the base mesh (its centre is an anchor point):
 
-========================  =====================  =========================================================
-ours                      MPFB                   note
-========================  =====================  =========================================================
-l5 (L5/S1), l3, l1        joint-spine-4, -3, -2  MPFB's lumbar joints, matched to the vertebra at the same
-t7, c7, c1                joint-spine-1, joint-  fraction of the way from the hips to the head joint (checked
-                          neck, joint-head       on the female and male shapes)
+========================  ========================  =========================================================
+ours                      MPFB                      note
+========================  ========================  =========================================================
+l5 (L5/S1), l3, l1        joint-spine-4, -3, -2     MPFB's lumbar joints, matched to the vertebra at the same
+t7, c7, c1                joint-spine-1, joint-     fraction of the way from the hips to the head joint (checked
+                          neck, joint-head          on the female and male shapes)
 clavicle_{s} (SC joint)   joint-{s}-clavicle
 scapula_{s} (AC joint)    joint-{s}-scapula
 shoulder_{s}, elbow_{s}   joint-{s}-shoulder,
@@ -18,9 +18,11 @@ wrist_{s}                 -elbow, -hand
 thumb_{s}_cmc/mcp/ip      joint-{s}-finger-1-1/2/3
 hip_{s}, knee_{s},        joint-{s}-upper-leg,
 ankle_{s}                 -knee, -ankle
-toes_{s} (MTP line)       mean of joint-{s}-toe-1-1 .. 5-1
-eyes                      mean of joint-l-eye, joint-r-eye
-========================  =====================  =========================================================
+toes_{s} (MTP line)       mean of joint-{s}-toe-
+                          1-1 .. 5-1
+eyes                      mean of joint-l-eye,
+                          joint-r-eye
+========================  ========================  =========================================================
 
 Side tags: ours ``l``/``r``, MPFB ``l``/``r`` in cube names and ``L``/``R`` in bone names; left is +x in both.
 """

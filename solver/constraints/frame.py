@@ -1,8 +1,10 @@
 """A TCP held to a target frame (fixed, or carried by another TCP: a loop), relaxed per axis.
 
-Error (6 rows before relaxation), with the target frame T = (R_T, o_T) and the TCP frame (R, o):
+Error (6 rows before relaxation), with the target frame T = (R_T, o_T) and the TCP frame (R, o)::
+
     position  e_p = R_T^T (o - o_T)          the TCP origin's coordinates in the target frame, m
     rotation  e_r = log(R_T^T R)             the rotation between the frames as a rotation vector in T, rad
+
 A lock on x/y/z/rx/ry/rz keeps that component; ``lock = [z, rx, ry]`` keeps a sole flat on the floor while
 it slides and turns. Any linear operator L (k x 6) may replace the lock: the error is L e.
 The Jacobian is exact: d e_r = J_l^-1(e_r) R_T^T (omega - omega_ref) (inverse left Jacobian of SO(3)), and

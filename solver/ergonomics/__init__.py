@@ -1,7 +1,7 @@
-"""Ergonomic evaluation of solved poses and motions (issue 6): joint loads, RULA, REBA, OWAS, NIOSH, a worksheet.
+"""Ergonomic evaluation of solved poses and motions: joint loads, RULA, REBA, OWAS, NIOSH, a worksheet.
 
 Works on typed frames (:class:`solver.io.result.frame.Frame`): from a :class:`~solver.Result` directly or from a
-result file (README "result JSON"). The manikin (the result's own, ``ErgoOptions.manikin`` or the one the
+result file (docs/reference/result-file.md). The manikin (the result's own, ``ErgoOptions.manikin`` or the one the
 result file's scenario names) supplies joint strengths and the standard working area. One module, one job:
 ``manikin`` (strengths, working area), ``loads``, ``postures``, ``rula``, ``reba``, ``owas``, ``niosh``,
 ``worksheet``, ``report`` (the evaluation of all frames, JSON, CSV), ``plots`` (PNG).

@@ -1,4 +1,4 @@
-"""A motion's frames kept from passing through things between them (issue 20): the swept check of
+"""A motion's frames kept from passing through things between them: the swept check of
 :mod:`solver.collision.sweep` on the way from each solved frame to the next, against the floor and every obstacle
 the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on),
 and between the body's own parts that its self-collision rows keep apart.

@@ -1,6 +1,6 @@
-"""Population studies (issue 22): many manikins x scenarios x parameter values, one row per run.
+"""Population studies: many manikins x scenarios x parameter values, one row per run.
 
-``python -m solver study STUDY.toml -o OUT/`` (README "Population studies"). One module, one job: ``spec`` (the
+``python -m solver study STUDY.toml -o OUT/`` (docs/tutorials/study.md). One module, one job: ``spec`` (the
 study file), ``keypath`` (where a parameter goes in a scenario), ``plan`` (the runs, their seeds and ids),
 ``runner`` (one run -> its row), ``envelope_spec`` / ``envelope_runs`` (an ``[envelope]``: its settings, its
 runs' rows and files), ``execute`` (local processes or Dask), ``outputs`` (journal, CSV, columns),

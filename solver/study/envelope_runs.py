@@ -2,13 +2,13 @@
 row's files, written in the study's own process as its rows come back: ``OUT/envelopes/<mesh>.obj``, ``.glb``,
 ``.csv`` (per direction) and ``.png`` (sections), as ``python -m solver envelope`` writes them.
 
-A row's envelope columns (m, m^3; README "Reach envelopes in a study"): the reach in the set conditions
-(``balanced_mean_m``, ``balanced_min_m``, ``balanced_max_m``) and without balance (``kinematic_mean_m``), the arm's
-length, the mean and largest reach balance takes off (``mean_difference_m``, ``max_difference_m``, ``worst_sector``,
-``front_low_difference_m``), the volumes and the share of the volume lost to balance (``volume_lost``), with stepping
-feet the planted reach and what stepping adds (``planted_mean_m``, ``stepping_gain_m``, ``stepping_gain_max_m``,
-``volume_planted_m3``), directions not reached at all (``unreached``), the solves, and ``mesh`` (the files' path
-without suffix, relative to OUT). ``status`` is "converged" when every direction was reached.
+A row's envelope columns (m, m^3; docs/tutorials/study.md, "Reach envelopes in a study"): the reach in the set
+conditions (``balanced_mean_m``, ``balanced_min_m``, ``balanced_max_m``) and without balance (``kinematic_mean_m``), the
+arm's length, the mean and largest reach balance takes off (``mean_difference_m``, ``max_difference_m``,
+``worst_sector``, ``front_low_difference_m``), the volumes and the share of the volume lost to balance
+(``volume_lost``), with stepping feet the planted reach and what stepping adds (``planted_mean_m``, ``stepping_gain_m``,
+``stepping_gain_max_m``, ``volume_planted_m3``), directions not reached at all (``unreached``), the solves, and ``mesh``
+(the files' path without suffix, relative to OUT). ``status`` is "converged" when every direction was reached.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """A study's ``[envelope]`` table: reach envelopes of every study manikin for every combination of its settings
-(README "Population studies", "Reach envelopes in a study"). Every problem is one ScenarioError line naming the
+(docs/tutorials/study.md, "Reach envelopes in a study"). Every problem is one ScenarioError line naming the
 study file and the key.
 
 ::

@@ -1,7 +1,7 @@
 """One run of a study, in whatever process it lands in: build the scenario, solve it (every frame of a motion),
 evaluate its ergonomics and return its row. A run that cannot be done is a row with its reason, never an exception.
 
-A row's columns (README "Population studies"); units m, N, kg, s; peaks are the largest over a motion's frames:
+A row's columns (docs/tutorials/study.md); units m, N, kg, s; peaks are the largest over a motion's frames::
 
     run_id, seed, scenario, manikin, p_<parameter> ...    what was run
     role, sex, stature_m, mass_kg, <measurement>_m ...   a family member's facts (a family folder with an index)

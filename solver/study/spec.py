@@ -1,5 +1,5 @@
-"""The study file (TOML): which manikins, which scenarios with which parameters, what to record (README "Population
-studies"). Every problem is one ScenarioError line naming the study file and the key.
+"""The study file (TOML): which manikins, which scenarios with which parameters, what to record
+(docs/tutorials/study.md). Every problem is one ScenarioError line naming the study file and the key.
 
 ::
 

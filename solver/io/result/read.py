@@ -2,7 +2,7 @@
 ResultFileError
 line. :class:`ResultStream` reads one frame at a time, :func:`read_result` all of them.
 
-Only what the file holds is used (README "result JSON"): joints (``value``, ``min``, ``max``, ``type``,
+Only what the file holds is used (docs/reference/result-file.md): joints (``value``, ``min``, ``max``, ``type``,
 ``link``, ``strength``, world ``position`` and ``axis``), links (``name``, ``parent``, ``mass``, world ``com``),
 TCPs (``position``, ``rotation`` (w, x, y, z), ``link``), ``gravity``, contacts (``point``, ``force``,
 ``moment`` about the point) and loads (``tcp``, ``point``, ``force``). A compact file holds the model once and per

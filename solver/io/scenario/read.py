@@ -1,6 +1,6 @@
 """Scenario TOML -> :class:`~solver.problem.scenario.Scenario`: every key checked, every problem one ScenarioError line.
 
-The format is the README's "Scenario files". Units: m, rad, N, kg; rotations are quaternions (w, x, y, z).
+The format: docs/reference/scenario-file.md. Units: m, rad, N, kg; rotations are quaternions (w, x, y, z).
 """
 
 from __future__ import annotations
