@@ -2,7 +2,7 @@
 worth of ``automodule`` per package, and docstrings read as the plain text they are written as.
 
 - ``.. command-help:: solver solve`` runs ``python -m solver solve --help`` (100 columns) and shows its output, so
-  the CLI reference cannot drift from the parser.
+  the CLI reference cannot drift from the parsers (a first argument ending in ``.py`` is a script of the checkout).
 - ``.. package-modules:: solver.collision`` documents the package's docstring and then every module in it (members
   included), found on disk: a new module appears in the API reference without editing a page.
 - Docstrings are read as they are written (``autodoc-process-docstring``): ``|x|`` is a norm or an absolute value,
@@ -29,25 +29,23 @@ from sphinx.util.docutils import SphinxDirective
 from sphinx.util.parsing import nested_parse_to_nodes
 
 ROOT = Path(__file__).resolve().parents[2]
-COMMANDS = {"solver": "solver", "manikin": "solver", "bench": "bench"}  # what is typed -> the module run
 # Backquoted text (literals, roles, interpreted text) is left alone: a bar there is the author's own.
 QUOTED = re.compile(r"(``.*?``|`[^`]*`)")
 RELATIVE = re.compile(r"(:(?:mod|func|class|meth|attr|data|obj|exc):)`(~?)\.([\w.]+)`")
 
 
 class CommandHelp(SphinxDirective):
-    """``python -m MODULE [SUBCOMMAND] --help`` as a literal block."""
+    """``python -m MODULE [SUBCOMMAND] --help`` (or ``python SCRIPT.py --help``) as a literal block."""
 
     required_arguments = 1
     optional_arguments = 1
 
     def run(self) -> list[nodes.Node]:
-        module = COMMANDS.get(self.arguments[0])
-        if module is None:
-            raise self.error(f"command-help: unknown command {self.arguments[0]!r}, expected one of {list(COMMANDS)}")
+        command, *rest = self.arguments
+        program = [str(ROOT / command)] if command.endswith(".py") else ["-m", command]
         env = dict(os.environ, COLUMNS="100", PYTHONPATH=str(ROOT))
         done = subprocess.run(
-            [sys.executable, "-m", module, *self.arguments[1:], "--help"],
+            [sys.executable, *program, *rest, "--help"],
             cwd=ROOT, env=env, capture_output=True, text=True, timeout=120,
         )  # fmt: skip
         if done.returncode != 0:

@@ -1,4 +1,4 @@
-"""The manikin as a tree of 1-DoF joints: its data, forward kinematics and Jacobians (built by ``model_builder``).
+"""The manikin as a tree of 1-DoF joints: its data, forward kinematics and Jacobians (built by :mod:`.builder`).
 
 Link i is moved by joint i; its frame sits at the joint. ``parent[i]`` is the parent link (-1 = world).
 In the zero pose every link frame is a pure translation of its parent by ``origin_position`` rotated by
