@@ -56,8 +56,9 @@ class CommandHelp(SphinxDirective):
 
 
 class PackageModules(SphinxDirective):
-    """The package's own docstring, then ``automodule`` with members for each of its modules (subpackages too,
-    unless ``:shallow:``), in name order; ``:exclude:`` names modules to leave out (space separated)."""
+    """The package's own docstring and members, then ``automodule`` with members for each of its modules
+    (subpackages too, unless ``:shallow:``), in name order; ``:exclude:`` names modules to leave out (space
+    separated)."""
 
     required_arguments = 1
     option_spec = {"exclude": directives.unchanged, "shallow": directives.flag}
@@ -70,7 +71,8 @@ class PackageModules(SphinxDirective):
         modules = sorted(m.name for m in found if m.name not in excluded and not m.name.endswith("__main__"))
         if "shallow" in self.options:
             modules = [m for m in modules if "." not in m[len(name) + 1 :]]
-        lines = [f".. automodule:: {name}", ""]
+        # The package's own functions and classes (not the names it re-exports: those are documented at home).
+        lines = [f".. automodule:: {name}", "   :members:", "   :ignore-module-all:", ""]
         for module in modules:
             title = module[len(name) + 1 :]
             lines += [f"``{title}``", "-" * (len(title) + 4), "", f".. automodule:: {module}", "   :members:", ""]

@@ -9,9 +9,9 @@ Per iteration, in scaled variables (rows / tolerance, forces / body weight, join
    lambda = 1/mu), plus a limited-memory BFGS model of the Lagrangian's curvature gathered near the constraints.
 3. Bounds (``step``): variables the step pushes past a bound are saturated there and the step is solved again
    without them; contact edge weights (>= 0) carry a log barrier's curvature in the metric.
-4. Trials (``trial``): far from the constraints a step is shortened so no joint turns more than ``max_turn`` and
-   must lower the error (comfort may ride along); near them task + comfort must lower the exact-penalty merit
-   after a second-order correction; rejected steps are halved, then the task part is tried alone.
+4. Trials (``trial``, ``line_search``): far from the constraints a step is shortened so no joint turns more than
+   ``max_turn`` and must lower the error (comfort may ride along); near them task + comfort must lower the exact-penalty
+   merit after a second-order correction; rejected steps are halved, then the task part is tried alone.
 5. Phases (``loop``, ``phases``): comfort first, then the constraints restored without comfort if needed;
    stopping rules (``stopping``) record a :class:`StopReason`; a failed solve restarts from the other side of the
    joints it left at a limit (``restarts``). Every knob is one field of :class:`Tuning` (``tuning``).
