@@ -1,7 +1,7 @@
 """The README's Python example gives the command line's answer: its code block, run as written on a single-pose and
 a motion preset (its scenario path swapped for each, in a scratch folder), writes a result whose frames and joint
 values are those of ``python -m solver solve`` on the same file (within 1e-9), so the README cannot drift from the
-CLI again.
+CLI again. The documentation's page on the solver from Python (docs/guide/python.md) shows the same block.
 """
 
 from __future__ import annotations
@@ -25,11 +25,16 @@ def python_blocks(text: str) -> list[str]:
     return re.findall(r"^```python\n(.*?)^```", text, flags=re.MULTILINE | re.DOTALL)
 
 
-def readme_example() -> str:
-    """The README's Python example: its one block that loads a scenario."""
-    blocks = [b for b in python_blocks((ROOT / "README.md").read_text(encoding="utf-8")) if "load_scenario" in b]
-    assert len(blocks) == 1, "expected one ```python block with solver.load_scenario in README.md"
+def readme_example(document: str = "README.md") -> str:
+    """The Python example of a Markdown ``document`` (relative to the checkout): its one block that loads a scenario."""
+    text = (ROOT / document).read_text(encoding="utf-8")
+    blocks = [b for b in python_blocks(text) if "load_scenario" in b]
+    assert len(blocks) == 1, f"expected one ```python block with solver.load_scenario in {document}"
     return blocks[0]
+
+
+def test_the_docs_show_the_readme_example() -> None:
+    assert readme_example("docs/guide/python.md") == readme_example()
 
 
 def cli_result(scenario: Path, folder: Path) -> Path:
