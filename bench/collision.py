@@ -174,7 +174,7 @@ def _ms(pair) -> str:
 def report(rows: list[dict], iteration_ms: float, pairs: tuple[float, float], reference: list[float]) -> str:
     """The Markdown section."""
     lines = [
-        "## Collision distance queries (issue 20)",
+        "## Collision distance queries",
         "",
         f"Written by `python -m bench.collision` on {datetime.date.today().isoformat()}.",
         f"Machine: {machine()}; one core, single-threaded BLAS. Speed reference {reference[0]:.1f} ms before,"

@@ -30,10 +30,7 @@ PRESET = PRESETS_DIR / "scenarios" / "box_lift_motion.toml"
 ROOT = PRESETS_DIR.parent
 TARGET_S, TARGET_MB = 60.0, 500.0
 NOTES = (  # what was measured once, by profiling: kept with the figures
-    "Before (the issue's figures for the same motion): `solve` 153 s and over 7.8 GB (every Result kept, one 1.07 GB",
-    'indented JSON document built at the end), `batch.py` 6.4 GB and 160 s silent after "baked" (the ergonomics of',
-    "all frames evaluated at the end, then the report and the result file as indented JSON, through Python's slow",
-    "pure-Python encoder). Now each frame is written as it is solved and nothing per frame is kept but a few numbers.",
+    "Each frame is written as it is solved and nothing per frame is kept but a few numbers.",
     "Where a frame's time goes (cProfile and timers, 2026-11-24): solving about 2 ms (the iteration about 55 %,",
     "building the frame's problem with its moved targets about 35 %, the Result about 8 %); a result JSON frame",
     "1.9 ms to build and 1.5 ms to encode (a compact line 0.45 ms); in `batch.py` also reading the scene into a",
@@ -121,7 +118,7 @@ def run(output: Path, frames: int = 10000, runs: int = 3, batch: bool = True) ->
 def section(frames: int, runs: int, done: dict, sizes: dict, host: str, loads: tuple) -> str:
     """The Markdown section: per case median and p95 of wall time and peak memory, against the targets."""
     lines = [
-        "## Long motions (issue 19)",
+        "## Long motions",
         "",
         f"Written by `python -m bench.long_motion` on {datetime.date.today().isoformat()}.",
         f"Machine: {host}; not pinned (each command runs as a user runs it, in its own process). The load average"

@@ -226,7 +226,7 @@ def run_random_benchmark(
 
 def _report(outcomes: list[dict], trials: int, processes: int, reference: list[float]) -> str:
     lines = [
-        "## Randomized targets (issue 3, thesis §6.1.2)",
+        "## Randomized targets (thesis §6.1.2)",
         "",
         f"Written by `python -m bench --random --trials {trials}` on {datetime.date.today().isoformat()}; "
         f"{trials} trials per level, the same seeds for every setting, {processes} processes (one solve per core, "
@@ -238,7 +238,7 @@ def _report(outcomes: list[dict], trials: int, processes: int, reference: list[f
         "`reduction = true` does: the spine regions and the fingers grouped. The thesis's reduction also coupled",
         "each shoulder's nine joints by the Hogfors rhythm; that is the last setting (2 variables per shoulder:",
         "plane of elevation -10..90 deg, elevation up to 60 deg, no free humeral rotation), compared with the",
-        "thesis's physics + reduction table. The goal of issue 3 (average time at most a tenth of the thesis's) is met",
+        "thesis's physics + reduction table. The goal (average time at most a tenth of the thesis's) is met",
         "where the column average / (thesis / 10) is at most 1.00. Every setting of ours starts a failed solve once",
         "more from the other side of the joints it left at a limit (`restarts = 1`, the default); its time and",
         "iterations include both attempts.",

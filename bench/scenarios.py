@@ -128,7 +128,7 @@ def run_benchmarks(output: Path, repeats: int = 30) -> str:
         rows.append((label, med, p95, fastest, float(np.median(iters[k])), good[k], repeats))
         print(f"{label}: median {med * 1e3:.1f} ms, p95 {p95 * 1e3:.1f} ms, {np.median(iters[k]):.0f} iterations")
     lines = [
-        "## Solver (issue 2)",
+        "## Solver",
         "",
         f"Written by `python -m bench` on {datetime.date.today().isoformat()}.",
         f"Machine: {machine()}; the benchmark process is pinned to one core.",

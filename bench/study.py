@@ -147,7 +147,7 @@ def _core_ms(r: dict) -> float:
 def section(results: dict, n: int, repeats: int, paper: dict, host: str, loads: tuple) -> str:
     """The Markdown section: the cases, the speed-ups against the target, the task overhead, the 100,000-run study."""
     lines = [
-        "## Population studies at scale (issue 22)",
+        "## Population studies at scale",
         "",
         f"Written by `python -m bench.study` on {datetime.date.today().isoformat()}. Machine: {host}; the load"
         f" average (1 min) was {loads[0]:.1f} to {loads[1]:.1f} as the cases started.",
