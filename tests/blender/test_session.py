@@ -39,7 +39,7 @@ def _frames(pose: dict, key: str) -> dict[str, np.ndarray]:
 
 def test_zip_ships_the_extension_its_wheels_and_nothing_else(session: dict) -> None:
     names = zipfile.ZipFile(session["zip"]).namelist()
-    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/ui/operators.py",
+    for needed in ("__init__.py", "blender_manifest.toml", "blender_manikin/pose/operators.py",
                    "solver/iteration/phases.py", "presets/manikins/male_50.toml", "presets/scenarios/box_lift.toml",
                    "LICENSE"):  # fmt: skip
         assert needed in names

@@ -24,9 +24,9 @@ from ...solver import ManikinError, Problem, Result
 from ...solver.body.spatial import matrix_to_quat
 from ...solver.io.result.write import interrupts_held
 from ...solver.motion.frames import MotionLimits, solve_frames
-from . import carried_object, keyframes, problem_io
-from .armature import layout_of, model_of, read_x, write_pose
-from .schema import BAKE_KEY
+from ..scene import carried_object, keyframes, problem_io
+from ..scene.armature import layout_of, model_of, read_x, write_pose
+from ..scene.schema import BAKE_KEY
 
 
 @dataclass
@@ -153,7 +153,7 @@ class Baker:
 
     def write(self, thin: bool = False) -> float:
         """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone) and the carried box
-        between the hands (:func:`.carried_object.key_carried`), store the report on the armature and return the
+        between the hands (:func:`..scene.carried_object.key_carried`), store the report on the armature and return the
         scene to its frame. Returns the seconds spent keying. ``thin``: a joint is keyed where it changes (inner
         keys of runs of equal values left out: the same curves, for long motions far fewer keys, each held twice in
         memory once the scene is evaluated)."""
