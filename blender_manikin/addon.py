@@ -31,8 +31,7 @@ def modules() -> list[ModuleType]:
 
     Imported here, not at module level: with the submodules imported by this module's own body, bpy 4.2 (the wheel)
     segfaults at exit after unregistering (tests/blender/matrix.py caught it; 4.5 and 5.0 do not)."""
-    root = __package__ or __name__.rpartition(".")[0]
-    return [importlib.import_module(f"{root}.{name}") for name in MODULES]
+    return [importlib.import_module(f".{name}", __package__) for name in MODULES]
 
 
 def classes() -> tuple[type, ...]:
