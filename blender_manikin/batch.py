@@ -146,7 +146,7 @@ def _one_line(exc: BaseException) -> str:
 
 def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
     """Bake and write with the loaded extension; its exit code (bad input: one line on stderr, 2)."""
-    job = importlib.import_module(f"{extension.__name__}.blender_manikin.headless.job")
+    job = importlib.import_module(f"{extension.__name__}.blender_manikin.motion.job")
     errors = importlib.import_module(f"{extension.__name__}.solver.errors")
     try:
         return job.run(

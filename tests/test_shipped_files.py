@@ -21,7 +21,7 @@ from blender_manikin.dev.build import ROOT, TOOL, bpy_resources
 SHIPPED_ROOTS = {"__init__.py", "blender_manifest.toml", "LICENSE", "blender_manikin", "solver", "presets"}
 NEVER_SHIPPED = ("blender_manikin/dev/", "bench/", "tests/", "docs/", "dist/", "out/", "wheels/", ".")
 NEEDED = ("__init__.py", "blender_manifest.toml", "LICENSE", "blender_manikin/__init__.py", "blender_manikin/batch.py",
-          "blender_manikin/ui/__init__.py", "blender_manikin/scene/schema.py", "solver/__init__.py",
+          "blender_manikin/addon.py", "blender_manikin/scene/schema.py", "solver/__init__.py",
           "solver/cli/main.py", "presets/manikins/male_50.toml", "presets/body_mesh/mpfb2_base.npz",
           "presets/body_mesh/mpfb2_rigs.json", "presets/body_mesh/LICENSE.md")  # fmt: skip
 DEVELOPMENT = ("blender_manikin.dev", "bench")  # packages that stay in the checkout

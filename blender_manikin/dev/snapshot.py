@@ -4,8 +4,9 @@
                                        [--size 640] [--samples 8]
 
 builds the zip, installs it into a throwaway user directory, imports the scenario (default: the box lift) onto a
-new manikin, solves it and renders the body (the skinned human), the floor and the targets' places, denoised where
-Cycles has OpenImageDenoise. Run from the repository root.
+new manikin, solves it (with the installed copy's functions that Import Scenario and Solve Pose call) and renders
+the body (the skinned human), the floor and the targets' places, denoised where Cycles has OpenImageDenoise. Run
+from the repository root.
 """
 
 from __future__ import annotations
@@ -81,9 +82,10 @@ def snapshot(output: Path, scenario: Path = DEFAULT_SCENARIO, size: int = 640, s
     module = install(zip_path)
     compat = importlib.import_module(module + ".blender_manikin.scene.compat")  # the installed copy
     schema = importlib.import_module(module + ".blender_manikin.scene.schema")
+    read = importlib.import_module(module + ".blender_manikin.scenario.read")
+    solve = importlib.import_module(module + ".blender_manikin.pose.solve")
     _stage(bpy, size, samples, schema.BODY_SUFFIX, compat.denoiser_available())
-    bpy.ops.manikin.import_scenario(filepath=str(scenario))
-    bpy.ops.manikin.solve_pose()
+    solve.solve_pose(read.import_scenario(bpy.context, scenario).arm)  # what Import Scenario and Solve Pose do
     _materials(bpy, compat.node_tree)
     output = output.resolve()
     output.parent.mkdir(parents=True, exist_ok=True)

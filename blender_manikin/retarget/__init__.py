@@ -1,3 +1,4 @@
 """Retargeting a baked manikin motion onto other armatures (bpy): ``armatures`` (reading any armature, building the
 shipped MPFB rigs), ``motion`` (the retarget run and its keys), ``properties`` (the bone map stored on the target),
-``operators`` and ``panel`` (the sidebar). The math is ``solver.retarget``."""
+``operators`` and ``panel`` (the sidebar) and ``headless`` (the batch script's ``--retarget``). The math is
+``solver.retarget``."""

@@ -23,6 +23,7 @@ class MANIKIN_PT_retarget(bpy.types.Panel):
     bl_category = "Manikin"
     bl_label = "Retarget"
     bl_parent_id = "MANIKIN_PT_main"
+    bl_order = 6  # the places of the subpanels: pose/panels.py
     bl_options = {"DEFAULT_CLOSED"}
 
     @classmethod

@@ -1,4 +1,7 @@
-"""Reading and writing the Blender scene (bpy): the manikin's armature, body and empties, poses, keyframes, bakes
-and exports. ``schema`` names every custom property and object; ``compat`` holds every Blender-version difference.
-No operators or panels here (those are ``ui/``); this package's ``__init__`` imports nothing.
+"""The bpy adapters every feature shares: reading and writing the manikin in a Blender scene. ``schema`` names every
+custom property and object, ``compat`` holds every Blender-version difference; ``armature`` (the rig, its model and
+pose), ``display`` and ``twist`` (the body on it), ``targets`` (the empties a user moves), ``problem_io`` (the
+scene <-> a solver Problem and Result), ``keyframes``, ``carried_object``, ``obstacles`` and ``obstacle_objects``
+(scene meshes <-> obstacle shapes). No operators or panels here (those are in the feature folders); this package's
+``__init__`` imports nothing.
 """

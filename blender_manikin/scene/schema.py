@@ -10,9 +10,9 @@ obstacle a scenario import made: ``manikin_imported`` (the scenario's file name;
 a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle). On a reach envelope:
 ``manikin_envelope`` (the file it came from; importing it again replaces it). On an armature a motion was
 retargeted onto: ``manikin_retargeted`` (JSON: the source, frames, leg-length ratio). Settings live in the
-``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups (``ui/properties.py``)
+``Object.manikin`` / ``Object.manikin_target`` / ``Object.manikin_obstacle`` property groups (``pose/properties.py``)
 and, on a retarget target, ``Object.manikin_retarget`` (``retarget/properties.py``: the source manikin, the options
-and the bone map).
+and the bone map); a population study's settings and rows in ``Scene.manikin_study`` (``study/properties.py``).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
 CARRIED_KEY = "manikin_carried"  # on a carried box (scene/carried_object.py)
-ENVELOPE_KEY = "manikin_envelope"  # on a reach envelope object: the file it was imported from (envelope_objects.py)
+ENVELOPE_KEY = "manikin_envelope"  # on a reach envelope object: the file it was imported from (envelope/objects.py)
 RETARGET_KEY = "manikin_retargeted"  # on a retarget target (retarget/motion.py); not the settings group's name
 OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacle
 

@@ -32,9 +32,10 @@ import bpy  # noqa: E402  (after BLENDER_USER_RESOURCES is set by the caller)
 
 module = install(ZIP)
 package = sys.modules[module]
-bake_module = importlib.import_module(module + ".blender_manikin.scene.bake")
+bake_module = importlib.import_module(module + ".blender_manikin.motion.bake")
+armature = importlib.import_module(module + ".blender_manikin.scene.armature")
 keyframes = importlib.import_module(module + ".blender_manikin.scene.keyframes")
-exports = importlib.import_module(module + ".blender_manikin.scene.exports")  # imported lazily by the add-on
+exports = importlib.import_module(module + ".blender_manikin.motion.exports")  # imported lazily by the add-on
 scene = bpy.context.scene
 
 
@@ -80,7 +81,7 @@ bpy.ops.ed.undo_push(message="Keys by hand")
 
 # Bake 2-9 through the operator, as the UI does (with an undo push).
 scene.frame_set(2)
-seen["x_at_2"] = list(bake_module.read_x(arm))
+seen["x_at_2"] = list(armature.read_x(arm))
 scene.frame_set(1)
 seen["bake"] = sorted(bpy.ops.manikin.bake_motion("EXEC_DEFAULT", True, frame_start=2, frame_end=9))
 arm = bpy.data.objects[NAME]
@@ -115,7 +116,7 @@ class Layout:
 
 bpy.context.view_layer.objects.active = arm
 seen["panel"] = []
-importlib.import_module(module + ".blender_manikin.ui.panels").MANIKIN_PT_motion.draw(
+importlib.import_module(module + ".blender_manikin.motion.panel").MANIKIN_PT_motion.draw(
     type("Panel", (), {"layout": Layout(seen["panel"])})(), bpy.context
 )
 
@@ -126,7 +127,7 @@ seen["undone"] = curves(arm)
 
 # The modal path (what a click in the UI runs), driven with stand-in events: a timer tick solves, view events
 # pass through, others are swallowed, Esc cancels (nothing keyed, the frame restored); ticks run it to the end.
-motion_operators = importlib.import_module(module + ".blender_manikin.ui.motion_operators")
+motion_operators = importlib.import_module(module + ".blender_manikin.motion.operators")
 motion_operators.SLICE_S = 0.0  # one frame per timer tick, however fast this machine solves
 operator = motion_operators.MANIKIN_OT_bake_motion
 reports: list = []

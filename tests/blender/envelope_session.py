@@ -94,7 +94,7 @@ seen["other"] = sorted(bpy.ops.manikin.import_envelope(filepath=str(WORK / "othe
 seen["bad"] = error_of(lambda: bpy.ops.manikin.import_envelope(filepath=str(WORK / "bad.glb")))
 seen["missing"] = error_of(lambda: bpy.ops.manikin.import_envelope(filepath=str(WORK / "nowhere.glb")))
 seen["panel"] = []
-draw_panels(importlib.import_module(module + ".blender_manikin.ui.panels").classes, seen["panel"])
+draw_panels(importlib.import_module(module + ".blender_manikin.addon").panels(), seen["panel"])
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

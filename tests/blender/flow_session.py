@@ -117,7 +117,7 @@ bpy.data.objects.remove(cube, do_unlink=True)
 bpy.ops.manikin.solve_pose()
 
 # The overlay, drawn with a stand-in for gpu: which builtin shaders it asks for, and how many line batches.
-overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
+overlay = importlib.import_module(module + ".blender_manikin.pose.overlay")
 recorder = GpuRecorder()
 overlay.gpu, overlay.batch_for_shader = recorder.gpu, recorder.batch_for_shader
 overlay.draw()
@@ -134,7 +134,7 @@ seen["renamed_bake"] = error_of(lambda: bpy.ops.manikin.bake_motion(frame_start=
 bone.name = "upper_arm_r"
 
 arm.manikin.live = True
-live = importlib.import_module(module + ".blender_manikin.ui.live")
+live = importlib.import_module(module + ".blender_manikin.pose.live")
 live.solve_pending()
 bpy.data.objects.remove(bpy.data.objects["target.hand_r"], do_unlink=True)  # deleted while live
 bpy.context.view_layer.update()

@@ -34,7 +34,7 @@ import bpy  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 module = install(ZIP)
-live = importlib.import_module(module + ".blender_manikin.ui.live")
+live = importlib.import_module(module + ".blender_manikin.pose.live")
 problem_io = importlib.import_module(module + ".blender_manikin.scene.problem_io")
 carried_object = importlib.import_module(module + ".blender_manikin.scene.carried_object")
 Carried = importlib.import_module(module + ".solver.collision.carried").Carried

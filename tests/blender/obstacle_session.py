@@ -32,7 +32,7 @@ import bpy  # noqa: E402
 from mathutils import Vector  # noqa: E402
 
 module = install(ZIP)
-overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
+overlay = importlib.import_module(module + ".blender_manikin.pose.overlay")
 problem_io = importlib.import_module(module + ".blender_manikin.scene.problem_io")
 
 
@@ -79,9 +79,9 @@ add("plane", "wall", "PLANE", 0.0, size=2.0, location=(0.0, 4.0, 1.0), rotation=
 bpy.context.view_layer.update()
 seen["panel"] = []  # the sidebar with an obstacle active: its settings, and the capsules toggle of the manikin
 bpy.context.view_layer.objects.active = box
-draw_panels(importlib.import_module(module + ".blender_manikin.ui.panels").classes, seen["panel"])
+draw_panels(importlib.import_module(module + ".blender_manikin.addon").panels(), seen["panel"])
 bpy.context.view_layer.objects.active = arm
-draw_panels(importlib.import_module(module + ".blender_manikin.ui.panels").classes, seen["panel"])
+draw_panels(importlib.import_module(module + ".blender_manikin.addon").panels(), seen["panel"])
 read = {ob.name: ob for ob in problem_io.read_problem(arm).problem.obstacles}
 seen["read"] = dict(
     kinds={name: type(ob).__name__ for name, ob in read.items()},

@@ -55,8 +55,8 @@ def ui(op, **props) -> list[str]:
 module = install(ZIP)
 seen["module"] = module
 package = sys.modules[module]
-live = importlib.import_module(module + ".blender_manikin.ui.live")
-overlay = importlib.import_module(module + ".blender_manikin.ui.overlay")
+live = importlib.import_module(module + ".blender_manikin.pose.live")
+overlay = importlib.import_module(module + ".blender_manikin.pose.overlay")
 
 # A manikin, a target for the right hand, moved 30 cm forward (the manikin faces -y).
 seen["add"] = ui(bpy.ops.manikin.add_manikin, preset="male_50")
@@ -90,7 +90,7 @@ drawn: list = []
 for active in ("male_50", "target.hand_r", "load.hand_l"):
     obj = bpy.data.objects.get(active)
     bpy.context.view_layer.objects.active = obj
-    draw_panels(importlib.import_module(module + ".blender_manikin.ui.panels").classes, drawn)
+    draw_panels(importlib.import_module(module + ".blender_manikin.addon").panels(), drawn)
 seen["sidebar"] = drawn
 bpy.context.view_layer.objects.active = bpy.data.objects["male_50"]
 
@@ -181,7 +181,7 @@ import scipy  # noqa: E402
 seen["modules"] = dict(scipy=scipy.__file__, matplotlib=matplotlib.__file__)
 
 # Disable: nothing of the add-on may stay registered.
-ours = sys.modules[f"{module}.blender_manikin.ui"].classes()  # everything the add-on registers
+ours = sys.modules[f"{module}.blender_manikin.addon"].classes()  # everything the add-on registers
 
 
 def registered() -> dict:

@@ -37,9 +37,10 @@ import bpy  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 
 module = install(ZIP)
-ops = importlib.import_module(module + ".blender_manikin.ui.study_operators")
-panel = importlib.import_module(module + ".blender_manikin.ui.study_panel")
-study_job = importlib.import_module(module + ".blender_manikin.scene.study_job")
+control = importlib.import_module(module + ".blender_manikin.study.control")
+panel = importlib.import_module(module + ".blender_manikin.study.panel")
+properties = importlib.import_module(module + ".blender_manikin.study.properties")
+study_job = importlib.import_module(module + ".blender_manikin.study.job")
 seen["python_path"] = study_job.python_path()
 drawn_rows: list = []
 
@@ -73,15 +74,15 @@ def drive(stop_when=None) -> dict:
     lines, slowest, t0 = [], 0.0, time.monotonic()
     while time.monotonic() - t0 < DEADLINE_S:
         t = time.perf_counter()
-        again = ops.poll_job()
+        again = control.poll_job()
         slowest = max(slowest, time.perf_counter() - t)
-        job = ops.current_job()
+        job = control.current_job()
         lines.append(job.line())
         if again is None or (stop_when is not None and stop_when(job)):
             break
         time.sleep(0.2)
-    if bpy.app.timers.is_registered(ops.poll_job):  # it never fires here: remove it as the timer's end would
-        bpy.app.timers.unregister(ops.poll_job)
+    if bpy.app.timers.is_registered(control.poll_job):  # it never fires here: remove it as the timer's end would
+        bpy.app.timers.unregister(control.poll_job)
     return dict(lines=lines, slowest_poll_s=slowest, state=job.state, done=job.done, total=job.total,
                 seconds=time.monotonic() - t0)  # fmt: skip
 
@@ -89,7 +90,7 @@ def drive(stop_when=None) -> dict:
 def run_study() -> dict:
     t = time.perf_counter()
     result = list(bpy.ops.manikin.study_run())
-    return dict(result=result, execute_s=time.perf_counter() - t, armed=bpy.app.timers.is_registered(ops.poll_job))
+    return dict(result=result, execute_s=time.perf_counter() - t, armed=bpy.app.timers.is_registered(control.poll_job))
 
 
 # A manikin at (1, 0.5), turned 30 degrees; its right hand's target 20 cm forward and 15 cm up, position only.
@@ -171,11 +172,11 @@ t0 = time.monotonic()
 while broken.poll() and time.monotonic() - t0 < DEADLINE_S:
     time.sleep(0.1)
 seen["failed_job"] = dict(state=broken.state, line=broken.line())
-seen["job_after_errors"] = ops.current_job().state
+seen["job_after_errors"] = control.current_job().state
 
 # The shipped family (18 members) at three heights: cancelled once rows come in, started again, cancelled again.
 bpy.context.view_layer.objects.active = arm
-settings.family = [item[0] for item in panel.family_items()][0]
+settings.family = [item[0] for item in properties.family_items()][0]
 settings.values = "0.0, 0.05, 0.1"
 seen["big_start"] = run_study()
 seen["cancel_panel"] = None
@@ -186,7 +187,7 @@ seen["cancelled"] = drive()
 seen["cancelled_status"] = settings.status
 seen["cancelled_rows"] = len(settings.rows)
 seen["again_start"] = run_study()
-seen["again_kept"] = ops.current_job().kept
+seen["again_kept"] = control.current_job().kept
 seen["again"] = drive(stop_when=lambda job: job.done > seen["again_kept"])
 bpy.ops.manikin.study_cancel()
 seen["again_cancelled"] = drive()
@@ -194,12 +195,12 @@ seen["big_study_file"] = settings.study_file
 
 # Disabled while a study runs: the study is stopped, the timer and the scene's settings go.
 run_study()
-job = ops.current_job()
+job = control.current_job()
 bpy.ops.preferences.addon_disable(module=module)
 t0 = time.monotonic()
 while job.poll() and time.monotonic() - t0 < DEADLINE_S:
     time.sleep(0.1)
-seen["disabled"] = dict(state=job.state, timer=bpy.app.timers.is_registered(ops.poll_job),
+seen["disabled"] = dict(state=job.state, timer=bpy.app.timers.is_registered(control.poll_job),
                         settings=hasattr(bpy.types.Scene, "manikin_study"))  # fmt: skip
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")

@@ -362,7 +362,7 @@ from blender_manikin.batch import load_extension
 extension, _ = load_extension()
 import bpy
 from mathutils import Vector
-picture = __import__("importlib").import_module(extension.__name__ + ".blender_manikin.headless.picture")
+picture = __import__("importlib").import_module(extension.__name__ + ".blender_manikin.motion.picture")
 bpy.ops.wm.open_mainfile(filepath=sys.argv[1], load_ui=False)
 hand = next(ob for ob in bpy.data.objects if ob.name == "tcp.hand_r").matrix_world.translation.copy()
 inside = sorted(ob.name for ob in picture.obstacles_hiding([hand]))

@@ -1,4 +1,4 @@
-"""Blender's console output kept out of a headless run (blender_manikin/headless/quiet.py, no bpy): what is written
+"""Blender's console output kept out of a headless run (blender_manikin/motion/quiet.py, no bpy): what is written
 to descriptors 1 and 2 inside the capture, by Python or by C, is captured and not shown; a failing call's error
 ends in the tail of that output. Each case runs in a fresh Python, whose sys.stdout is descriptor 1 as in Blender
 (pytest's own capture would take Python's prints before they reach it). The real Blender exporters are checked in
@@ -18,7 +18,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 CHATTY = """
 import ctypes, os, sys
-from blender_manikin.headless.quiet import captured_output, quietly
+from blender_manikin.motion.quiet import captured_output, quietly
 
 def chatty(code=0):  # writes as Blender's exporters do
     print("glTF | INFO: Starting glTF 2.0 export")

@@ -1,7 +1,9 @@
-"""Reach envelopes as objects (the scene side of ``python -m solver envelope``): each mesh of an envelope file
-becomes a mesh object whose origin is the shoulder the envelope is centred on, parented to the manikin (its vertices
-are in the manikin's frame, so the envelope stands where the manikin stands, turned with it), or placed in the world
-when there is no manikin. An object an earlier import of the same file made is replaced.
+"""Reach envelopes as objects (the scene side of ``python -m solver envelope``): what Import Reach Envelope does, as
+functions. Each mesh of an envelope file becomes a mesh object whose origin is the shoulder the envelope is centred
+on, parented to the manikin (its vertices are in the manikin's frame, so the envelope stands where the manikin
+stands, turned with it), or placed in the world when there is no manikin. An object an earlier import of the same
+file made is replaced. The file is read by :func:`solver.envelope.mesh_files.read_envelope` (numpy only, so it works
+in a Blender's own Python).
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from typing import TYPE_CHECKING
 import bpy
 from mathutils import Matrix
 
-from .schema import ENVELOPE_KEY
+from ..scene.schema import ENVELOPE_KEY, FILE_KEY, PRESET_KEY
 
 if TYPE_CHECKING:
     from ...solver.envelope.mesh_files import EnvelopeFile
@@ -69,3 +71,24 @@ def add_envelope(
             ob.matrix_world = local
         made.append(ob)
     return made
+
+
+def body_name(arm: bpy.types.Object) -> str:
+    """The name a manikin's body has in an envelope file: its preset, or its body file's stem."""
+    return arm.get(PRESET_KEY) or Path(arm.get(FILE_KEY, "")).stem
+
+
+def import_envelope(context: bpy.types.Context, path: str, arm: bpy.types.Object | None
+                    ) -> tuple[list[bpy.types.Object], str]:  # fmt: skip
+    """Read the envelope file ``path`` and add its objects on ``arm`` (None: in the world, in the scene's own
+    collection); (the objects, a warning or "" : the envelope is another body's). ManikinError for a bad file,
+    before anything changes."""
+    from ...solver.envelope.mesh_files import read_envelope
+
+    envelope = read_envelope(path)
+    collection = arm.users_collection[0] if arm is not None else context.scene.collection
+    made = add_envelope(collection, envelope, path, arm)
+    manikin = envelope.info.get("manikin", "")
+    if arm is not None and manikin and manikin != body_name(arm):
+        return made, f"the envelope is {manikin}'s, placed on {arm.name} ({body_name(arm)})"
+    return made, ""

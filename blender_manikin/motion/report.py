@@ -31,7 +31,7 @@ from ...solver.io.result.frame_text import SLOT
 if TYPE_CHECKING:
     from ...solver import Model, Result
     from ...solver.body.state import State
-    from ..scene.bake import Baker, FrameRecord
+    from .bake import Baker, FrameRecord
 
 ERGONOMICS = ("posture", "joint_loads", "rula", "reba", "owas", "worksheet")  # then "niosh", known at the end
 

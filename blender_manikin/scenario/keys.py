@@ -16,8 +16,8 @@ from mathutils import Matrix
 
 from ...solver.body.spatial import matrix_to_quat
 from ...solver.problem.scenario import Scenario
-from . import keyframes
-from .schema import members
+from ..scene import keyframes
+from ..scene.schema import members
 
 GROUP = "Object Transforms"  # Blender's own group name for an object's transform channels
 

@@ -1,13 +1,17 @@
-"""The "Manikin" tab of the 3D view's sidebar, and the Add > Manikin menu entry."""
+"""The "Manikin" tab of the 3D view's sidebar (its main panel and the pose's subpanels: target, obstacle, result,
+solver settings), and the Add > Manikin menu entry.
+
+Every subpanel of the tab, whichever feature's folder it is in, has its place under the main panel in
+``bl_order``: target 1, obstacle 2, result 3, motion 4, solver settings 5, retarget 6, population study 7.
+"""
 
 import math
 
 import bpy
 
 from ...solver.options import AXES
-from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_bake, last_result, rig_of
+from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_result, rig_of
 
-SHOWN_FAILURES = 6  # frames listed in the Motion panel
 _UNITS = {
     ".position": ("mm", 1e3),
     ".rotation": ("deg", 180.0 / math.pi),
@@ -27,17 +31,7 @@ def draw_add_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
     self.layout.operator_menu_enum("manikin.add_manikin", "preset", text="Manikin", icon="ARMATURE_DATA")
 
 
-def draw_import_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
-    self.layout.operator("manikin.import_scenario", text="Manikin Scenario (.toml)")
-    self.layout.operator("manikin.import_envelope", text="Manikin Reach Envelope (.obj, .glb)")
-
-
-def draw_export_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
-    self.layout.operator("manikin.export_scenario", text="Manikin Scenario (.toml)")
-
-
-MENUS = (("VIEW3D_MT_add", draw_add_menu), ("TOPBAR_MT_file_import", draw_import_menu),
-         ("TOPBAR_MT_file_export", draw_export_menu))  # fmt: skip
+MENUS = (("VIEW3D_MT_add", draw_add_menu),)
 
 
 class _SidebarPanel(bpy.types.Panel):
@@ -82,6 +76,7 @@ class MANIKIN_PT_main(_SidebarPanel):
 class MANIKIN_PT_target(_SidebarPanel):
     bl_label = "Target"
     bl_parent_id = "MANIKIN_PT_main"
+    bl_order = 1
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -117,6 +112,7 @@ class MANIKIN_PT_target(_SidebarPanel):
 class MANIKIN_PT_obstacle(_SidebarPanel):
     bl_label = "Obstacle"
     bl_parent_id = "MANIKIN_PT_main"
+    bl_order = 2
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -138,6 +134,7 @@ class MANIKIN_PT_obstacle(_SidebarPanel):
 class MANIKIN_PT_result(_SidebarPanel):
     bl_label = "Result"
     bl_parent_id = "MANIKIN_PT_main"
+    bl_order = 3
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -191,6 +188,7 @@ class MANIKIN_PT_result(_SidebarPanel):
 class MANIKIN_PT_settings(_SidebarPanel):
     bl_label = "Solver Settings"
     bl_parent_id = "MANIKIN_PT_main"
+    bl_order = 5
     bl_options = {"DEFAULT_CLOSED"}
 
     @classmethod
@@ -210,45 +208,4 @@ class MANIKIN_PT_settings(_SidebarPanel):
             col.prop(settings, name)
 
 
-class MANIKIN_PT_motion(_SidebarPanel):
-    bl_label = "Motion"
-    bl_parent_id = "MANIKIN_PT_main"
-
-    @classmethod
-    def poll(cls, context: bpy.types.Context) -> bool:
-        return rig_of(context.active_object) is not None
-
-    def draw(self, context: bpy.types.Context) -> None:
-        arm = rig_of(context.active_object)
-        layout = self.layout
-        row = layout.row(align=True)
-        row.prop(context.scene, "frame_start", text="Start")
-        row.prop(context.scene, "frame_end", text="End")
-        row = layout.row()
-        row.scale_y = 1.3
-        row.operator("manikin.bake_motion", icon="RENDER_ANIMATION")
-        col = layout.column(align=True)
-        col.prop(arm.manikin, "bound_motion")
-        sub = col.column(align=True)
-        sub.active = arm.manikin.bound_motion
-        sub.prop(arm.manikin, "max_joint_change")
-        sub.prop(arm.manikin, "max_root_shift")
-        bake = last_bake(arm)
-        if bake is None:
-            return
-        failed = bake["not_converged"]
-        span = f"{bake['frame_start']}-{bake['frame_end']}"
-        if not failed:
-            layout.label(text=f"Baked {span}: all {bake['solved']} frames converged", icon="CHECKMARK")
-            return
-        layout.label(text=f"Baked {span}: {len(failed)} frames not converged", icon="ERROR")
-        box = layout.box()
-        for record in failed[:SHOWN_FAILURES]:
-            why = record["notes"][0] if record["notes"] else "unmet: " + ", ".join(record["unmet"])
-            box.label(text=f"{record['frame']}: {why}")
-        if len(failed) > SHOWN_FAILURES:
-            box.label(text=f"... and {len(failed) - SHOWN_FAILURES} more")
-
-
-classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_obstacle, MANIKIN_PT_result, MANIKIN_PT_motion,
-           MANIKIN_PT_settings)  # fmt: skip
+classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_obstacle, MANIKIN_PT_result, MANIKIN_PT_settings)

@@ -1,11 +1,13 @@
 """Bake throughput: a 240-frame box lift baked by Bake Motion's code path, written to docs/BENCHMARKS.md.
 
-    python -m blender_manikin.dev.bench [-o docs/BENCHMARKS.md] [--runs 3]
+    python -m bench.blender_bake [-o docs/BENCHMARKS.md] [--runs 3]      # from the repository root, with bpy
 
 The motion is presets/scenarios/box_lift_motion.toml played up, down, up and down (its hand keys repeated every
 60 frames, so every frame moves as fast as in the preset). Each run starts from the scenario's start pose with no
 action and times everything a user waits for: per frame setting the scene to the frame, reading the targets
 and solving warm-started within the per-frame change bound, then keying all joints in bulk. Pinned to one core.
+The extension is loaded as ``batch.py`` loads it (from this checkout, registered); its modules are reached through
+the loaded package.
 """
 
 from __future__ import annotations
@@ -23,7 +25,9 @@ from types import ModuleType
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[2]  # the repository root
+from . import one_core
+
+ROOT = Path(__file__).resolve().parents[1]  # the repository root
 PRESET = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
 FRAMES = 240
 TARGET_FPS = 60.0
@@ -49,7 +53,7 @@ def _bake_once(ext: ModuleType, arm, start: np.ndarray, comfort: bool) -> dict:
     """One timed bake from the start pose: per-frame times, keying time, total, iterations, converged frames."""
     import bpy
 
-    bake = importlib.import_module(f"{ext.__name__}.blender_manikin.scene.bake")
+    bake = importlib.import_module(f"{ext.__name__}.blender_manikin.motion.bake")
     armature = importlib.import_module(f"{ext.__name__}.blender_manikin.scene.armature")
     if arm.animation_data is not None:  # the action only: animation_data_clear would drop the twist drivers
         arm.animation_data.action = None
@@ -84,12 +88,13 @@ def _row(label: str, done: list[dict]) -> tuple:
 
 def run(output: Path, runs: int = 3) -> str:
     """Bake ``runs`` times per setting and write the bake-bench section of ``output``; the section's text."""
-    from ..batch import load_extension
+    from blender_manikin.batch import load_extension
+
+    from .scenarios import machine, write_section
 
     ext, registered = load_extension()
-    job = importlib.import_module(f"{ext.__name__}.blender_manikin.headless.job")
+    job = importlib.import_module(f"{ext.__name__}.blender_manikin.motion.job")
     solver = importlib.import_module(f"{ext.__name__}.solver")
-    bench = importlib.import_module("bench.scenarios")  # the checkout's: machine() and write_section() only
     with tempfile.TemporaryDirectory(prefix="manikin-bench-") as tmp:
         path = Path(tmp) / "box_lift_240.toml"
         path.write_text(solver.dumps_scenario(ping_pong()), encoding="utf-8")
@@ -103,11 +108,11 @@ def run(output: Path, runs: int = 3) -> str:
     lines = [
         "## Bake throughput (issue 5)",
         "",
-        f"Written by `python -m blender_manikin.dev.bench` on {datetime.date.today().isoformat()}.",
-        f"Machine: {bench.machine()}; the benchmark process is pinned to one core.",
+        f"Written by `python -m bench.blender_bake` on {datetime.date.today().isoformat()}.",
+        f"Machine: {machine()}; the benchmark process is pinned to one core.",
         "",
         f"A {FRAMES}-frame box lift (the preset's hand keys played up, down, up, down; 10 kg box as a load; male_50)",
-        "baked by Bake Motion's code (`blender_manikin/scene/bake.py`): per frame the scene is set to the frame, the",
+        "baked by Bake Motion's code (`blender_manikin/motion/bake.py`): per frame the scene is set to the frame, the",
         "targets are read and the frame is solved warm-started within the per-frame change bound; at the end the",
         f"160 joint channels are keyed in bulk. {runs} runs per setting, each from the start pose; frames/s = frames /",
         "wall time of the whole bake (median run); per-frame times are wall times per frame over all runs (setting",
@@ -131,18 +136,17 @@ def run(output: Path, runs: int = 3) -> str:
         "comfortable) motion.",
     ]
     text = "\n".join(lines) + "\n"
-    bench.write_section(Path(output), "bake-bench", text)
+    write_section(Path(output), "bake-bench", text)
     print(f"wrote {output}")
     return text
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m blender_manikin.dev.bench", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m bench.blender_bake", description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs" / "BENCHMARKS.md")
     parser.add_argument("--runs", type=int, default=3, help="bakes per setting")
     args = parser.parse_args(argv)
-    sys.path.insert(0, str(ROOT))
-    importlib.import_module("bench").one_core("blender_manikin.dev.bench")  # one core, one BLAS thread
+    one_core("bench.blender_bake")  # one core, one BLAS thread
     with tempfile.TemporaryDirectory(prefix="manikin-bench-user-") as user:
         os.environ.setdefault("BLENDER_USER_RESOURCES", user)
         run(args.output, args.runs)

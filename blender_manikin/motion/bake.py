@@ -8,6 +8,12 @@ solutions are buffered; :meth:`Baker.write` keys every joint's bone channel (and
 cancelled bake leaves the scene as it was. :class:`Baker` works in steps so a modal operator can show progress
 and listen for Esc; the batch script streams each solved frame into its files (``on_frame``) and, after a Ctrl-C,
 keys the frames solved.
+
+Each frame is read from the scene, even after a scenario import whose Problem could give the frame's targets
+directly: the scene is the truth (the user may have moved, re-keyed, parented or constrained an empty, moved an
+obstacle or changed a setting since), and Blender blends keyed rotations linearly (normalised) where the scenario
+slerps, so only the scene's empties are what the user sees. A frame's read shares the previous frame's constraints
+(``read_problem``'s ``reuse``): about 1 ms against a solve of several.
 """
 
 from __future__ import annotations
@@ -24,9 +30,9 @@ from ...solver import ManikinError, Problem, Result
 from ...solver.body.spatial import matrix_to_quat
 from ...solver.io.result.write import interrupts_held
 from ...solver.motion.frames import MotionLimits, solve_frames
-from . import carried_object, keyframes, problem_io
-from .armature import layout_of, model_of, read_x, write_pose
-from .schema import BAKE_KEY
+from ..scene import carried_object, keyframes, problem_io
+from ..scene.armature import layout_of, model_of, read_x, write_pose
+from ..scene.schema import BAKE_KEY
 
 
 @dataclass
@@ -153,7 +159,7 @@ class Baker:
 
     def write(self, thin: bool = False) -> float:
         """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone) and the carried box
-        between the hands (:func:`.carried_object.key_carried`), store the report on the armature and return the
+        between the hands (:func:`..scene.carried_object.key_carried`), store the report on the armature and return the
         scene to its frame. Returns the seconds spent keying. ``thin``: a joint is keyed where it changes (inner
         keys of runs of equal values left out: the same curves, for long motions far fewer keys, each held twice in
         memory once the scene is evaluated)."""

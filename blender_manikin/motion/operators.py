@@ -41,7 +41,7 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
 
     def start(self, context: bpy.types.Context) -> bool:
         """Set up the Baker for the chosen range (default: the scene's); False after reporting why not."""
-        from ..scene.bake import Baker
+        from .bake import Baker
 
         scene = context.scene
         for name, default in (("frame_start", scene.frame_start), ("frame_end", scene.frame_end)):

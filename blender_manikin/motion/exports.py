@@ -13,7 +13,7 @@ from pathlib import Path
 import bpy
 
 from ...solver.errors import ManikinError
-from .compat import call_known
+from ..scene.compat import call_known
 
 FORMATS = {".fbx": "FBX", ".bvh": "BVH", ".glb": "glTF binary", ".gltf": "glTF (separate .bin)"}
 

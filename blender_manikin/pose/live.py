@@ -24,6 +24,8 @@ from ..scene.schema import ERROR_KEY, is_manikin, is_obstacle, rig_of
 if TYPE_CHECKING:
     from ..scene.problem_io import Inputs  # imports the solver: only for the type checker
 
+classes: tuple[type, ...] = ()  # nothing registered as a class: a depsgraph handler and a timer
+
 INTERVAL = 1.0 / 30.0  # s, at most one solve per manikin per interval
 
 _busy = False  # re-entrancy guard: True while the timer solves and writes

@@ -17,6 +17,8 @@ from mathutils import Matrix, Vector
 
 from ..scene.schema import RESULT_KEY, is_manikin, last_result, tcp_empty
 
+classes: tuple[type, ...] = ()  # nothing registered as a class: draw handlers
+
 FORCE_SCALE = 0.001  # m of arrow per N: body weight (~700 N) draws about 0.7 m
 COM_COLOR = (1.0, 0.85, 0.1, 1.0)
 POLYGON_COLOR = (0.2, 0.9, 0.4, 1.0)

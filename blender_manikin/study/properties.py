@@ -1,27 +1,21 @@
-"""The sidebar's "Population Study" panel: a study of the active manikin's targets for a manikin family, run in the
-background (``study_operators``), its progress and its results table.
-
-The settings and the rows of the last study live on the scene (``Scene.manikin_study``), so the table stays with
-the .blend; the progress of a running study comes from the job itself. Imports only bpy and light solver modules.
-"""
+"""Settings of the "Population Study" panel, stored on the scene (``Scene.manikin_study``): what to study, where,
+and the rows of the last study, so the table stays with the .blend. Imports only bpy and light solver modules."""
 
 from __future__ import annotations
 
 import bpy
 from bpy.props import BoolProperty, CollectionProperty, EnumProperty, IntProperty, StringProperty
 
-from ..scene.schema import rig_of
-from . import study_operators
-from .study_operators import FAMILIES, FOLDER
+from ...solver.presets import PRESETS_DIR
 
+FAMILIES = PRESETS_DIR / "families"  # the shipped manikin families
+FOLDER = "FOLDER"  # the family choice that reads a folder of the user's
 VARY = (
     ("NONE", "Nothing", "Every member on the targets as they are"),
     ("z", "Target height", "Add each value (m) to the height of the chosen targets"),
     ("x", "Target x", "Add each value (m) to the x of the chosen targets (armature space)"),
     ("y", "Target y", "Add each value (m) to the y of the chosen targets (armature space; the manikin faces -y)"),
 )
-HEADER = ("Manikin", "Role", "Values", "RULA", "REBA", "L4/L5 N", "Short mm")
-SHOWN_ROWS = 6
 
 
 def family_items() -> list[tuple[str, str, str]]:
@@ -65,62 +59,7 @@ class MANIKIN_PG_study(bpy.types.PropertyGroup):
     row_index: IntProperty(name="Row", default=0, min=0)
 
 
-class MANIKIN_UL_study_rows(bpy.types.UIList):
-    """The results table: a row per run."""
-
-    def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index=0) -> None:
-        row = layout.row(align=True)
-        row.label(text=item.name.rpartition("/")[2], icon="CHECKMARK" if item.converged else "X")
-        for text in (item.role, item.parameters, item.rula, item.reba, item.l4_l5, item.shortfall):
-            row.label(text=text)
-
-
-class MANIKIN_PT_study(bpy.types.Panel):
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Manikin"
-    bl_label = "Population Study"
-    bl_parent_id = "MANIKIN_PT_main"
-    bl_options = {"DEFAULT_CLOSED"}
-
-    @classmethod
-    def poll(cls, context: bpy.types.Context) -> bool:
-        study = getattr(context.scene, "manikin_study", None)
-        return study is not None and (rig_of(context.active_object) is not None or len(study.rows) > 0)
-
-    def draw(self, context: bpy.types.Context) -> None:
-        s = context.scene.manikin_study
-        layout = self.layout
-        col = layout.column()
-        col.use_property_split = True
-        col.prop(s, "family")
-        if s.family == FOLDER:
-            col.prop(s, "family_folder")
-        col.prop(s, "vary")
-        if s.vary != "NONE":
-            col.prop(s, "tcps")
-            col.prop(s, "values")
-        col.prop(s, "workers")
-        col.prop(s, "folder")
-        job = study_operators.current_job()
-        row = layout.row(align=True)
-        row.scale_y = 1.3
-        if job is not None and job.state in ("running", "cancelling"):
-            row.operator("manikin.study_cancel", icon="CANCEL")
-            layout.label(text=job.line(), icon="TIME")
-            return
-        row.operator("manikin.study_run", icon="COMMUNITY")
-        if s.status:
-            layout.label(text=s.status, icon="ERROR" if s.status.startswith("Study failed") else "INFO")
-        if len(s.rows):
-            head = layout.row(align=True)
-            for text in HEADER:
-                head.label(text=text)
-            layout.template_list("MANIKIN_UL_study_rows", "", s, "rows", s, "row_index", rows=SHOWN_ROWS)
-            layout.operator("manikin.study_load_row", icon="ARMATURE_DATA")
-
-
-classes = (MANIKIN_PG_study_row, MANIKIN_PG_study, *study_operators.classes, MANIKIN_UL_study_rows, MANIKIN_PT_study)
+classes = (MANIKIN_PG_study_row, MANIKIN_PG_study)
 
 
 def attach() -> None:
@@ -129,6 +68,5 @@ def attach() -> None:
 
 
 def detach() -> None:
-    """Stop a running study (its journal keeps the finished rows) and remove what :func:`attach` added."""
-    study_operators.stop_job()
+    """Remove what :func:`attach` added (a running study is stopped before: ``operators.unregister``)."""
     del bpy.types.Scene.manikin_study

@@ -1,8 +1,5 @@
-"""Import a reach envelope (``python -m solver envelope``'s ``.obj`` or ``.glb``) as objects beside the manikin.
-
-The file is read by :func:`solver.envelope.mesh_files.read_envelope` (numpy only, so it works in a Blender's own
-Python) inside ``execute``; the objects are made by ``scene.envelope_objects``.
-"""
+"""Import Reach Envelope (File > Import and the sidebar): ``python -m solver envelope``'s ``.obj`` or ``.glb`` as
+objects beside the manikin. The work is :func:`.objects.import_envelope`, loaded inside ``execute``."""
 
 from __future__ import annotations
 
@@ -13,12 +10,7 @@ from bpy.props import StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from ...solver.errors import ManikinError
-from ..scene.schema import FILE_KEY, PRESET_KEY, rig_of
-
-
-def _body_name(arm: bpy.types.Object) -> str:
-    """The name a manikin's body has in an envelope file: its preset, or its body file's stem."""
-    return arm.get(PRESET_KEY) or Path(arm.get(FILE_KEY, "")).stem
+from ..scene.schema import rig_of
 
 
 class MANIKIN_OT_import_envelope(bpy.types.Operator, ImportHelper):
@@ -36,24 +28,26 @@ class MANIKIN_OT_import_envelope(bpy.types.Operator, ImportHelper):
         return context.mode == "OBJECT"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ...solver.envelope.mesh_files import read_envelope
-        from ..scene.envelope_objects import add_envelope
+        from .objects import import_envelope
 
+        arm = rig_of(context.active_object)
         try:
-            envelope = read_envelope(self.filepath)
+            made, warning = import_envelope(context, self.filepath, arm)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        arm = rig_of(context.active_object)
-        collection = arm.users_collection[0] if arm is not None else context.scene.collection
-        made = add_envelope(collection, envelope, self.filepath, arm)
-        manikin = envelope.info.get("manikin", "")
-        if arm is not None and manikin and manikin != _body_name(arm):
-            self.report({"WARNING"}, f"the envelope is {manikin}'s, placed on {arm.name} ({_body_name(arm)})")
+        if warning:
+            self.report({"WARNING"}, warning)
         where = f"on {arm.name}" if arm is not None else "in the world (no manikin active)"
         names = ", ".join(ob.name for ob in made)
         self.report({"INFO"}, f"Imported {Path(self.filepath).name} {where}: {names}")
         return {"FINISHED"}
 
+
+def draw_import_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
+    self.layout.operator("manikin.import_envelope", text="Manikin Reach Envelope (.obj, .glb)")
+
+
+MENUS = (("TOPBAR_MT_file_import", draw_import_menu),)
 
 classes = (MANIKIN_OT_import_envelope,)

@@ -1,7 +1,7 @@
 """Operators: add a manikin, its targets, loops and loads; solve; reset. Errors reach the user via report().
 
 The solver and the scene code load inside ``execute`` (as Blender's own importers do), so enabling the add-on
-imports neither.
+imports neither; Solve Pose and Reset Pose call :mod:`.solve`, as headless scripts do.
 """
 
 from collections.abc import Callable
@@ -12,7 +12,7 @@ from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringPro
 from ...solver.errors import ManikinError
 from ...solver.options import AXES
 from ...solver.presets import list_presets
-from ..scene.schema import RESULT_KEY, TCP_KEY, rig_of
+from ..scene.schema import TCP_KEY, rig_of
 
 _LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
 
@@ -156,15 +156,10 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ...solver import solve
-        from ..scene import problem_io
+        from .solve import solve_pose
 
-        arm = _active_rig(context)
-        context.evaluated_depsgraph_get()  # brings the empties' world matrices up to date
         try:
-            sp = problem_io.read_problem(arm)
-            result = solve(sp.problem, sp.x0, sp.options)
-            problem_io.write_result(arm, result)
+            result = solve_pose(_active_rig(context))
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -182,15 +177,13 @@ class MANIKIN_OT_reset_pose(_RigOperator):
     bl_label = "Reset Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        from ..scene import armature
+        from .solve import reset_pose
 
-        arm = _active_rig(context)
         try:
-            armature.write_pose(arm, armature.model_of(arm).zero_pose())
+            reset_pose(_active_rig(context))
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        arm.pop(RESULT_KEY, None)
         return {"FINISHED"}
 
 

@@ -4,8 +4,10 @@ The scene comes from a scenario file (a new manikin with keyed target empties) a
 frame range is baked as Bake Motion does, then the requested files are written: the .blend, exports (FBX,
 BVH, glTF), a JSON report (per frame: converged, iterations, times, residuals, and the ergonomics of
 ``solver.ergonomics``), the result JSON of ``python -m solver solve`` and a picture of key poses. Bad input
-raises ManikinError with one line; a frame that does not converge makes :func:`run` return 3. Blender's operators
-run through :func:`.quiet.quietly`, so only our own lines (what was baked and written) reach the console.
+raises ManikinError with one line; a frame that does not converge makes :func:`run` return 3. The scenario is read
+into the scene by the function Import Scenario calls (:func:`..scenario.read.apply_scenario`), never through an
+operator of ours. Blender's operators and what prints run through :func:`.quiet.quietly`, so only our own lines
+(what was baked and written) reach the console.
 """
 
 from __future__ import annotations
@@ -27,9 +29,12 @@ from ...solver.io.output_paths import check_distinct, check_output
 from ...solver.io.result.write import ResultWriter
 from ...solver.options import MAX_FRAME, MAX_FRAMES
 from ...solver.progress import Progress
-from ..scene import exports, keyframes, motion_keys
-from ..scene.bake import Baker, FrameRecord
+from ..scenario.keys import target_empties
+from ..scenario.read import apply_scenario
+from ..scene import keyframes
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
+from . import exports
+from .bake import Baker, FrameRecord
 from .quiet import quietly
 from .report import MotionReport, captions, choose_frames, summary_lines
 
@@ -70,22 +75,18 @@ def open_scene(job: Job) -> bpy.types.Object:
             raise ManikinError(f"{job.blend}: cannot open ({str(exc).strip()})") from None
     if job.scenario is None:
         return find_manikin(job.manikin)
-    frames = solver.load_scenario(job.scenario).frames  # validates first: a bad file is one ScenarioError line
-    for ob in bpy.context.view_layer.objects:
-        ob.select_set(False)
-    bpy.context.view_layer.objects.active = None  # so the scenario goes onto a new manikin
+    scenario = solver.load_scenario(job.scenario)  # read first: a bad file is one ScenarioError line, nothing changed
     if job.blend is None:  # a fresh session's default cube, camera and light would only be in the way
         for ob in list(bpy.data.objects):
             bpy.data.objects.remove(ob, do_unlink=True)
         bpy.data.orphans_purge(do_recursive=True)  # and an earlier job's data (the demo's second one): its names
-    try:
-        quietly(bpy.ops.manikin.import_scenario, filepath=str(job.scenario.resolve()))
-    except RuntimeError as exc:
-        raise ManikinError(str(exc).strip().removeprefix("Error: ")) from None
-    scene = bpy.context.scene
+    done = quietly(apply_scenario, bpy.context, scenario, job.scenario.name)  # onto a new manikin
+    for warning in done.warnings:
+        _say(job, f"warning: {warning}")
+    scene, frames = bpy.context.scene, scenario.frames
     scene.frame_start, scene.frame_end = frames[0], frames[-1]  # the scenario's frames (one for a single pose)
     scene.frame_set(frames[0])
-    return bpy.context.view_layer.objects.active
+    return done.arm
 
 
 def find_manikin(name: str | None) -> bpy.types.Object:
@@ -200,7 +201,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
     if job.picture is not None:
         from .picture import render_key_poses
 
-        keys = {round(f) for ob in motion_keys.target_empties(arm) for f in keyframes.key_frames(ob)}
+        keys = {round(f) for ob in target_empties(arm) for f in keyframes.key_frames(ob)}
         frames = choose_frames(baker.frames, baker.thetas, sorted(keys))
         shown = f"frame {start}" if start == end else f"frames {start}-{end}"
         title = f"{_title(job, arm)}: {sinks.body}{_carried(arm)}, {shown}, " + (
