@@ -106,7 +106,7 @@ def run(output: Path, runs: int = 3) -> str:
     met = rows[0][1] >= TARGET_FPS
     share = rows[0][4] / rows[0][2]
     lines = [
-        "## Bake throughput (issue 5)",
+        "## Bake throughput",
         "",
         f"Written by `python -m bench.blender_bake` on {datetime.date.today().isoformat()}.",
         f"Machine: {machine()}; the benchmark process is pinned to one core.",
