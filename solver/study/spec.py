@@ -12,7 +12,7 @@ studies"). Every problem is one ScenarioError line naming the study file and the
     seed = 0              # base of every run's seed
     repeats = 1           # runs per combination, each with its own seed
     start_jitter = 0.0    # rad: spread of a seeded random change of the start pose (0: the scenario's start)
-    record = ["shortfall", "rula", "reba", "l4_l5", "strength", "niosh"]   # default: all
+    record = ["shortfall", "rula", "reba", "l4_l5", "strength", "niosh"]   # default: all (.groups.RECORD)
 
     [[scenarios]]
     file = "../presets/scenarios/box_lift.toml"   # relative to the study file
@@ -51,11 +51,11 @@ from ..io.table_reader import TableReader, is_number
 from ..population.family_files import INDEX, read_family
 from . import keypath
 from .envelope_spec import EnvelopeStudy, load_envelope
+from .groups import RECORD
 
 if TYPE_CHECKING:
     from ..population.family import Member
 
-RECORD = ("shortfall", "rula", "reba", "l4_l5", "strength", "niosh")
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 ERGO_KEYS = tuple(f.name for f in fields(ErgoOptions) if f.name != "manikin")  # the study sets the manikin
 MAX_REPEATS, MAX_JITTER = 1000, 1.0  # runs per combination; rad
