@@ -22,15 +22,24 @@ from .manikin import strengths, working_area
 from .options import ErgoOptions
 from .registry import RANKING, SCORES, frame_scores, in_frame_order, motion_scores
 
-SOURCES = {
+BASE_SOURCES = {  # the sources of what every report holds besides the scores
     "joint_loads": "Delfs 2012 eq. 3.11 (moments of gravity, contacts and loads over each joint's subtree)",
     "strength": "solver/body/humans/anthropometry.py: Anderson et al. 2007 (hip, knee, ankle); one trained subject "
     "(rbdl data) for shoulder, elbow, wrist, lumbar flexion/extension; other joints estimates",
     "l4_l5": "estimate: single equivalent muscle, 5 cm moment arm (Chaffin, Andersson & Martin, Occupational "
     "Biomechanics); limits 3400 / 6400 N (NIOSH 1981)",
 }
-for _score in SCORES.values():
-    SOURCES |= _score.sources()
+
+
+def sources() -> dict[str, str]:
+    """The report's "sources": the loads', then each registered score's (:meth:`.base.Score.sources`)."""
+    out = dict(BASE_SOURCES)
+    for score in SCORES.values():
+        out |= score.sources()
+    return out
+
+
+SOURCES = sources()  # as the scores registered in .registry have them (the Blender layer's report imports it)
 
 
 _PLAIN = (str, int, bool, type(None))  # JSON values clean keeps as they are
@@ -145,7 +154,7 @@ def report_head(
             strength=strength_note,
             working_area=area.as_dict() if area is not None else None,
             options=asdict(options),
-            sources=SOURCES,
+            sources=sources(),
             **motion,
         )
     )

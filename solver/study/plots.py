@@ -3,7 +3,7 @@
 * ``feasibility.png``: per scenario and parameter, the share of runs (manikins, and the other parameters' values)
   that converged (every target reached in balance) at each value of the parameter; failed runs are left out of
   the share (they say nothing about the body). A scenario without parameters is one bar.
-* ``scores.png``: per manikin, the peak of each score with one number per frame (RULA, REBA: :data:`.groups.PANELS`),
+* ``scores.png``: per manikin, the peak of each score with one number per frame (RULA, REBA: :func:`.groups.panels`),
   L4/L5 compression (N) and percent of joint strength of each of its runs (filled: converged, open: not), with the
   limits of the worksheet (NIOSH 3400 / 6400 N; 30 / 60 %).
 * ``envelopes.png`` (a study with an ``[envelope]``): per manikin and setting (hand, load, feet, sole scale), the
@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..io.files import open_output
-from .groups import PANELS
+from .groups import panels as score_panels
 
 if TYPE_CHECKING:
     from .envelope_spec import EnvelopeStudy
@@ -80,7 +80,7 @@ def scores(path: Path, rows: list[dict], manikins: list[str], record: tuple[str,
     open marks for runs that did not converge; None if no score was recorded."""
     from matplotlib.figure import Figure
 
-    panels = [p[1:] for p in PANELS if p[0] in record]
+    panels = [p[1:] for p in score_panels() if p[0] in record]
     if not panels:
         return None
     scenarios = list(dict.fromkeys(r["scenario"] for r in rows))

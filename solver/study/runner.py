@@ -30,7 +30,7 @@ import numpy as np
 from ..ergonomics.base import peak
 from ..ergonomics.registry import SCORES
 from .envelope_runs import ENVELOPE_COLUMNS, envelope_row
-from .groups import ERGONOMIC, GROUPS, LOADS
+from .groups import LOADS, ergonomic, groups
 from .plan import Run
 
 if TYPE_CHECKING:
@@ -55,8 +55,9 @@ def columns(
     family members' fact columns, :func:`.spec.member_columns`), with ``scenarios`` and (or) an ``envelope``."""
     out = ["run_id", "seed", "scenario", "manikin", *(members or [])] + [f"p_{name}" for name in parameters]
     out += OUTCOME if scenarios else OUTCOME[:2]
+    columns_of = groups()
     for group in record if scenarios else ():
-        out += GROUPS[group]
+        out += columns_of[group]
     out += ENVELOPE_COLUMNS if envelope else []
     return out + TIMING + ["failure"]
 
@@ -89,7 +90,7 @@ def _scenario_columns(run: Run) -> dict:
     """A scenario run's columns: solved, its outcome and (if recorded) its scores, with the times."""
     solved, solve_s = _solve(run)
     row = outcome([result for _, result in solved]) | {"solve_s": solve_s}
-    if any(group in run.record for group in ERGONOMIC):
+    if any(group in run.record for group in ergonomic()):
         t1 = time.perf_counter()
         row |= scores(_evaluate(solved, run))
         row["eval_s"] = round(time.perf_counter() - t1, 4)
@@ -172,13 +173,13 @@ def outcome(results: list) -> dict:
 
 def scores(report: dict) -> dict:
     """A study row's ergonomic columns from an ergonomics report (:func:`solver.evaluate`), in the order of
-    :data:`.groups.GROUPS`: each score's (:meth:`~solver.ergonomics.base.Score.summarise`: the RULA and REBA peaks,
+    :func:`.groups.groups`: each score's (:meth:`~solver.ergonomics.base.Score.summarise`: the RULA and REBA peaks,
     the NIOSH lift), the peak L4/L5 compression (N) and percent of strength (and its joint); None where the body or
     the task has none."""
     row: dict = {}
     loads = _loads(report)
-    for group in ERGONOMIC:
-        row |= {c: loads[c] for c in GROUPS[group]} if group in LOADS else SCORES[group].summarise(report)
+    for group in ergonomic():
+        row |= {c: loads[c] for c in LOADS[group]} if group in LOADS else SCORES[group].summarise(report)
     return row
 
 
