@@ -47,7 +47,7 @@ class Bands:
     axis (4 numbers, in the score's units) and a legend saying what the bands mean."""
 
     title: str
-    edges: tuple[float, float, float, float]
+    edges: tuple[float, float, float, float]  # the value axis spans the first to the last
     legend: str
 
 

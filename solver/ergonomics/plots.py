@@ -113,7 +113,7 @@ def plot_scores(report: dict, path: Path) -> Path:
         else:
             ax.step(x, [s if s is not None else float("nan") for s in values], where="mid", color="#4a6fa5", lw=2)
             ax.set_xlabel("frame")
-        ax.set_ylim(0.5, bands.edges[-1])
+        ax.set_ylim(bands.edges[0], bands.edges[-1])
         ax.set_ylabel("score")
     return _save(fig, path, report)
 
