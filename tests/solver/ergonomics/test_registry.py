@@ -84,14 +84,16 @@ def test_a_new_score_is_one_class_and_one_registration(solved, monkeypatch, tmp_
     assert "trunk_bend" in groups.record() and groups.groups()["trunk_bend"] == ["trunk_bend_peak"]
     assert "trunk_bend_peak" in columns([], groups.record()) and scores(after)["trunk_bend_peak"] == 3
     assert ("trunk_bend", "trunk_bend_peak", "Trunk (peak)", ()) in groups.panels()
-    # the files: JSON and CSV carry it, the scores plot has a third panel (5.5 in at 110 dpi each)
+    # the files: JSON and CSV carry it, the scores plot has a panel more (5.5 in at 110 dpi each)
     result = tmp_path / "r.json"
     write_result(result, solved, REPO / "presets/scenarios/box_lift.toml")
     out = run(result, tmp_path / "e.json", ErgoOptions())
     assert json.loads((tmp_path / "e.json").read_text())["frames"][2]["trunk_bend"]["score"] == 3
     assert (tmp_path / "e.csv").read_text().splitlines()[0].split(",").count("trunk_bend") == 1
     width = int.from_bytes((tmp_path / "e_scores.png").read_bytes()[16:20], "big")
-    assert width == round(3 * 5.5 * 110) and out["frame_count"] == 3
+    panels = [s.name for s in frame_scores() if s.bands is not None]
+    assert panels[:2] == ["rula", "reba"] and panels[-1] == "trunk_bend" and out["frame_count"] == 3
+    assert width == round(len(panels) * 5.5 * 110)
 
 
 def test_a_taken_name_is_refused() -> None:
