@@ -105,8 +105,9 @@ class Score(ABC):
 
 class MotionScore(Score):
     """A score of an action between two frames of the motion (the NIOSH lift), computed once (:meth:`motion`, the
-    report's top-level entry under ``name``) and then evaluated at every frame with that value in
-    ``inputs.motion[name]``. Its per-frame entries come after every frame score's (they wait for the motion)."""
+    report's top-level entry under ``name``) and then given at every frame (:meth:`at_frame`, from what
+    :meth:`keep` took of the frame, so a caller that sees each frame before the motion is known keeps only that).
+    Its per-frame entries come after every frame score's (they wait for the motion)."""
 
     value = None
 
@@ -118,6 +119,17 @@ class MotionScore(Score):
     @abstractmethod
     def motion(self, start: Frame, end: Frame, options: ErgoOptions) -> dict:
         """The motion's value from its start and end frames (the same object when they are one frame)."""
+
+    @abstractmethod
+    def keep(self, frame: Frame) -> object:
+        """What :meth:`at_frame` needs of a frame (small: it is kept for every frame of a motion)."""
+
+    @abstractmethod
+    def at_frame(self, kept: object, motion: dict, options: ErgoOptions) -> dict | None:
+        """A frame's entry from what :meth:`keep` took of it and the motion's value."""
+
+    def evaluate(self, inputs: FrameInputs) -> dict | None:
+        return self.at_frame(self.keep(inputs.frame), inputs.motion[self.name], inputs.options)
 
     def brief(self, frame: dict) -> str | None:
         return None

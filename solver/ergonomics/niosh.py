@@ -24,7 +24,7 @@ import numpy as np
 
 from ..body.spatial import length
 from ..io.result.frame import Frame
-from .base import FrameInputs, MotionScore
+from .base import MotionScore
 from .loads import hand_load_kg
 from .manikin import feet_frame
 from .options import ErgoOptions
@@ -163,8 +163,11 @@ class Niosh(MotionScore):
     def motion(self, start: Frame, end: Frame, options: ErgoOptions) -> dict:
         return lift_between(start, end, options)
 
-    def evaluate(self, inputs: FrameInputs) -> dict:
-        return at_point(hand_point(inputs.frame), inputs.motion[self.name], inputs.options.coupling)
+    def keep(self, frame: Frame) -> dict | None:
+        return hand_point(frame)
+
+    def at_frame(self, kept: dict | None, motion: dict, options: ErgoOptions) -> dict | None:
+        return at_point(kept, motion, options.coupling)
 
     def columns(self, first: dict) -> list[str]:
         return ["niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
