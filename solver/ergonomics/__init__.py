@@ -3,8 +3,10 @@
 Works on typed frames (:class:`solver.io.result.frame.Frame`): from a :class:`~solver.Result` directly or from a
 result file (docs/reference/result-file.md). The manikin (the result's own, ``ErgoOptions.manikin`` or the one the
 result file's scenario names) supplies joint strengths and the standard working area. One module, one job:
-``manikin`` (strengths, working area), ``loads``, ``postures``, ``rula``, ``reba``, ``owas``, ``niosh``,
-``worksheet``, ``report`` (the evaluation of all frames, JSON, CSV), ``plots`` (PNG).
+``manikin`` (strengths, working area), ``loads``, ``postures``; the scores, one module each behind one
+interface (``base``: :class:`~.base.Score`), listed in ``registry``: ``rula``, ``reba``, ``owas``, ``niosh``,
+``worksheet``; ``report`` (the evaluation of all frames, JSON, CSV), ``stream`` (a result file frame by frame),
+``plots`` (PNG). A new score is a module and a line in ``registry`` (docs/develop/recipes_score.md).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from ..io.result.read import ResultFile
 from ..iteration.result import Result
 from .manikin import check_fits, resolve_model
 from .options import ErgoOptions
-from .report import evaluate_frames, output_files
+from .registry import motion_scores
+from .report import end_positions, evaluate_frames, output_files
 
 __all__ = ["ErgoOptions", "evaluate", "output_files", "run"]
 
@@ -58,12 +61,11 @@ def checked(options: ErgoOptions | None) -> ErgoOptions:
 
 
 def check_frame_numbers(frames: list[Frame], options: ErgoOptions) -> None:
-    """Refuse a NIOSH origin or destination that is not a frame of the result (one UsageError line)."""
+    """Refuse a frame number the options name (the NIOSH origin or destination) that is not a frame of the result
+    (one UsageError line)."""
     numbers = [f.number for f in frames]
-    listed = ", ".join(map(str, numbers)) if len(numbers) <= 6 else f"{numbers[0]}, {numbers[1]}, ..., {numbers[-1]}"
-    for what, value in (("origin", options.origin), ("destination", options.destination)):
-        if value is not None and value not in numbers:
-            raise UsageError(f"{what} {value}: not a frame of the result (its frames: {listed})")
+    for score in motion_scores():
+        end_positions(score, numbers, options)
 
 
 def _frames_of(source: Source) -> tuple[list[Frame], Model | None, str | None, Path | None]:

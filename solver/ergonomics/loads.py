@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..body.spatial import cross  # np.cross's arithmetic, without its overhead on small arrays
+from ..body.spatial import cross, length  # np.cross's arithmetic, without its overhead on small arrays
 from ..io.result.frame import Frame
 
 MUSCLE_MOMENT_ARM = 0.05  # m, single equivalent extensor muscle about L4/L5 (Chaffin et al., see above)
@@ -106,6 +106,14 @@ def l4_l5(frame: Frame, moments: np.ndarray, sub_force: np.ndarray) -> dict:
         limits=dict(action=DISC_ACTION_LIMIT, maximum=DISC_MAXIMUM_LIMIT),
         model="estimate: single equivalent muscle, 5 cm moment arm (Chaffin et al.); limits NIOSH 1981",
     )
+
+
+def hand_load_kg(frame: Frame) -> float:
+    """Mass (kg) of the loads hanging on hand/knuckle TCPs: their downward force / g."""
+    g = length(np.asarray(frame.gravity, dtype=float)) or 9.81
+    down = frame.gravity / g
+    total = sum(float(f @ down) for tcp, _, f in frame.loads if tcp.startswith(("hand_", "knuckles_")))
+    return max(total, 0.0) / g
 
 
 def _num(v: float) -> float | None:

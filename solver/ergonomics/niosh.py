@@ -24,6 +24,8 @@ import numpy as np
 
 from ..body.spatial import length
 from ..io.result.frame import Frame
+from .base import MotionScore
+from .loads import hand_load_kg
 from .manikin import feet_frame
 from .options import ErgoOptions
 
@@ -93,28 +95,11 @@ def hand_point(frame: Frame) -> dict | None:
     return dict(H=100.0 * h, V=100.0 * float(hands[2]), A=a)
 
 
-def hand_load_kg(frame: Frame) -> float:
-    """Mass (kg) of the loads hanging on hand/knuckle TCPs: their downward force / g."""
-    g = length(np.asarray(frame.gravity, dtype=float)) or 9.81
-    down = frame.gravity / g
-    total = sum(float(f @ down) for tcp, _, f in frame.loads if tcp.startswith(("hand_", "knuckles_")))
-    return max(total, 0.0) / g
-
-
 def _point(p: dict, d: float, fm: float, coupling: str) -> dict:
     cm = coupling_multiplier(coupling, p["V"])
     m = multipliers(p["H"], p["V"], d, p["A"])
     value = 23.0 * m["HM"] * m["VM"] * m["DM"] * m["AM"] * fm * cm
     return dict(p, D=d, **m, FM=fm, CM=cm, RWL=value)
-
-
-def lift(frames: list[Frame], o: ErgoOptions) -> dict:
-    """RWL at origin and destination and the lifting index of the lift between two frames of ``frames`` (the
-    options' origin and destination frame numbers, else the first and the last)."""
-    by_number = {f.number: f for f in frames}
-    first = by_number.get(o.origin, frames[0]) if o.origin is not None else frames[0]
-    last = by_number.get(o.destination, frames[-1]) if o.destination is not None else frames[-1]
-    return lift_between(first, last, o)
 
 
 def lift_between(first: Frame, last: Frame, o: ErgoOptions) -> dict:
@@ -157,3 +142,54 @@ def at_point(point: dict | None, lift: dict, coupling: str) -> dict | None:
     d = lift["origin"]["D"] if "origin" in lift else 25.0
     fm = lift["origin"]["FM"] if "origin" in lift else 1.0
     return _point(point, d, fm, coupling)
+
+
+def _get(entry: dict | None, key: str):
+    return entry.get(key) if isinstance(entry, dict) else None
+
+
+class Niosh(MotionScore):
+    """The revised NIOSH lifting equation for the lift from the options' origin frame to their destination frame
+    (:func:`lift_between`, the report's top-level ``niosh``), then H, V, A and the RWL at every frame
+    (:func:`at_point`). A study records the lifting index and the RWL of a lift with a load in the hands."""
+
+    name = "niosh"
+    title = "NIOSH"
+    source = "Waters et al. 1993; NIOSH Applications Manual for the Revised Lifting Equation, Pub. 94-110"
+
+    def ends(self, options: ErgoOptions) -> dict[str, int | None]:
+        return {"origin": options.origin, "destination": options.destination}
+
+    def motion(self, start: Frame, end: Frame, options: ErgoOptions) -> dict:
+        return lift_between(start, end, options)
+
+    def keep(self, frame: Frame) -> dict | None:
+        return hand_point(frame)
+
+    def at_frame(self, kept: dict | None, motion: dict, options: ErgoOptions) -> dict | None:
+        return at_point(kept, motion, options.coupling)
+
+    def columns(self, first: dict) -> list[str]:
+        return ["niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
+
+    def cells(self, frame: dict) -> list:
+        return [_get(frame.get(self.name), k) for k in ("H", "V", "A", "RWL")]
+
+    def study_columns(self) -> list[str]:
+        return ["niosh_li", "niosh_rwl_kg"]
+
+    def summarise(self, report: dict) -> dict:
+        """The lifting index and the governing RWL (kg) of a human body's lift with a load in the hands, else
+        None; an RWL of 0 (outside the equation's limits) is an index of inf."""
+        lift = report.get(self.name) or {}
+        lifting = "origin" in lift and lift.get("load_kg", 0.0) > 0.0
+        li = lift.get("LI") if lifting else None
+        li = math.inf if lifting and li is None else li
+        return dict(niosh_li=None if li is None else round(li, 4),
+                    niosh_rwl_kg=round(lift["RWL"], 3) if lifting else None)  # fmt: skip
+
+    def motion_lines(self, report: dict) -> list[str]:
+        lift = report[self.name]
+        if lift.get("LI") is None:
+            return []
+        return [f"NIOSH lift: RWL {lift['RWL']:.1f} kg, load {lift['load_kg']:.1f} kg, LI {lift['LI']:.2f}"]

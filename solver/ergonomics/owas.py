@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from ..io.result.frame import Frame
 from . import options as opt
+from .base import FrameInputs, Score
 
 OWAS_TWIST_DEG = 20.0  # twisted / side bent beyond 20 deg (the OWAS summary quoted above)
 
@@ -101,3 +102,26 @@ def owas(frame: Frame, posture: dict, load_kg: float) -> dict:
     if code in DISPUTED:
         out["table_note"] = f"published copies of the OWAS table disagree on {code}: {category} or {DISPUTED[code]}"
     return out
+
+
+class Owas(Score):
+    """The OWAS posture code of a frame and its action category (:func:`owas`); a code has no one number to
+    plot or to take the peak of."""
+
+    name = "owas"
+    title = "OWAS"
+    source = ("Karhu, Kansi & Kuorinka 1977, Appl. Ergon. 8(4):199-201; action categories transcribed from "
+              "github.com/rs9000/ergonomics (disputed cells flagged)")  # fmt: skip
+    value = None
+
+    def evaluate(self, inputs: FrameInputs) -> dict:
+        return owas(inputs.frame, inputs.posture, inputs.load_kg)
+
+    def columns(self, first: dict) -> list[str]:
+        return ["owas_code", "owas_category"]
+
+    def cells(self, frame: dict) -> list:
+        return [frame["owas"].get("code"), frame["owas"].get("action_category")]
+
+    def brief(self, frame: dict) -> str | None:
+        return f"OWAS {frame['owas'].get('code')}"

@@ -1,5 +1,6 @@
 """PNG plots of an ergonomics report (matplotlib figures without pyplot, so no global backend is chosen: the same
-code runs inside Blender, where other add-ons may use matplotlib too): joint loads, RULA/REBA scores, back and arms.
+code runs inside Blender, where other add-ons may use matplotlib too): joint loads, the scores with plot bands
+(RULA, REBA: :attr:`.base.Score.bands`), back and arms.
 
 Over time (one point per frame) for a motion; bar charts for a single pose. Colours follow the worksheet:
 green / yellow / red bands with the thresholds of :mod:`.worksheet`.
@@ -13,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from ..io.files import open_output
+from .registry import frame_scores
 from .report import plot_paths
 from .worksheet import STRENGTH_BANDS
 
@@ -88,29 +90,30 @@ def plot_loads(report: dict, path: Path) -> Path:
 
 
 def plot_scores(report: dict, path: Path) -> Path:
+    """A panel per score with plot bands (:attr:`.base.Score.bands`), in registration order."""
     frames = report["frames"]
     x = [f["frame"] for f in frames]
-    fig = Figure(figsize=(11, 4.5))
-    axes = fig.subplots(1, 2)
-    specs = (("rula", "RULA grand score", [0.5, 2.5, 4.5, 7.5], "1-2 acceptable, 3-4 investigate, 5+ change"),
-             ("reba", "REBA score", [0.5, 3.5, 7.5, 15.5], "1-3 negligible/low, 4-7 medium, 8+ high"))  # fmt: skip
-    for ax, (key, title, edges, legend) in zip(axes, specs, strict=True):
-        scores = [f[key]["score"] for f in frames]
-        ax.set_title(f"{title}\n({legend})", fontsize=10)
-        if all(s is None for s in scores):
+    scores = [s for s in frame_scores() if s.bands is not None]
+    fig = Figure(figsize=(5.5 * max(1, len(scores)), 4.5))
+    axes = fig.subplots(1, max(1, len(scores)), squeeze=False)[0]
+    for ax, score in zip(axes, scores, strict=False):
+        key, bands = score.name, score.bands
+        values = [f[key][score.value] for f in frames]
+        ax.set_title(f"{bands.title}\n({bands.legend})", fontsize=10)
+        if all(s is None for s in values):
             ax.text(0.5, 0.5, frames[0][key].get("reason", "n/a"), ha="center", va="center", wrap=True,
                     transform=ax.transAxes)  # fmt: skip
             ax.set_axis_off()
             continue
-        _bands(ax, edges)
+        _bands(ax, list(bands.edges))
         if len(frames) == 1:
-            ax.bar([key.upper()], scores, color="#4a6fa5", width=0.3, zorder=2)
+            ax.bar([score.title], values, color="#4a6fa5", width=0.3, zorder=2)
             ax.set_xlim(-0.8, 0.8)
-            ax.text(0, scores[0] + 0.2, str(scores[0]), ha="center", va="bottom", fontsize=12)
+            ax.text(0, values[0] + 0.2, str(values[0]), ha="center", va="bottom", fontsize=12)
         else:
-            ax.step(x, [s if s is not None else float("nan") for s in scores], where="mid", color="#4a6fa5", lw=2)
+            ax.step(x, [s if s is not None else float("nan") for s in values], where="mid", color="#4a6fa5", lw=2)
             ax.set_xlabel("frame")
-        ax.set_ylim(0.5, edges[-1])
+        ax.set_ylim(bands.edges[0], bands.edges[-1])
         ax.set_ylabel("score")
     return _save(fig, path, report)
 

@@ -12,6 +12,7 @@ whole degrees; word thresholds are the PROJECT DEFAULTS of :mod:`.options`. Both
 from __future__ import annotations
 
 from . import options as opt
+from .base import Bands, FrameInputs, Score
 
 TABLE_A = {  # [trunk][neck][legs - 1]
     1: {1: [1, 2, 3, 4], 2: [1, 2, 3, 4], 3: [3, 3, 5, 6]},
@@ -132,3 +133,21 @@ def reba(posture: dict, load_kg: float, o: opt.ErgoOptions) -> dict:
         score=score, side=worst, risk=risk(score), trunk=trunk_s, neck=neck_s, legs=legs_s, load=load,
         load_kg=load_kg, score_a=score_a, coupling=coupling, activity=activity, left=sides["l"], right=sides["r"],
     )  # fmt: skip
+
+
+class Reba(Score):
+    """REBA's score (1-15) of the worse side and its risk level, with its parts (:func:`reba`)."""
+
+    name = "reba"
+    title = "REBA"
+    source = "Hignett & McAtamney 2000, Appl. Ergon. 31:201-205"
+    bands = Bands("REBA score", (0.5, 3.5, 7.5, 15.5), "1-3 negligible/low, 4-7 medium, 8+ high")
+
+    def evaluate(self, inputs: FrameInputs) -> dict:
+        return reba(inputs.posture, inputs.load_kg, inputs.options)
+
+    def columns(self, first: dict) -> list[str]:
+        return ["reba", "reba_risk"]
+
+    def cells(self, frame: dict) -> list:
+        return [frame["reba"]["score"], frame["reba"].get("risk")]

@@ -11,32 +11,35 @@ from pathlib import Path
 import numpy as np
 
 from ..body.model import Model
+from ..errors import UsageError
 from ..io.files import open_output
 from ..io.files import write_json as write_file
 from ..io.result.frame import Frame
-from . import niosh, postures
-from .loads import JointLoads, load_arrays
+from . import postures
+from .base import FrameInputs, MotionScore
+from .loads import JointLoads, hand_load_kg, load_arrays
 from .manikin import strengths, working_area
 from .options import ErgoOptions
-from .owas import owas
-from .reba import reba
-from .rula import rula
-from .worksheet import worksheet
+from .registry import RANKING, SCORES, frame_scores, in_frame_order, motion_scores
 
-SOURCES = {
+BASE_SOURCES = {  # the sources of what every report holds besides the scores
     "joint_loads": "Delfs 2012 eq. 3.11 (moments of gravity, contacts and loads over each joint's subtree)",
     "strength": "solver/body/humans/anthropometry.py: Anderson et al. 2007 (hip, knee, ankle); one trained subject "
     "(rbdl data) for shoulder, elbow, wrist, lumbar flexion/extension; other joints estimates",
     "l4_l5": "estimate: single equivalent muscle, 5 cm moment arm (Chaffin, Andersson & Martin, Occupational "
     "Biomechanics); limits 3400 / 6400 N (NIOSH 1981)",
-    "rula": "McAtamney & Corlett 1993, Appl. Ergon. 24(2):91-99",
-    "reba": "Hignett & McAtamney 2000, Appl. Ergon. 31:201-205",
-    "owas": "Karhu, Kansi & Kuorinka 1977, Appl. Ergon. 8(4):199-201; action categories transcribed from "
-    "github.com/rs9000/ergonomics (disputed cells flagged)",
-    "niosh": "Waters et al. 1993; NIOSH Applications Manual for the Revised Lifting Equation, Pub. 94-110",
-    "worksheet": "Delfs 2012 §5.4 / fig. 5.2 (SES); thresholds ISO 11226, EN 1005-4, NIOSH 1981, project defaults",
-    "working_area": "Delfs 2012 §6.1.2 workspace box from the manikin's zero pose",
 }
+
+
+def sources() -> dict[str, str]:
+    """The report's "sources": the loads', then each registered score's (:meth:`.base.Score.sources`)."""
+    out = dict(BASE_SOURCES)
+    for score in SCORES.values():
+        out |= score.sources()
+    return out
+
+
+SOURCES = sources()  # as the scores registered in .registry have them (the Blender layer's report imports it)
 
 
 _PLAIN = (str, int, bool, type(None))  # JSON values clean keeps as they are
@@ -66,17 +69,20 @@ def clean(value):
     return value
 
 
-def frame_report(f: Frame, options: ErgoOptions, model: Model | None, area, lift: dict | None) -> tuple[dict, str]:
+def frame_report(
+    f: Frame, options: ErgoOptions, model: Model | None, area, motion: dict[str, dict] | None
+) -> tuple[dict, str]:
     """The ergonomics of one frame (JSON-safe) and where its joint strengths came from. ``area``: the working
-    area of ``model`` (or None); ``lift``: the motion's NIOSH lift (:func:`niosh.lift`), whose D and FM every
-    frame's NIOSH values use (None: the frame's ``niosh`` is left out, for :func:`niosh.at_point` later)."""
-    report, loads, strength_note = frame_parts(f, options, model, area, lift)
+    area of ``model`` (or None); ``motion``: the motion scores' values (:func:`motion_values`; the NIOSH lift,
+    whose D and FM every frame's NIOSH values use), None: their per-frame entries are left out (a caller that
+    evaluates each frame before the motion is known adds them later)."""
+    report, loads, strength_note = frame_parts(f, options, model, area, motion)
     report["joint_loads"] = loads.as_dict()
     return report, strength_note
 
 
 def frame_parts(
-    f: Frame, options: ErgoOptions, model: Model | None, area, lift: dict | None
+    f: Frame, options: ErgoOptions, model: Model | None, area, motion: dict[str, dict] | None
 ) -> tuple[dict, JointLoads, str]:
     """:func:`frame_report` with its ``joint_loads`` (None in the report) as arrays, their ``l4_l5`` JSON-safe: the
     report, the loads, where the strengths came from. A long motion writes the loads as text from the arrays
@@ -84,22 +90,49 @@ def frame_parts(
     strength, strength_note = strengths(f, model)
     loads = load_arrays(f, strength)
     posture = postures.measure(f)
-    load_kg = options.load_mass if options.load_mass is not None else niosh.hand_load_kg(f)
+    load_kg = options.load_mass if options.load_mass is not None else hand_load_kg(f)
+    inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {})
     report = dict(
         frame=f.number,
         converged=f.converged,
         status=f.status(),
         posture=posture if "reason" in posture else postures.rounded(posture),
         joint_loads=None,  # JSON-safe already (JointLoads.as_dict): not walked by clean, the bulk of a frame's values
-        rula=rula(posture, load_kg, options),
-        reba=reba(posture, load_kg, options),
-        owas=owas(f, posture, load_kg),
-        worksheet=worksheet(f, posture, loads.percent, loads.l4_l5, area),
     )
-    if lift is not None:
-        report["niosh"] = niosh.at_point(niosh.hand_point(f), lift, options.coupling)
+    for score in frame_scores() + (motion_scores() if motion is not None else []):
+        report[score.name] = score.evaluate(inputs)
     loads.l4_l5 = clean(loads.l4_l5)
     return clean(report), loads, strength_note
+
+
+def end_positions(score: MotionScore, numbers: Sequence[int | None], options: ErgoOptions) -> tuple[int, int]:
+    """Where in a motion with these frame numbers the ``score``'s action starts and ends (indices; a number twice:
+    its last frame). A number the options give that is no frame of the motion is one UsageError line."""
+    if not numbers:
+        raise UsageError("the result has no frames")
+    (start_key, start), (end_key, end) = score.ends(options).items()
+    return _position(start_key, start, numbers, 0), _position(end_key, end, numbers, len(numbers) - 1)
+
+
+def _position(what: str, number: int | None, numbers: Sequence[int | None], default: int) -> int:
+    if number is None:
+        return default
+    hits = [i for i, n in enumerate(numbers) if n == number]
+    if not hits:
+        shown = numbers if len(numbers) <= 6 else [numbers[0], numbers[1], "...", numbers[-1]]
+        listed = ", ".join(map(str, shown))
+        raise UsageError(f"{what} {number}: not a frame of the result (its frames: {listed})")
+    return hits[-1]
+
+
+def motion_values(frames: Sequence[Frame], options: ErgoOptions) -> dict[str, dict]:
+    """Each motion score's value over ``frames`` (by name): the report's top-level entries."""
+    numbers = [f.number for f in frames]
+    out = {}
+    for score in motion_scores():
+        start, end = end_positions(score, numbers, options)
+        out[score.name] = score.motion(frames[start], frames[end], options)
+    return out
 
 
 def report_head(
@@ -107,11 +140,12 @@ def report_head(
     model_note: str,
     strength_note: str,
     area,
-    lift: dict,
+    motion: dict[str, dict],
     result: str | None = None,
     scenario: str | None = None,
 ) -> dict:
-    """The report's entries other than its frames (see :func:`evaluate_frames`), JSON-safe."""
+    """The report's entries other than its frames (see :func:`evaluate_frames`), JSON-safe: ``motion`` (the motion
+    scores' values) last."""
     return clean(
         dict(
             result=result,
@@ -120,8 +154,8 @@ def report_head(
             strength=strength_note,
             working_area=area.as_dict() if area is not None else None,
             options=asdict(options),
-            sources=SOURCES,
-            niosh=lift,
+            sources=sources(),
+            **motion,
         )
     )
 
@@ -138,12 +172,12 @@ def evaluate_frames(
     the frames lack and the working area (``model_note`` says where it came from); ``result`` and ``scenario``
     name the files the report is about."""
     area = working_area(model) if model is not None else None
-    lift = niosh.lift(frames, options)
+    motion = motion_values(frames, options)
     out, strength_note = [], ""
     for f in frames:
-        report, strength_note = frame_report(f, options, model, area, lift)
+        report, strength_note = frame_report(f, options, model, area, motion)
         out.append(report)
-    return report_head(options, model_note, strength_note, area, lift, result, scenario) | dict(
+    return report_head(options, model_note, strength_note, area, motion, result, scenario) | dict(
         frames=out,
         not_converged=[f.number for f in frames if f.converged is False],
         not_held=[f.number for f in frames if f.broken],
@@ -155,38 +189,20 @@ def write_json(report: dict, path: Path) -> None:
     write_file(path, report, allow_nan=False)
 
 
-def _get(d: dict | None, *keys):
-    for k in keys:
-        if not isinstance(d, dict):
-            return None
-        d = d.get(k)
-    return d
-
-
-ANGLES = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
-ANGLES += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
-
-
-def csv_header(items: list[str], joints: list[str]) -> list[str]:
-    """The CSV's columns for the worksheet ``items`` and the ``joints`` whose percent of strength is shown."""
-    header = ["frame", "converged", "status", "rula", "reba", "reba_risk", "owas_code", "owas_category"]
-    header += ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in ANGLES]
-    header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
-    header += [f"ws_{k}" for k in items] + ["ws_overall", "niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]
+def csv_header(first: dict, joints: list[str]) -> list[str]:
+    """The CSV's columns: the frame's status, every score's columns (:func:`.registry.in_frame_order`; ``first``:
+    the first frame's report) and the percent of strength of the ``joints`` shown."""
+    header = ["frame", "converged", "status"]
+    for score in in_frame_order():
+        header += score.columns(first)
     return header + [f"pct_{j}" for j in joints]
 
 
-def csv_row(f: dict, items: list[str], joints: list[str]) -> list:
+def csv_row(f: dict, joints: list[str]) -> list:
     """One frame's row (as :func:`csv_header`), from its report."""
-    ws = f["worksheet"]
-    strength = ws.get("joint_strength", {})
-    row = [f["frame"], f["converged"], f.get("status"), f["rula"]["score"], f["reba"]["score"],
-           f["reba"].get("risk"), f["owas"].get("code"), f["owas"].get("action_category")]  # fmt: skip
-    row += [_get(f["posture"], *a) for a in ANGLES]
-    l45 = f["joint_loads"]["l4_l5"]
-    row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
-    row += [ws[k]["level"] for k in items] + [ws["overall"]]
-    row += [_get(f["niosh"], k) for k in ("H", "V", "A", "RWL")]
+    row = [f["frame"], f["converged"], f.get("status")]
+    for score in in_frame_order():
+        row += score.cells(f)
     return row + [f["joint_loads"][j]["percent_strength"] for j in joints]
 
 
@@ -195,21 +211,15 @@ def csv_cells(row: list) -> list:
     return ["" if v is None else round(v, 4) if isinstance(v, float) else v for v in row]
 
 
-def worksheet_items(f: dict) -> list[str]:
-    """The worksheet items of a frame's report (its CSV columns)."""
-    return [k for k in f["worksheet"] if k != "overall"]
-
-
 def csv_rows(report: dict) -> tuple[list[str], list[list]]:
-    """Header and rows: one row per frame with scores, body angles, L4/L5, worksheet levels, NIOSH and the
-    percent of strength of every joint that has a strength."""
+    """Header and rows: one row per frame with its scores' columns (the worksheet's hold the body angles, L4/L5
+    and the levels) and the percent of strength of every joint that has a strength."""
     frames = report["frames"]
-    items = worksheet_items(frames[0]) if frames else []
     joints = [
         j for j in (frames[0]["joint_loads"] if frames else {})
         if j != "l4_l5" and any(f["joint_loads"][j]["percent_strength"] is not None for f in frames)
     ]  # fmt: skip
-    return csv_header(items, joints), [csv_row(f, items, joints) for f in frames]
+    return (csv_header(frames[0], joints) if frames else []), [csv_row(f, joints) for f in frames]
 
 
 def plot_paths(stem: Path) -> list[Path]:
@@ -233,33 +243,31 @@ def write_csv(report: dict, path: Path) -> None:
 
 
 def summary_lines(report: dict) -> list[str]:
-    """What ``ergo`` prints: a line per frame (the first and last of a long motion), the frames that did not
-    converge, the NIOSH lift and the files written. ``report``: what :func:`solver.ergonomics.run` returns (its
-    ``frames`` are the ones shown; ``frame_count`` and ``highest_reba`` cover them all) or a whole report."""
+    """What ``ergo`` prints: a line per frame (the first and last of a long motion) with each score's words, the
+    frames that did not converge, the motion scores' lines (the NIOSH lift) and the files written. ``report``:
+    what :func:`solver.ergonomics.run` returns (its ``frames`` are the ones shown; ``frame_count`` and
+    ``highest_reba`` cover them all) or a whole report."""
     frames = report["frames"]
     count = report.get("frame_count", len(frames))
     shown = frames if len(frames) <= 10 else [frames[0], frames[-1]]
     lines = []
     for f in shown:
-        c = f["joint_loads"]["l4_l5"].get("compression")
-        broken = str(f.get("status", "")).startswith("NOT held")
-        disc = "n/a" if c is None else ("not physical" if broken else f"{c:.0f} N")
+        words = [w for w in (score.brief(f) for score in in_frame_order()) if w is not None]
         flag = "" if f["converged"] is not False else f"  [NOT converged: {f['status']}]"
-        lines.append(f"frame {f['frame']}: RULA {f['rula']['score']}, REBA {f['reba']['score']}, "
-                     f"OWAS {f['owas'].get('code')}, L4/L5 {disc}, worksheet {f['worksheet']['overall']}"
-                     + flag)  # fmt: skip
+        lines.append(f"frame {f['frame']}: " + ", ".join(words) + flag)
     missed, held = report.get("not_converged", []), report.get("not_held", [])
     if count > len(shown):
-        worst = report.get("highest_reba") or max(frames, key=lambda f: f["reba"]["score"] or 0)
-        lines.append(f"... {count} frames; highest REBA {worst['reba']['score']} at frame {worst['frame']}"
-                     + (" (of the converged frames)" if missed and len(missed) < count else ""))  # fmt: skip
+        ranking = SCORES[RANKING]
+        worst = report.get(f"highest_{RANKING}") or max(frames, key=lambda f: f[RANKING][ranking.value] or 0)
+        of = " (of the converged frames)" if missed and len(missed) < count else ""
+        lines.append(f"... {count} frames; highest {ranking.title} {worst[RANKING][ranking.value]} at frame "
+                     f"{worst['frame']}{of}")  # fmt: skip
     if missed:
         lines.append(f"NOT converged: {len(missed)} of {count} frames {_frame_list(missed)}; their scores "
                      f"describe the solver's closest pose" + (f"; supports or balance NOT held in "
                      f"{_frame_list(held)}: loads there are not physical" if held else ""))  # fmt: skip
-    lift = report["niosh"]
-    if lift.get("LI") is not None:
-        lines.append(f"NIOSH lift: RWL {lift['RWL']:.1f} kg, load {lift['load_kg']:.1f} kg, LI {lift['LI']:.2f}")
+    for score in motion_scores():
+        lines += score.motion_lines(report)
     lines.append("wrote " + ", ".join(report["written"]))
     return lines
 

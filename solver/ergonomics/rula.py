@@ -10,6 +10,7 @@ Both sides are scored; the report's ``score`` is the worse side.
 from __future__ import annotations
 
 from . import options as opt
+from .base import Bands, FrameInputs, Score
 
 # McAtamney & Corlett 1993, Table 1 ("Table A"): [upper arm-1][lower arm-1][(wrist-1)*2 + (twist-1)]
 TABLE_A = [
@@ -133,3 +134,15 @@ def rula(posture: dict, load_kg: float, o: opt.ErgoOptions) -> dict:
         legs=legs_s, score_b=score_b, score_d=score_d, muscle_use=muscle, force_load=force, load_kg=load_kg,
         left=sides["l"], right=sides["r"],
     )  # fmt: skip
+
+
+class Rula(Score):
+    """RULA's grand score (1-7) of the worse side, with its parts (:func:`rula`)."""
+
+    name = "rula"
+    title = "RULA"
+    source = "McAtamney & Corlett 1993, Appl. Ergon. 24(2):91-99"
+    bands = Bands("RULA grand score", (0.5, 2.5, 4.5, 7.5), "1-2 acceptable, 3-4 investigate, 5+ change")
+
+    def evaluate(self, inputs: FrameInputs) -> dict:
+        return rula(inputs.posture, inputs.load_kg, inputs.options)

@@ -1,7 +1,7 @@
 """The ergonomics of a result file read frame by frame, so a long motion never is in memory at once: a first pass
-finds the NIOSH lift's origin and destination frames, a second evaluates each frame and appends it to the report
-JSON and the CSV (both into ``NAME.tmp`` renamed at the end); the plots are drawn from the few numbers per frame
-they show."""
+finds the frames the motion scores need (the NIOSH lift's origin and destination) and computes them, a second
+evaluates each frame and appends it to the report JSON and the CSV (both into ``NAME.tmp`` renamed at the end);
+the plots are drawn from the few numbers per frame they show."""
 
 from __future__ import annotations
 
@@ -12,22 +12,23 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import UsageError
 from ..io.files import OutputFile
+from ..io.result.frame import Frame
 from ..io.result.read import ResultStream
-from . import niosh
 from .loads import JointLoads
 from .manikin import check_fits, resolve_model, strengths, working_area
 from .options import ErgoOptions
-from .report import csv_cells, csv_header, csv_row, frame_report, report_head, worksheet_items
+from .registry import RANKING, SCORES, frame_scores, motion_scores
+from .report import csv_cells, csv_header, csv_row, end_positions, frame_report, report_head
 
 PLOTTED_ITEMS = ("back_bend", "neck", "shoulder_l", "shoulder_r")  # the worksheet items plots.plot_back draws
 SHOWN = 10  # frames a summary lists in full
 
 
 class PlotSeries:
-    """Per frame only what :mod:`.plots` draws: scores, L4/L5 compression, four worksheet values and the percent
-    of strength of every joint (an array row), turned back into a report of the most loaded joints at the end."""
+    """Per frame only what :mod:`.plots` draws: the plotted scores' values, L4/L5 compression, four worksheet values
+    and the percent of strength of every joint (an array row), turned back into a report of the most loaded joints
+    at the end."""
 
     def __init__(self) -> None:
         self.joints: list[str] | None = None
@@ -44,7 +45,8 @@ class PlotSeries:
             self.percent.append(np.array([math.nan if v is None else v for v in p], dtype=float))
         else:  # as_dict's null (not finite) is NaN here
             self.percent.append(np.where(np.isfinite(arrays.percent), arrays.percent, math.nan))
-        scores = {k: {key: f[k][key] for key in ("score", "reason") if key in f[k]} for k in ("rula", "reba")}
+        scores = {s.name: {key: f[s.name][key] for key in (s.value, "reason") if key in f[s.name]}
+                  for s in frame_scores() if s.bands is not None}  # fmt: skip
         items = {k: {"value": f["worksheet"][k]["value"], "level": f["worksheet"][k]["level"]} for k in PLOTTED_ITEMS
                  if k in f["worksheet"]}  # fmt: skip
         compression = {"compression": loads["l4_l5"].get("compression")}
@@ -65,50 +67,59 @@ class PlotSeries:
 
 
 def _rank(report: dict) -> tuple[bool, int]:
-    """The highest REBA is taken over the converged frames (over all when none converged)."""
-    return report["converged"] is not False, report["reba"]["score"] or 0
+    """The highest ranking score (REBA) is taken over the converged frames (over all when none converged)."""
+    return report["converged"] is not False, report[RANKING][SCORES[RANKING].value] or 0
 
 
 def _number(v: float) -> float | None:
     return None if math.isnan(v) else float(v)
 
 
-def lift_of(stream: ResultStream, options: ErgoOptions) -> tuple[dict, object]:
-    """(the NIOSH lift, the first frame) after a quick pass over the file (no frame built but these two)."""
-    first = last = origin = destination = None
-    numbers = []
+def motion_of(stream: ResultStream, options: ErgoOptions) -> tuple[dict[str, dict], Frame]:
+    """(the motion scores' values, the first frame) after a quick pass over the file that keeps only the raw
+    frames that can start or end a motion score's action: the first, the last and the last of each frame number
+    the options name (no frame is built but these)."""
+    wanted = {n for score in motion_scores() for n in score.ends(options).values() if n is not None}
+    numbers: list = []
+    kept: dict[int, tuple] = {}  # position in the file -> (index, raw)
+    latest: dict = {}  # a wanted frame number -> the position of its last frame so far
     for index, raw in stream.raw():
-        number = raw.get("frame", 1) if isinstance(raw, dict) else None
-        numbers.append(number)
-        first = first or (index, raw)
-        last = (index, raw)
-        if options.origin is not None and number == options.origin:
-            origin = (index, raw)
-        if options.destination is not None and number == options.destination:
-            destination = (index, raw)
-    for what, asked, found in (("origin", options.origin, origin), ("destination", options.destination, destination)):
-        if asked is not None and found is None:
-            listed = ", ".join(map(str, numbers)) if len(numbers) <= 6 else f"{numbers[0]}, ..., {numbers[-1]}"
-            raise UsageError(f"{what} {asked}: not a frame of the result (its frames: {listed})")
-    origin, destination = origin or first, destination or last
-    a = stream.frame(*origin)
-    b = a if destination[0] == origin[0] else stream.frame(*destination)
-    return niosh.lift_between(a, b, options), stream.frame(*first)
+        position = len(numbers)
+        numbers.append(raw.get("frame", 1) if isinstance(raw, dict) else None)
+        if numbers[-1] in wanted:
+            kept.pop(latest.get(numbers[-1]) or -1, None)  # an earlier frame of that number (not the first)
+            latest[numbers[-1]] = position
+        if position > 1 and position - 1 not in latest.values():
+            kept.pop(position - 1, None)  # the previous frame is no longer the last
+        kept[position] = (index, raw)
+    built: dict[int, Frame] = {}
+
+    def frame(position: int) -> Frame:  # each kept frame built once: a one-frame action's start is its end
+        if position not in built:
+            built[position] = stream.frame(*kept[position])
+        return built[position]
+
+    values = {}
+    for score in motion_scores():
+        start, end = end_positions(score, numbers, options)
+        values[score.name] = score.motion(frame(start), frame(end), options)
+    return values, frame(0)
 
 
 def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots: bool) -> dict:
     """Write ``output`` (JSON), the CSV beside it and, if ``plots``, the PNGs; returns the report's entries but
     its frames, ``frames`` = the frames a summary shows (all of a short motion, else the first and the last),
-    ``frame_count``, ``highest_reba`` (the frame with the highest REBA) and ``written`` (the paths)."""
+    ``frame_count``, ``highest_reba`` (the frame with the highest REBA, :data:`.registry.RANKING`) and ``written``
+    (the paths)."""
     stream = ResultStream(result)
-    lift, first = lift_of(stream, options)
+    motion, first = motion_of(stream, options)
     model, note = resolve_model(options.manikin, stream.scenario, stream.path.parent)
     if options.manikin:
         check_fits(model, first, options.manikin)
     area = working_area(model) if model is not None else None
     strength = strengths(first, model)[0]
     joints = [name for name, s in zip(first.joint_names, strength, strict=True) if (np.isfinite(s) & (s > 0)).any()]
-    head = report_head(options, note, strengths(first, model)[1], area, lift, str(stream.path), stream.scenario)
+    head = report_head(options, note, strengths(first, model)[1], area, motion, str(stream.path), stream.scenario)
     csv_path = output.with_suffix(".csv")
     series, shown, last, highest, count = PlotSeries(), [], None, None, 0
     missed: list[int] = []  # frames that did not converge, and those of them that broke priority 1
@@ -120,12 +131,11 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
         for f in stream:
-            report = frame_report(f, options, model, area, lift)[0]
+            report = frame_report(f, options, model, area, motion)[0]
             if count == 0:
-                items = worksheet_items(report)
-                rows.writerow(csv_header(items, joints))
+                rows.writerow(csv_header(report, joints))
             out.write(("\n" if count == 0 else ",\n") + json.dumps(report, allow_nan=False))
-            rows.writerow(csv_cells(csv_row(report, items, joints)))
+            rows.writerow(csv_cells(csv_row(report, joints)))
             series.add(report)
             shown, last = shown + [report] if len(shown) < SHOWN else shown, report
             if report["converged"] is False:
@@ -148,5 +158,6 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
 
         written += write_plots(series.report(), output.with_suffix(""))
     shown = shown if count <= SHOWN else [shown[0], last]
-    summary = dict(frames=shown, frame_count=count, highest_reba=highest, written=[str(p) for p in written])
+    summary = {"frames": shown, "frame_count": count, f"highest_{RANKING}": highest}
+    summary["written"] = [str(p) for p in written]
     return head | flags | summary

@@ -25,6 +25,7 @@ import math
 import numpy as np
 
 from ..io.result.frame import Frame
+from .base import FrameInputs, Score
 from .manikin import WorkingArea, feet_frame, to_feet
 
 ISO = "ISO 11226 / EN 1005-4"
@@ -133,3 +134,53 @@ def worksheet(frame: Frame, posture: dict, percent: np.ndarray, l4_l5: dict, are
 def level_number(level: str | None) -> float:
     """green 0, yellow 1, red 2 (NaN for none): for tables and plots."""
     return {"green": 0.0, "yellow": 1.0, "red": 2.0}.get(level, math.nan)
+
+
+# The body angles a worksheet row shows (posture keys; (side, key) for each arm and leg), deg
+ANGLES = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_flexion",), ("head_tilt",)]
+ANGLES += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
+
+
+def _get(d: dict | None, *keys):
+    for k in keys:
+        if not isinstance(d, dict):
+            return None
+        d = d.get(k)
+    return d
+
+
+class Worksheet(Score):
+    """The worksheet of a frame (:func:`worksheet`): its items' levels and the worst. Its CSV columns are the
+    body angles and loads it is read from (trunk, neck, head, arms and knees in degrees, the L4/L5 flexion moment
+    in N*m and compression in N, the joint with the highest percent of strength), then each item's level; its
+    summary words are the L4/L5 compression and the worst level."""
+
+    name = "worksheet"
+    title = "worksheet"
+    source = "Delfs 2012 §5.4 / fig. 5.2 (SES); thresholds ISO 11226, EN 1005-4, NIOSH 1981, project defaults"
+    value = None
+
+    def evaluate(self, inputs: FrameInputs) -> dict:
+        return worksheet(inputs.frame, inputs.posture, inputs.loads.percent, inputs.loads.l4_l5, inputs.area)
+
+    def sources(self) -> dict[str, str]:
+        return {self.name: self.source, "working_area": "Delfs 2012 §6.1.2 workspace box from the manikin's zero pose"}
+
+    def columns(self, first: dict) -> list[str]:
+        header = ["_".join(a) if len(a) == 1 else f"{a[1]}_{a[0]}" for a in ANGLES]
+        header += ["l4_l5_flexion_moment_Nm", "l4_l5_compression_N", "worst_joint", "worst_percent"]
+        return header + [f"ws_{k}" for k in first["worksheet"] if k != "overall"] + ["ws_overall"]
+
+    def cells(self, frame: dict) -> list:
+        ws = frame["worksheet"]
+        strength = ws.get("joint_strength", {})
+        l45 = frame["joint_loads"]["l4_l5"]
+        row = [_get(frame["posture"], *a) for a in ANGLES]
+        row += [l45.get("flexion_moment"), l45.get("compression"), strength.get("joint"), strength.get("value")]
+        return row + [ws[k]["level"] for k in ws if k != "overall"] + [ws["overall"]]
+
+    def brief(self, frame: dict) -> str | None:
+        c = frame["joint_loads"]["l4_l5"].get("compression")
+        broken = str(frame.get("status", "")).startswith("NOT held")
+        disc = "n/a" if c is None else ("not physical" if broken else f"{c:.0f} N")
+        return f"L4/L5 {disc}, worksheet {frame['worksheet']['overall']}"

@@ -3,8 +3,9 @@
 * ``feasibility.png``: per scenario and parameter, the share of runs (manikins, and the other parameters' values)
   that converged (every target reached in balance) at each value of the parameter; failed runs are left out of
   the share (they say nothing about the body). A scenario without parameters is one bar.
-* ``scores.png``: per manikin, the peak RULA, REBA, L4/L5 compression (N) and percent of joint strength of each of
-  its runs (filled: converged, open: not), with the limits of the worksheet (NIOSH 3400 / 6400 N; 30 / 60 %).
+* ``scores.png``: per manikin, the peak of each score with one number per frame (RULA, REBA: :func:`.groups.panels`),
+  L4/L5 compression (N) and percent of joint strength of each of its runs (filled: converged, open: not), with the
+  limits of the worksheet (NIOSH 3400 / 6400 N; 30 / 60 %).
 * ``envelopes.png`` (a study with an ``[envelope]``): per manikin and setting (hand, load, feet, sole scale), the
   mean reach from the shoulder in the set conditions (bar; its range over the directions as a line) and without
   balance (a tick), and the envelope's volume (bar) and without balance (a tick).
@@ -16,18 +17,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..io.files import open_output
+from .groups import panels as score_panels
 
 if TYPE_CHECKING:
     from .envelope_spec import EnvelopeStudy
 
 FEASIBILITY, SCORES, ENVELOPES = "feasibility.png", "scores.png", "envelopes.png"
 COLOURS = ("#2f6fa8", "#d9731a", "#3a9a3a", "#8e4fb0", "#c8372d", "#7a7a7a")
-PANELS = [  # (recorded group, column, title, limits drawn)
-    ("rula", "rula_peak", "RULA (peak)", ()),
-    ("reba", "reba_peak", "REBA (peak)", ()),
-    ("l4_l5", "l4_l5_peak_N", "L4/L5 compression, N (peak)", (3400.0, 6400.0)),
-    ("strength", "strength_peak_pct", "joint strength, % (peak)", (30.0, 60.0)),
-]
 
 
 def _save(fig, path: Path) -> Path:
@@ -84,7 +80,7 @@ def scores(path: Path, rows: list[dict], manikins: list[str], record: tuple[str,
     open marks for runs that did not converge; None if no score was recorded."""
     from matplotlib.figure import Figure
 
-    panels = [p[1:] for p in PANELS if p[0] in record]
+    panels = [p[1:] for p in score_panels() if p[0] in record]
     if not panels:
         return None
     scenarios = list(dict.fromkeys(r["scenario"] for r in rows))

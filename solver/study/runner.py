@@ -10,8 +10,9 @@ A row's columns (docs/tutorials/study.md); units m, N, kg, s; peaks are the larg
                                                          (priority 1) held in every frame
     unmet, shortfall_m                                   unmet targets (space-separated), their summed position
                                                          shortfall (m), at its worst frame
-    rula_peak, reba_peak, l4_l5_peak_N, strength_peak_pct, strength_joint
-    niosh_li, niosh_rwl_kg                               only when the hands carry a load (a lift), else empty;
+    rula_peak, reba_peak                                 each registered score's study columns (:mod:`.groups`)
+    l4_l5_peak_N, strength_peak_pct, strength_joint      the peak L4/L5 compression, percent of strength, its joint
+    niosh_li, niosh_rwl_kg                               a motion score's: only when the hands carry a load, else empty;
                                                          LI inf where the RWL is 0 (outside the equation's limits)
     balanced_mean_m, ..., mesh                           an [envelope] run's columns (:mod:`.envelope_runs`)
     solve_s, eval_s, run_s, failure                      times (s, not reproducible: solving, the ergonomics, the
@@ -26,7 +27,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..ergonomics.base import peak
+from ..ergonomics.registry import SCORES
 from .envelope_runs import ENVELOPE_COLUMNS, envelope_row
+from .groups import LOADS, ergonomic, groups
 from .plan import Run
 
 if TYPE_CHECKING:
@@ -35,16 +39,7 @@ if TYPE_CHECKING:
     from .spec import Manikin
 
 OUTCOME = ["status", "converged", "held", "frames", "frames_converged"]
-GROUPS = {
-    "shortfall": ["unmet", "shortfall_m"],
-    "rula": ["rula_peak"],
-    "reba": ["reba_peak"],
-    "l4_l5": ["l4_l5_peak_N"],
-    "strength": ["strength_peak_pct", "strength_joint"],
-    "niosh": ["niosh_li", "niosh_rwl_kg"],
-}
 TIMING = ["solve_s", "eval_s", "run_s"]  # the columns that differ between two runs of the same inputs
-ERGONOMIC = ("rula", "reba", "l4_l5", "strength", "niosh")
 MODEL_CACHE = 8  # bodies a worker keeps built (the runs of a chunk mostly share one: see plan.py)
 MODELS: dict[str, Model] = {}  # body key -> Model, oldest first
 
@@ -60,8 +55,9 @@ def columns(
     family members' fact columns, :func:`.spec.member_columns`), with ``scenarios`` and (or) an ``envelope``."""
     out = ["run_id", "seed", "scenario", "manikin", *(members or [])] + [f"p_{name}" for name in parameters]
     out += OUTCOME if scenarios else OUTCOME[:2]
+    columns_of = groups()
     for group in record if scenarios else ():
-        out += GROUPS[group]
+        out += columns_of[group]
     out += ENVELOPE_COLUMNS if envelope else []
     return out + TIMING + ["failure"]
 
@@ -94,7 +90,7 @@ def _scenario_columns(run: Run) -> dict:
     """A scenario run's columns: solved, its outcome and (if recorded) its scores, with the times."""
     solved, solve_s = _solve(run)
     row = outcome([result for _, result in solved]) | {"solve_s": solve_s}
-    if any(group in run.record for group in ERGONOMIC):
+    if any(group in run.record for group in ergonomic()):
         t1 = time.perf_counter()
         row |= scores(_evaluate(solved, run))
         row["eval_s"] = round(time.perf_counter() - t1, 4)
@@ -175,32 +171,29 @@ def outcome(results: list) -> dict:
     )
 
 
-def _peak(values: list) -> float | int | None:
-    finite = [v for v in values if v is not None and math.isfinite(v)]
-    return max(finite) if finite else None
-
-
 def scores(report: dict) -> dict:
-    """Peak RULA, REBA, L4/L5 compression (N), percent of strength (and its joint) and the NIOSH lift of an
-    ergonomics report (:func:`solver.evaluate`); None where the body or the task has none."""
-    frames = report["frames"]
+    """A study row's ergonomic columns from an ergonomics report (:func:`solver.evaluate`), in the order of
+    :func:`.groups.groups`: each score's (:meth:`~solver.ergonomics.base.Score.summarise`: the RULA and REBA peaks,
+    the NIOSH lift), the peak L4/L5 compression (N) and percent of strength (and its joint); None where the body or
+    the task has none."""
+    row: dict = {}
+    loads = _loads(report)
+    for group in ergonomic():
+        row |= {c: loads[c] for c in LOADS[group]} if group in LOADS else SCORES[group].summarise(report)
+    return row
+
+
+def _loads(report: dict) -> dict:
+    """The peak L4/L5 compression (N) and the peak percent of strength with its joint."""
     worst, joint = None, None
-    for f in frames:
+    for f in report["frames"]:
         for name, load in f["joint_loads"].items():
             p = load.get("percent_strength") if name != "l4_l5" else None
             if p is not None and math.isfinite(p) and (worst is None or p > worst):
                 worst, joint = p, name
-    lift = report.get("niosh") or {}
-    lifting = "origin" in lift and lift.get("load_kg", 0.0) > 0.0  # a human body's lift with a load in the hands
-    li = lift.get("LI") if lifting else None
-    li = math.inf if lifting and li is None else li  # RWL 0: the lift is outside the equation's limits
-    compression = _peak([f["joint_loads"]["l4_l5"].get("compression") for f in frames])
+    compression = peak([f["joint_loads"]["l4_l5"].get("compression") for f in report["frames"]])
     return dict(
-        rula_peak=_peak([f["rula"].get("score") for f in frames]),
-        reba_peak=_peak([f["reba"].get("score") for f in frames]),
         l4_l5_peak_N=None if compression is None else round(compression, 2),
         strength_peak_pct=None if worst is None else round(worst, 2),
         strength_joint=joint,
-        niosh_li=None if li is None else round(li, 4),
-        niosh_rwl_kg=round(lift["RWL"], 3) if lifting else None,
     )

@@ -12,7 +12,7 @@
     seed = 0              # base of every run's seed
     repeats = 1           # runs per combination, each with its own seed
     start_jitter = 0.0    # rad: spread of a seeded random change of the start pose (0: the scenario's start)
-    record = ["shortfall", "rula", "reba", "l4_l5", "strength", "niosh"]   # default: all
+    record = ["shortfall", "rula", "reba", "l4_l5", "strength", "niosh"]   # default: all (.groups.record())
 
     [[scenarios]]
     file = "../presets/scenarios/box_lift.toml"   # relative to the study file
@@ -51,11 +51,11 @@ from ..io.table_reader import TableReader, is_number
 from ..population.family_files import INDEX, read_family
 from . import keypath
 from .envelope_spec import EnvelopeStudy, load_envelope
+from .groups import record as recordable
 
 if TYPE_CHECKING:
     from ..population.family import Member
 
-RECORD = ("shortfall", "rula", "reba", "l4_l5", "strength", "niosh")
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 ERGO_KEYS = tuple(f.name for f in fields(ErgoOptions) if f.name != "manikin")  # the study sets the manikin
 MAX_REPEATS, MAX_JITTER = 1000, 1.0  # runs per combination; rad
@@ -151,9 +151,10 @@ def load_study(path: str | Path) -> Study:
     if "manikins" in head.data:  # TOML puts every key after a [table] header into that table
         raise head.fail("manikins", "manikins = [...] at the top of the file, before [study] (unknown key here)")
     head.known({"name", "seed", "repeats", "start_jitter", "record"})
-    record = head.get("record", list(RECORD))
-    if not isinstance(record, list) or not all(r in RECORD for r in record):
-        raise head.fail("record", "a list of " + ", ".join(RECORD), record)
+    groups = recordable()
+    record = head.get("record", list(groups))
+    if not isinstance(record, list) or not all(r in groups for r in record):
+        raise head.fail("record", "a list of " + ", ".join(groups), record)
     checked: set[str] = set()  # the scenario files found valid (a study may name one file many times)
     if "scenarios" not in root.data and "envelope" not in root.data:
         raise root.fail("scenarios", "a non-empty array of tables [[scenarios]], or an [envelope] table")
@@ -170,7 +171,7 @@ def load_study(path: str | Path) -> Study:
         name=head.string("name", path.stem),
         manikins=manikins,
         scenarios=scenarios,
-        record=tuple(r for r in RECORD if r in record),
+        record=tuple(r for r in groups if r in record),
         seed=head.integer("seed", 0, 0, 2**31 - 1),
         repeats=head.integer("repeats", 1, 1, MAX_REPEATS),
         start_jitter=head.number("start_jitter", 0.0, 0.0, MAX_JITTER, "rad"),
