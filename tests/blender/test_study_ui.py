@@ -60,12 +60,17 @@ def test_the_table_holds_each_run_with_its_member_values_and_scores(session: dic
     journal = {r["run_id"]: r for r in _journal(session["study_file"])}
     for row in rows:
         truth = journal[row["run_id"]]
-        assert row["converged"] == truth["converged"] and row["rula"] == str(truth["rula_peak"])
+        assert row["converged"] == truth["converged"]
+        assert row["scores"].split("\t") == [str(truth[column]) for column in ("rula_peak", "reba_peak")]
         assert row["l4_l5"] == f"{truth['l4_l5_peak_N']:.0f}"
         assert row["shortfall"] == f"{truth['shortfall_m'] * 1e3:.0f}"
     assert len(session["drawn_rows"]) == 4 and all(len(cells) == 7 for cells in session["drawn_rows"])
     assert session["drawn_rows"][0][:3] == ["female_mean", "mean", "offset_z=0"]
     assert "Manikin" in session["done_panel"] and "Manikin" not in session["idle_panel"]  # the table's header
+    assert session["score_titles"] == "RULA\tREBA"  # the registry's scores with one number per frame
+    start = session["done_panel"].index("Manikin")
+    assert session["done_panel"][start : start + 7] == ["Manikin", "Role", "Values", "RULA", "REBA", "L4/L5 N",
+                                                        "Short mm"]  # fmt: skip
 
 
 def test_loading_a_row_poses_its_manikin_where_the_study_s_stands(session: dict) -> None:
