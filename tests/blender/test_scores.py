@@ -8,6 +8,7 @@ from __future__ import annotations
 import pytest
 
 from solver.ergonomics.registry import SCORES, frame_scores, motion_scores
+from solver.study.groups import panels
 
 
 @pytest.fixture(scope="module")
@@ -29,10 +30,15 @@ def test_the_result_panel_shows_each_frame_score_s_words(session: dict) -> None:
 
 
 def test_the_study_table_has_a_column_for_the_new_score(session: dict) -> None:
+    shipped = [(SCORES[group].title, column) for group, column, *_ in panels() if group in SCORES]
+    assert shipped[:2] == [("RULA", "rula_peak"), ("REBA", "reba_peak")]
     panel = session["study_panel"]
     start = panel.index("Manikin")
-    assert panel[start : start + 8] == ["Manikin", "Role", "Values", "RULA", "REBA", "Reach", "L4/L5 N", "Short mm"]
-    assert session["study_rows"] == [["male_mean", "mean", "offset_z=0.1", "5", "7", "3.25", "2346", "0"]]
+    header = ["Manikin", "Role", "Values", *(title for title, _ in shipped), "Reach", "L4/L5 N", "Short mm"]
+    assert panel[start : start + len(header)] == header
+    cells = {"rula_peak": "5", "reba_peak": "7"}  # the row's; a score it has no peak of shows "-"
+    scores = [cells.get(column, "-") for _, column in shipped]
+    assert session["study_rows"] == [["male_mean", "mean", "offset_z=0.1", *scores, "3.25", "2346", "0"]]
 
 
 def test_the_bake_report_holds_the_new_scores(session: dict) -> None:

@@ -129,20 +129,20 @@ def bake_report(result: Result, path: Path) -> tuple[dict, dict]:
 
 
 def test_the_report_holds_the_registered_scores(result, tmp_path: Path) -> None:
-    """Without a new score: the entries the report always had (the format tests/blender/test_batch.py checks)."""
+    """Without a new score: the entries the report has always had (the shipped scores first, in their order)."""
     written, summary = bake_report(result, tmp_path / "report.json")
     assert [f["frame"] for f in written["frames"]] == list(FRAMES)
-    parts = ["posture", "joint_loads", "rula", "reba", "owas", "worksheet", "niosh"]
-    assert all(list(f["ergonomics"]) == parts for f in written["frames"])
-    assert set(written) == set(HEAD) - {"interrupted"} | {"niosh"} and written["niosh"]["LI"] > 0
-    assert set(written["ergonomics_sources"]) >= {"rula", "reba", "owas", "niosh", "worksheet", "joint_loads"}
+    names = [s.name for s in registry.in_frame_order()]
+    assert names[:4] == ["rula", "reba", "owas", "worksheet"] and "niosh" in names
+    assert all(list(f["ergonomics"]) == ["posture", "joint_loads", *names] for f in written["frames"])
+    motion = {s.name for s in registry.motion_scores()}
+    assert set(written) == set(HEAD) - {"interrupted"} | motion and written["niosh"]["LI"] > 0
+    assert set(written["ergonomics_sources"]) >= {*names, "joint_loads", "l4_l5", "strength"}
     lines = summary_lines(summary)
-    assert lines[0].startswith("highest RULA ") and ", highest REBA " in lines[0]
-    assert lines[-1].startswith("NIOSH lift: RWL ") and lines == summary_lines(written)
-    assert captions(summary)[1].splitlines()[0] == " · ".join(
-        f"{title} {written['frames'][0]['ergonomics'][name]['score']}" for title, name in (("RULA", "rula"),
-                                                                                         ("REBA", "reba"))
-    )  # fmt: skip
+    assert lines[0].startswith("highest RULA ") and ", highest REBA " in lines[0] and lines == summary_lines(written)
+    assert any(line.startswith("NIOSH lift: RWL ") for line in lines)
+    first = written["frames"][0]["ergonomics"]
+    assert captions(summary)[1].startswith(f"RULA {first['rula']['score']} · REBA {first['reba']['score']}")
 
 
 def test_a_new_score_is_in_the_report_without_a_blender_edit(result, tmp_path: Path, throwaway) -> None:
@@ -175,15 +175,17 @@ def test_a_new_score_leaves_the_other_entries_as_they_were(result, tmp_path: Pat
 
 
 def test_the_study_table_shows_each_score_with_one_number_per_frame(monkeypatch) -> None:
-    assert score_columns() == [("RULA", "rula_peak"), ("REBA", "reba_peak")]  # the table tests/blender checks
+    shipped = score_columns()
+    assert shipped[:2] == [("RULA", "rula_peak"), ("REBA", "reba_peak")]  # the columns tests/blender check
     monkeypatch.setitem(SCORES, Reach.name, Reach())
     monkeypatch.setitem(SCORES, Span.name, Span())  # a motion score: no column (its study columns are not peaks)
     columns = score_columns()
-    assert columns == [("RULA", "rula_peak"), ("REBA", "reba_peak"), ("Reach", "reach_test_peak")]
+    assert columns == [*shipped, ("Reach", "reach_test_peak")]
     # the scores a study's scores plot draws, in its order (solver.study.groups.panels)
     assert [c for _, c in columns] == [column for group, column, *_ in panels() if group in SCORES]
     titles = "\t".join(title for title, _ in columns)
-    assert header(titles) == ("Manikin", "Role", "Values", "RULA", "REBA", "Reach", "L4/L5 N", "Short mm")
+    assert header(titles) == ("Manikin", "Role", "Values", *(t for t, _ in columns), "L4/L5 N", "Short mm")
     row = dict(rula_peak=5, reba_peak=None, reach_test_peak=3.256, niosh_li=0.5)
-    assert split(score_cells(row, columns)) == ["5", "-", "3.26"]
+    cells = dict(zip([c for _, c in columns], split(score_cells(row, columns)), strict=True))
+    assert (cells["rula_peak"], cells["reba_peak"], cells["reach_test_peak"]) == ("5", "-", "3.26")
     assert split(score_cells(dict(rula_peak=float("inf")), columns[:1])) == ["-"] and split("") == []
