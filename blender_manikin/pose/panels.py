@@ -164,17 +164,12 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=_shown(name, value))
         parts = ", ".join(f"{k} {v:.3f}" for k, v in data["comfort_parts"].items())
         layout.label(text=f"Comfort {data['comfort']:.3f} ({parts})")
-        sc = data.get("scores")
-        if sc:
+        words = data.get("scores")
+        if isinstance(words, list) and words:  # the scores' words (an older version stored a dict)
             box = layout.box()
             box.label(text="Ergonomics (this pose)")
-            owas = f"OWAS {sc['owas']}" + (f" (AC {sc['owas_category']})" if sc.get("owas_category") else "")
-            box.label(text=f"RULA {sc['rula']}  REBA {sc['reba']}  {owas}")
-            if sc.get("compression") is not None:
-                box.label(text=f"L4/L5 compression {sc['compression']:.0f} N (limits 3400 / 6400 N)")
-            if sc.get("worksheet"):
-                icon = {"red": "ERROR", "yellow": "INFO", "green": "CHECKMARK"}[sc["worksheet"]]
-                box.label(text=f"Worksheet worst level: {sc['worksheet']}", icon=icon)
+            for text in words:
+                box.label(text=text)
         box = layout.box()
         box.label(text="Most loaded joints (% of strength)")
         for name, tau, percent in data["joint_loads"]:

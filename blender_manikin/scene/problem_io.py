@@ -22,6 +22,7 @@ from ...solver.collision.body import capsules_of
 from ...solver.constraints.clearance import TOLERANCE
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
+from ...solver.ergonomics.registry import in_frame_order
 from ...solver.iteration.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
@@ -224,19 +225,11 @@ def capsules(model: Model, state: State) -> list[dict]:
             for name, a, b, r in zip(body.names, start, end, body.radius, strict=True)]  # fmt: skip
 
 
-def scores(result: Result) -> dict:
-    """RULA, REBA, OWAS, L4/L5 compression and the worksheet's worst level of this pose (solver.ergonomics)."""
+def scores(result: Result) -> list[str]:
+    """This pose's ergonomics as the sidebar shows them: each registered score's words, as ``python -m solver ergo``
+    prints them (:meth:`~solver.ergonomics.base.Score.brief`: "RULA 3", ..., "L4/L5 1520 N, worksheet yellow")."""
     frame = solver.evaluate(result, ErgoOptions())["frames"][0]
-    levels = [item.get("level") for item in frame["worksheet"].values() if isinstance(item, dict)]
-    worst = next((lv for lv in ("red", "yellow", "green") if lv in levels), None)
-    return dict(
-        rula=frame["rula"].get("score"),
-        reba=frame["reba"].get("score"),
-        owas=frame["owas"].get("code"),
-        owas_category=frame["owas"].get("action_category"),
-        compression=frame["joint_loads"]["l4_l5"].get("compression"),
-        worksheet=worst,
-    )
+    return [words for words in (s.brief(frame) for s in in_frame_order()) if words is not None]
 
 
 def write_result(arm: bpy.types.Object, result: Result) -> None:

@@ -74,14 +74,13 @@ def poll_job() -> float | None:
     return POLL_S if running else None
 
 
-def _cell(value, scale: float = 1.0, digits: int = 0) -> str:
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "-"
-    return f"{value * scale:.{digits}f}"
-
-
 def fill_table(settings, rows: list[dict]) -> None:
-    """The table's rows from the study's rows (in its order)."""
+    """The table's rows from the study's rows (in its order), its score columns from the registry
+    (:func:`.table.score_columns`)."""
+    from .table import SEP, cell, score_cells, score_columns
+
+    columns = score_columns()
+    settings.score_titles = SEP.join(title for title, _ in columns)
     settings.rows.clear()
     for row in rows:
         item = settings.rows.add()
@@ -92,8 +91,8 @@ def fill_table(settings, rows: list[dict]) -> None:
                                    for k, v in row.items() if k.startswith("p_"))  # fmt: skip
         item.status = str(row.get("failure") or row.get("status", ""))
         item.converged = bool(row.get("converged"))
-        item.rula, item.reba = _cell(row.get("rula_peak")), _cell(row.get("reba_peak"))
-        item.l4_l5, item.shortfall = _cell(row.get("l4_l5_peak_N")), _cell(row.get("shortfall_m"), 1e3)
+        item.scores = score_cells(row, columns)
+        item.l4_l5, item.shortfall = cell(row.get("l4_l5_peak_N")), cell(row.get("shortfall_m"), 1e3)
     settings.row_index = 0
 
 

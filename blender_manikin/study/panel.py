@@ -9,8 +9,8 @@ import bpy
 from ..scene.schema import rig_of
 from . import control
 from .properties import FOLDER
+from .table import header, split
 
-HEADER = ("Manikin", "Role", "Values", "RULA", "REBA", "L4/L5 N", "Short mm")
 SHOWN_ROWS = 6
 
 
@@ -20,7 +20,7 @@ class MANIKIN_UL_study_rows(bpy.types.UIList):
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index=0) -> None:
         row = layout.row(align=True)
         row.label(text=item.name.rpartition("/")[2], icon="CHECKMARK" if item.converged else "X")
-        for text in (item.role, item.parameters, item.rula, item.reba, item.l4_l5, item.shortfall):
+        for text in (item.role, item.parameters, *split(item.scores), item.l4_l5, item.shortfall):
             row.label(text=text)
 
 
@@ -64,7 +64,7 @@ class MANIKIN_PT_study(bpy.types.Panel):
             layout.label(text=s.status, icon="ERROR" if s.status.startswith("Study failed") else "INFO")
         if len(s.rows):
             head = layout.row(align=True)
-            for text in HEADER:
+            for text in header(s.score_titles):
                 head.label(text=text)
             layout.template_list("MANIKIN_UL_study_rows", "", s, "rows", s, "row_index", rows=SHOWN_ROWS)
             layout.operator("manikin.study_load_row", icon="ARMATURE_DATA")

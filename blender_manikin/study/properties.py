@@ -33,8 +33,7 @@ class MANIKIN_PG_study_row(bpy.types.PropertyGroup):
     parameters: StringProperty(name="Parameters")
     status: StringProperty(name="Status")
     converged: BoolProperty(name="Converged")
-    rula: StringProperty(name="RULA")
-    reba: StringProperty(name="REBA")
+    scores: StringProperty(name="Scores", description="The peak of each score column (tab-separated)")
     l4_l5: StringProperty(name="L4/L5 compression (N)")
     shortfall: StringProperty(name="Shortfall (mm)")
 
@@ -55,6 +54,7 @@ class MANIKIN_PG_study(bpy.types.PropertyGroup):
     status: StringProperty(name="Status", description="How the last study ended")
     study_file: StringProperty(name="Study file", description="The study the rows come from")
     source: StringProperty(name="Manikin", description="The armature whose targets the study ran on")
+    score_titles: StringProperty(name="Score columns", description="The table's score columns (tab-separated)")
     rows: CollectionProperty(type=MANIKIN_PG_study_row)
     row_index: IntProperty(name="Row", default=0, min=0)
 

@@ -122,8 +122,9 @@ seen["running_panel"] = draw()
 seen["tiny"] = drive()
 seen["status"] = settings.status
 seen["study_file"] = settings.study_file
-COLUMNS = ("name", "run_id", "role", "parameters", "converged", "rula", "reba", "l4_l5", "shortfall")
+COLUMNS = ("name", "run_id", "role", "parameters", "converged", "scores", "l4_l5", "shortfall")
 seen["rows"] = [{c: getattr(r, c) for c in COLUMNS} for r in settings.rows]
+seen["score_titles"] = settings.score_titles
 seen["done_panel"] = draw()
 seen["drawn_rows"] = drawn_rows
 

@@ -16,7 +16,8 @@ from environments import ROOT, run_python
 
 from solver import read_result
 from solver.ergonomics import ErgoOptions, checked
-from solver.ergonomics.report import frame_report
+from solver.ergonomics.registry import in_frame_order
+from solver.ergonomics.report import frame_report, sources
 
 BATCH = ROOT / "blender_manikin" / "batch.py"
 SNAKE = ROOT / "presets" / "scenarios" / "snake_motion.toml"
@@ -79,7 +80,9 @@ def test_batch_writes_every_output(tmp_path: Path, run) -> None:
         assert frame["converged"] and frame["iterations"] >= 0 and 0 < frame["time_s"] <= frame["wall_s"]
         # each locked axis within 1 mm (so the 3-axis norm within sqrt(3) mm); force balance within 1 N
         assert frame["residuals"]["top.position"] < 3**0.5 * 1e-3 and frame["residuals"]["balance.force"] < 1.0
-        assert set(frame["ergonomics"]) >= {"rula", "reba", "owas", "worksheet", "niosh", "joint_loads", "posture"}
+        assert list(frame["ergonomics"]) == ["posture", "joint_loads", *(s.name for s in in_frame_order())]
+    assert report["niosh"]["reason"] and "niosh_lift" not in report  # the lift under its score's name, as ergo's
+    assert list(report["ergonomics_sources"]) == list(sources())
     frames = read_result(out / "result.json").frames
     assert len(frames) == 6  # python -m solver ergo reads it
     for f, written in zip(frames, report["frames"], strict=True):  # the joint loads, written from arrays: as ergo's

@@ -5,6 +5,7 @@ The assertions recompute everything from the solver: poses by forward kinematics
 
 from __future__ import annotations
 
+import re
 import zipfile
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from blender_manikin.rigging.bones import RigLayout
 from blender_manikin.rigging.skin import twist_bones
 from solver import Problem, load_scenario
 from solver.body.model import GRAVITY
+from solver.ergonomics.registry import frame_scores
 from solver.io.scenario.bodies import load_body
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -81,9 +83,12 @@ def test_solve_meets_the_moved_hand_target(session: dict) -> None:
     target = np.array(session["target"])[:3, 3]
     np.testing.assert_allclose(target, before + [0.0, -0.3, 0.0], atol=1e-6)
     assert session["solve"] == ["FINISHED"] and session["result"]["converged"]
-    scores = session["result"]["scores"]  # the sidebar's ergonomics of this pose (issue 6)
-    assert isinstance(scores["rula"], int) and isinstance(scores["reba"], int) and scores["compression"] > 0
-    assert scores["owas_category"] in (1, 2, 3, 4) and len(scores["owas"]) == 4
+    words = session["result"]["scores"]  # the sidebar's ergonomics of this pose (issue 6): each score's words
+    assert len(words) == len(frame_scores())  # the motion score (NIOSH) says nothing of one pose
+    assert re.fullmatch(r"RULA \d", words[0]) and re.fullmatch(r"REBA \d+", words[1]), words
+    assert re.fullmatch(r"OWAS \d{4}", words[2]), words
+    assert re.fullmatch(r"L4/L5 \d+ N, worksheet (green|yellow|red)", words[3]), words
+    assert all(w in session["sidebar"] for w in words)  # the Result panel draws them
     colors = session["bone_colors"]  # bones coloured by load percent
     assert any(palette == "CUSTOM" for palette, _ in colors.values())
     name, _, worst = session["result"]["joint_loads"][0]

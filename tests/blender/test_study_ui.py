@@ -15,13 +15,17 @@ import numpy as np
 import pytest
 from environments import ROOT
 
+from blender_manikin.study.table import score_cell
 from solver import load_scenario, solve_motion
+from solver.ergonomics.registry import SCORES
 from solver.population import read_family
 from solver.study import load_study
 from solver.study.export import row_scenario
+from solver.study.groups import panels
 from solver.study.plan import plan
 
 CM = 0.01
+SHOWN = [(SCORES[group].title, column) for group, column, *_ in panels() if group in SCORES]  # the scores' columns
 
 
 @pytest.fixture(scope="module")
@@ -60,12 +64,19 @@ def test_the_table_holds_each_run_with_its_member_values_and_scores(session: dic
     journal = {r["run_id"]: r for r in _journal(session["study_file"])}
     for row in rows:
         truth = journal[row["run_id"]]
-        assert row["converged"] == truth["converged"] and row["rula"] == str(truth["rula_peak"])
+        assert row["converged"] == truth["converged"]
+        cells = row["scores"].split("\t")
+        assert cells == [score_cell(truth[column]) for _, column in SHOWN] and cells[0] == str(truth["rula_peak"])
         assert row["l4_l5"] == f"{truth['l4_l5_peak_N']:.0f}"
         assert row["shortfall"] == f"{truth['shortfall_m'] * 1e3:.0f}"
-    assert len(session["drawn_rows"]) == 4 and all(len(cells) == 7 for cells in session["drawn_rows"])
+    assert len(session["drawn_rows"]) == 4 and all(len(cells) == 5 + len(SHOWN) for cells in session["drawn_rows"])
     assert session["drawn_rows"][0][:3] == ["female_mean", "mean", "offset_z=0"]
     assert "Manikin" in session["done_panel"] and "Manikin" not in session["idle_panel"]  # the table's header
+    titles = [title for title, _ in SHOWN]
+    assert session["score_titles"].split("\t") == titles and titles[:2] == ["RULA", "REBA"]
+    start = session["done_panel"].index("Manikin")
+    header = ["Manikin", "Role", "Values", *titles, "L4/L5 N", "Short mm"]
+    assert session["done_panel"][start : start + len(header)] == header
 
 
 def test_loading_a_row_poses_its_manikin_where_the_study_s_stands(session: dict) -> None:
