@@ -46,7 +46,7 @@ def add_obstacles(scene: bpy.types.Scene, arm: bpy.types.Object, shapes: list[Ob
         vertices, faces, local, kind = placed_mesh(shape)
         mesh = bpy.data.meshes.new(shape.name)
         mesh.from_pydata(vertices.tolist(), [], faces.tolist())
-        if kind in ("sphere", "capsule"):
+        if shape.smooth:  # a round kind (sphere, capsule)
             mesh.shade_smooth()
         ob = bpy.data.objects.new(shape.name, mesh)
         collection.objects.link(ob)

@@ -270,7 +270,10 @@ def test_carried_box_obstacle_jacobian():
     """The carried box's rows against the obstacles and the floor (its edges against each obstacle, the obstacles'
     edges against it, its corners above the floor) against central differences; inside, near and clear rows, also
     among the meshes' own edges' rows alone (a box of triangles and a pyramid poking its tip into the box)."""
-    from solver.constraints.carried_obstacles import EDGE_ROWS, CarriedObstacles
+    from solver.collision import Mesh
+    from solver.constraints.carried_obstacles import CarriedObstacles
+
+    edge_rows = Mesh.nearest_edges
 
     seen, edges = np.zeros(3, dtype=int), np.zeros(3, dtype=int)
     kinds = set()
@@ -279,9 +282,9 @@ def test_carried_box_obstacle_jacobian():
         seen += clearance_rows_against_differences(c, problem, x, plateau=True)
         kinds |= {pair.other for pair in c.closest(problem.state(x))}
         meshes = [ob for ob in problem.obstacles if ob.name in ("m", "p")]
-        alone = CarriedObstacles(problem.model, problem.carried, meshes, problem.n_x)  # 12 + EDGE_ROWS rows each
-        assert alone.rows == 2 * (12 + EDGE_ROWS)
-        reverse = np.r_[12 : 12 + EDGE_ROWS, 24 + EDGE_ROWS : 24 + 2 * EDGE_ROWS]
+        alone = CarriedObstacles(problem.model, problem.carried, meshes, problem.n_x)  # 12 + edge_rows rows each
+        assert alone.rows == 2 * (12 + edge_rows)
+        reverse = np.r_[12 : 12 + edge_rows, 24 + edge_rows : 24 + 2 * edge_rows]
         edges += clearance_rows_against_differences(alone, problem, x, plateau=True, counted=reverse)
     assert (seen >= 3).all(), seen
     assert (edges >= 3).all(), edges
