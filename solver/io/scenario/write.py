@@ -49,8 +49,7 @@ def scenario_to_dict(
     )
     if problem.reduction_groups:
         data["solver"]["reduction"] = list(problem.reduction_groups)
-    w = problem.comfort.weights
-    data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
+    data["comfort"] = dict(problem.comfort.weights)  # by the standard terms' names, in the registry's order
     data["floor"] = dict(enabled=problem.floor)
     data["self_collision"] = dict(enabled=problem.self_collision)
     if problem.obstacles:
