@@ -105,5 +105,6 @@ DEFAULT_COMFORT = ComfortWeights()
 
 
 def standard_terms(model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> list[tuple[float, ComfortTerm]]:
-    """(weight, term) of every standard term for ``model``, in the registry's order."""
-    return [(weights[name], term.factory(model)) for name, term in STANDARD_TERMS.items()]
+    """(weight, term) of every standard term for ``model``, in the registry's order (a term registered after
+    ``weights`` were made has its default weight)."""
+    return [(weights.get(name, term.weight), term.factory(model)) for name, term in STANDARD_TERMS.items()]

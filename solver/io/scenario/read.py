@@ -17,7 +17,7 @@ from ...errors import ManikinError, ScenarioError
 from ...options import AXES, DEFAULT_OPTIONS, MAX_FRAME, MAX_FRAMES, MAX_WEIGHT, MIN_WEIGHT, MotionLimits, SolverOptions
 from ...problem.problem import Problem
 from ...problem.scenario import Scenario
-from ...problem.specs import MAX_DISTANCE, MAX_FORCE, PRIORITIES, ExternalLoad, Loop, Target
+from ...problem.specs import MAX_DISTANCE, MAX_FORCE, PRIORITIES, ExternalLoad, Loop, ProblemSpec, Target
 from ...problem.tracks import Key, Track, targets_at
 from ..files import read_text
 from ..files import read_toml as read_toml_file
@@ -77,8 +77,9 @@ def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
     carried = _read_carried(root, model)
     floor, self_collision = _enabled(root, "floor"), _enabled(root, "self_collision")
     try:
-        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
-                          floor=floor, obstacles=obstacles, self_collision=self_collision, carried=carried)  # fmt: skip
+        spec = ProblemSpec(targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
+                           floor=floor, obstacles=obstacles, self_collision=self_collision, carried=carried)
+        problem = Problem(model, spec)
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
