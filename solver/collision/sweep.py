@@ -114,6 +114,11 @@ class SweptBody:
         self._stacked = np.concatenate([self.weights, self.turns]).T  # (n, 2k)
         self.tolerance = tolerance
 
+    @property
+    def queries(self) -> list[Obstacle]:
+        """What each obstacle column's distances are asked of: the obstacles themselves (each answers its own)."""
+        return self.obstacles
+
     def pose(self, theta: np.ndarray) -> Pose:
         """The :class:`Pose` at joint values ``theta`` (one forward kinematics)."""
         theta = np.array(theta, dtype=float)

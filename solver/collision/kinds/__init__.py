@@ -10,6 +10,7 @@ from __future__ import annotations
 from .base import Obstacle, ShapeGroup, obstacle_distance
 from .box import Box
 from .capsule import Capsule
+from .cylinder import Cylinder
 from .mesh import Mesh, read_mesh
 from .plane import HalfSpace
 from .sphere import Sphere
@@ -30,6 +31,7 @@ register(Sphere)
 register(Capsule)
 register(HalfSpace)
 register(Mesh)
+register(Cylinder)
 
 
 def kind_of(name: str) -> type[Obstacle]:
@@ -40,5 +42,5 @@ def kind_of(name: str) -> type[Obstacle]:
         raise KeyError(f"unknown obstacle kind {name!r}; known: {', '.join(KINDS)}") from None
 
 
-__all__ = ["KINDS", "Box", "Capsule", "HalfSpace", "Mesh", "Obstacle", "ShapeGroup", "Sphere", "kind_of",
+__all__ = ["KINDS", "Box", "Capsule", "Cylinder", "HalfSpace", "Mesh", "Obstacle", "ShapeGroup", "Sphere", "kind_of",
            "obstacle_distance", "read_mesh", "register"]
