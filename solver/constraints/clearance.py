@@ -178,14 +178,15 @@ class Clearance(ClearanceRows):
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         # nothing nearer than its reach (m) is left out of an obstacle's query
-        self._reach = np.array([margin + max(ob.clearance, 0.0) for ob in self.obstacles])
+        self._reach = [margin + max(ob.clearance, 0.0) for ob in self.obstacles]
         ends = tuple(f"{name}.{end}" for end in ("start", "end") for name in capsules.names)
         by_kind: dict[type[Obstacle], list[int]] = {}
         for i, ob in enumerate(self.obstacles):
             by_kind.setdefault(type(ob), []).append(i)
-        # (kind, its obstacles' indices, their group): a kind's obstacles are asked together at every evaluation
-        self._groups = [(kind, np.array(rows), kind.group([self.obstacles[i] for i in rows],
-                                                         ends if kind.end_rows else capsules.names))
+        # (a row per capsule end?, the kind's obstacles' indices, their reaches, their group): a kind's obstacles are
+        # asked together at every evaluation
+        self._groups = [(kind.end_rows, rows, np.array([self._reach[i] for i in rows]),
+                         kind.group([self.obstacles[i] for i in rows], ends if kind.end_rows else capsules.names))
                         for kind, rows in by_kind.items()]  # fmt: skip
         k = len(capsules)
         self._parts, self._others, self._pairs = [], [], []
@@ -205,12 +206,12 @@ class Clearance(ClearanceRows):
         p0, p1 = caps.world(state.kin)
         index = np.arange(len(caps))
         got = [None] * len(self.obstacles)
-        for kind, rows, group in self._groups:
-            if kind.end_rows:  # a row per capsule end: the ends as capsules of no length, starts first
+        for end_rows, rows, reach, group in self._groups:
+            if end_rows:  # a row per capsule end: the ends as capsules of no length, starts first
                 ends = np.concatenate([p0, p1])
-                answers = group.distances(ends, ends, np.concatenate([caps.radius, caps.radius]), self._reach[rows])
+                answers = group.distances(ends, ends, np.concatenate([caps.radius, caps.radius]), reach)
             else:
-                answers = group.distances(p0, p1, caps.radius, self._reach[rows])
+                answers = group.distances(p0, p1, caps.radius, reach)
             for i, answer in zip(rows, answers, strict=True):
                 got[i] = answer
         parts = []
