@@ -13,10 +13,11 @@ The public API (every name loads its module on first use, PEP 562, so ``import s
     frames = solver.read_result("result.json")       # -> ResultFile: its typed frames; solver.evaluate takes it
     text = solver.dumps_scenario(solver.scenario_to_dict(problem, {"preset": "male_50"}))  # scenario TOML
 
-Building blocks: ``Model``/``ModelBuilder``, ``Problem`` with ``Target``, ``Loop``, ``ExternalLoad``,
-``ComfortWeights``, ``SolverOptions``, ``Frame`` (a solved pose as world arrays: ``frame_of_result``),
-``ErgoOptions``. Every user error is a ``ManikinError``: ``ModelError``, ``ScenarioError``, ``ResultFileError``,
-``UsageError`` (:mod:`solver.errors`), with a one-line message naming the file, the key and what was expected.
+Building blocks: ``Model``/``ModelBuilder``, ``Problem(model, ProblemSpec(targets=[Target(...)], ...))`` with
+``Target``, ``Loop``, ``ExternalLoad``, ``ComfortWeights``, ``SolverOptions``, ``Frame`` (a solved pose as world
+arrays: ``frame_of_result``), ``ErgoOptions``. Every user error is a ``ManikinError``: ``ModelError``,
+``ScenarioError``, ``ResultFileError``, ``UsageError`` (:mod:`solver.errors`), with a one-line message naming the
+file, the key and what was expected.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ _HOMES = {
     "ModelBuilder": "body.builder",
     "ModelError": "errors",
     "Problem": "problem.problem",
+    "ProblemSpec": "problem.specs",
     "Result": "iteration.result",
     "ResultFile": "io.result.read",
     "ResultFileError": "errors",
@@ -69,6 +71,7 @@ __all__ = [
     "ModelBuilder",
     "ModelError",
     "Problem",
+    "ProblemSpec",
     "Result",
     "ResultFile",
     "ResultFileError",
@@ -111,6 +114,7 @@ if TYPE_CHECKING:
     from .options import SolverOptions
     from .problem.problem import ExternalLoad, Loop, Problem, Target
     from .problem.scenario import Scenario
+    from .problem.specs import ProblemSpec
 
 
 __getattr__ = lazy_attributes(__name__, _HOMES, globals())

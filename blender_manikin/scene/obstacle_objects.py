@@ -38,7 +38,7 @@ def _remove_imported(name: str) -> None:
 
 def add_obstacles(scene: bpy.types.Scene, arm: bpy.types.Object, shapes: list[Obstacle], source: str) -> list[str]:
     """An object for each of ``shapes`` (in ``arm``'s space, m), tagged with ``source`` (the scenario's file name);
-    a warning for each that could not keep its name."""
+    a warning for each that could not keep its name or whose kind the shape menu does not offer (kept as a mesh)."""
     collection = obstacle_collection(scene) if shapes else None
     warnings = []
     for shape in shapes:
@@ -46,13 +46,17 @@ def add_obstacles(scene: bpy.types.Scene, arm: bpy.types.Object, shapes: list[Ob
         vertices, faces, local, kind = placed_mesh(shape)
         mesh = bpy.data.meshes.new(shape.name)
         mesh.from_pydata(vertices.tolist(), [], faces.tolist())
-        if kind in ("sphere", "capsule"):
+        if shape.smooth:  # a round kind (sphere, capsule)
             mesh.shade_smooth()
         ob = bpy.data.objects.new(shape.name, mesh)
         collection.objects.link(ob)
         ob.matrix_world = arm.matrix_world @ Matrix(local.tolist())
         settings = ob.manikin_obstacle
-        settings.enabled, settings.clearance, settings.shape = True, shape.clearance, kind.upper()
+        offered = settings.bl_rna.properties["shape"].enum_items.keys()
+        if kind.upper() not in offered:  # a kind the shape menu does not list yet: its object's own triangles
+            warnings.append(f"obstacle {shape.name!r}: no {kind} shape in Blender's menu; kept as its mesh")
+        settings.enabled, settings.clearance = True, shape.clearance
+        settings.shape = kind.upper() if kind.upper() in offered else "MESH"
         ob[IMPORTED_KEY] = source
         if ob.name != shape.name:
             warnings.append(f"obstacle {shape.name!r}: another object has that name; imported as {ob.name!r}")

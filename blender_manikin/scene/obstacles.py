@@ -2,8 +2,9 @@
 collection named "Obstacles" (:func:`.schema.is_obstacle`), evaluated (modifiers applied) and put in the
 armature's space.
 
-An obstacle's ``shape`` (Object.manikin_obstacle) says what the solver keeps clear of: the mesh itself, or a box,
-sphere, capsule or plane (half-space) made from the mesh's bounds in the object's own axes and its transform
+An obstacle's ``shape`` (Object.manikin_obstacle: a registered kind's name in upper case,
+:data:`solver.collision.KINDS`) says what the solver keeps clear of: the mesh itself, or a box, sphere, capsule,
+plane (half-space) or any other kind made from the mesh's bounds in the object's own axes and its transform
 (:func:`solver.collision.placed.shape_from_bounds`; :mod:`.obstacle_objects` builds objects
 from shapes so that this gives them back).
 """
@@ -15,7 +16,7 @@ import hashlib
 import bpy
 import numpy as np
 
-from ...solver.collision import Mesh, Obstacle, degenerate_faces
+from ...solver.collision import KINDS, Mesh, Obstacle, degenerate_faces
 from ...solver.collision.placed import shape_from_bounds
 from ...solver.errors import ManikinError
 from .schema import is_obstacle
@@ -50,13 +51,13 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
             continue
         world = to_local @ np.array(ob.matrix_world)
         settings = ob.manikin_obstacle
-        kind = float(("MESH", "BOX", "SPHERE", "CAPSULE", "PLANE").index(settings.shape))
-        counts = np.array([len(points), len(faces), kind, settings.clearance])
+        kind = settings.shape.lower()  # a registered kind's name in upper case
+        counts = np.array([len(points), len(faces), list(KINDS).index(kind), settings.clearance])
         low, high = points.min(axis=0), points.max(axis=0)
         numbers += [world.ravel(), low, high, counts]
         # the property is single precision: 0.03 typed is 0.0299999993; its shortest decimal is what was meant
         common = dict(name=ob.name, clearance=float(f"{settings.clearance:.7g}"))
-        if settings.shape == "MESH":
+        if kind == Mesh.kind:  # the object's own triangles, not a shape made from their bounds
             points = points @ world[:3, :3].T + world[:3, 3]
             faces = faces[~degenerate_faces(points, faces)]  # zero-area triangles (collapsed by a modifier)
             if not len(faces):
@@ -67,8 +68,8 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
             key = (ob.name, np.concatenate(numbers[-4:]).tobytes())  # all a shape made from bounds depends on
         shape = _MADE.get(key)
         if shape is None:
-            shape = Mesh(points, faces, **common) if settings.shape == "MESH" else \
-                shape_from_bounds(settings.shape.lower(), world, low, high, **common)  # fmt: skip
+            shape = Mesh(points, faces, **common) if kind == Mesh.kind else \
+                shape_from_bounds(kind, world, low, high, **common)  # fmt: skip
             if len(_MADE) >= _KEPT:
                 _MADE.pop(next(iter(_MADE)))
             _MADE[key] = shape

@@ -1,19 +1,17 @@
-"""Capsules vs oriented boxes, many boxes in one query: exact distance when apart, minus the penetration depth when
-they overlap (the conventions of :mod:`.distance`).
+"""Capsules vs oriented boxes, row by row: exact distance when apart, minus the penetration depth when they overlap
+(the conventions of :mod:`.distance`).
 
 Every function works on rows that each pair one capsule with one box (its center, rotation and half sizes given per
-row), so a scene's boxes are answered by one set of NumPy calls instead of one set per box.
+row), so a scene's boxes are answered by one set of NumPy calls instead of one set per box (the box obstacle kind:
+:mod:`solver.collision.kinds.box`; the carried box's rows).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 
 from .closest import dot, perpendicular, segment_segment, unit
-from .proximity import Proximity, near_only_many
-from .shapes import Box
+from .proximity import Proximity
 
 _BOX_EDGES = np.array(
     [[[-1, j, k], [1, j, k]] for j in (-1, 1) for k in (-1, 1)]
@@ -22,6 +20,24 @@ _BOX_EDGES = np.array(
     dtype=float,
 )  # (12, 2, 3): the unit cube's edges as corner pairs, scaled by the half sizes
 
+
+_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+_EDGES = np.array([(i, j) for i in range(8) for j in range(i + 1, 8) if np.abs(_CORNERS[i] - _CORNERS[j]).sum() == 2])
+
+
+def box_corners(center: np.ndarray, rotation: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """The 8 corners ((8, 3) world m) of the box ``center``, ``rotation`` (axes as columns), ``half`` sizes."""
+    return center + (_CORNERS * half) @ rotation.T
+
+
+def box_edges(center: np.ndarray, rotation: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The 12 edges (starts, ends: (12, 3) world m) of the box ``center``, ``rotation`` (axes as columns), ``half``."""
+    return edges_of_corners(box_corners(center, rotation, half))
+
+
+def edges_of_corners(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The 12 edges (starts, ends (12, 3)) of a box given by its :func:`box_corners`."""
+    return corners[_EDGES[:, 0]], corners[_EDGES[:, 1]]
 
 def _outside(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Segments a-b (k, 3) in box coordinates vs the boxes |x_i| <= half_i (k, 3), as if disjoint: (t, distance,
@@ -108,42 +124,3 @@ def box_rows(p0, p1, radii, center, rotation, half) -> Proximity:
     w = p0 + t[:, None] * (p1 - p0)
     n_world = np.einsum("kj,kij->ki", n, rotation)
     return Proximity(axis - radii, t, w, n_world, w - axis[:, None] * n_world)
-
-
-def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) -> Proximity:
-    """Capsules (k rows) vs one oriented box."""
-    k = len(p0)
-    return box_rows(p0, p1, radii, np.broadcast_to(box.center, (k, 3)), np.broadcast_to(box.rotation, (k, 3, 3)),
-                    np.broadcast_to(box.half, (k, 3)))  # fmt: skip
-
-
-class BoxSet(NamedTuple):
-    """m boxes stacked for one query: ``center`` (m, 3) m, ``rotation`` (m, 3, 3), ``half`` sizes (m, 3) m and
-    ``extent`` (m, 3) m, the half sizes of their world bounding boxes."""
-
-    center: np.ndarray
-    rotation: np.ndarray
-    half: np.ndarray
-    extent: np.ndarray
-
-
-def box_set(boxes: list[Box]) -> BoxSet:
-    """``boxes`` stacked once (a constraint asks about the same boxes at every evaluation)."""
-    m = len(boxes)
-    rotation = np.array([b.rotation for b in boxes]).reshape(m, 3, 3)
-    half = np.array([b.half for b in boxes]).reshape(m, 3)
-    center = np.array([b.center for b in boxes]).reshape(m, 3)
-    return BoxSet(center, rotation, half, np.einsum("mij,mj->mi", np.abs(rotation), half))
-
-
-def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: BoxSet, margins) -> list[Proximity]:
-    """Capsules (k rows) vs each of ``boxes``, one Proximity per box: exact for the capsules whose bounding box,
-    grown by radius + the box's margin (``margins``, m, one per box), meets the box's, +inf beyond it (see
-    :func:`~solver.collision.proximity.near_only_many`)."""
-    center, rotation, half, extent = boxes
-    margins = np.broadcast_to(np.asarray(margins, dtype=float), (len(center),))
-
-    def exact(box: np.ndarray, cap: np.ndarray) -> Proximity:
-        return box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
-
-    return near_only_many(p0, p1, radii, margins, center - extent, center + extent, exact)

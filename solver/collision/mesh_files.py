@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ScenarioError
-from .shapes import Mesh, degenerate_faces
+from .triangle_frames import degenerate_faces
 
 _PLY_TYPES = {
     "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2", "ushort": "u2",
@@ -212,8 +212,9 @@ def _read_ply(path: Path, data: bytes) -> tuple[np.ndarray, np.ndarray]:
         raise ScenarioError(f"{path}: the binary PLY body is shorter than its header says") from None
 
 
-def read_mesh(path: str | Path, name: str = "", clearance: float = 0.0) -> Mesh:
-    """A validated :class:`Mesh` from an .obj, .stl or .ply file (m)."""
+def mesh_arrays(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices (V, 3) m, faces (F, 3) 0-based, F >= 1) of an .obj, .stl or .ply file, each line checked; the
+    shape's own checks: :func:`solver.collision.read_mesh`."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".obj", ".stl", ".ply"):
@@ -232,10 +233,7 @@ def read_mesh(path: str | Path, name: str = "", clearance: float = 0.0) -> Mesh:
         vertices, faces = _read_ply(path, data)
     if len(faces) == 0:
         raise ScenarioError(f"{path}: no faces in the mesh file")
-    try:
-        return Mesh(vertices, faces, name=name or path.stem, clearance=clearance)
-    except ScenarioError as exc:
-        raise ScenarioError(f"{path}: {exc}") from None
+    return vertices, faces
 
 
 def obj_text(vertices: np.ndarray, faces: np.ndarray, comment: str = "") -> str:

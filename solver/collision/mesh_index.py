@@ -7,15 +7,26 @@ Build one :class:`MeshIndex` per obstacle (about 20 ms per 10,000 triangles) and
 from __future__ import annotations
 
 import hashlib
+from typing import Protocol
 
 import numpy as np
 
 from .closest import dot, point_segment, point_triangle, unit
 from .grid import UniformGrid
 from .mesh_edges import MeshEdges
-from .shapes import Mesh
 from .tree import TIE, TriangleTree, group_argmin, group_min
 from .triangle_frames import TriangleFrames
+
+
+class Triangles(Protocol):
+    """What an index is built from (a :class:`solver.collision.Mesh`): ``vertices`` (V, 3) m, ``faces`` (F, 3)."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+
+    def is_closed(self) -> bool: ...
+
+    def signed_volume(self) -> float: ...
 
 
 class _Column:
@@ -61,10 +72,10 @@ class _Column:
 
 
 class MeshIndex:
-    """A :class:`Mesh` with a tree over its triangles, unit face normals (outward for a closed mesh, whatever
-    its winding) and, for a closed mesh, an inside test."""
+    """A mesh (:class:`Triangles`) with a tree over its triangles, unit face normals (outward for a closed mesh,
+    whatever its winding) and, for a closed mesh, an inside test."""
 
-    def __init__(self, mesh: Mesh) -> None:
+    def __init__(self, mesh: Triangles) -> None:
         self.mesh = mesh
         tri = mesh.vertices[mesh.faces]
         self.a, self.b, self.c = (np.ascontiguousarray(tri[:, i]) for i in range(3))
@@ -214,7 +225,7 @@ _INDEXES: dict[bytes, MeshIndex] = {}  # by content: the same mesh read again (e
 _KEPT = 8
 
 
-def index_of(mesh: Mesh) -> MeshIndex:
+def index_of(mesh: Triangles) -> MeshIndex:
     """The :class:`MeshIndex` of ``mesh``, built once per content (its vertices, faces; the last few kept)."""
     digest = hashlib.blake2b(digest_size=16)
     digest.update(mesh.vertices.tobytes())

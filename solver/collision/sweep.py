@@ -30,10 +30,9 @@ import numpy as np
 
 from ..body.model import Model
 from .body import BodyCapsules, capsules_of
-from .distance import capsule_pairs, obstacle_distance
-from .mesh_index import MeshIndex, index_of
+from .distance import capsule_pairs
+from .kinds import Obstacle
 from .self_pairs import SelfPairs
-from .shapes import Mesh, Obstacle
 
 TOLERANCE = 1e-3  # m: a sample this deep (or less) into an obstacle is not a crossing
 FAR = 1e3  # m: stands in for an unbounded slide's travel in the path weights
@@ -101,7 +100,6 @@ class SweptBody:
                  own: SelfPairs | None = None):  # fmt: skip
         self.model, self.capsules = model, capsules_of(model)
         self.obstacles = list(obstacles)
-        self.queries: list[Obstacle | MeshIndex] = [index_of(o) if isinstance(o, Mesh) else o for o in obstacles]
         k, m = len(self.capsules), len(self.obstacles)
         self.own = own if own is not None and len(own) else None
         p = 0 if self.own is None else len(self.own)
@@ -115,6 +113,11 @@ class SweptBody:
         self.turns = ((self.weights > 0) & ~model.prismatic).astype(float)  # (k, n) the rotations above capsule k
         self._stacked = np.concatenate([self.weights, self.turns]).T  # (n, 2k)
         self.tolerance = tolerance
+
+    @property
+    def queries(self) -> list[Obstacle]:
+        """What each obstacle column's distances are asked of: the obstacles themselves (each answers its own)."""
+        return self.obstacles
 
     def pose(self, theta: np.ndarray) -> Pose:
         """The :class:`Pose` at joint values ``theta`` (one forward kinematics)."""
@@ -149,8 +152,8 @@ class SweptBody:
         bound; the mesh search stops there); entries of no pair are +inf."""
         m = len(self.obstacles)
         out = np.full(self.pairs.shape, np.inf)
-        for o, query in enumerate(self.queries):
-            got = obstacle_distance(pose.p0, pose.p1, self.capsules.radius, query, margin).distance
+        for o, obstacle in enumerate(self.obstacles):
+            got = obstacle.distance(pose.p0, pose.p1, self.capsules.radius, margin).distance
             out[:, o] = np.where(np.isinf(got), margin, got)
         if self.own is not None:
             own = self.own
@@ -240,7 +243,7 @@ class SweptBody:
         m = len(self.obstacles)
         for o in np.unique(column[column < m]):
             rows = np.flatnonzero(column == o)
-            got = obstacle_distance(p0[rows], p1[rows], self.capsules.radius[capsule[rows]], self.queries[o], margin)
+            got = self.obstacles[o].distance(p0[rows], p1[rows], self.capsules.radius[capsule[rows]], margin)
             out[rows] = np.where(np.isinf(got.distance), margin, got.distance)
         rows = np.flatnonzero(column >= m)
         if rows.size:  # self pairs: the partner's axis at the same fraction, as a one-pair batch per row

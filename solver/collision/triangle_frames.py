@@ -13,9 +13,22 @@ import numpy as np
 
 from .closest import PARALLEL, TINY, clip01
 
+# A triangle whose doubled area is below this fraction of its longest edge squared has collinear corners.
+DEGENERATE_RATIO = 1e-10
+
+
+def degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Mask (F,) of triangles with a repeated corner or (nearly) collinear corners."""
+    tri = vertices[faces]
+    edges = tri[:, [1, 2, 0]] - tri
+    longest = np.max(np.einsum("fij,fij->fi", edges, edges), axis=1)
+    doubled_area = np.linalg.norm(np.cross(edges[:, 0], -edges[:, 2]), axis=1)
+    repeated = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 2] == faces[:, 0])
+    return repeated | (doubled_area <= DEGENERATE_RATIO * longest) | (longest == 0)
+
 
 class TriangleFrames:
-    """Triangles a, b, c (F, 3) m, none degenerate (a :class:`~solver.collision.shapes.Mesh` rejects those)."""
+    """Triangles a, b, c (F, 3) m, none degenerate (a :class:`~solver.collision.Mesh` rejects those)."""
 
     def __init__(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> None:
         ab, ac = b - a, c - a

@@ -2,12 +2,12 @@
 
 h = -sum_k weight_k cost_k(x) over :class:`ComfortTerm` objects, one per module: ``joint_range`` (tan^2 of each
 joint's deviation from neutral), ``joint_load`` (squared joint strain), ``contact_spread`` (squared contact forces).
-A new term is a new module with a ComfortTerm; :class:`Comfort` takes any list of (weight, term).
+A new term is a new module with a ComfortTerm; :class:`Comfort` takes any list of (weight, term). The standard
+terms, which every problem has unless it brings its own, are registered by name in :mod:`.standard` (one line each),
+weighted by :class:`ComfortWeights`.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -17,18 +17,7 @@ from .base import ComfortTerm
 from .contact_spread import ContactSpread
 from .joint_load import JointLoad
 from .joint_range import JointRange
-
-
-@dataclass(frozen=True)
-class ComfortWeights:
-    """Weights of the three standard comfort terms (dimensionless)."""
-
-    range: float = 1.0
-    load: float = 1.0
-    contact: float = 0.01
-
-
-DEFAULT_COMFORT = ComfortWeights()
+from .standard import DEFAULT_COMFORT, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
 
 
 class Comfort:
@@ -40,9 +29,8 @@ class Comfort:
 
     @classmethod
     def standard(cls, model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> Comfort:
-        """The three standard terms with ``weights``."""
-        terms = [(weights.range, JointRange(model)), (weights.load, JointLoad(model))]
-        return cls([*terms, (weights.contact, ContactSpread(model))], weights)
+        """The standard terms (:data:`STANDARD_TERMS`) with ``weights``."""
+        return cls(standard_terms(model, weights), weights)
 
     def parts(self, state: State) -> dict[str, float]:
         """Each term's unweighted cost (>= 0), for reports; a term of zero weight is not part of comfort (0)."""
@@ -86,4 +74,5 @@ class Comfort:
         return self.derivatives(state)[0]
 
 
-__all__ = ["DEFAULT_COMFORT", "Comfort", "ComfortTerm", "ComfortWeights", "ContactSpread", "JointLoad", "JointRange"]
+__all__ = ["DEFAULT_COMFORT", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights", "ContactSpread",
+           "JointLoad", "JointRange", "StandardTerm"]

@@ -14,6 +14,7 @@ class ComfortTerm(ABC):
 
     name: str  # the key of this term in reports (``Result.comfort_parts``)
     relative: bool = True  # its size sets the scale of the solver's relative comfort tolerance
+    description: str = ""  # what its weight weighs, in a few words for a user (a standard term's weight's tooltip)
 
     @abstractmethod
     def cost(self, state: State) -> float:

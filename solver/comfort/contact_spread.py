@@ -13,6 +13,7 @@ class ContactSpread(ComfortTerm):
     """Squared contact edge weights (forces / body weight); the curvature model is exact."""
 
     name = "contact"
+    description = "even contact forces"
 
     def __init__(self, model: Model) -> None:
         self.n = model.n

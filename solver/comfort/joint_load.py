@@ -17,6 +17,7 @@ class JointLoad(ComfortTerm):
     """Squared strain of the revolute joints; the curvature model is the Gauss-Newton diagonal."""
 
     name = "load"
+    description = "joint moments / strength"
 
     def __init__(self, model: Model) -> None:
         strength = np.where(np.isfinite(model.strength) & (model.strength > 0), model.strength, np.inf)

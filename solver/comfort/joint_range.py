@@ -21,6 +21,7 @@ class JointRange(ComfortTerm):
     """tan^2 range cost of every joint with finite limits; the curvature model is exact."""
 
     name = "range"
+    description = "joints near their limits"
 
     def __init__(self, model: Model) -> None:
         self.model = model

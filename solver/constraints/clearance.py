@@ -1,8 +1,10 @@
 """Clearance: the body's capsules keep at least each obstacle's clearance from it (one-sided rows, m).
 
-Rows: for a half-space (the floor) one per capsule end, g = n.(end - point) - radius, exact and smooth (a capsule's
-lowest point is one of its ends, and a capsule lying flat needs both to stay down); for any other obstacle one per
-capsule, g = the signed surface distance of :func:`solver.collision.obstacle_distance`. The Jacobian of a row is
+Rows: for a half-space (the floor; any kind with ``end_rows``) one per capsule end, g = n.(end - point) - radius,
+exact and smooth (a capsule's lowest point is one of its ends, and a capsule lying flat needs both to stay down); for
+any other obstacle one per capsule, g = the signed surface distance of the obstacle's own
+:meth:`~solver.collision.kinds.base.Obstacle.distance` (obstacles of one kind asked together: a scene's boxes in one
+query). The Jacobian of a row is
 n . (velocity of the witness point on the capsule's axis), the point carried by the capsule's link (the distance's
 gradient with respect to that point is the unit normal n; the envelope theorem drops the witness's own motion).
 Rows farther than ``margin`` are met and cost nothing; every row ranks with supports and balance (priority 1).
@@ -17,10 +19,8 @@ import numpy as np
 
 from ..body.model import Model
 from ..body.state import State
-from ..collision import Box, HalfSpace, Mesh, Obstacle, boxes_distance, obstacle_distance
+from ..collision import HalfSpace, Obstacle
 from ..collision.body import BodyCapsules, capsules_of
-from ..collision.boxes import box_set
-from ..collision.mesh_index import index_of
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
@@ -177,19 +177,22 @@ class Clearance(ClearanceRows):
                                 capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
-        self._queries = [index_of(ob) if isinstance(ob, Mesh) else ob for ob in self.obstacles]
-        # nothing nearer than its reach (m) is left out of an obstacle's query; the boxes are answered by one query
+        # nothing nearer than its reach (m) is left out of an obstacle's query
         self._reach = [margin + max(ob.clearance, 0.0) for ob in self.obstacles]
-        self._box_rows = [i for i, ob in enumerate(self.obstacles) if isinstance(ob, Box)]
-        self._boxes = (box_set([self.obstacles[i] for i in self._box_rows]), [self._reach[i] for i in self._box_rows])
-        self._memories = [q.memory(capsules.names) if isinstance(ob, Mesh) else None
-                          for ob, q in zip(self.obstacles, self._queries, strict=True)]  # fmt: skip
+        ends = tuple(f"{name}.{end}" for end in ("start", "end") for name in capsules.names)
+        by_kind: dict[type[Obstacle], list[int]] = {}
+        for i, ob in enumerate(self.obstacles):
+            by_kind.setdefault(type(ob), []).append(i)
+        # (a row per capsule end?, the kind's obstacles' indices, their reaches, their group): a kind's obstacles are
+        # asked together at every evaluation
+        self._groups = [(kind.end_rows, rows, np.array([self._reach[i] for i in rows]),
+                         kind.group([self.obstacles[i] for i in rows], ends if kind.end_rows else capsules.names))
+                        for kind, rows in by_kind.items()]  # fmt: skip
         k = len(capsules)
         self._parts, self._others, self._pairs = [], [], []
         floors = []
         for ob in self.obstacles:
-            ends = ("start", "end") if isinstance(ob, HalfSpace) else ("",)
-            for end in ends:
+            for end in ("start", "end") if ob.end_rows else ("",):
                 self._parts += [f"{name}{'.' + end if end else ''}" for name in capsules.names]
                 self._others += [ob.name] * k
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
@@ -198,24 +201,23 @@ class Clearance(ClearanceRows):
 
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps = self.capsules
+        if not self.obstacles:
+            return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
         p0, p1 = caps.world(state.kin)
         index = np.arange(len(caps))
-        reach, boxes = self._reach, self._box_rows
-        of_box = {}
-        if boxes:
-            of_box = dict(zip(boxes, boxes_distance(p0, p1, caps.radius, *self._boxes), strict=True))
-        parts = []
-        for i, (ob, query, memory) in enumerate(zip(self.obstacles, self._queries, self._memories, strict=True)):
-            if isinstance(ob, HalfSpace):
-                for end in (p0, p1):
-                    height = (end - ob.point) @ ob.normal - caps.radius
-                    parts.append((height, end, np.broadcast_to(ob.normal, end.shape), index))
+        got = [None] * len(self.obstacles)
+        for end_rows, rows, reach, group in self._groups:
+            if end_rows:  # a row per capsule end: the ends as capsules of no length, starts first
+                ends = np.concatenate([p0, p1])
+                answers = group.distances(ends, ends, np.concatenate([caps.radius, caps.radius]), reach)
             else:
-                got = of_box[i] if i in of_box else obstacle_distance(p0, p1, caps.radius, query, reach[i], memory)
-                distance = np.where(np.isfinite(got.distance), got.distance, reach[i] + 1.0)
-                parts.append((distance, got.point, got.normal, index))
-        if not parts:
-            return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
+                answers = group.distances(p0, p1, caps.radius, reach)
+            for i, answer in zip(rows, answers, strict=True):
+                got[i] = answer
+        parts = []
+        for reach, ob, answer in zip(self._reach, self.obstacles, got, strict=True):
+            distance = np.where(np.isfinite(answer.distance), answer.distance, reach + 1.0)
+            parts.append((distance, answer.point, answer.normal, np.tile(index, 2) if ob.end_rows else index))
         return tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:

@@ -24,7 +24,7 @@ from ..errors import ModelError, UsageError
 from ..iteration import TUNING, attempt
 from ..options import SolverOptions
 from ..problem.problem import Problem
-from ..problem.specs import ExternalLoad, Target
+from ..problem.specs import ExternalLoad, ProblemSpec, Target
 from .stance import StanceBounds, stance_limits
 
 SIDES = {"right": "r", "left": "l"}
@@ -115,7 +115,7 @@ def reach_setup(
     weight = np.asarray(GRAVITY) * load_kg
     loads = [ExternalLoad(f"hand_{s}", weight)] if load_kg > 0.0 else []
     start_hand = Target(f"hand_{s}", zero.tcp_frame(model.tcp(f"hand_{s}"))[1], lock=("x", "y", "z"))
-    base = Problem(model, [start_hand, *soles], loads=loads, balance=balance, extra_constraints=extra)
+    base = Problem(model, ProblemSpec([start_hand, *soles], loads=loads, balance=balance, extra_constraints=extra))
     shoulder = zero.tcp_frame(model.tcp(f"shoulder_{s}"))[1]
     rot = None if rotation is None else np.asarray(rotation, dtype=float)
     return ReachSetup(model, f"hand_{s}", shoulder, soles, float(load_kg), rot, balance, base, feet)

@@ -8,6 +8,7 @@ newtons compare and "converged" means max |scaled error| <= 1.
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -16,10 +17,8 @@ from ..body.model import GRAVITY, Model
 from ..body.reduction import build_reduction
 from ..body.state import State
 from ..body.statics import Load, StaticsLayout
-from ..collision import Obstacle
 from ..collision.body import capsules_of
-from ..collision.carried import Carried
-from ..comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
+from ..comfort import Comfort
 from ..constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
 from ..constraints.carried_clearance import CarriedClearance
 from ..constraints.carried_obstacles import CarriedObstacles
@@ -28,42 +27,30 @@ from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from .bounds import Bounds
-from .specs import ExternalLoad, Loop, Target, validate
+from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
+
+__all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
 
 
 class Problem:
     """Everything the solver needs, assembled from plain specifications."""
 
-    def __init__(
-        self,
-        model: Model,
-        targets: list[Target] = (),
-        loops: list[Loop] = (),
-        loads: list[ExternalLoad] = (),
-        balance: bool = True,
-        comfort_weights: ComfortWeights = DEFAULT_COMFORT,
-        reduction: tuple[str, ...] = (),
-        extra_constraints: list[Constraint] = (),
-        comfort: Comfort | None = None,
-        floor: bool = True,
-        obstacles: list[Obstacle] = (),
-        self_collision: bool = True,
-        carried: Carried | None = None,
-    ) -> None:
-        """``extra_constraints`` (any :class:`Constraint`, e.g. an :class:`Inequality`) rank with balance;
-        ``comfort`` replaces the standard terms weighted by ``comfort_weights``; ``floor`` keeps every body part
-        above z = 0 (:func:`~solver.constraints.clearance.floor_clearance`); the body keeps each of ``obstacles``
-        (:mod:`solver.collision` shapes) at its clearance; ``self_collision`` keeps hands and forearms out of the
-        trunk, head and thighs and the shanks apart (:mod:`solver.collision.self_pairs`); the body but the holding
-        hands stays out of a ``carried`` box (:mod:`solver.constraints.carried_clearance`), and the box out of the
-        obstacles and the floor (:mod:`solver.constraints.carried_obstacles`)."""
-        validate(model, targets, loops, loads)
+    def __init__(self, model: Model, spec: ProblemSpec | Sequence[Target] | None = None, *fields, **named) -> None:
+        """The problem ``spec`` (:class:`~solver.problem.specs.ProblemSpec`) poses for ``model``. The spec's fields
+        may be given instead, as arguments in its order or by name (``Problem(model, targets, balance=False)``: scripts
+        written before the spec)."""
+        if spec is None or not isinstance(spec, ProblemSpec):
+            spec = ProblemSpec(*(() if spec is None else (spec,)), *fields, **named)
+        elif fields or named:
+            raise TypeError("Problem(model, spec) takes no more arguments: put them in the spec (spec.replace(...))")
+        self.spec = spec
+        validate(model, spec.targets, spec.loops, spec.loads)
         self.model = model
-        self.all_targets = list(targets)
-        self.targets = [t for t in targets if t.enabled]
-        self.loops = list(loops)
-        self.load_specs = list(loads)
-        self.balance = balance
+        self.all_targets = list(spec.targets)
+        self.targets = [t for t in spec.targets if t.enabled]
+        self.loops = list(spec.loops)
+        self.load_specs = list(spec.loads)
+        self.balance = balance = spec.balance
         zero = self._zero_kin = model.forward(model.zero_pose())
         supports = []
         if balance:
@@ -73,33 +60,34 @@ class Problem:
             if not supports:
                 raise ManikinError("balance needs at least one support target (support = true)")
         self.contacts = build_contacts(model, supports)
-        self.loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in loads]
+        self.loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in spec.loads]
         self.layout = StaticsLayout(model, self.contacts, self.loads)
         n, n_w = model.n, self.contacts.n_vars
         self.n_x = n + n_w
         self.loop_constraints = [self._loop_constraint(lp) for lp in self.loops]
         self.balance_constraint = BalanceConstraint(self.n_x) if balance else None
-        self.floor = floor
+        self.floor = floor = spec.floor
         self.floor_constraint = floor_clearance(model, self.targets, self.n_x) if floor else None
-        self.obstacles = list(obstacles)
-        self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if obstacles else None
-        self.self_collision = self_collision
-        self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if self_collision else None
+        self.obstacles = list(spec.obstacles)
+        self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if self.obstacles \
+            else None  # fmt: skip
+        self.self_collision = spec.self_collision
+        self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if spec.self_collision else None
         if self.self_constraint is not None and not self.self_constraint.rows:
             self.self_constraint = None  # a body without the named parts (the snake)
-        self.carried = carried
+        self.carried = carried = spec.carried
         self.carried_constraint = None if carried is None else CarriedClearance(model, capsules_of(model), carried,
                                                                                 self.n_x)  # fmt: skip
         around = [*self.obstacles, FLOOR] if floor else self.obstacles
         self.carried_obstacle_constraint = CarriedObstacles(model, carried, around, self.n_x) \
             if carried is not None and around else None  # fmt: skip
-        self.extra_constraints = list(extra_constraints)
+        self.extra_constraints = list(spec.extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
-        self.comfort = comfort if comfort is not None else Comfort.standard(model, comfort_weights)
+        self.comfort = spec.comfort if spec.comfort is not None else Comfort.standard(model, spec.comfort_weights)
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
         self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)
         xb = self.x_bounds
-        self.reduction_groups = tuple(reduction)
+        self.reduction_groups = spec.reduction
         self.reduction = build_reduction(model, self.reduction_groups, xb.lower, xb.upper, xb.scale)
         # The solver's variables v: x itself, or beta with x = phi(beta) when reduced.
         red = self.reduction
@@ -113,23 +101,11 @@ class Problem:
         shared with this problem instead of being built again.
         """
         targets = list(targets)
-        if not self._same_supports(targets):
-            return Problem(
-                self.model,
-                targets,
-                self.loops,
-                self.load_specs,
-                self.balance,
-                reduction=self.reduction_groups,
-                extra_constraints=self.extra_constraints,
-                comfort=self.comfort,
-                floor=self.floor,
-                obstacles=self.obstacles,
-                self_collision=self.self_collision,
-                carried=self.carried,
-            )
+        if not self._same_supports(targets):  # built again, with this problem's comfort terms
+            return Problem(self.model, self.spec.replace(targets=targets, comfort=self.comfort))
         validate(self.model, targets, (), ())
         moved = copy.copy(self)
+        moved.spec = self.spec.replace(targets=targets)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
         moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
@@ -138,6 +114,7 @@ class Problem:
     def with_frames(self, targets: list[FrameConstraint], comfort: Comfort) -> Problem:
         """The same problem with only ``targets`` (some of this one's target constraints) and another comfort."""
         ranked = copy.copy(self)
+        ranked.spec = self.spec.replace(comfort=comfort)
         ranked.comfort = comfort
         ranked._set_constraints(targets)
         return ranked

@@ -1,4 +1,5 @@
-"""What a user specifies for a pose, as plain frozen values, and their validation: targets, loops, external loads.
+"""What a user specifies for a pose, as plain frozen values, and their validation: targets, loops, external loads,
+and the whole problem as one :class:`ProblemSpec`.
 
 Units: m, N, rad; rotations are 3x3 matrices. :func:`validate` refuses a bad specification with one ManikinError
 line naming the item and what was expected.
@@ -6,12 +7,16 @@ line naming the item and what was expected.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..body.model import Model
-from ..constraints import AXES, lock_operator
+from ..collision import Obstacle
+from ..collision.carried import Carried
+from ..comfort import DEFAULT_COMFORT, Comfort, ComfortWeights
+from ..constraints import AXES, Constraint, lock_operator
 from ..errors import ManikinError
 from ..options import MAX_WEIGHT, MIN_WEIGHT
 
@@ -71,6 +76,47 @@ class ExternalLoad:
 
     tcp: str
     force: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class ProblemSpec:
+    """What a problem is made of, one value (:class:`~solver.problem.problem.Problem` builds its rows from it and a
+    model). Sequences are kept as tuples; :meth:`replace` makes another.
+
+    ``targets``, ``loops``, ``loads``: the frames to reach and hold and the forces applied (m, N). ``balance``: static
+    balance with contact forces at the supports. ``comfort_weights``: the standard comfort terms' weights, unless
+    ``comfort`` (a :class:`~solver.comfort.Comfort`) replaces the terms. ``reduction``: the variable groups
+    (:mod:`solver.body.reduction`). ``extra_constraints``: any :class:`~solver.constraints.Constraint`, ranked with
+    balance. ``floor``: every body part above z = 0. ``obstacles``: shapes the body keeps its clearance from.
+    ``self_collision``: hands and forearms out of the trunk, head and thighs, the shanks apart. ``carried``: a box
+    held between two TCPs, kept out of the body, the obstacles and the floor.
+    """
+
+    targets: tuple[Target, ...] = ()
+    loops: tuple[Loop, ...] = ()
+    loads: tuple[ExternalLoad, ...] = ()
+    balance: bool = True
+    comfort_weights: ComfortWeights = DEFAULT_COMFORT
+    reduction: tuple[str, ...] = ()
+    extra_constraints: tuple[Constraint, ...] = ()
+    comfort: Comfort | None = None
+    floor: bool = True
+    obstacles: tuple[Obstacle, ...] = ()
+    self_collision: bool = True
+    carried: Carried | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("targets", "loops", "loads", "reduction", "extra_constraints", "obstacles"):
+            object.__setattr__(self, name, tuple(getattr(self, name)))
+
+    def replace(self, **changes) -> ProblemSpec:
+        """This spec with ``changes`` (fields by name)."""
+        return dataclasses.replace(self, **changes)
+
+    @property
+    def weights(self) -> ComfortWeights | None:
+        """The standard comfort terms' weights this spec's comfort has (None: its own terms, not the standard)."""
+        return self.comfort_weights if self.comfort is None else self.comfort.weights
 
 
 MAX_DISTANCE = 1000.0  # m: targets and offsets farther than this from the origin are refused

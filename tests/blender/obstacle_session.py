@@ -5,8 +5,9 @@
 a turned manikin away from the origin among five obstacles (a mesh, and a box, sphere, capsule and plane made from
 objects' bounds), solved; what the overlay would draw from that result (lines, labels, capsules) and its draw
 handlers added in this Blender; the scenario exported (meshes beside it), imported into an emptied scene onto
-another turned manikin and exported again; imported a second time; and the failures a user can meet (a missing
-mesh file, a folder that cannot be written). Writes what it saw to JSON; bpy is imported here only.
+another turned manikin and exported again; imported a second time; the failures a user can meet (a missing
+mesh file, a folder that cannot be written); a cylinder (a kind the shape menu does not offer) imported. Writes what
+it saw to JSON; bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -210,6 +211,15 @@ bpy.context.view_layer.update()
 bpy.context.view_layer.objects.active = other
 seen["flat"] = error_of(lambda: bpy.ops.manikin.solve_pose())
 bpy.data.objects.remove(flat, do_unlink=True)
+
+# A registered kind that the shape menu does not offer (a cylinder): imported as its object's own mesh, with a warning.
+post = WORK / "post.toml"
+post.write_text(exported.read_text(encoding="utf-8") + '\n[[obstacles]]\nname = "post"\nkind = "cylinder"\n'
+                'a = [0.6, -0.6, 0.0]\nb = [0.6, -0.6, 1.2]\nradius = 0.05\n', encoding="utf-8")  # fmt: skip
+bpy.context.view_layer.objects.active = other
+seen["import_post"] = sorted(bpy.ops.manikin.import_scenario(filepath=str(post)))
+read = {ob.name: ob for ob in problem_io.read_problem(other).problem.obstacles}
+seen["post"] = dict(shape=bpy.data.objects["post"].manikin_obstacle.shape, read=type(read["post"]).__name__)
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

@@ -167,3 +167,9 @@ def test_the_draw_callback_draws_what_the_toggles_show(session: dict) -> None:
     assert (near, len(geometry["near"])) in overlay_only and all(color != capsule for color, _ in overlay_only)
     assert with_capsules == [*overlay_only, (capsule, len(geometry["capsules"]))]
     assert nothing == []
+
+
+def test_a_kind_the_shape_menu_lacks_is_imported_as_its_mesh(session: dict) -> None:
+    assert session["import_post"] == ["FINISHED"]
+    assert session["post"] == {"shape": "MESH", "read": "Mesh"}
+    assert "obstacle 'post': no cylinder shape in Blender's menu; kept as its mesh" in session["log"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from ...collision import Mesh
 from ...collision.mesh_files import obj_text
 
 MAX_NAME = 60  # characters of the obstacle's name kept in a file name
@@ -42,7 +43,7 @@ def mesh_files(path: Path, tables: list[dict]) -> tuple[list[dict], list[tuple[P
     beside it, and the files to write: (tables, [(file path, OBJ text)])."""
     out, files, used = [], [], set()
     for table in tables:
-        if table.get("kind") != "mesh" or "vertices" not in table:
+        if table.get("kind") != Mesh.kind or "vertices" not in table:
             out.append(table)
             continue
         base = f"{path.stem}_{safe_name(str(table.get('name', '')))}"

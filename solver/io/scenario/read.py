@@ -12,12 +12,12 @@ import numpy as np
 from ...body.model import GRAVITY, Model
 from ...body.reduction import DEFAULT_GROUPS, GROUPS
 from ...collision.carried import Carried
-from ...comfort import ComfortWeights
+from ...comfort import STANDARD_TERMS, ComfortWeights
 from ...errors import ManikinError, ScenarioError
 from ...options import AXES, DEFAULT_OPTIONS, MAX_FRAME, MAX_FRAMES, MAX_WEIGHT, MIN_WEIGHT, MotionLimits, SolverOptions
 from ...problem.problem import Problem
 from ...problem.scenario import Scenario
-from ...problem.specs import MAX_DISTANCE, MAX_FORCE, PRIORITIES, ExternalLoad, Loop, Target
+from ...problem.specs import MAX_DISTANCE, MAX_FORCE, PRIORITIES, ExternalLoad, Loop, ProblemSpec, Target
 from ...problem.tracks import Key, Track, targets_at
 from ..files import read_text
 from ..files import read_toml as read_toml_file
@@ -62,10 +62,7 @@ def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
     root.known(SECTIONS)
     model = model or read_manikin(root.table("manikin"))
     balance, reduction, options = _read_solver(root.table("solver"))
-    comfort = root.table("comfort")
-    comfort.known({"range", "load", "contact"})
-    weights = ComfortWeights(*(comfort.number(k, d, 0.0, MAX_WEIGHT) for k, d in (("range", 1.0), ("load", 1.0),
-                                                                                ("contact", 0.01))))  # fmt: skip
+    weights = _read_comfort(root.table("comfort"))
     read = [_read_target(t, model) for t in root.table_list("targets")]
     targets = [target for target, _ in read]
     tracks = [Track(i, keys) for i, (_, keys) in enumerate(read) if keys]
@@ -80,8 +77,9 @@ def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
     carried = _read_carried(root, model)
     floor, self_collision = _enabled(root, "floor"), _enabled(root, "self_collision")
     try:
-        problem = Problem(model, targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
-                          floor=floor, obstacles=obstacles, self_collision=self_collision, carried=carried)  # fmt: skip
+        spec = ProblemSpec(targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
+                           floor=floor, obstacles=obstacles, self_collision=self_collision, carried=carried)
+        problem = Problem(model, spec)
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
@@ -115,6 +113,13 @@ def read_manikin(t: TableReader) -> Model:
         return load_body(file=body if body.is_absolute() else Path(t.path).parent / body)
     except ManikinError as exc:
         raise ScenarioError(f"{t.path}: manikin: {exc}") from None
+
+
+def _read_comfort(t: TableReader) -> ComfortWeights:
+    """[comfort]: a weight per standard comfort term (:data:`solver.comfort.STANDARD_TERMS`), by its name."""
+    t.known(set(STANDARD_TERMS))
+    return ComfortWeights(**{name: t.number(name, term.weight, 0.0, MAX_WEIGHT)
+                             for name, term in STANDARD_TERMS.items()})  # fmt: skip
 
 
 def _read_solver(t: TableReader) -> tuple[bool, tuple[str, ...], SolverOptions]:

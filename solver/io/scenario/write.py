@@ -32,36 +32,39 @@ def scenario_to_dict(
     name: str | None = None,
     carried: Carried | None = None,
 ) -> dict:
-    """A scenario as the TOML tables :func:`load_scenario` reads: ``manikin`` is {"preset": ...} or {"file": ...}.
+    """A scenario as the TOML tables :func:`load_scenario` reads, from the problem's spec: ``manikin`` is
+    {"preset": ...} or {"file": ...}.
 
     ``start`` (joint values, or joints + forces) becomes [start.joints] for its non-zero joints; ``carried`` (by
     default the problem's own) becomes [carried].
     """
-    carried = problem.carried if carried is None else carried
+    spec = problem.spec
+    carried = spec.carried if carried is None else carried
     model = problem.model
     data: dict[str, Any] = {"name": name} if name else {}
     data["manikin"] = dict(manikin)
     data["solver"] = dict(
-        balance=problem.balance,
+        balance=spec.balance,
         max_iterations=options.max_iterations,
         comfort=options.optimize_comfort,
         restarts=options.restarts,
     )
-    if problem.reduction_groups:
-        data["solver"]["reduction"] = list(problem.reduction_groups)
-    w = problem.comfort.weights
-    data["comfort"] = dict(range=w.range, load=w.load, contact=w.contact)
-    data["floor"] = dict(enabled=problem.floor)
-    data["self_collision"] = dict(enabled=problem.self_collision)
-    if problem.obstacles:
-        data["obstacles"] = [obstacle_table(ob) for ob in problem.obstacles]
+    if spec.reduction:
+        data["solver"]["reduction"] = list(spec.reduction)
+    if spec.weights is None:
+        raise ScenarioError("a problem with comfort terms of its own (not the standard ones) has no [comfort] table")
+    data["comfort"] = dict(spec.weights)  # by the standard terms' names, in the registry's order
+    data["floor"] = dict(enabled=spec.floor)
+    data["self_collision"] = dict(enabled=spec.self_collision)
+    if spec.obstacles:
+        data["obstacles"] = [obstacle_table(ob) for ob in spec.obstacles]
     if start is not None:
         joints = {n: float(v) for n, v in zip(model.joint_names, start[: model.n], strict=True) if abs(v) > 1e-12}
         if joints:
             data["start"] = {"joints": joints}
-    data["targets"] = [_target_table(t) for t in problem.all_targets]
-    data["loads"] = [dict(tcp=ld.tcp, force=floats(ld.force)) for ld in problem.load_specs]
-    data["loops"] = [_loop_table(lp) for lp in problem.loops]
+    data["targets"] = [_target_table(t) for t in spec.targets]
+    data["loads"] = [dict(tcp=ld.tcp, force=floats(ld.force)) for ld in spec.loads]
+    data["loops"] = [_loop_table(lp) for lp in spec.loops]
     if carried is not None:
         data["carried"] = dict(name=carried.name, size=floats(carried.size), tcps=list(carried.tcps))
     return {k: v for k, v in data.items() if v != []}

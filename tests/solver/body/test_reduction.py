@@ -17,7 +17,7 @@ from solver.errors import ScenarioError
 from solver.io.scenario.bodies import load_body
 from solver.iteration import solve
 from solver.motion.frames import MotionLimits, variable_steps
-from solver.problem.problem import Problem, Target
+from solver.problem.problem import Problem, ProblemSpec, Target
 
 ROOT = Path(__file__).resolve().parents[3]
 DEG = np.pi / 180
@@ -39,7 +39,7 @@ def reach(model, groups=GROUPS, position=(-0.2, -0.45, 1.1)):
         Target(f, zero.tcp_frame(model.tcp(f))[1], lock=("z", "rx", "ry"), support=True) for f in ("foot_l", "foot_r")
     ]
     hand = Target("hand_r", np.array(position), lock=("x", "y", "z"))
-    return Problem(model, [*feet, hand], reduction=groups)
+    return Problem(model, ProblemSpec([*feet, hand], reduction=groups))
 
 
 def box_points(rng, count: int) -> np.ndarray:

@@ -23,7 +23,7 @@ from solver.collision.carried import Carried, carried_box, carried_frame
 from solver.errors import ScenarioError
 from solver.io.scenario.bodies import load_body
 from solver.problem.priorities import ranked
-from solver.problem.problem import Problem, Target
+from solver.problem.problem import Problem, ProblemSpec, Target
 
 SCENARIOS = Path(__file__).resolve().parents[3] / "presets" / "scenarios"
 TOLERANCE = 1e-3  # m: no penetration beyond this
@@ -125,7 +125,7 @@ def held_low(model, carried: Carried | None) -> Problem:
     for side, x, turn in (("r", -0.202, 1.0), ("l", 0.202, -1.0)):
         palm = quat_to_matrix(np.array([np.sqrt(0.5), 0.0, turn * np.sqrt(0.5), 0.0]))  # its normal towards the box
         targets.append(Target(f"hand_{side}", np.array([x, -0.15, 0.8]), palm, lock=("x", "y", "z", "rx", "ry")))
-    return Problem(model, targets, carried=carried)
+    return Problem(model, ProblemSpec(targets, carried=carried))
 
 
 def box_gaps(model, result, carried: Carried) -> dict[str, float]:
@@ -172,7 +172,7 @@ def test_hands_set_the_box_down_inside_a_table_leave_it_on_the_table_top(tmp_pat
     model = load_body(preset="male_50")
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     table = Box(np.array([0.0, -0.35, 0.70]), np.array([0.8, 0.5, 0.04]), name="table")  # top at 0.72 m
-    problem = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[table])
+    problem = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[table]))
     result, frame = solved_pose(problem, tmp_path)
     assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
     placed = carried_box(box, *(np.array(frame["tcps"][t]["position"]) for t in box.tcps))
@@ -201,7 +201,7 @@ def test_a_mesh_corner_poking_into_the_middle_of_a_box_face_is_measured():
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     centre, rotation = np.array([0.0, -0.3, 0.9]), np.eye(3)
     pyramid = spike(centre - [0.0, 0.0, 0.11])
-    rows = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[pyramid])
+    rows = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[pyramid]))
     rows = rows.carried_obstacle_constraint
     a, b = box_edges(Box(centre, box.size, rotation))
     assert obstacle_distance(a, b, np.zeros(12), pyramid).distance.min() > 0.05  # the box's edges are far from it
@@ -221,7 +221,7 @@ def test_hands_set_the_box_down_onto_a_spike_leave_it_on_the_tip(tmp_path):
     model = load_body(preset="male_50")
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     pyramid = spike([0.0, -0.24, 0.72], height=0.2, half=0.04)  # the box's bottom held at 0.68 m
-    problem = Problem(model, held_low(model, box).all_targets, carried=box, obstacles=[pyramid])
+    problem = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[pyramid]))
     result, frame = solved_pose(problem, tmp_path)
     assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
     placed, _, wrong = carried_obstacle(frame)
@@ -237,7 +237,7 @@ def test_the_box_stays_above_the_floor():
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     targets = [t if not t.tcp.startswith("hand") else Target(t.tcp, t.position * [1, 1, 0] + [0, -0.25, 0.05],
                t.rotation, lock=t.lock) for t in held_low(model, box).all_targets]  # fmt: skip
-    result = solver.solve(Problem(model, targets, carried=box))
+    result = solver.solve(Problem(model, ProblemSpec(targets, carried=box)))
     kin = result.state.kin
     placed = carried_box(box, *(kin.tcp_frame(model.tcp(t))[1] for t in box.tcps))
     a, b = box_edges(placed)
@@ -258,7 +258,7 @@ def plate_drop(resolve: bool, plate_y: float = -0.15) -> dict:
     def held_at(height: float) -> Problem:
         targets = [t if not t.tcp.startswith("hand") else Target(t.tcp, t.position * [1, 1, 0] + [0, 0, height],
                    t.rotation, lock=t.lock) for t in held_low(model, box).all_targets]  # fmt: skip
-        return Problem(model, targets, carried=box, obstacles=[plate])
+        return Problem(model, ProblemSpec(targets, carried=box, obstacles=[plate]))
 
     problems = {1: held_at(1.0), 2: held_at(0.55)}
     start = problems[1].start(None)

@@ -309,7 +309,7 @@ def test_random_reaches_around_random_boxes(male50, center, size, yaw, offset, h
     from solver.collision import Box
     from solver.collision.body import capsules_of
     from solver.io.result.document import result_document
-    from solver.problem.problem import Problem, Target
+    from solver.problem.problem import Problem, ProblemSpec, Target
 
     table = dict(kind="box", name="box", center=list(center), size=list(size), clearance=0.0,
                  rotation=[math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])  # fmt: skip
@@ -320,7 +320,7 @@ def test_random_reaches_around_random_boxes(male50, center, size, yaw, offset, h
                for f in ("foot_r", "foot_l")]  # fmt: skip
     targets.append(Target(hand, np.add(center, offset), lock=("x", "y", "z")))
     box = Box(center, size, quaternion_matrix(table["rotation"]), name="box")
-    result = solve(Problem(male50, targets, obstacles=[box]))
+    result = solve(Problem(male50, ProblemSpec(targets, obstacles=[box])))
     document = json.loads(json.dumps(result_document([(1, result)])))
     assert non_finite(document) == [] and np.isfinite(result.theta).all()
     frame = document["frames"][0]

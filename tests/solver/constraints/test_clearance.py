@@ -12,7 +12,7 @@ from solver.collision import Box, HalfSpace
 from solver.collision.body import body_capsules
 from solver.constraints.clearance import Clearance
 from solver.io.scenario.bodies import load_body
-from solver.problem.problem import Problem, Target
+from solver.problem.problem import Problem, ProblemSpec, Target
 
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")
 FEET = ("foot_r", "foot_l")  # supports: their targets hold them on the floor
@@ -28,9 +28,10 @@ def reach_below(model, obstacles: list) -> tuple[Problem, Clearance | None]:
     targets = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
     targets.append(Target("hand_r", np.array([-0.2, -0.4, -1.0]), lock=("x", "y", "z")))
     if not obstacles:
-        return Problem(model, targets, floor=False), None
-    clearance = Clearance(model, body_capsules(model), obstacles, Problem(model, targets).n_x, exclude=FEET)
-    return Problem(model, targets, extra_constraints=[clearance], floor=False), clearance
+        return Problem(model, ProblemSpec(targets, floor=False)), None
+    n_x = Problem(model, ProblemSpec(targets)).n_x
+    clearance = Clearance(model, body_capsules(model), obstacles, n_x, exclude=FEET)
+    return Problem(model, ProblemSpec(targets, extra_constraints=[clearance], floor=False)), clearance
 
 
 def test_clearance_jacobian_matches_finite_differences(male50):
@@ -57,7 +58,7 @@ def test_the_floor_keeps_the_manikin_standing(male50):
     sunk = solve(free)
     pelvis = male50.forward(sunk.theta).tcp_frame(male50.tcp("pelvis"))[1][2]
     assert sunk.converged and pelvis < 0.3
-    result = solve(Problem(male50, free.targets))
+    result = solve(Problem(male50, ProblemSpec(free.targets)))
     assert result.problem.floor_constraint is not None
     assert not result.converged and result.unmet == ["hand_r"] and result.broken == []
     kin = male50.forward(result.theta)
@@ -93,7 +94,7 @@ def test_the_result_file_holds_the_capsules_and_the_closest_pairs(male50, tmp_pa
     from solver import write_result
 
     free, _ = reach_below(male50, [])
-    result = solve(Problem(male50, free.targets))
+    result = solve(Problem(male50, ProblemSpec(free.targets)))
     frame = json.loads(write_result(tmp_path / "r.json", [(1, result)]).read_text(encoding="utf-8"))["frames"][0]
     shapes = frame["collision_shapes"]
     assert len(shapes) == len(body_capsules(male50)) and {s["link"] for s in shapes} >= {"hand_r", "head"}
@@ -216,7 +217,7 @@ def test_a_long_step_stops_at_an_obstacle_it_did_not_see_coming(male50, kind):
     from bench.mesh_obstacle import cabinet, targets
 
     mesh, box = cabinet(0.90)
-    problem = Problem(male50, targets(male50), obstacles=[mesh if kind == "mesh" else box])
+    problem = Problem(male50, ProblemSpec(targets(male50), obstacles=[mesh if kind == "mesh" else box]))
     deepest = []
     original = loop.LineSearch.run
 
@@ -239,8 +240,8 @@ def test_the_rows_are_measured_once_for_the_same_joint_values(male50):
     """A motion's next frame starts where the last ended: a new state, the same rows, the same joint values. The
     distances are measured again only when the joint values change, and equal a fresh measurement."""
     table = Box(np.array([0.0, 0.0, 0.5]), np.array([2.0, 2.0, 0.1]), name="table")  # through the thighs
-    problem = Problem(male50, [Target(f, np.array([x, 0.0, 0.0]), support=True)
-                               for f, x in zip(FEET, (-0.083, 0.083), strict=True)], obstacles=[table])  # fmt: skip
+    problem = Problem(male50, ProblemSpec([Target(f, np.array([x, 0.0, 0.0]), support=True)
+                               for f, x in zip(FEET, (-0.083, 0.083), strict=True)], obstacles=[table]))  # fmt: skip
     rows = problem.obstacle_constraint
     x = problem.start(None)
     calls = []
@@ -268,6 +269,6 @@ def test_a_touching_pair_is_written_as_zero_not_minus_zero():
 
 def test_the_summary_gives_a_clearance_shortfall_in_mm(male50):
     free, _ = reach_below(male50, [])
-    result = solve(Problem(male50, free.targets))
+    result = solve(Problem(male50, ProblemSpec(free.targets)))
     line = next(line for line in result.summary().splitlines() if "floor.shortfall" in line)
     assert line.rstrip().endswith(" mm")

@@ -9,7 +9,7 @@ from helpers import finite_difference, random_tree
 from solver.body.spatial import exp_so3, log_so3
 from solver.comfort import ComfortWeights
 from solver.constraints import FrameConstraint, Inequality, lock_operator
-from solver.problem.problem import ExternalLoad, Loop, Problem, Target
+from solver.problem.problem import ExternalLoad, Loop, Problem, ProblemSpec, Target
 
 
 def random_pose(model, rng, spread=1.0):
@@ -25,7 +25,8 @@ def make_problem(model, rng, balance=True):
     ]
     loops = [Loop("t3", "t2", rng.normal(scale=0.2, size=3), exp_so3(rng.normal(size=3)), lock=tuple("xyz") + ("rz",))]
     loads = [ExternalLoad("t3", np.array([3.0, -2.0, -40.0]))]
-    return Problem(model, targets, loops, loads, balance=balance, comfort_weights=ComfortWeights(1.0, 1.0, 0.3))
+    weights = ComfortWeights(1.0, 1.0, 0.3)
+    return Problem(model, ProblemSpec(targets, loops, loads, balance=balance, comfort_weights=weights))
 
 
 def state_x(problem, rng):
@@ -83,7 +84,7 @@ def test_rotation_error_jacobian_large_error():
     axis = rng.normal(size=3)
     target_r = r @ exp_so3(axis / np.linalg.norm(axis) * np.deg2rad(170))
     c = FrameConstraint("t2", tcp, target_r, o + 0.3, lock_operator(("x", "y", "z", "rx", "ry", "rz")), model.n)
-    problem = Problem(model, balance=False)
+    problem = Problem(model, ProblemSpec(balance=False))
     err = c.error(problem.state(theta))
     assert np.linalg.norm(err[3:]) > np.deg2rad(160)
     numeric = finite_difference(lambda t: c.error(problem.state(t)), theta)
@@ -198,7 +199,8 @@ def carried_cases():
     for seed in range(3):
         _, problem, x, _ = random_case(seed, 300)
         box = Carried(np.array([0.6, 0.5, 0.4]), ("t2", "t3"), "crate")
-        yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, carried=box), x
+        spec = ProblemSpec(problem.all_targets, problem.loops, problem.load_specs, carried=box)
+        yield Problem(problem.model, spec), x
 
 
 def clearance_rows_against_differences(c, problem, x, plateau: bool = False, counted=slice(None)) -> np.ndarray:
@@ -262,15 +264,19 @@ def carried_obstacle_cases():
         down = rotation @ np.diag([1.0, -1.0, -1.0]) @ exp_so3(rng.normal(scale=0.3, size=3))  # z: the box's -z, tilted
         tip = centre - (size[2] / 2 - depth) * rotation[:, 2]
         obstacles.append(pyramid(tip, down, "p"))
-        yield Problem(problem.model, problem.all_targets, problem.loops, problem.load_specs, obstacles=obstacles,
-                      carried=Carried(size, ("t2", "t3"), "crate")), x  # fmt: skip
+        spec = ProblemSpec(problem.all_targets, problem.loops, problem.load_specs, obstacles=obstacles,
+                           carried=Carried(size, ("t2", "t3"), "crate"))
+        yield Problem(problem.model, spec), x
 
 
 def test_carried_box_obstacle_jacobian():
     """The carried box's rows against the obstacles and the floor (its edges against each obstacle, the obstacles'
     edges against it, its corners above the floor) against central differences; inside, near and clear rows, also
     among the meshes' own edges' rows alone (a box of triangles and a pyramid poking its tip into the box)."""
-    from solver.constraints.carried_obstacles import EDGE_ROWS, CarriedObstacles
+    from solver.collision import Mesh
+    from solver.constraints.carried_obstacles import CarriedObstacles
+
+    edge_rows = Mesh.nearest_edges
 
     seen, edges = np.zeros(3, dtype=int), np.zeros(3, dtype=int)
     kinds = set()
@@ -279,9 +285,9 @@ def test_carried_box_obstacle_jacobian():
         seen += clearance_rows_against_differences(c, problem, x, plateau=True)
         kinds |= {pair.other for pair in c.closest(problem.state(x))}
         meshes = [ob for ob in problem.obstacles if ob.name in ("m", "p")]
-        alone = CarriedObstacles(problem.model, problem.carried, meshes, problem.n_x)  # 12 + EDGE_ROWS rows each
-        assert alone.rows == 2 * (12 + EDGE_ROWS)
-        reverse = np.r_[12 : 12 + EDGE_ROWS, 24 + EDGE_ROWS : 24 + 2 * EDGE_ROWS]
+        alone = CarriedObstacles(problem.model, problem.carried, meshes, problem.n_x)  # 12 + edge_rows rows each
+        assert alone.rows == 2 * (12 + edge_rows)
+        reverse = np.r_[12 : 12 + edge_rows, 24 + edge_rows : 24 + 2 * edge_rows]
         edges += clearance_rows_against_differences(alone, problem, x, plateau=True, counted=reverse)
     assert (seen >= 3).all(), seen
     assert (edges >= 3).all(), edges

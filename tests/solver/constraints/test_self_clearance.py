@@ -11,7 +11,7 @@ from solver import solve
 from solver.collision.body import capsules_of
 from solver.collision.self_pairs import REACHING, SHANKS, THIGHS, self_pairs
 from solver.io.scenario.bodies import load_body
-from solver.problem.problem import Problem, Target
+from solver.problem.problem import Problem, ProblemSpec, Target
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +36,7 @@ def test_every_human_has_the_documented_pairs_and_the_zero_pose_keeps_them(prese
         assert trunk | set(THIGHS) <= others and not others & {"upper_arm_r", "upper_arm_l", part}
     assert SHANKS in names and len(names) == len(set(names))
     assert (pairs.least <= 0).all() and pairs.least.min() > -0.05  # only the rough capsules' rest overlap
-    problem = Problem(model, feet(model))
+    problem = Problem(model, ProblemSpec(feet(model)))
     state = problem.state_of_x(problem.start())
     assert not problem.self_constraint.unmet(state)
 
@@ -44,13 +44,13 @@ def test_every_human_has_the_documented_pairs_and_the_zero_pose_keeps_them(prese
 def test_the_snake_has_no_pairs():
     snake = load_body(preset="snake")
     assert len(self_pairs(snake, capsules_of(snake))) == 0
-    assert Problem(snake, [Target("floor", np.zeros(3), support=True)]).self_constraint is None
+    assert Problem(snake, ProblemSpec([Target("floor", np.zeros(3), support=True)])).self_constraint is None
 
 
 def test_self_clearance_jacobian_matches_finite_differences(male50):
     """A random pose with arms folded into the body: several rows violated, the exact Jacobian of every row (met
     or not) equals the finite differences of the distances."""
-    problem = Problem(male50, feet(male50))
+    problem = Problem(male50, ProblemSpec(feet(male50)))
     rows = problem.self_constraint
     rng = np.random.default_rng(5)
     for _ in range(3):
@@ -69,8 +69,8 @@ def test_a_reach_across_the_body_keeps_the_forearm_out_of_the_trunk(male50):
     """The right hand to a point behind the left hip: without self-collision the arm passes through the trunk;
     with it (the default) no pair is closer than allowed (recomputed from the capsules), feet and balance hold."""
     targets = [*feet(male50), Target("hand_r", np.array([0.12, 0.2, 0.95]), lock=("x", "y", "z"))]
-    loose = solve(Problem(male50, targets, self_collision=False))
-    checked = Problem(male50, targets)
+    loose = solve(Problem(male50, ProblemSpec(targets, self_collision=False)))
+    checked = Problem(male50, ProblemSpec(targets))
     before = checked.self_constraint.value(checked.state_of_x(loose.x)) - checked.self_constraint.floor
     assert before.min() < -0.03  # the free solve goes through the body
     result = solve(checked)

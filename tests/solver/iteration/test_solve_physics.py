@@ -26,7 +26,7 @@ from solver.io.scenario.bodies import load_body
 from solver.iteration import TUNING, LeastSquares, StopReason, restart_pose, solve
 from solver.iteration.loop import run_phase
 from solver.options import DEFAULT_OPTIONS, SolverOptions
-from solver.problem.problem import ExternalLoad, Loop, Problem, Target
+from solver.problem.problem import ExternalLoad, Loop, Problem, ProblemSpec, Target
 
 REPO = Path(__file__).resolve().parents[3]
 BOX_LIFT = REPO / "presets" / "scenarios" / "box_lift.toml"
@@ -61,7 +61,7 @@ def chest_reach(model) -> np.ndarray:
 def reach_problem(model, target: np.ndarray, load_kg: float = 0.0, balance: bool = True) -> Problem:
     targets = [*feet(model), Target("hand_r", np.asarray(target, float), lock=("x", "y", "z"))]
     loads = [ExternalLoad("hand_r", load_kg * G)] if load_kg else []
-    return Problem(model, targets, loads=loads, balance=balance)
+    return Problem(model, ProblemSpec(targets, loads=loads, balance=balance))
 
 
 # --------------------------------------------------------------------------------------------- solves
@@ -111,7 +111,7 @@ def test_check_physics_catches_broken_results(box_lift_result):
 
 
 def test_zero_pose_standing(male50):
-    problem = Problem(male50, feet(male50))
+    problem = Problem(male50, ProblemSpec(feet(male50)))
     result = solve(problem, male50.zero_pose())
     assert result.converged, result.summary()
     check_physics(result)
@@ -151,7 +151,7 @@ def test_loop_hand_to_hand(male50):
     """hand_l held 0.3 m along hand_r's x axis while hand_r reaches forward."""
     loop = Loop("hand_l", "hand_r", offset_position=np.array([0.3, 0.0, 0.0]), lock=("x", "y", "z"))
     targets = [*feet(male50), Target("hand_r", chest_reach(male50), lock=("x", "y", "z"))]
-    result = solve(Problem(male50, targets, loops=[loop]))
+    result = solve(Problem(male50, ProblemSpec(targets, loops=[loop])))
     assert result.converged, result.summary()
     check_physics(result)
     kin = male50.forward(result.theta)
@@ -200,7 +200,7 @@ def test_warm_start_after_5cm_move(male50, case):
 
 def test_without_balance(male50):
     targets = [*feet(male50), Target("hand_r", chest_reach(male50), lock=("x", "y", "z"))]
-    problem = Problem(male50, targets, balance=False)
+    problem = Problem(male50, ProblemSpec(targets, balance=False))
     assert problem.n_x == male50.n
     assert problem.contacts.n_vars == 0
     result = solve(problem)
@@ -247,20 +247,20 @@ def test_reachable_box_converges(male50, target):
 
 def test_unknown_tcp_raises(male50):
     with pytest.raises(ManikinError, match="hand_x"):
-        Problem(male50, [*feet(male50), Target("hand_x", np.array([0.0, -0.3, 1.0]))])
+        Problem(male50, ProblemSpec([*feet(male50), Target("hand_x", np.array([0.0, -0.3, 1.0]))]))
 
 
 def test_balance_without_support_raises(male50):
     with pytest.raises(ManikinError):
-        Problem(male50, [Target("hand_r", np.array([0.0, -0.3, 1.0]))], balance=True)
+        Problem(male50, ProblemSpec([Target("hand_r", np.array([0.0, -0.3, 1.0]))], balance=True))
     with pytest.raises(ManikinError):
-        Problem(male50, feet(male50, balance_supports=False), balance=True)
+        Problem(male50, ProblemSpec(feet(male50, balance_supports=False), balance=True))
 
 
 def test_unknown_lock_axis_raises_manikin_error(male50):
     """One domain exception hierarchy (DESIGN.md): a bad lock through the API is a ManikinError too."""
     with pytest.raises(ManikinError):
-        Problem(male50, [*feet(male50), Target("hand_r", np.array([0.0, -0.3, 1.0]), lock=("x", "q"))])
+        Problem(male50, ProblemSpec([*feet(male50), Target("hand_r", np.array([0.0, -0.3, 1.0]), lock=("x", "q"))]))
 
 
 def test_nan_target_is_rejected_or_gives_finite_result(male50):

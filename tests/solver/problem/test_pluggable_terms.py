@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from helpers import finite_difference
 
-from solver import Problem, Target, solve
+from solver import Problem, ProblemSpec, Target, solve
 from solver.body.state import State
 from solver.comfort import Comfort, ComfortTerm, ComfortWeights
 from solver.constraints import Inequality
@@ -71,7 +71,7 @@ def _feet(model) -> list[Target]:
 
 
 def test_an_inequality_is_zero_while_met_and_its_jacobian_is_exact_while_violated(male50):
-    plain = Problem(male50, _feet(male50))
+    plain = Problem(male50, ProblemSpec(_feet(male50)))
     above = HandAbove(male50, 1.2, plain.n_x)
     x = plain.start()
     state = plain.state(x)
@@ -85,10 +85,10 @@ def test_an_inequality_is_zero_while_met_and_its_jacobian_is_exact_while_violate
 
 def test_the_solver_meets_an_extra_inequality_it_knows_nothing_about(male50):
     """Comfort alone lets the arm hang (palm ~0.8 m); with the inequality the palm ends at or above 1.2 m."""
-    free = solve(Problem(male50, _feet(male50)))
+    free = solve(Problem(male50, ProblemSpec(_feet(male50))))
     height = free.state.kin.tcp_frame(male50.tcp("hand_r"))[1][2]
     assert free.converged and height < 1.0
-    problem = Problem(male50, _feet(male50), extra_constraints=[HandAbove(male50, 1.2, free.problem.n_x)])
+    problem = Problem(male50, ProblemSpec(_feet(male50), extra_constraints=[HandAbove(male50, 1.2, free.problem.n_x)]))
     held = solve(problem)
     assert held.converged and "hand_r above.shortfall" in held.residuals
     assert held.state.kin.tcp_frame(male50.tcp("hand_r"))[1][2] >= 1.2 - 1e-3
@@ -96,9 +96,9 @@ def test_the_solver_meets_an_extra_inequality_it_knows_nothing_about(male50):
 
 def test_a_new_comfort_term_plugs_in_with_an_exact_gradient(male50):
     targets = [*_feet(male50), Target("hand_r", np.array([-0.25, -0.3, 1.0]), lock=("x", "y", "z"))]
-    standard = Problem(male50, targets)
+    standard = Problem(male50, ProblemSpec(targets))
     terms = [*Comfort.standard(male50, ComfortWeights()).terms, (5.0, ElbowStraight(male50))]
-    problem = Problem(male50, targets, comfort=Comfort(terms))
+    problem = Problem(male50, ProblemSpec(targets, comfort=Comfort(terms)))
     elbow = male50.joint_index("elbow_r_flexion")
     x = problem.start()
     x[: male50.n] = 0.7 * male50.neutral + 0.3 * np.clip(0.5 * (male50.lower + male50.upper), -1, 1)  # inside ranges

@@ -19,7 +19,7 @@ from solver.io.scenario.bodies import load_body
 from solver.io.scenario.write import dumps_scenario, scenario_to_dict
 from solver.iteration import StopReason
 from solver.problem.priorities import REACH_WEIGHT, ReachShortfall, ranked
-from solver.problem.problem import ExternalLoad, Problem, Target
+from solver.problem.problem import ExternalLoad, Problem, ProblemSpec, Target
 
 PLANTED = ("x", "y", "z", "rx", "ry", "rz")
 
@@ -40,7 +40,7 @@ def planted_feet(model) -> list[Target]:
 
 def reach(model, point, **kwargs) -> Problem:
     hand = Target("hand_r", np.asarray(point, float), lock=("x", "y", "z"), **kwargs)
-    return Problem(model, [*planted_feet(model), hand])
+    return Problem(model, ProblemSpec([*planted_feet(model), hand]))
 
 
 def hand_position(result) -> np.ndarray:
@@ -52,7 +52,7 @@ def check_held(result) -> None:
     """Feet on their targets and balance, recomputed by the physics check on the result without its reach targets."""
     problem = result.problem
     hard = [t for t in problem.targets if t.effective_priority == 1]
-    held = Problem(problem.model, hard, problem.loops, problem.load_specs, problem.balance)
+    held = Problem(problem.model, ProblemSpec(hard, problem.loops, problem.load_specs, problem.balance))
     check_physics(dataclasses.replace(result, problem=held))
 
 
@@ -63,7 +63,7 @@ def test_reach_shortfall_derivatives_match_finite_differences(male50):
         Target("hand_r", np.array([-0.3, -0.6, 1.2]), lock=PLANTED),
         Target("hand_l", np.array([0.4, -0.2, 0.9]), lock=("x", "z"), weight=2.0),
     ]
-    problem = Problem(male50, [*planted_feet(male50), *targets])
+    problem = Problem(male50, ProblemSpec([*planted_feet(male50), *targets]))
     term = ReachShortfall(FrameGroup(problem.target_constraints[2:]))
     rng = np.random.default_rng(3)
     x = problem.start() + np.r_[rng.uniform(-0.2, 0.2, male50.n), np.zeros(problem.n_x - male50.n)]
@@ -149,7 +149,8 @@ def test_a_target_of_priority_1_is_held_like_a_support(male50):
 def test_a_load_no_stance_can_hold_is_reported_broken(male50):
     """5 kN pulling the hand forward is beyond friction (0.6 x body weight): balance breaks, and the result says so."""
     problem = reach(male50, [-0.2, -0.5, 1.0])
-    loaded = Problem(male50, problem.targets, loads=[ExternalLoad("hand_r", np.array([0.0, -5000.0, 0.0]))])
+    pull = ExternalLoad("hand_r", np.array([0.0, -5000.0, 0.0]))
+    loaded = Problem(male50, ProblemSpec(problem.targets, loads=[pull]))
     result = solve(loaded)
     assert not result.converged and "balance" in result.broken
     assert "NOT held (priority 1): " in result.summary()
@@ -191,7 +192,8 @@ def test_ergo_flags_frames_that_did_not_converge(male50, tmp_path):
 
     short = solve(reach(male50, [-0.2, -1.6, 1.0]))
     loaded = reach(male50, [-0.2, -0.5, 1.0])
-    broken = solve(Problem(male50, loaded.targets, loads=[ExternalLoad("hand_r", np.array([0.0, -5000.0, 0.0]))]))
+    pull = ExternalLoad("hand_r", np.array([0.0, -5000.0, 0.0]))
+    broken = solve(Problem(male50, ProblemSpec(loaded.targets, loads=[pull])))
     fine = solve(reach(male50, [-0.25, -0.45, 1.1]))
     path = write_result(tmp_path / "r.json", [(1, fine), (2, short), (3, broken)])
     report = run(path, tmp_path / "r_ergo.json", ErgoOptions(), plots=False)

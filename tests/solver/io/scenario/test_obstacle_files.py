@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import Problem, dumps_scenario, load_scenario, scenario_to_dict, write_scenario
+from solver import Problem, ProblemSpec, dumps_scenario, load_scenario, scenario_to_dict, write_scenario
 from solver.collision import Box, Capsule, HalfSpace, Mesh, Sphere
 from solver.collision.generate import axis_frame, box_mesh, capsule_mesh
 from solver.errors import ManikinError
@@ -23,7 +23,7 @@ BOX_LIFT = PRESETS_DIR / "scenarios" / "box_lift.toml"
 
 def _data(*obstacles) -> dict:
     box = load_scenario(BOX_LIFT).problem
-    problem = Problem(box.model, box.all_targets, box.loops, box.load_specs, obstacles=list(obstacles))
+    problem = Problem(box.model, ProblemSpec(box.all_targets, box.loops, box.load_specs, obstacles=list(obstacles)))
     return scenario_to_dict(problem, {"preset": "male_50"})
 
 

@@ -72,7 +72,7 @@ def test_support_polygon_is_the_convex_hull() -> None:
 def test_reduction_groups_round_trip(tmp_path: Path) -> None:
     box = load_scenario(BOX_LIFT).problem
     groups = ("lumbar", "thoracic")
-    reduced = Problem(box.model, box.all_targets, box.loops, box.load_specs, box.balance, box.comfort.weights, groups)
+    reduced = Problem(box.model, box.spec.replace(reduction=groups))
     path = tmp_path / "reduced.toml"
     path.write_text(dumps_scenario(scenario_to_dict(reduced, {"preset": "male_50"})), encoding="utf-8")
     assert load_scenario(path).problem.reduction_groups == groups

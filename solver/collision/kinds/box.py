@@ -1,0 +1,118 @@
+"""The box obstacle kind: an oriented box, and capsules vs many boxes in one query (:mod:`solver.collision.boxes`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from ...errors import ScenarioError
+from ..boxes import box_edges, box_rows
+from ..distance import as_batch
+from ..generate import box_mesh
+from ..proximity import Proximity, near_only_many
+from .base import POINT, ROTATION, VECTOR, Obstacle, Segments, ShapeGroup, frozen_array, label, placement
+
+ROTATION_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True, eq=False)
+class Box(Obstacle):
+    """An oriented box: ``center`` (3,) m, ``size`` (3,) full edge lengths m > 0 along the columns of
+    ``rotation`` (3x3, a proper rotation: world = rotation @ local + center)."""
+
+    center: np.ndarray
+    size: np.ndarray
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+
+    kind = "box"
+    keys = {"center": POINT, "size": VECTOR, "rotation": ROTATION}
+    description = "The mesh's bounds in the object's own axes"
+
+    def __post_init__(self) -> None:
+        self._check_common()
+        object.__setattr__(self, "center", frozen_array(self, "center", self.center, (3,)))
+        size = frozen_array(self, "size", self.size, (3,))
+        if (size <= 0).any():
+            raise ScenarioError(f"{label(self)}: size: expected 3 edge lengths > 0 (m), got {size.tolist()}")
+        object.__setattr__(self, "size", size)
+        rot = frozen_array(self, "rotation", self.rotation, (3, 3))
+        if not np.allclose(rot.T @ rot, np.eye(3), atol=ROTATION_TOLERANCE) or np.linalg.det(rot) < 0:
+            raise ScenarioError(f"{label(self)}: rotation: expected a proper rotation matrix, got {rot.tolist()}")
+        object.__setattr__(self, "rotation", rot)
+        object.__setattr__(self, "_stacked", box_set([self]))
+
+    @property
+    def half(self) -> np.ndarray:
+        """Half edge lengths (3,), m."""
+        return 0.5 * self.size
+
+    def distance(self, p0, p1, radii, margin=np.inf, memory=None) -> Proximity:
+        # only the capsules near the box: most of a scene's boxes are far from most parts
+        return boxes_distance(*as_batch(p0, p1, radii), self._stacked, margin)[0]
+
+    @classmethod
+    def group(cls, shapes: list[Obstacle], names: tuple[str, ...]) -> ShapeGroup:
+        return BoxGroup(shapes, names)
+
+    def skeleton(self) -> Segments:
+        return (*box_edges(self.center, self.rotation, self.half), np.zeros(12))
+
+    def placed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        vertices, faces = box_mesh(np.zeros(3), self.size)
+        return vertices, faces, placement(self.rotation, self.center)
+
+    @classmethod
+    def from_bounds(cls, center, rotation, size, **common) -> Box:
+        return cls(center, size, rotation, **common)
+
+
+class BoxGroup(ShapeGroup):
+    """A constraint's boxes, stacked once and answered by one query per evaluation."""
+
+    def __init__(self, shapes: list[Box], names: tuple[str, ...]) -> None:
+        super().__init__(shapes, names)
+        self.stacked = box_set(self.shapes)
+
+    def distances(self, p0, p1, radii, margins) -> list[Proximity]:
+        return boxes_distance(p0, p1, radii, self.stacked, margins)
+
+
+def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) -> Proximity:
+    """Capsules (k rows) vs one oriented box, exact for every row."""
+    k = len(p0)
+    return box_rows(p0, p1, radii, np.broadcast_to(box.center, (k, 3)), np.broadcast_to(box.rotation, (k, 3, 3)),
+                    np.broadcast_to(box.half, (k, 3)))  # fmt: skip
+
+
+class BoxSet(NamedTuple):
+    """m boxes stacked for one query: ``center`` (m, 3) m, ``rotation`` (m, 3, 3), ``half`` sizes (m, 3) m and
+    ``extent`` (m, 3) m, the half sizes of their world bounding boxes."""
+
+    center: np.ndarray
+    rotation: np.ndarray
+    half: np.ndarray
+    extent: np.ndarray
+
+
+def box_set(boxes: list[Box]) -> BoxSet:
+    """``boxes`` stacked once (a constraint asks about the same boxes at every evaluation)."""
+    m = len(boxes)
+    rotation = np.array([b.rotation for b in boxes]).reshape(m, 3, 3)
+    half = np.array([b.half for b in boxes]).reshape(m, 3)
+    center = np.array([b.center for b in boxes]).reshape(m, 3)
+    return BoxSet(center, rotation, half, np.einsum("mij,mj->mi", np.abs(rotation), half))
+
+
+def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: BoxSet, margins) -> list[Proximity]:
+    """Capsules (k rows) vs each of ``boxes``, one Proximity per box: exact for the capsules whose bounding box,
+    grown by radius + the box's margin (``margins``, m, one per box), meets the box's, +inf beyond it (see
+    :func:`~solver.collision.proximity.near_only_many`)."""
+    center, rotation, half, extent = boxes
+    margins = np.broadcast_to(np.asarray(margins, dtype=float), (len(center),))
+
+    def exact(box: np.ndarray, cap: np.ndarray) -> Proximity:
+        return box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
+
+    return near_only_many(p0, p1, radii, margins, center - extent, center + extent, exact)
