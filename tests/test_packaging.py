@@ -68,6 +68,7 @@ def _run(command: list, cwd: Path) -> subprocess.CompletedProcess:
     return subprocess.run([str(c) for c in command], cwd=cwd, capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.slow  # the checkout installed into a fresh environment (the fixture): ~5 s
 def test_the_manikin_command_runs_from_any_directory(installed: Path, tmp_path: Path) -> None:
     manikin = installed / ("manikin.exe" if os.name == "nt" else "manikin")
     done = _run([manikin, "presets"], tmp_path)
@@ -84,6 +85,7 @@ def test_the_manikin_command_runs_from_any_directory(installed: Path, tmp_path: 
     assert done.returncode == 2 and "missing.toml" in done.stderr  # main()'s exit code reaches the shell
 
 
+@pytest.mark.slow
 def test_python_dash_m_solver_runs_from_any_directory(installed: Path, tmp_path: Path) -> None:
     python = installed / ("python.exe" if os.name == "nt" else "python")
     done = _run([python, "-m", "solver", "presets"], tmp_path)

@@ -203,7 +203,7 @@ def search_ray(
     seed = (lo, pose)
     margin = MARGIN * tolerance
     hi, step = None, FIRST_STEP
-    while hi is None or hi - lo > margin * (1.0 + 1e-9):  # (a bracket of exactly the margin is narrow enough)
+    while hi is None or hi - lo > margin * (1.0 + 1e-9):  # a bracket of the margin (up to rounding) is narrow enough
         radius = min(lo + step, MAX_RADIUS) if hi is None else 0.5 * (lo + hi)
         if hi is None and radius <= lo:
             break  # at MAX_RADIUS
@@ -225,6 +225,9 @@ def _inside(
     that test fail (a ray reached in pieces), the seed if it lies inside, else the reached end itself."""
     if known and seed[0] >= radius:
         return seed
+    radius = max(radius, MIN_RADIUS)
+    if radius >= end[0]:
+        return end  # reached no farther than MIN_RADIUS: nothing nearer counts
     reached = test(radius, end[1])
     if reached is not None:
         return radius, reached

@@ -112,6 +112,32 @@ def test_a_heavy_load_in_the_hand_shortens_the_forward_reach_in_balance_only():
     assert free["hand_y"] < free["shoulder_y"] - 0.5 and json.dumps(free)  # a plain row
 
 
+@pytest.mark.parametrize("known", [False, True])
+def test_the_reach_is_a_tested_radius_half_a_tolerance_inside_the_nearest_one_not_reached(monkeypatch, known):
+    """Right at the edge a test's verdict (and a solve with comfort there) hangs on the last bits of the arithmetic:
+    the answer is a radius found reached MARGIN x tolerance short of the nearest one found unreached beyond it, and
+    within the tolerance of it; a known seed (the stepping search's planted reach) is never undercut."""
+    from solver.envelope import reach
+
+    tests, call = [], reach._Tester.__call__
+
+    def recorded(self, radius, *args):
+        tests.append((radius, call(self, radius, *args)))
+        return tests[-1][1]
+
+    monkeypatch.setattr(reach._Tester, "__call__", recorded)
+    model = load_preset("male_50")
+    ahead = np.array([0.0, -1.0, 0.0])
+    seed = search_ray(reach_setup(model, "right"), ahead, 0.5) if known else None
+    setup = reach_setup(model, "right", feet="step" if known else "planted")
+    tests.clear()
+    ray = search_ray(setup, ahead, *((seed.radius, seed.pose, True) if known else (0.5,)), tolerance=TOLERANCE)
+    unreached = min(r for r, pose in tests if pose is None and r > ray.radius)
+    assert unreached - TOLERANCE - 1e-9 <= ray.radius <= unreached - reach.MARGIN * TOLERANCE + 1e-9
+    assert any(r == ray.radius and pose is not None for r, pose in tests) or (known and ray.radius == seed.radius)
+    assert not known or ray.radius >= seed.radius
+
+
 def test_a_fixed_hand_orientation_is_held_at_the_reach_and_reaches_no_farther_than_a_free_one():
     model = load_preset("male_50")
     palm_down = np.column_stack([(0.0, -1.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.0, -1.0)])  # fingers ahead

@@ -119,7 +119,7 @@ def test_the_bounds_hold_for_every_capsule_point_on_the_way(male50):
                 assert bound.sum() < 0.5 * length.sum(), bound.sum() / length.sum()
 
 
-@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("seed", [0, *(pytest.param(s, marks=pytest.mark.slow) for s in range(1, 4))])  # ~1 s each
 def test_swept_check_agrees_with_brute_force_sampling(male50, seed):
     """Random motions of the right arm past random obstacles (thin plates as boxes and closed meshes, spheres) placed
     on the hand's way: every pair that brute-force sampling finds deeper than 2 tol is reported, and every reported
@@ -214,7 +214,7 @@ def test_a_motion_with_nothing_near_does_no_sub_sampling(tmp_path):
     assert sweep.queries < len(results) / 2
 
 
-@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("seed", [0, *(pytest.param(s, marks=pytest.mark.slow) for s in range(1, 3))])  # ~2 s each
 def test_swept_check_of_the_body_itself_agrees_with_brute_force_sampling(male50, seed):
     """Random large motions checked for the body's own pairs (hands and forearms vs trunk, head and thighs; the
     shanks): every pair that dense sampling finds deeper than 2 tol past its least distance (and clear at both ends)
