@@ -52,7 +52,11 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
             continue
         world = to_local @ np.array(ob.matrix_world)
         settings = ob.manikin_obstacle
-        kind = obstacle_kind(settings.shape).kind
+        try:
+            kind = obstacle_kind(settings.shape).kind
+        except KeyError:  # saved with a kind no longer registered (its menu item is gone: the shape reads "")
+            raise ManikinError(f"obstacle {ob.name!r}: its shape is no registered obstacle kind; choose one in its "
+                               "Obstacle panel") from None  # fmt: skip
         counts = np.array([len(points), len(faces), list(KINDS).index(kind), settings.clearance])
         low, high = points.min(axis=0), points.max(axis=0)
         numbers += [world.ravel(), low, high, counts]

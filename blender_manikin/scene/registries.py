@@ -40,7 +40,7 @@ def shape_items() -> list[tuple[str, str, str]]:
 
     mesh = obstacle_kind(MESH)
     kinds = [mesh, *(kind for kind in KINDS.values() if kind is not mesh)]
-    return [(shape_of(kind.kind), kind.kind.title(), kind.description) for kind in kinds]
+    return [(shape_of(kind.kind), kind.kind.replace("_", " ").title(), kind.description) for kind in kinds]
 
 
 class ComfortSetting(NamedTuple):
@@ -68,7 +68,8 @@ def comfort_weights(settings: object) -> ComfortWeights:
     default)."""
     from ...solver.comfort.standard import ComfortWeights
 
-    return ComfortWeights(**{s.term: getattr(settings, s.prop, s.default) for s in comfort_settings()})
+    # a setting is single precision: 0.01 typed is 0.00999999978; its shortest decimal is what was meant
+    return ComfortWeights(**{s.term: float(f"{getattr(settings, s.prop, s.default):.7g}") for s in comfort_settings()})
 
 
 def set_comfort_weights(settings: object, weights: ComfortWeights) -> None:
