@@ -49,7 +49,7 @@ def cli_result(scenario: Path, folder: Path) -> Path:
     return out
 
 
-@pytest.mark.parametrize("preset", ["box_lift.toml", "box_lift_motion.toml"])
+@pytest.mark.parametrize("preset", ["box_lift.toml", pytest.param("box_lift_motion.toml", marks=pytest.mark.slow)])
 def test_the_readme_example_gives_the_cli_answer(preset: str, tmp_path: Path, monkeypatch, capsys) -> None:
     scenario = ROOT / "presets" / "scenarios" / preset
     code = readme_example()

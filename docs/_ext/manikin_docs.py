@@ -68,14 +68,17 @@ class PackageModules(SphinxDirective):
         package = import_module(name)
         excluded = set((self.options.get("exclude") or "").split())
         found = pkgutil.walk_packages(package.__path__, prefix=name + ".")
-        modules = sorted(m.name for m in found if m.name not in excluded and not m.name.endswith("__main__"))
+        found = [m for m in found if m.name not in excluded and not m.name.endswith("__main__")]
+        packages = {m.name for m in found if m.ispkg}  # their re-exported names are documented at home
+        modules = sorted(m.name for m in found)
         if "shallow" in self.options:
             modules = [m for m in modules if "." not in m[len(name) + 1 :]]
         # The package's own functions and classes (not the names it re-exports: those are documented at home).
         lines = [f".. automodule:: {name}", "   :members:", "   :ignore-module-all:", ""]
         for module in modules:
             title = module[len(name) + 1 :]
-            lines += [f"``{title}``", "-" * (len(title) + 4), "", f".. automodule:: {module}", "   :members:", ""]
+            lines += [f"``{title}``", "-" * (len(title) + 4), "", f".. automodule:: {module}", "   :members:"]
+            lines += ["   :ignore-module-all:", ""] if module in packages else [""]
         return nested_parse_to_nodes(self.state, StringList(lines, source=f"package-modules {name}"))
 
 

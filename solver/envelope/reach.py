@@ -5,11 +5,13 @@ A point is *reached* when a solve meets every constraint there: the hand on the 
 when it is fixed), both feet on their start places (all six axes: planted; or, stepping, flat on the floor within
 the stance bounds of :mod:`.stance`), the floor and the body's own clearances,
 and, with balance, the static balance of the whole body with its contact forces inside the friction cones and the
-soles (priority 1 in :mod:`solver.problem.priorities`) under the hand-held load. The reach along a ray is the largest
-radius
-found reached by a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last
-reached pose. A ray is assumed to be reached from the shoulder out to one radius (star-shaped); where it is not (a
-ray through the head), the search returns the end of the reached stretch it started on. Units: m, kg, N.
+soles (priority 1 in :mod:`solver.problem.priorities`) under the hand-held load. The reach along a ray is found by
+a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last reached pose, and
+is a radius verified reached at least half the search tolerance short of the nearest one found unreached: right at
+the edge a test's verdict, and whether a solve with comfort holds the point again, hang on the last bits of the
+arithmetic (which differ between CPUs' BLAS and SIMD kernels), half a tolerance inside they do not. A ray is assumed
+to be reached from the shoulder out to one radius (star-shaped); where it is not (a ray through the head), the
+search returns the end of the reached stretch it started on. Units: m, kg, N.
 """
 
 from __future__ import annotations
@@ -43,6 +45,10 @@ FIRST_STEP = 0.04  # m: the first step outward from a reached radius; it doubles
 MAX_RADIUS = 3.0  # m from the shoulder: no human hand reaches farther with its feet planted
 MIN_RADIUS = 0.05  # m: a ray not reached this far counts as not reached
 SHRINK = 0.85  # an unreached seed radius is tried again this much nearer the shoulder
+# The bracket is bisected down to half the tolerance and the reach is a radius reached that much short of its
+# reached end (one more test, inward): within the tolerance of the edge, and never closer to it than half of it,
+# where the tests' verdicts (and a comfort solve's) flip on the last bits of the arithmetic.
+MARGIN = 0.5  # of the tolerance
 MAX_LOAD = 100.0  # kg in the hand
 
 
@@ -178,13 +184,15 @@ def search_ray(
     tolerance: float = 0.02,
     retry: bool = True,
 ) -> RayReach:
-    """The farthest radius (within ``tolerance`` m) reached along the unit ``direction`` from the shoulder.
+    """The farthest radius (within ``tolerance`` m) reached along the unit ``direction`` from the shoulder, at least
+    MARGIN x ``tolerance`` short of the nearest radius found unreached.
 
     The search starts at ``seed_radius`` warm-started from ``seed_pose`` (joint values; None: the zero pose); a
     ``known`` seed (a pose already reaching that radius, e.g. the balanced reach when balance is off) is not tested
-    again. An unreached seed is retried nearer the shoulder (x SHRINK down to MIN_RADIUS) if ``retry``, else the ray
-    counts as not reached (one test: does this pose get that far?). From the reached radius the step outward
-    doubles until a point is not reached, then the bracket is halved down to ``tolerance``.
+    again and the answer is never less. An unreached seed is retried nearer the shoulder (x SHRINK down to
+    MIN_RADIUS) if ``retry``, else the ray counts as not reached (one test: does this pose get that far?). From the
+    reached radius the step outward doubles until a point is not reached, then the bracket is halved down to
+    MARGIN x ``tolerance`` and the answer tested MARGIN x ``tolerance`` inside its reached end.
     """
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
@@ -192,8 +200,10 @@ def search_ray(
     lo, pose = _seed(test, float(np.clip(seed_radius, MIN_RADIUS, MAX_RADIUS)), seed_pose, known, retry)
     if pose is None:
         return RayReach(0.0, None, test.tests, test.iterations)
+    seed = (lo, pose)
+    margin = MARGIN * tolerance
     hi, step = None, FIRST_STEP
-    while hi is None or hi - lo > tolerance:
+    while hi is None or hi - lo > margin * (1.0 + 1e-9):  # (a bracket of exactly the margin is narrow enough)
         radius = min(lo + step, MAX_RADIUS) if hi is None else 0.5 * (lo + hi)
         if hi is None and radius <= lo:
             break  # at MAX_RADIUS
@@ -202,7 +212,23 @@ def search_ray(
             lo, pose, step = radius, reached, 2.0 * step
         else:
             hi = radius
+    if hi is not None:
+        lo, pose = _inside(test, lo - margin, (lo, pose), seed, known)
     return RayReach(lo, pose, test.tests, test.iterations)
+
+
+def _inside(
+    test: _Tester, radius: float, end: tuple[float, np.ndarray], seed: tuple[float, np.ndarray], known: bool
+) -> tuple[float, np.ndarray]:
+    """(radius, pose) of the answer: ``radius`` (MARGIN x tolerance short of the reached ``end``) tested from the
+    end's pose; a ``known`` seed at or beyond it as it is (reached with its own margin in a tighter setup). Should
+    that test fail (a ray reached in pieces), the seed if it lies inside, else the reached end itself."""
+    if known and seed[0] >= radius:
+        return seed
+    reached = test(radius, end[1])
+    if reached is not None:
+        return radius, reached
+    return seed if seed[0] <= radius else end
 
 
 def _seed(

@@ -1,8 +1,11 @@
 """The collision benchmark checks its mesh distances against the box primitive and writes its own section."""
 
+import pytest
+
 from bench.collision import body, run
 
 
+@pytest.mark.slow
 def test_collision_benchmark_writes_its_section(tmp_path):
     out = tmp_path / "BENCHMARKS.md"
     out.write_text("# Benchmarks\n\nkept text\n", encoding="utf-8")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from bench.random_targets import LEVELS, draw_targets, neutral_hand_rotation, run_random_benchmark, workspace_box
 from solver.body.spatial import log_so3
@@ -39,6 +40,7 @@ def test_draw_respects_box_crossing_and_max_deviation():
     assert np.allclose(draw_targets(model, box, 1.0, 5)["r"][0], draw_targets(model, box, 1.0, 5)["r"][0])
 
 
+@pytest.mark.slow
 def test_tiny_run_writes_tables_plot_and_failures(tmp_path):
     out = tmp_path / "BENCH.md"
     text = run_random_benchmark(out, trials=1, processes=1)

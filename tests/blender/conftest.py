@@ -44,3 +44,11 @@ def run_session(blender_python: Path, extension_zip: Path):
         return seen
 
     return run
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Every test here runs Blender sessions in subprocesses: all slow (``pytest -m "not slow"`` leaves them out)."""
+    here = Path(__file__).resolve().parent
+    for item in items:
+        if here in item.path.parents:
+            item.add_marker(pytest.mark.slow)

@@ -256,7 +256,11 @@ def clearance_test_scenario(folder: Path) -> Path:
     return folder / "s.toml"
 
 
-@pytest.mark.parametrize("scenario", SCENARIOS, ids=[p.stem for p in SCENARIOS])
+@pytest.mark.parametrize(
+    "scenario",
+    [pytest.param(p, marks=pytest.mark.slow) if p.stem == "box_lift_motion" else p for p in SCENARIOS],  # 60 frames
+    ids=[p.stem for p in SCENARIOS],
+)
 def test_shipped_scenarios_stay_out_of_the_floor_and_the_obstacles(scenario: Path, tmp_path):
     """Every frame of every preset scenario, recomputed from its result JSON (motions whole: 1 s each)."""
     _, document = solve_cli(scenario, tmp_path / "r.json")

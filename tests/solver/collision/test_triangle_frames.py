@@ -5,6 +5,7 @@ in the face's plane, parallel to an edge, piercing the face, touching a corner).
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from collision_check import along, minimise_convex, point_triangle
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -44,6 +45,7 @@ def triangle_ok(a, b, c) -> bool:
 KINDS = ["random", "point", "in plane", "parallel to an edge", "piercing", "touching a corner"]
 
 
+@pytest.mark.slow  # 300 examples, each against a numerical minimisation: ~5 s
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(a=point, b=point, c=point, p0=point, p1=point, kind=st.sampled_from(KINDS))
 def test_closest_points_match_the_independent_reference(a, b, c, p0, p1, kind):

@@ -189,6 +189,7 @@ def run_cli(*args: str) -> subprocess.CompletedProcess:
                           text=True, timeout=120)  # fmt: skip
 
 
+@pytest.mark.slow  # an envelope per member of a family, in worker processes: ~5 s
 def test_the_command_writes_one_envelope_per_family_member(tmp_path):
     family = tmp_path / "family"
     assert run_cli("family", "--sex", "female", "--points", "0", "-o", str(family), "-q").returncode == 0

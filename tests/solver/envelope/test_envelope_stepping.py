@@ -108,6 +108,7 @@ def test_a_far_reach_ahead_uses_the_whole_step(model):
     assert abs(planted["foot_r_yaw_deg"]) < 0.25
 
 
+@pytest.mark.slow  # two envelopes (12 directions, planted and stepping): ~10 s
 def test_the_stepping_envelope_is_nowhere_smaller_than_the_planted_one(model):
     sphere = direction_sphere(1)
     planted = sweep_envelope(model, sphere, "right")

@@ -238,6 +238,7 @@ def test_the_rows_say_who_can_do_it_and_how_hard(two_processes):
     assert (out / "feasibility.png").stat().st_size > 5000 and (out / "scores.png").stat().st_size > 5000
 
 
+@pytest.mark.slow  # starts a local dask cluster: ~4 s
 def test_one_process_and_a_local_dask_cluster_give_the_same_rows(two_processes, tmp_path):
     study, out = two_processes
     run_study(study, tmp_path / "one", workers=1, quiet=True)

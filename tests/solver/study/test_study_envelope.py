@@ -62,6 +62,7 @@ def test_the_study_plans_one_run_per_manikin_and_setting(tmp_path):
     assert len({r.run_id for r in runs}) == 2 and all(r.kind == "reach" and r.manikin_name == "female_5" for r in runs)
 
 
+@pytest.mark.slow  # the study's two envelopes (the ``done`` fixture): ~10 s
 def test_each_row_has_its_summary_and_its_meshes(done):
     _, out = done
     planted, stepping = rows_of(out)
@@ -86,6 +87,7 @@ def test_each_row_has_its_summary_and_its_meshes(done):
     assert (out / "envelopes.png").is_file() and not (out / "feasibility.png").exists()
 
 
+@pytest.mark.slow
 def test_a_rerun_runs_nothing_again_and_keeps_the_files(done):
     study, out = done
     meshes = sorted((out / "envelopes").iterdir())
@@ -96,6 +98,7 @@ def test_a_rerun_runs_nothing_again_and_keeps_the_files(done):
     assert len(rows_of(out)) == 2
 
 
+@pytest.mark.slow
 def test_an_envelope_row_has_no_scenario_to_write(done, capsys):
     study, out = done
     run_id = rows_of(out)[0]["run_id"]
