@@ -13,7 +13,7 @@ holds developer tools (build the zips, render a snapshot, prepare the body mesh)
 features -> ``scene`` -> ``rigging`` (pyproject.toml's import contract).
 
 This file imports nothing at module level, so ``python -m blender_manikin.dev.build`` runs without bpy; enabling
-the add-on loads only the registered modules (see ``addon.py``), neither the solver's numerics nor scipy.
+the add-on loads only the registered modules and the registries they read (see ``addon.py``), not scipy.
 """
 
 from __future__ import annotations

@@ -5,8 +5,9 @@ whose registered modules each give one ``classes`` tuple and, where they need th
 (settings groups on Blender's types), ``MENUS`` ((menu type name, draw function) pairs) and ``register()`` /
 ``unregister()`` (handlers: live mode, the overlay). :data:`MODULES` lists them in registration order: the settings
 groups before anything that reads them, panels after their operators. These modules import only bpy, the scene
-schema and the solver's light ``errors``, ``options`` and ``presets``: the solver's numerics, scipy and the scene
-code load inside ``execute``, so enabling the add-on stays fast.
+schema and registries and the solver's light ``errors``, ``options`` and ``presets``; registering reads the obstacle
+kinds' and comfort terms' registries (NumPy, no scipy: the settings are made from them); the solver's solve, scipy
+and the scene code load inside ``execute``, so enabling the add-on stays fast.
 """
 
 from __future__ import annotations

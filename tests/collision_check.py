@@ -7,16 +7,20 @@ Deliberately plain methods, each obviously right rather than fast:
   segment, a triangle) is a convex function of t, and so is the *signed* distance to a convex solid (a supremum of
   affine functions). Its minimum over t in [0, 1] is found by golden-section search (the interval shrinks to
   1e-15 of the axis), then compared with both ends.
-- Spheres and planes in closed form; a mesh as the minimum over its triangles (point-triangle: the plane when the
-  projection falls inside, else the nearest of the three edges), with a bounding-ball cull that drops only
-  triangles that cannot be the nearest; inside a closed mesh by the generalised winding number (solid angles).
+- Spheres and planes in closed form; a cylinder as a rectangle turned about its axis: a point's signed distance to
+  it is that of (its distance from the axis, its place along it) to the rectangle [-R, R] x [0, L] (the point's own
+  side of the axis holds the nearest side), measured with the box's formula; a mesh as the minimum over its
+  triangles (point-triangle: the plane when the projection falls inside, else the nearest of the three edges), with
+  a bounding-ball cull that drops only triangles that cannot be the nearest; inside a closed mesh by the generalised
+  winding number (solid angles).
 - A carried box (a frame's ``carried`` entry) is placed again from the frame's own TCP positions (centre their
   midpoint, x from the first to the second, z world up made square to x, or world y for a near-vertical x), checked
   against the centre and rotation the file states, and then measured like any box, leaving out the capsules on the
   two holding TCPs' links (the hands holding it). It is kept out of the obstacles and above the floor too: its 12
   edges measured against each obstacle, and a box's edges, a capsule's axis, a sphere's centre or a mesh's edges
   against it (the signed distance to the box along each segment: a mesh edge through the box with both its ends
-  outside, or a mesh corner poking into the middle of a face, is inside).
+  outside, or a mesh corner poking into the middle of a face, is inside). A cylinder's edges are its two rims,
+  measured as RIM chords each: inside the rim by at most R (1 - cos(pi / RIM)) < 3e-7 R.
 - Penetration is the depth of the deepest point of the capsule's axis inside the obstacle plus the radius, so the
   measured "distance" is negative whenever the capsule and the obstacle overlap; where they are apart it is the
   exact surface-to-surface distance. (For a box the solver reports the shortest separating translation instead,
@@ -39,6 +43,7 @@ SAMPLES = 33  # axis samples tested for being inside a closed mesh
 TOLERANCE = 1e-3  # m: the solver's clearance rows count as met this far inside
 AGREE = 1e-6  # m: a reported distance or point agrees with the recomputed one
 CONTACT = 0.01  # m: a capsule this near an obstacle's clearance must be among the frame's closest pairs
+RIM = 4096  # chords along each rim of a cylinder measured against a carried box
 
 
 def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -69,6 +74,29 @@ def point_box(p: np.ndarray, center, size, rotation: np.ndarray) -> np.ndarray:
     local = (p - np.asarray(center, dtype=float)) @ rotation
     q = np.abs(local) - 0.5 * np.asarray(size, dtype=float)
     return np.linalg.norm(np.maximum(q, 0.0), axis=-1) + np.minimum(q.max(axis=-1), 0.0)
+
+
+def point_cylinder(p: np.ndarray, a, b, radius: float) -> np.ndarray:
+    """Signed distance (...) from points p to a solid cylinder of ``radius`` with end centres a, b (module docstring):
+    the rectangle in the (off-axis, along-axis) plane as a box with no third side."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    length = float(np.linalg.norm(b - a))
+    u = (b - a) / length
+    along_axis = dot(p - a, u)
+    off_axis = np.linalg.norm(p - a - along_axis[..., None] * u, axis=-1)
+    plane = np.stack([off_axis, along_axis, np.zeros_like(off_axis)], axis=-1)
+    return point_box(plane, [0.0, length / 2.0, 0.0], [2.0 * radius, length, 1e9], np.eye(3))
+
+
+def cylinder_rims(ob: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The RIM chords (starts, ends (2 RIM, 3) m) of each rim of a cylinder table, corners on the rims."""
+    a, b = np.asarray(ob["a"], dtype=float), np.asarray(ob["b"], dtype=float)
+    u = (b - a) / np.linalg.norm(b - a)
+    x = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+    x /= np.linalg.norm(x)
+    angle = np.linspace(0.0, 2.0 * math.pi, RIM + 1)[:, None]
+    ring = ob["radius"] * (np.cos(angle) * x + np.sin(angle) * np.cross(u, x))
+    return np.concatenate([a + ring[:-1], b + ring[:-1]]), np.concatenate([a + ring[1:], b + ring[1:]])
 
 
 def point_triangle(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -160,6 +188,8 @@ def axis_distance(ob: dict, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
     if kind == "box":
         rotation = _box_rotation(ob)
         return minimise_convex(lambda t: point_box(along(p0, p1)(t), ob["center"], ob["size"], rotation), k)
+    if kind == "cylinder":
+        return minimise_convex(lambda t: point_cylinder(along(p0, p1)(t), ob["a"], ob["b"], ob["radius"]), k)
     if kind == "mesh":
         return mesh_axis_distance(p0, p1, ob)
     raise ValueError(f"unknown obstacle kind {kind!r}")
@@ -247,13 +277,16 @@ def box_edges(ob: dict) -> tuple[np.ndarray, np.ndarray]:
 
 def carried_distance(box: dict, ob: dict) -> float:
     """Signed distance (m) between a carried box and an obstacle: the least over the box's edges to the obstacle and
-    the obstacle's edges (its axis, its centre; every triangle's edges of a mesh) to the box (two convex shapes are
-    nearest at an edge of one of them)."""
+    the obstacle's edges (its axis, its centre, a cylinder's rims; every triangle's edges of a mesh) to the box (two
+    convex shapes are nearest at an edge of one of them)."""
     a, b = box_edges(box)
     distance = float(axis_distance(ob, a, b).min())
     kind = ob["kind"]
     if kind == "box":
         a, b = box_edges(ob)
+        distance = min(distance, float(axis_distance(box, a, b).min()))
+    elif kind == "cylinder":
+        a, b = cylinder_rims(ob)
         distance = min(distance, float(axis_distance(box, a, b).min()))
     elif kind in ("capsule", "sphere"):
         a, b = (ob["a"], ob["b"]) if kind == "capsule" else (ob["center"], ob["center"])

@@ -22,6 +22,7 @@ from mathutils import Matrix, Vector
 
 from ..scene.carried_object import find_carried
 from ..scene.compat import denoiser_available, node_tree
+from ..scene.registries import obstacle_kind
 from ..scene.schema import (
     OUR_MATERIALS,
     PICTURE_COLLECTION,
@@ -156,12 +157,17 @@ class _Stage:
         bpy.data.collections.remove(self.collection)
 
 
+def _unbounded(ob: bpy.types.Object) -> bool:
+    """Whether an obstacle object stands for an endless shape (a plane): its bounds are not the shape's."""
+    return obstacle_kind(ob.manikin_obstacle.shape).unbounded
+
+
 def _body_points(arm: bpy.types.Object) -> np.ndarray:
-    """World positions of the bone heads and tails, and the corners of the obstacles (but planes: endless) and of
+    """World positions of the bone heads and tails, and the corners of the obstacles (but endless ones: planes) and of
     the carried box: what the picture shows."""
     ends = [arm.matrix_world @ p for pb in arm.pose.bones for p in (pb.head, pb.tail)]
     shown = [ob for ob in bpy.context.scene.objects if ob.type == "MESH" and is_obstacle(ob) and not ob.hide_render]
-    shown = [ob for ob in shown if ob.manikin_obstacle.shape != "PLANE"] + [find_carried(arm)]
+    shown = [ob for ob in shown if not _unbounded(ob)] + [find_carried(arm)]
     for ob in filter(None, shown):
         ends += [ob.matrix_world @ Vector(corner) for corner in ob.bound_box]
     return np.array([tuple(p) for p in ends])
@@ -172,7 +178,7 @@ def obstacles_hiding(points: list[Vector]) -> list[bpy.types.Object]:
     (along VIEW: the camera is orthographic) passes through."""
     hiding = []
     for ob in bpy.context.scene.objects:
-        if ob.type != "MESH" or not is_obstacle(ob) or ob.hide_render or ob.manikin_obstacle.shape == "PLANE":
+        if ob.type != "MESH" or not is_obstacle(ob) or ob.hide_render or _unbounded(ob):
             continue
         corners = np.array([tuple(c) for c in ob.bound_box])
         low, high = corners.min(axis=0), corners.max(axis=0)

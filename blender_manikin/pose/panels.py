@@ -10,6 +10,7 @@ import math
 import bpy
 
 from ...solver.options import AXES
+from ..scene.registries import comfort_settings
 from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_result, rig_of
 
 _UNITS = {
@@ -199,8 +200,9 @@ class MANIKIN_PT_settings(_SidebarPanel):
         for name in names:
             layout.prop(settings, name)
         col = layout.column(heading="Comfort weights", align=True)
-        for name in ("comfort_range", "comfort_load", "comfort_contact"):
-            col.prop(settings, name)
+        for setting in comfort_settings():  # one per registered standard comfort term
+            if hasattr(settings, setting.prop):  # a term registered after the add-on has none until it registers again
+                col.prop(settings, setting.prop)
 
 
 classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_obstacle, MANIKIN_PT_result, MANIKIN_PT_settings)

@@ -3,7 +3,10 @@
 A target empty (``target.<tcp>``) holds a TCP on its world frame; a loop empty (``loop.<tcp>``, parented to
 ``tcp.<other>``) holds a TCP on another TCP's frame composed with the empty's offset; a load empty
 (``load.<tcp>``, parented to ``tcp.<tcp>``) hangs a force at a TCP. All three share one PropertyGroup whose
-``role`` says which it is.
+``role`` says which it is. ``Object.manikin_obstacle`` marks a mesh as an obstacle.
+
+The obstacle shape menu and the manikin's comfort weights follow the solver's registries (obstacle kinds, standard
+comfort terms): they are added when the add-on registers (:func:`attach`), not written out here.
 """
 
 import bpy
@@ -19,6 +22,7 @@ from bpy.props import (
 )
 
 from ...solver.options import AXES, DEFAULT_LIMITS, MAX_WEIGHT, MIN_WEIGHT
+from ..scene.registries import MESH, comfort_settings, shape_items
 from ..scene.schema import is_manikin
 
 ROLES = (
@@ -123,24 +127,15 @@ class MANIKIN_PG_target(bpy.types.PropertyGroup):
         return None if self.priority == "AUTO" else int(self.priority)
 
 
-SHAPES = (
-    ("MESH", "Mesh", "The evaluated mesh, triangle by triangle"),
-    ("BOX", "Box", "The box of the mesh's bounds, turned and scaled with the object"),
-    ("SPHERE", "Sphere", "A ball at the middle of the mesh's bounds, as wide as their largest dimension"),
-    ("CAPSULE", "Capsule", "Along the object's local z: as long as the bounds, as wide as their largest x/y"),
-    ("PLANE", "Plane", "A half-space through the middle of the bounds, solid below the object's local z"),
-)
-
-
 class MANIKIN_PG_obstacle(bpy.types.PropertyGroup):
-    """A mesh the manikin keeps clear of (on any mesh object), as the mesh itself or as a simple shape."""
+    """A mesh the manikin keeps clear of (on any mesh object), as the mesh itself or as a simple shape (``shape``:
+    one per registered obstacle kind, added by :func:`attach`)."""
 
     enabled: BoolProperty(name="Obstacle", default=False, description="The manikin keeps clear of this mesh")
     clearance: FloatProperty(
         name="Clearance", default=0.0, min=0.0, max=10.0, subtype="DISTANCE", unit="LENGTH",
         description="Distance the body keeps from the mesh",
     )  # fmt: skip
-    shape: EnumProperty(name="Shape", items=SHAPES, default="MESH", description="What the solver keeps clear of")
 
 
 DISPLAYS = (
@@ -151,7 +146,8 @@ DISPLAYS = (
 
 
 class MANIKIN_PG_rig(bpy.types.PropertyGroup):
-    """Solver and display settings of one manikin (on its armature object)."""
+    """Solver and display settings of one manikin (on its armature object); its comfort weights ``comfort_<term>``,
+    one per registered standard comfort term, are added by :func:`attach`."""
 
     display: EnumProperty(
         name="Display", items=DISPLAYS, default="HUMAN", description="What shows the body", update=_display_changed
@@ -189,30 +185,6 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
     )
     live_iterations: IntProperty(
         name="Live iterations", default=30, min=1, max=1000, description="Iteration limit of each live re-solve"
-    )
-    comfort_range: FloatProperty(
-        name="Range",
-        default=1.0,
-        min=0.0,
-        max=MAX_WEIGHT,
-        description="Weight: joints near limits",
-        update=_rig_changed,
-    )
-    comfort_load: FloatProperty(
-        name="Load",
-        default=1.0,
-        min=0.0,
-        max=MAX_WEIGHT,
-        description="Weight: joint moments / strength",
-        update=_rig_changed,
-    )
-    comfort_contact: FloatProperty(
-        name="Contact",
-        default=0.01,
-        min=0.0,
-        max=MAX_WEIGHT,
-        description="Weight: even contact forces",
-        update=_rig_changed,
     )
     live: BoolProperty(
         name="Live",
@@ -254,8 +226,27 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
 classes = (MANIKIN_PG_target, MANIKIN_PG_obstacle, MANIKIN_PG_rig)
 
 
+# The settings made from the registries by attach(), kept until detach() removes them: (group, name, property).
+_FROM_REGISTRIES: list[tuple[type, str, object]] = []
+
+
+def _from_registries() -> list[tuple[type, str, object]]:
+    """The obstacle shape menu (a registered kind each) and a comfort weight per registered standard comfort term,
+    as they are now (:mod:`..scene.registries`)."""
+    shape = EnumProperty(name="Shape", items=tuple(shape_items()), default=MESH,
+                         description="What the solver keeps clear of")  # fmt: skip
+    weights = [(MANIKIN_PG_rig, s.prop, FloatProperty(name=s.title, default=s.default, min=0.0, max=MAX_WEIGHT,
+                                                      description=s.description, update=_rig_changed))
+               for s in comfort_settings()]  # fmt: skip
+    return [(MANIKIN_PG_obstacle, "shape", shape), *weights]
+
+
 def attach() -> None:
-    """Give every object the settings groups (their classes registered first)."""
+    """Give every object the settings groups (their classes registered first). The shape menu and the comfort
+    weights are made now, from the registries: a kind or term registered before the add-on is in them."""
+    for group, name, prop in _from_registries():
+        setattr(group, name, prop)  # a property added to a registered group (what ``Object.manikin = ...`` does)
+        _FROM_REGISTRIES.append((group, name, prop))
     bpy.types.Object.manikin_target = PointerProperty(type=MANIKIN_PG_target)
     bpy.types.Object.manikin_obstacle = PointerProperty(type=MANIKIN_PG_obstacle)
     bpy.types.Object.manikin = PointerProperty(type=MANIKIN_PG_rig)
@@ -266,3 +257,6 @@ def detach() -> None:
     del bpy.types.Object.manikin
     del bpy.types.Object.manikin_obstacle
     del bpy.types.Object.manikin_target
+    while _FROM_REGISTRIES:
+        group, name, _ = _FROM_REGISTRIES.pop()
+        delattr(group, name)

@@ -20,6 +20,7 @@ from ... import solver
 from ...solver.presets import MANIKINS_DIR
 from ...solver.problem.scenario import Scenario
 from ..scene import armature, carried_object, obstacle_objects, targets
+from ..scene.registries import set_comfort_weights
 from ..scene.schema import FILE_KEY, PRESET_KEY, members
 from . import keys
 
@@ -65,6 +66,7 @@ def apply_scenario(context: bpy.types.Context, sc: Scenario, name: str, onto: bp
                    ) -> Imported:  # fmt: skip
     """:func:`import_scenario` of a scenario already read (``name``: its file's name, which the obstacle objects
     it makes remember, so importing it again replaces them)."""
+    obstacle_objects.check_shapes(sc.problem.obstacles)  # before anything changes
     source = body_source(sc.model)
     arm = onto
     if arm is None or rig_source(arm) != source:
@@ -101,8 +103,8 @@ def _settings(arm: bpy.types.Object, sc: Scenario) -> None:
     settings.comfort = sc.options.optimize_comfort
     settings.max_iterations = sc.options.max_iterations
     settings.restarts = sc.options.restarts
-    w = problem.comfort.weights
-    settings.comfort_range, settings.comfort_load, settings.comfort_contact = w.range, w.load, w.contact
+    if problem.comfort.weights is not None:  # a scenario's comfort is the standard terms with its weights
+        set_comfort_weights(settings, problem.comfort.weights)
 
 
 def _apply(scene: bpy.types.Scene, arm: bpy.types.Object, sc: Scenario, warnings: list[str]) -> int:

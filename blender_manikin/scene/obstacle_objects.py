@@ -1,6 +1,7 @@
 """Scenario obstacles as objects in the scene (the import side of :mod:`.obstacles`): each shape becomes a mesh
-object in the collection "Obstacles", marked as an obstacle with its clearance and shape (box, sphere, capsule,
-plane or mesh: :mod:`solver.collision.placed`), placed in the armature's space, so that export
+object in the collection "Obstacles", marked as an obstacle with its clearance and shape (its kind's item of the
+shape menu, which lists every registered kind: :mod:`.registries`; the mesh and matrix from
+:mod:`solver.collision.placed`), placed in the armature's space, so that export
 writes the same shape again. An object an earlier import made with the same name is replaced; any other object of
 that name stays, and the new one gets Blender's next free name.
 """
@@ -12,6 +13,8 @@ from mathutils import Matrix
 
 from ...solver.collision import Obstacle
 from ...solver.collision.placed import placed_mesh
+from ...solver.errors import ManikinError
+from .registries import shape_of
 from .schema import IMPORTED_KEY, OBSTACLES
 
 
@@ -36,9 +39,19 @@ def _remove_imported(name: str) -> None:
         bpy.data.meshes.remove(mesh)
 
 
+def check_shapes(shapes: list[Obstacle]) -> None:
+    """ManikinError (one line) if a shape's kind is not in the shape menu: registered after the add-on was."""
+    menu = bpy.types.Object.bl_rna.properties["manikin_obstacle"].fixed_type.properties["shape"].enum_items.keys()
+    for shape in shapes:
+        if shape_of(shape.kind) not in menu:
+            raise ManikinError(f"obstacle {shape.name!r}: the {shape.kind} kind was registered after Manikin was "
+                               "enabled; enable Manikin again to add it to the shape menu")  # fmt: skip
+
+
 def add_obstacles(scene: bpy.types.Scene, arm: bpy.types.Object, shapes: list[Obstacle], source: str) -> list[str]:
     """An object for each of ``shapes`` (in ``arm``'s space, m), tagged with ``source`` (the scenario's file name);
-    a warning for each that could not keep its name or whose kind the shape menu does not offer (kept as a mesh)."""
+    a warning for each that could not keep its name (:func:`check_shapes` first)."""
+    check_shapes(shapes)
     collection = obstacle_collection(scene) if shapes else None
     warnings = []
     for shape in shapes:
@@ -52,11 +65,7 @@ def add_obstacles(scene: bpy.types.Scene, arm: bpy.types.Object, shapes: list[Ob
         collection.objects.link(ob)
         ob.matrix_world = arm.matrix_world @ Matrix(local.tolist())
         settings = ob.manikin_obstacle
-        offered = settings.bl_rna.properties["shape"].enum_items.keys()
-        if kind.upper() not in offered:  # a kind the shape menu does not list yet: its object's own triangles
-            warnings.append(f"obstacle {shape.name!r}: no {kind} shape in Blender's menu; kept as its mesh")
-        settings.enabled, settings.clearance = True, shape.clearance
-        settings.shape = kind.upper() if kind.upper() in offered else "MESH"
+        settings.enabled, settings.clearance, settings.shape = True, shape.clearance, shape_of(kind)
         ob[IMPORTED_KEY] = source
         if ob.name != shape.name:
             warnings.append(f"obstacle {shape.name!r}: another object has that name; imported as {ob.name!r}")

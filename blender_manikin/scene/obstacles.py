@@ -2,11 +2,11 @@
 collection named "Obstacles" (:func:`.schema.is_obstacle`), evaluated (modifiers applied) and put in the
 armature's space.
 
-An obstacle's ``shape`` (Object.manikin_obstacle: a registered kind's name in upper case,
-:data:`solver.collision.KINDS`) says what the solver keeps clear of: the mesh itself, or a box, sphere, capsule,
-plane (half-space) or any other kind made from the mesh's bounds in the object's own axes and its transform
-(:func:`solver.collision.placed.shape_from_bounds`; :mod:`.obstacle_objects` builds objects
-from shapes so that this gives them back).
+An obstacle's ``shape`` (Object.manikin_obstacle: a registered kind's name in upper case, from the menu
+:mod:`.registries` makes of :data:`solver.collision.KINDS`) says what the solver keeps clear of: the mesh itself,
+or a box, sphere, capsule, plane (half-space), cylinder or any other kind made from the mesh's bounds in the
+object's own axes and its transform (:func:`solver.collision.placed.shape_from_bounds`; :mod:`.obstacle_objects`
+builds objects from shapes so that this gives them back).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ import numpy as np
 from ...solver.collision import KINDS, Mesh, Obstacle, degenerate_faces
 from ...solver.collision.placed import shape_from_bounds
 from ...solver.errors import ManikinError
+from .registries import obstacle_kind
 from .schema import is_obstacle
 
 
@@ -51,7 +52,11 @@ def scene_obstacles(arm: bpy.types.Object) -> tuple[list[Obstacle], list[np.ndar
             continue
         world = to_local @ np.array(ob.matrix_world)
         settings = ob.manikin_obstacle
-        kind = settings.shape.lower()  # a registered kind's name in upper case
+        try:
+            kind = obstacle_kind(settings.shape).kind
+        except KeyError:  # saved with a kind no longer registered (its menu item is gone: the shape reads "")
+            raise ManikinError(f"obstacle {ob.name!r}: its shape is no registered obstacle kind; choose one in its "
+                               "Obstacle panel") from None  # fmt: skip
         counts = np.array([len(points), len(faces), list(KINDS).index(kind), settings.clearance])
         low, high = points.min(axis=0), points.max(axis=0)
         numbers += [world.ravel(), low, high, counts]

@@ -15,7 +15,7 @@ import numpy as np
 from mathutils import Matrix
 
 from ... import solver
-from ...solver import ComfortWeights, ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
+from ...solver import ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
 from ...solver.body.contacts import support_polygon
 from ...solver.body.reduction import DEFAULT_GROUPS
 from ...solver.collision.body import capsules_of
@@ -27,6 +27,7 @@ from ...solver.iteration.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
 from .obstacles import scene_obstacles
+from .registries import comfort_weights
 from .schema import ERROR_KEY, RESULT_KEY, members
 
 if TYPE_CHECKING:
@@ -136,7 +137,7 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
             fixed.extend(np.ravel(v) for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
-    weights = ComfortWeights(settings.comfort_range, settings.comfort_load, settings.comfort_contact)
+    weights = comfort_weights(settings)  # one per registered standard comfort term
     try:
         groups = DEFAULT_GROUPS if settings.reduction else ()
         obstacles, shapes = scene_obstacles(arm)

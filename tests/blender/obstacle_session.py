@@ -2,12 +2,12 @@
 
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/obstacle_session.py <zip> <out.json> <work dir>
 
-a turned manikin away from the origin among five obstacles (a mesh, and a box, sphere, capsule and plane made from
-objects' bounds), solved; what the overlay would draw from that result (lines, labels, capsules) and its draw
+a turned manikin away from the origin among six obstacles (a mesh, and a box, sphere, capsule, plane and cylinder made
+from objects' bounds), solved; what the overlay would draw from that result (lines, labels, capsules) and its draw
 handlers added in this Blender; the scenario exported (meshes beside it), imported into an emptied scene onto
 another turned manikin and exported again; imported a second time; the failures a user can meet (a missing
-mesh file, a folder that cannot be written); a cylinder (a kind the shape menu does not offer) imported. Writes what
-it saw to JSON; bpy is imported here only.
+mesh file, a folder that cannot be written); a scenario's cylinder imported, and a hand target put inside it
+solved. Writes what it saw to JSON; bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -70,13 +70,14 @@ def add(kind: str, name: str, shape: str, clearance: float, **place) -> bpy.type
     return ob
 
 
-# A 30 cm cube round the hand target (a mesh), and four shapes from objects' bounds well away from the manikin.
+# A 30 cm cube round the hand target (a mesh), and five shapes from objects' bounds well away from the manikin.
 add("cube", "shelf.top", "MESH", 0.01, size=0.3, location=hand.matrix_world.translation)
 box = add("cube", "table", "BOX", 0.02, size=1.0, location=(3.0, -2.0, 0.4), rotation=(0.3, 0.0, 0.7))
 box.scale = (0.8, 0.4, 0.8)
 add("uv_sphere", "ball", "SPHERE", 0.0, radius=0.1, location=(4.0, 1.0, 1.0))
 add("cylinder", "rail", "CAPSULE", 0.0, radius=0.02, depth=0.5, location=(4.0, 0.0, 1.0), rotation=(1.2, 0.0, 0.0))
 add("plane", "wall", "PLANE", 0.0, size=2.0, location=(0.0, 4.0, 1.0), rotation=(math.radians(90.0), 0.0, 0.0))
+add("cylinder", "drum", "CYLINDER", 0.03, radius=0.3, depth=0.9, location=(-3.0, 3.0, 0.45), rotation=(0.0, 0.4, 0.2))
 bpy.context.view_layer.update()
 seen["panel"] = []  # the sidebar with an obstacle active: its settings, and the capsules toggle of the manikin
 bpy.context.view_layer.objects.active = box
@@ -88,6 +89,8 @@ seen["read"] = dict(
     kinds={name: type(ob).__name__ for name, ob in read.items()},
     ball=dict(center=list(read["ball"].center), radius=read["ball"].radius),
     ball_local=list(arm.matrix_world.inverted() @ bpy.data.objects["ball"].matrix_world.translation),
+    drum=dict(a=list(read["drum"].a), b=list(read["drum"].b), radius=read["drum"].radius),
+    drum_matrix=mat(arm.matrix_world.inverted() @ bpy.data.objects["drum"].matrix_world),
 )
 # Read again as a bake does, the last read given: only the targets' poses changed, so the obstacle rows are shared;
 # a moved obstacle gives new ones (with the new shape).
@@ -212,14 +215,27 @@ bpy.context.view_layer.objects.active = other
 seen["flat"] = error_of(lambda: bpy.ops.manikin.solve_pose())
 bpy.data.objects.remove(flat, do_unlink=True)
 
-# A registered kind that the shape menu does not offer (a cylinder): imported as its object's own mesh, with a warning.
+# A scenario's cylinder (a post in front of the right hand, 2 cm clearance) imported as a cylinder obstacle; the hand's
+# target put inside it (the shelf cube gone): the solve keeps the arm out of the post's clearance.
 post = WORK / "post.toml"
 post.write_text(exported.read_text(encoding="utf-8") + '\n[[obstacles]]\nname = "post"\nkind = "cylinder"\n'
-                'a = [0.6, -0.6, 0.0]\nb = [0.6, -0.6, 1.2]\nradius = 0.05\n', encoding="utf-8")  # fmt: skip
+                'a = [-0.2, -0.45, 0.0]\nb = [-0.2, -0.45, 1.4]\nradius = 0.05\nclearance = 0.02\n',
+                encoding="utf-8")  # fmt: skip
 bpy.context.view_layer.objects.active = other
 seen["import_post"] = sorted(bpy.ops.manikin.import_scenario(filepath=str(post)))
 read = {ob.name: ob for ob in problem_io.read_problem(other).problem.obstacles}
-seen["post"] = dict(shape=bpy.data.objects["post"].manikin_obstacle.shape, read=type(read["post"]).__name__)
+post_object = bpy.data.objects["post"]
+seen["post"] = dict(shape=post_object.manikin_obstacle.shape, read=type(read["post"]).__name__,
+                    a=list(read["post"].a), b=list(read["post"].b), radius=read["post"].radius,
+                    clearance=read["post"].clearance)  # fmt: skip
+bpy.data.objects.remove(bpy.data.objects["shelf.top"], do_unlink=True)
+bpy.data.objects["target.hand_r"].matrix_world.translation = other.matrix_world @ Vector((-0.2, -0.45, 1.0))
+bpy.context.view_layer.update()
+bpy.context.view_layer.objects.active = other
+seen["post_solve"] = sorted(bpy.ops.manikin.solve_pose())
+result = json.loads(other["manikin_result"])
+seen["post_result"] = dict(unmet=result["unmet"], broken=result.get("broken"), closest=result["closest"],
+                           capsules=result["capsules"])  # fmt: skip
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

@@ -1,6 +1,7 @@
 """Obstacles in Blender (tests/blender/obstacle_session.py in a subprocess, the built zip installed): shapes read
 from objects, the overlay's distances and capsules, scenario export with mesh files beside it, import onto a turned
-manikin and export again giving the same obstacles, and failures reported in one line."""
+manikin and export again giving the same obstacles, a cylinder marked in the sidebar and one imported (kept clear of
+by the solve, checked by the independent collision_check), and failures reported in one line."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from collision_check import axis_distance
 
 from solver import load_scenario
 from solver.collision import Box, Capsule, HalfSpace, Mesh, Sphere
+from solver.collision.kinds import Cylinder
 
 F32 = 1e-5  # m: Blender keeps matrices and vertices in single precision
 
@@ -22,10 +25,16 @@ def session(tmp_path_factory, run_session) -> dict:
 
 def test_objects_are_read_as_their_shapes_in_the_armatures_space(session: dict) -> None:
     read = session["read"]
-    kinds = {"shelf.top": "Mesh", "table": "Box", "ball": "Sphere", "rail": "Capsule", "wall": "HalfSpace"}
+    kinds = {"shelf.top": "Mesh", "table": "Box", "ball": "Sphere", "rail": "Capsule", "wall": "HalfSpace",
+             "drum": "Cylinder"}  # fmt: skip
     assert read["kinds"] == kinds
     np.testing.assert_allclose(read["ball"]["center"], read["ball_local"], atol=F32)
     assert read["ball"]["radius"] == pytest.approx(0.1, abs=F32)
+    # Blender's cylinder (radius 0.3 m, depth 0.9 m along its local z), as the cylinder of its bounds
+    drum, matrix = read["drum"], np.array(read["drum_matrix"])
+    np.testing.assert_allclose(np.subtract(drum["b"], drum["a"]), 0.9 * matrix[:3, 2], atol=F32)
+    np.testing.assert_allclose(np.add(drum["a"], drum["b"]) / 2.0, matrix[:3, 3], atol=F32)
+    assert drum["radius"] == pytest.approx(0.3, abs=F32)
 
 
 def test_a_scene_read_again_shares_the_obstacle_rows_until_an_obstacle_moves(session: dict) -> None:
@@ -86,7 +95,8 @@ def _by_name(path: Path) -> dict:
 def _same(a, b) -> None:
     assert (type(a), a.name) == (type(b), b.name) and a.clearance == pytest.approx(b.clearance, abs=1e-7)
     fields = dict(Box=("center", "size", "rotation"), Sphere=("center", "radius"), Capsule=("a", "b", "radius"),
-                  HalfSpace=("point", "normal"), Mesh=("vertices", "faces"))[type(a).__name__]  # fmt: skip
+                  HalfSpace=("point", "normal"), Mesh=("vertices", "faces"),
+                  Cylinder=("a", "b", "radius"))[type(a).__name__]  # fmt: skip
     for field in fields:
         np.testing.assert_allclose(getattr(a, field), getattr(b, field), atol=F32, err_msg=f"{a.name}.{field}")
 
@@ -99,9 +109,10 @@ def test_export_writes_meshes_beside_and_shapes_inside(session: dict) -> None:
     assert 'file = "exported_shelf_top.obj"' in text and "vertices" not in text
     shapes = _by_name(work / "exported.toml")
     assert isinstance(shapes["shelf.top"], Mesh) and len(shapes["shelf.top"].faces) == 12
-    table, ball, rail, wall = (shapes[name] for name in ("table", "ball", "rail", "wall"))
+    table, ball, rail, wall, drum = (shapes[name] for name in ("table", "ball", "rail", "wall", "drum"))
     assert isinstance(table, Box) and isinstance(ball, Sphere) and isinstance(rail, Capsule)
-    assert isinstance(wall, HalfSpace)
+    assert isinstance(wall, HalfSpace) and isinstance(drum, Cylinder) and drum.clearance == 0.03
+    assert 'kind = "cylinder"' in text and drum.radius == pytest.approx(0.3, abs=F32)
     np.testing.assert_allclose(table.size, [0.8, 0.4, 0.8], atol=F32)
     assert rail.radius == pytest.approx(0.02, abs=F32)
     assert np.linalg.norm(rail.b - rail.a) == pytest.approx(0.5 - 2 * 0.02, abs=F32)
@@ -112,12 +123,13 @@ def test_import_recreates_the_obstacles_and_export_gives_them_again(session: dic
     work = Path(session["work"])
     assert session["import"] == ["FINISHED"] and session["import_onto"] and session["export_again"] == ["FINISHED"]
     first, again = _by_name(work / "exported.toml"), _by_name(work / "again.toml")
-    assert sorted(first) == sorted(again) == ["ball", "rail", "shelf.top", "table", "wall"]
+    assert sorted(first) == sorted(again) == ["ball", "drum", "rail", "shelf.top", "table", "wall"]
     for name in first:
         _same(first[name], again[name])
     imported = session["imported"]
     shapes = {name: item["shape"] for name, item in imported.items()}
-    assert shapes == {"shelf.top": "MESH", "table": "BOX", "ball": "SPHERE", "rail": "CAPSULE", "wall": "PLANE"}
+    assert shapes == {"shelf.top": "MESH", "table": "BOX", "ball": "SPHERE", "rail": "CAPSULE", "wall": "PLANE",
+                      "drum": "CYLINDER"}  # fmt: skip
     assert all(item["enabled"] for item in imported.values())
     box = np.array(imported["table"]["local"])  # placed in the armature's space: its matrix there is the box's
     np.testing.assert_allclose(box[:3, :3], first["table"].rotation, atol=F32)
@@ -127,7 +139,7 @@ def test_import_recreates_the_obstacles_and_export_gives_them_again(session: dic
 
 def test_importing_again_replaces_its_own_objects_only(session: dict) -> None:
     assert session["import_twice"] == ["FINISHED"]
-    assert session["after_twice"] == ["ball", "rail", "shelf.top", "table", "wall", "wall.001"]
+    assert session["after_twice"] == ["ball", "drum", "rail", "shelf.top", "table", "wall", "wall.001"]
     assert "obstacle 'wall': another object has that name; imported as 'wall.001'" in session["log"]
 
 
@@ -169,7 +181,20 @@ def test_the_draw_callback_draws_what_the_toggles_show(session: dict) -> None:
     assert nothing == []
 
 
-def test_a_kind_the_shape_menu_lacks_is_imported_as_its_mesh(session: dict) -> None:
-    assert session["import_post"] == ["FINISHED"]
-    assert session["post"] == {"shape": "MESH", "read": "Mesh"}
-    assert "obstacle 'post': no cylinder shape in Blender's menu; kept as its mesh" in session["log"]
+def test_a_scenarios_cylinder_is_imported_as_a_cylinder_and_kept_clear_of(session: dict) -> None:
+    """The post is a cylinder obstacle again when read from the scene; a hand target in it ends short, and no capsule
+    of the body is inside the post's 2 cm clearance by more than the solver's 1 mm (measured by collision_check)."""
+    assert session["import_post"] == ["FINISHED"] and "no cylinder shape" not in session["log"]
+    post = session["post"]
+    assert (post["shape"], post["read"], post["clearance"]) == ("CYLINDER", "Cylinder", pytest.approx(0.02))
+    np.testing.assert_allclose([post["a"], post["b"]], [[-0.2, -0.45, 0.0], [-0.2, -0.45, 1.4]], atol=F32)
+    assert post["radius"] == pytest.approx(0.05, abs=F32)
+    result = session["post_result"]
+    assert session["post_solve"] == ["FINISHED"] and result["unmet"] == ["hand_r"] and not result["broken"]
+    capsules = result["capsules"]
+    p0, p1 = (np.array([c[key] for c in capsules]) for key in ("start", "end"))
+    table = dict(kind="cylinder", a=post["a"], b=post["b"], radius=post["radius"])
+    gaps = axis_distance(table, p0, p1) - np.array([c["radius"] for c in capsules])
+    assert gaps.min() > 0.02 - 1e-3 and gaps.min() < 0.02 + 0.01  # at the clearance: the hand reaches for the axis
+    near = [pair for pair in result["closest"] if pair["other"] == "post"]
+    assert near and all(pair["distance"] > 0.02 - 1e-3 for pair in near)

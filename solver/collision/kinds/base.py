@@ -101,6 +101,7 @@ class Obstacle(ABC):
     end_rows: ClassVar[bool] = False
     nearest_edges: ClassVar[int] = 0  # no fixed skeleton: this many of its edges nearest a carried box are rows
     smooth: ClassVar[bool] = False  # shown smooth-shaded (a round shape)
+    unbounded: ClassVar[bool] = False  # endless (a half-space): the object that shows it is a piece of it only
 
     def _check_common(self) -> None:
         if not isinstance(self.name, str):

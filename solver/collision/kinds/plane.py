@@ -27,6 +27,7 @@ class HalfSpace(Obstacle):
     keys = {"point": POINT, "normal": VECTOR}
     description = "A half-space through the middle of the bounds, solid below the object's local z"
     end_rows = True  # a capsule's (a box's) lowest point is one of its ends (corners)
+    unbounded = True  # its object is a PLANE_SIZE square
 
     def __post_init__(self) -> None:
         self._check_common()

@@ -93,3 +93,11 @@ def test_the_registry_refuses_a_second_kind_of_one_name() -> None:
     with pytest.raises(KeyError, match="known"):
         kind_of("torus")
     assert issubclass(KINDS["box"], Obstacle) and register(Sphere) is Sphere  # the same kind again: no change
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_a_kind_says_whether_it_is_endless(kind) -> None:
+    """``unbounded`` (the object showing it is a piece of it only: Blender's picture leaves it out of its framing)
+    agrees with the shape's bounds."""
+    low, high = EXAMPLES[kind].bounds()
+    assert KINDS[kind].unbounded == (not (np.isfinite(low).all() and np.isfinite(high).all()))
