@@ -2,12 +2,20 @@
 
 from __future__ import annotations
 
+import os
 import signal
 
 import pytest
 from helpers import random_tree
+from hypothesis import settings
 
 from solver.body.model import Model
+
+# Property tests draw the same examples on every run, so a verdict never depends on the run's luck (CI gets one
+# run); HYPOTHESIS_PROFILE=explore draws new ones, for looking for trouble by hand.
+settings.register_profile("repeatable", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 
 def pytest_configure(config: pytest.Config) -> None:

@@ -117,10 +117,12 @@ def check_physics(result) -> None:
         point = tcp_frame(model, kin, ld.tcp.name)[1]
         force = force + ld.force
         moment = moment + np.cross(point, ld.force)
-    if not np.linalg.norm(force) <= FORCE_TOL:
-        failures.append(f"total force {force} N (|.| = {np.linalg.norm(force):.3f} N)")
-    if not np.linalg.norm(moment) <= MOMENT_TOL:
-        failures.append(f"total moment {moment} N*m (|.| = {np.linalg.norm(moment):.3f} N*m)")
+    # "Converged" promises each balance row within its tolerance (solver/constraints/balance.py: 1 N and 0.1 N*m per
+    # world axis), so the vector may reach sqrt(3) x that: checked per axis, as promised.
+    if not np.max(np.abs(force)) <= FORCE_TOL:
+        failures.append(f"total force {force} N (largest axis {np.max(np.abs(force)):.3f} N)")
+    if not np.max(np.abs(moment)) <= MOMENT_TOL:
+        failures.append(f"total moment {moment} N*m (largest axis {np.max(np.abs(moment)):.3f} N*m)")
 
     # contacts: push along the support normal, inside the friction cone, COP inside the sole
     supports = {t.tcp: t for t in problem.targets if t.support}
