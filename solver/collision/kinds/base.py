@@ -75,6 +75,14 @@ def positive(shape: object, key: str, value: object, allow_zero: bool = False) -
     return x
 
 
+def check_segment(shape: object) -> None:
+    """Check and freeze the fields of a shape along a segment (capsule, cylinder): ends ``a``, ``b`` and ``radius``,
+    m."""
+    object.__setattr__(shape, "a", frozen_array(shape, "a", shape.a, (3,)))  # type: ignore[attr-defined]
+    object.__setattr__(shape, "b", frozen_array(shape, "b", shape.b, (3,)))  # type: ignore[attr-defined]
+    object.__setattr__(shape, "radius", positive(shape, "radius", shape.radius))  # type: ignore[attr-defined]
+
+
 def placement(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
     """The 4x4 matrix of an object at ``position`` (m) turned by ``rotation``."""
     matrix = np.eye(4)

@@ -10,7 +10,7 @@ from ..closest import dot
 from ..distance import as_batch, closest_on_axes
 from ..generate import axis_frame, capsule_mesh
 from ..proximity import Proximity
-from .base import LENGTH, POINT, RINGS, SEGMENTS, Obstacle, Segments, frozen_array, placement, positive
+from .base import LENGTH, POINT, RINGS, SEGMENTS, Obstacle, Segments, check_segment, placement
 
 
 @dataclass(frozen=True, eq=False)
@@ -28,9 +28,7 @@ class Capsule(Obstacle):
 
     def __post_init__(self) -> None:
         self._check_common()
-        object.__setattr__(self, "a", frozen_array(self, "a", self.a, (3,)))
-        object.__setattr__(self, "b", frozen_array(self, "b", self.b, (3,)))
-        object.__setattr__(self, "radius", positive(self, "radius", self.radius))
+        check_segment(self)
 
     def distance(self, p0, p1, radii, margin=np.inf, memory=None) -> Proximity:
         return capsule_distance(p0, p1, radii, self)

@@ -25,7 +25,7 @@ from ..closest import dot, perpendicular, unit
 from ..distance import as_batch
 from ..generate import axis_frame
 from ..proximity import Proximity, near_only
-from .base import LENGTH, POINT, SEGMENTS, Obstacle, Segments, frozen_array, label, placement, positive
+from .base import LENGTH, POINT, SEGMENTS, Obstacle, Segments, check_segment, label, placement
 
 GRID = np.linspace(0.0, 1.0, 33)  # points of the axis measured at once, then around the least of them again
 ROUNDS = 12  # each shrinks the interval 16-fold: 16^-12 < 1e-14
@@ -47,9 +47,7 @@ class Cylinder(Obstacle):
 
     def __post_init__(self) -> None:
         self._check_common()
-        object.__setattr__(self, "a", frozen_array(self, "a", self.a, (3,)))
-        object.__setattr__(self, "b", frozen_array(self, "b", self.b, (3,)))
-        object.__setattr__(self, "radius", positive(self, "radius", self.radius))
+        check_segment(self)
         if not np.linalg.norm(self.b - self.a) > 1e-9:
             raise ScenarioError(f"{label(self)}: b: expected an end apart from a (m), got {self.b.tolist()}")
         object.__setattr__(self, "length", float(np.linalg.norm(self.b - self.a)))  # m
