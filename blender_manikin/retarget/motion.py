@@ -212,7 +212,7 @@ def retarget(scene: bpy.types.Scene, target: bpy.types.Object, frame_range: tupl
     settings.source = source
     if filled:
         write_rows(target, list(source.data.bones.keys()), bone_map)
-    worst = max(((m, k) for frame in misses for k, m in frame.items()), default=(0.0, ""))
+    worst = max(((m, k) for frame in misses for k, m in frame.items() if m > 0.0), default=(0.0, ""))
     summary = Summary(source.name, start, end, len(the_plan.keyed), the_plan.ratio, sum(1 for p in pinned if p),
                       worst[0], worst[1], miss_cause(the_plan, worst[1], goals) if worst[1] else "",
                       the_plan.facing_deg, goals, unfollowed, off)  # fmt: skip
