@@ -181,7 +181,8 @@ def pose_frame(plan: Plan, source_pose: np.ndarray, pinned: Iterable[str] = (), 
 
 
 def solve_motion(plan: Plan, source_poses: np.ndarray, pinned: list[list[str]], hand_goals: str = "auto",
-                 step: Callable[[int], None] | None = None) -> tuple[np.ndarray, list[dict[str, float]], str]:
+                 step: Callable[[int], None] | None = None
+                 ) -> tuple[np.ndarray, list[dict[str, float]], str]:  # fmt: skip
     """Per frame of ``source_poses`` (F, S, 4, 4) with its pinned limbs: (the target's poses (F, B, 4, 4), the
     misses (m) per frame, the hand goals used). ``auto``: ``body`` goals unless a pinned hand misses one by more
     than :data:`REACH_M` at some frame, then ``arm`` goals for the whole motion (no jump between the two).
