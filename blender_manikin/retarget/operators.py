@@ -84,7 +84,8 @@ class _TargetOperator(bpy.types.Operator):
 
 class MANIKIN_OT_retarget(_TargetOperator):
     """Key the manikin's baked motion onto the selected armature: rest poses aligned, the hips carrying the
-    translation (scaled by the leg-length ratio), supported feet pinned (and hands, if chosen) by IK"""
+    translation (scaled by the leg-length ratio), turned to the character's facing, supported feet pinned (and
+    hands, if chosen) by IK"""
 
     bl_idname = "manikin.retarget"
     bl_label = "Retarget"
@@ -103,15 +104,21 @@ class MANIKIN_OT_retarget(_TargetOperator):
             frames = (self.frame_start, self.frame_end)
         target = _target(context, self.target)
         try:
-            s = retarget(context.scene, target, frames)
+            s = retarget(context.scene, target, frames, context.window_manager)
         except ManikinError as exc:
             return self.fail(str(exc))
         pins = f", limbs pinned in {s.pinned_frames} frames" if s.pinned_frames else ""
-        self.report({"INFO"}, f"Retargeted {s.source} frames {s.frame_start}-{s.frame_end} onto {target.name}: "
-                              f"{s.bones} bones keyed, leg-length ratio {s.ratio:.3f}{pins}")  # fmt: skip
+        turned = f", motion turned {s.facing_deg:.0f} deg to the character's facing" if abs(s.facing_deg) >= 1 else ""
+        hands = ", hands arm-relative" if s.hand_goals == "arm" and s.pinned_frames else ""
+        done = f"{s.bones} bones keyed, leg-length ratio {s.ratio:.3f}{pins}{turned}{hands}"
+        self.report({"INFO"}, f"Retargeted {s.source} frames {s.frame_start}-{s.frame_end} onto {target.name}: {done}")
+        if s.unfollowed:
+            self.report({"WARNING"}, f"{target.name} does not follow its keys (up to {s.unfollowed_m * 1e3:.0f} mm "
+                                     f"off): bones driven by constraints: {', '.join(s.unfollowed[:3])}; mute them "
+                                     "or map the bones that drive them")  # fmt: skip
         if s.max_miss > 1e-3:
-            self.report({"WARNING"}, f"A pinned hand or foot stayed up to {s.max_miss * 1e3:.0f} mm short of "
-                                     "its goal (out of the target limb's reach)")  # fmt: skip
+            self.report({"WARNING"}, f"The pinned {s.missed} stayed up to {s.max_miss * 1e3:.0f} mm short of its "
+                                     f"goal: {s.miss_cause}")  # fmt: skip
         return {"FINISHED"}
 
 

@@ -47,6 +47,9 @@ class MANIKIN_PT_retarget(bpy.types.Panel):
         row = layout.row(align=True)
         row.prop(settings, "pin_feet", toggle=True)
         row.prop(settings, "pin_hands", toggle=True)
+        sub = layout.row()
+        sub.active = settings.pin_hands
+        sub.prop(settings, "hand_goals")
         layout.template_list("MANIKIN_UL_bone_map", "", settings, "bones", settings, "active_index", rows=6)
         row = layout.row(align=True)
         row.operator("manikin.auto_fill_bone_map", text="Auto-Fill", icon="AUTO")

@@ -5,7 +5,7 @@ saving and reloading the .blend. Light to import: bpy and the scene schema only.
 from __future__ import annotations
 
 import bpy
-from bpy.props import BoolProperty, CollectionProperty, IntProperty, PointerProperty, StringProperty
+from bpy.props import BoolProperty, CollectionProperty, EnumProperty, IntProperty, PointerProperty, StringProperty
 
 from ..scene.schema import is_manikin
 
@@ -40,6 +40,19 @@ class MANIKIN_PG_retarget(bpy.types.PropertyGroup):
         name="Pin hands", default=True,
         description="Put the target's wrists where the manikin's (scaled) are, with a two-bone IK correction of the "
         "arms (the hands keep the manikin's grip on what they hold)",
+    )  # fmt: skip
+    hand_goals: EnumProperty(
+        name="Hand goals", default="AUTO",
+        items=[
+            ("AUTO", "Auto", "Where the manikin's hands are, scaled with the body, when the character reaches them at "
+             "every frame; else arm-relative for the whole motion"),
+            ("BODY", "Scaled with the body", "Where the manikin's hands are in the scene scaled by the leg-length "
+             "ratio about the ankles (the hands stay on a scaled workplace; a character with relatively shorter "
+             "arms falls short)"),
+            ("ARM", "Arm-relative", "The manikin's shoulder-to-wrist reach scaled by the arm-length ratio, from "
+             "the character's own shoulder (always within reach; the hands keep the manikin's arm posture)"),
+        ],
+        description="Where pinned hands go",
     )  # fmt: skip
 
 

@@ -5,20 +5,24 @@ Every mapped target bone turns in the world as its source bone does from its res
 (``target_pose_world = source_pose_world source_rest_world^-1 target_rest_world`` for the rotation), so the two
 rest poses need not agree (their A-pose or T-pose arms, their bone rolls). Heads follow the target's own chain.
 Positions scale by the leg-length ratio about each skeleton's *origin*, the midpoint of its ankles at rest:
-``P(p) = o_t + ratio (p - o_s)``. The target's hips sit where our pelvis carries them: the scaled pelvis head
-plus the hips' rest offset from it, turned with the pelvis. A pinned foot's ankle goes to its scaled ankle plus
-its rest offset, turned with the foot (a support stays put); a pinned hand's wrist goes to the scaled wrist (arms
-may rest in another pose). Unmapped target bones keep their rest pose relative to their parent.
+``P(p) = o_t + ratio Y (p - o_s)``, where ``Y`` turns our facing onto the target's about world up
+(:mod:`.facing`; world turns are conjugated alike, ``Y R Y^T``). The target's hips sit where our pelvis carries
+them: the scaled pelvis head plus the hips' rest offset from it, turned with the pelvis. A pinned foot's ankle goes
+to its scaled ankle plus its rest offset, turned with the foot (a support stays put); a pinned hand's wrist goes to
+the scaled wrist (``body`` goals: where the hand is in the scaled scene) or (``arm`` goals) to the target's
+shoulder plus our shoulder-to-wrist vector scaled by the arm-length ratio, always within the arm's reach
+(:func:`solve_motion` picks one per motion). Unmapped target bones keep their rest pose relative to their parent.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import ModelError
+from .facing import facing_turn
 from .skeleton import Skeleton, rigid_inverse, rotation_between
 from .two_bone import two_bone_ik
 
@@ -45,6 +49,8 @@ ALIGNED = {
     **{f"{f}_{s}_distal": () for s in "lr" for f in ("index", "middle", "ring", "little", "thumb")},
 }
 FORWARD = np.array([0.0, -1.0, 0.0])  # our manikin faces -y in its armature's space
+HAND_GOALS = ("auto", "body", "arm")  # auto: body goals when every one is in reach, else arm goals
+REACH_M = 1e-3  # m: a pinned end this close to its goal reached it
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,13 +64,16 @@ class Plan:
     ratio: float  # target leg length / ours
     source_origin: np.ndarray  # (3,) m: midpoint of our ankles at rest
     target_origin: np.ndarray
-    forward: np.ndarray  # (3,) our rest forward direction in the world
+    forward: np.ndarray  # (3,) the target's rest forward direction in the world (ours turned by ``turn``)
+    turn: np.ndarray  # (3, 3) about world up: our facing onto the target's
+    facing_deg: float  # its angle (degrees)
+    arm_ratios: dict[str, float]  # hand_l/hand_r -> the target's arm length (shoulder-elbow-wrist) / ours
     aligned_rest: dict[int, np.ndarray]  # target bone -> its rest rotation (3x3, world) turned to match ours
     keyed: tuple[int, ...]  # target bones to key: the mapped ones and their ancestors, parents first
 
     def scaled(self, p: np.ndarray) -> np.ndarray:
         """A point of ours (m, world) where the target's proportions put it."""
-        return self.target_origin + self.ratio * (np.asarray(p, dtype=float) - self.source_origin)
+        return self.target_origin + self.ratio * self.turn @ (np.asarray(p, dtype=float) - self.source_origin)
 
 
 def _leg(skel: Skeleton, names: tuple[str, str, str]) -> float:
@@ -83,25 +92,30 @@ def plan(source: Skeleton, target: Skeleton, bone_map: dict[str, str], source_wo
         ours = LIMBS[f"foot_{side}"]
         legs[side] = (_leg(source, ours), _leg(target, tuple(bone_map[n] for n in ours)))
     ratio = sum(t for _, t in legs.values()) / sum(s for s, _ in legs.values())
+    arms = {f"hand_{s}": _leg(target, tuple(bone_map[n] for n in LIMBS[f"hand_{s}"])) /
+            _leg(source, LIMBS[f"hand_{s}"]) for s in "lr"}  # fmt: skip
+    facing, facing_deg = facing_turn(source, target, bone_map)
     ankles = [(source.index(f"foot_{s}"), target.index(bone_map[f"foot_{s}"])) for s in "lr"]
     keyed: set[int] = set()
     for t in pairs:
         keyed.update([t, *target.ancestors(t)])
-    turns = _alignment(source, target, bone_map)
+    turns = _alignment(source, target, bone_map, facing)
     aligned_rest = {t: turns.get(source.names[s], np.eye(3)) @ target.rest[t, :3, :3] for t, s in pairs.items()}
     return Plan(
         source=source, target=target, pairs=pairs, hips=(source.index(HIPS), target.index(bone_map[HIPS])),
         ratio=ratio, source_origin=np.mean([source.heads[s] for s, _ in ankles], axis=0),
         target_origin=np.mean([target.heads[t] for _, t in ankles], axis=0),
-        forward=np.asarray(source_world_rotation, dtype=float) @ FORWARD, aligned_rest=aligned_rest,
-        keyed=tuple(sorted(keyed)),
+        forward=facing @ np.asarray(source_world_rotation, dtype=float) @ FORWARD, turn=facing,
+        facing_deg=facing_deg, arm_ratios=arms, aligned_rest=aligned_rest, keyed=tuple(sorted(keyed)),
     )  # fmt: skip
 
 
-def _alignment(source: Skeleton, target: Skeleton, bone_map: dict[str, str]) -> dict[str, np.ndarray]:
-    """Our bone -> the world rotation turning its target's rest segment onto ours (:data:`ALIGNED` bones only, the
-    smallest such turn: the segment's twist is taken as the same); a segment without a mapped end takes its
-    parent's turn. Legs, spine, pelvis and shoulder girdle are taken as standing alike (a stance is kept)."""
+def _alignment(source: Skeleton, target: Skeleton, bone_map: dict[str, str], facing: np.ndarray
+               ) -> dict[str, np.ndarray]:  # fmt: skip
+    """Our bone -> the world rotation turning its target's rest segment onto ours turned by ``facing``
+    (:data:`ALIGNED` bones only, the smallest such turn: the segment's twist is taken as the same); a segment
+    without a mapped end takes its parent's turn. Legs, spine, pelvis and shoulder girdle are taken as standing
+    alike (a stance is kept)."""
     turns: dict[str, np.ndarray] = {}
     for ours in source.names:  # parents first
         if ours not in ALIGNED or ours not in bone_map:
@@ -113,7 +127,7 @@ def _alignment(source: Skeleton, target: Skeleton, bone_map: dict[str, str]) -> 
             continue
         mine = source.heads[source.index(end)] - source.heads[source.index(ours)]
         theirs = target.heads[target.index(bone_map[end])] - target.heads[target.index(bone_map[ours])]
-        turns[ours] = rotation_between(theirs, mine)
+        turns[ours] = rotation_between(theirs, facing @ mine)
     return turns
 
 
@@ -134,11 +148,13 @@ def forward_kinematics(
     return poses
 
 
-def pose_frame(plan: Plan, source_pose: np.ndarray, pinned: Iterable[str] = ()) -> tuple[np.ndarray, dict[str, float]]:
+def pose_frame(plan: Plan, source_pose: np.ndarray, pinned: Iterable[str] = (), hand_goals: str = "body"
+               ) -> tuple[np.ndarray, dict[str, float]]:  # fmt: skip
     """The target's world poses (B, 4, 4) for our world poses ``source_pose`` (S, 4, 4), and for each pinned limb
-    (``foot_l``, ``hand_r``, ... of :data:`LIMBS`) how far (m) its end stays from its goal (0 when in reach)."""
-    src, tgt = plan.source, plan.target
-    turn = source_pose[:, :3, :3] @ np.swapaxes(src.rest[:, :3, :3], -1, -2)  # each bone's world turn from rest
+    (``foot_l``, ``hand_r``, ... of :data:`LIMBS`) how far (m) its end stays from its goal (0 when in reach).
+    ``hand_goals``: ``body`` (our wrist scaled about the ankles) or ``arm`` (about the shoulder, by the arm ratio)."""
+    src, tgt, face = plan.source, plan.target, plan.turn
+    turn = face @ source_pose[:, :3, :3] @ np.swapaxes(src.rest[:, :3, :3], -1, -2) @ face.T  # world turns, theirs
     rotations = {t: turn[s] @ plan.aligned_rest[t] for t, s in plan.pairs.items()}
     ours, theirs = plan.hips
     pelvis_rest = plan.scaled(src.heads[ours])
@@ -148,10 +164,13 @@ def pose_frame(plan: Plan, source_pose: np.ndarray, pinned: Iterable[str] = ()) 
     by_source = {s: t for t, s in plan.pairs.items()}
     for limb in pinned:
         upper, lower, end = (by_source[src.index(n)] for n in LIMBS[limb])
-        s_end = src.index(LIMBS[limb][2])
+        s_upper, s_end = src.index(LIMBS[limb][0]), src.index(LIMBS[limb][2])
         goal = plan.scaled(source_pose[s_end, :3, 3])
         if limb.startswith("foot"):  # the target's own stance: its rest offset from our scaled ankle
             goal = goal + turn[s_end] @ (tgt.heads[end] - plan.scaled(src.heads[s_end]))
+        elif hand_goals == "arm":  # our shoulder-to-wrist vector, scaled to the target's arm, from its shoulder
+            reach = source_pose[s_end, :3, 3] - source_pose[s_upper, :3, 3]
+            goal = poses[upper, :3, 3] + plan.arm_ratios[limb] * face @ reach
         pole = turn[ours] @ plan.forward * (1.0 if limb.startswith("foot") else -1.0)
         q1, q2, misses[limb] = two_bone_ik(poses[upper, :3, 3], poses[lower, :3, 3], poses[end, :3, 3], goal, pole)
         rotations[upper] = q1 @ rotations[upper]
@@ -159,6 +178,42 @@ def pose_frame(plan: Plan, source_pose: np.ndarray, pinned: Iterable[str] = ()) 
     if misses:
         poses = forward_kinematics(tgt, rotations, theirs, hips_at)
     return poses, misses
+
+
+def solve_motion(plan: Plan, source_poses: np.ndarray, pinned: list[list[str]], hand_goals: str = "auto",
+                 step: Callable[[int], None] | None = None
+                 ) -> tuple[np.ndarray, list[dict[str, float]], str]:  # fmt: skip
+    """Per frame of ``source_poses`` (F, S, 4, 4) with its pinned limbs: (the target's poses (F, B, 4, 4), the
+    misses (m) per frame, the hand goals used). ``auto``: ``body`` goals unless a pinned hand misses one by more
+    than :data:`REACH_M` at some frame, then ``arm`` goals for the whole motion (no jump between the two).
+    ``step(frames done)`` after each frame (progress)."""
+    if hand_goals not in HAND_GOALS:
+        raise ModelError(f"hand goals: expected one of {', '.join(HAND_GOALS)}, got {hand_goals!r}")
+    modes = ("body", "arm") if hand_goals == "auto" else (hand_goals,)
+    for mode in modes:
+        done = []
+        for pose, limbs in zip(source_poses, pinned, strict=True):
+            done.append(pose_frame(plan, pose, limbs, mode))
+            if step is not None:
+                step(len(done))
+        hands = [m for _, misses in done for k, m in misses.items() if k.startswith("hand")]
+        if mode == modes[-1] or max(hands, default=0.0) <= REACH_M:
+            break
+    return np.array([p for p, _ in done]), [m for _, m in done], mode
+
+
+def miss_cause(plan: Plan, limb: str, hand_goals: str) -> str:
+    """Why a pinned ``limb`` (``hand_l``, ``foot_r``, ...) misses its goal, in a phrase."""
+    if limb.startswith("foot"):
+        return "the character's hips sit farther from its feet than the manikin's, scaled"
+    if hand_goals == "arm":
+        return ("the character's upper arm and forearm are in other proportions than the manikin's, so its arm "
+                "cannot fold or stretch as far")  # fmt: skip
+    arm = plan.arm_ratios[limb]
+    if arm < plan.ratio - 0.01:
+        return (f"the character's arms are relatively shorter than the manikin's (arm ratio {arm:.3f}, leg ratio "
+                f"{plan.ratio:.3f}): use arm-relative hand goals")  # fmt: skip
+    return "the character's shoulders sit elsewhere relative to its hips than the manikin's, scaled"
 
 
 def basis_matrices(target: Skeleton, poses: np.ndarray, scale: float = 1.0) -> np.ndarray:

@@ -27,7 +27,7 @@ from solver.retarget.skeleton import (
     rotation_between,
     skeleton,
 )
-from solver.retarget.transfer import LIMBS, basis_matrices, plan, pose_frame
+from solver.retarget.transfer import LIMBS, basis_matrices, miss_cause, plan, pose_frame, solve_motion
 from solver.retarget.two_bone import two_bone_ik
 
 ENDS = ("hand_l", "hand_r", "foot_l", "foot_r")
@@ -399,3 +399,57 @@ def test_rotation_between_turns_one_direction_onto_another() -> None:
         r = rotation_between(a, b)
         np.testing.assert_allclose(r @ (a / np.linalg.norm(a)), b / np.linalg.norm(b), atol=1e-12)
         assert np.linalg.norm(log_so3(r)) <= np.pi + 1e-9
+
+
+def turned(skel: Skeleton, angle: float) -> Skeleton:
+    """``skel`` turned by ``angle`` (rad) about world up through the origin: a character facing another way."""
+    turn = np.eye(4)
+    turn[:3, :3] = exp_so3(np.array([0.0, 0.0, angle]))
+    return Skeleton(skel.names, skel.parents, turn @ skel.rest, skel.lengths)
+
+
+@pytest.mark.parametrize("angle", [np.pi, np.pi / 2, -0.3])
+def test_a_character_facing_another_way_moves_in_its_own_facing(model, layout, ours, angle: float) -> None:
+    """Our skeleton turned about world up (facing +y for half a turn): the facing is read from the hips and the
+    motion turns with it, every bone exactly ours turned (was: played in world axes, bending it backwards)."""
+    target = turned(ours, angle)
+    the_plan = plan(ours, target, {n: n for n in ours.names}, np.eye(3))
+    assert np.radians(the_plan.facing_deg) == pytest.approx(angle, abs=1e-9)
+    turn = np.eye(4)
+    turn[:3, :3] = exp_so3(np.array([0.0, 0.0, angle]))
+    for source in random_poses(model, layout, 3, seed=5):
+        for pinned in ((), tuple(LIMBS)):
+            poses, misses = pose_frame(the_plan, source, pinned)
+            np.testing.assert_allclose(poses, turn @ source, atol=1e-9)
+            assert all(m < 1e-9 for m in misses.values())
+
+
+def test_arm_relative_hand_goals_are_reached_where_body_goals_are_not(model, layout, ours) -> None:
+    """Arms 25 % shorter than the legs' scale (a Rigify meta-rig's proportions): hand goals scaled with the body are
+    out of reach; arm-relative goals (about the shoulder, by the arm ratio) are reached, and ``auto`` picks them
+    for the whole motion."""
+    target = transformed(ours, 1.0, np.zeros(3), twist_seed=4)
+    rest = target.rest.copy()
+    for side in "lr":
+        upper = target.index(f"upper_arm_{side}")
+        shoulder = rest[upper, :3, 3].copy()
+        for b in range(len(rest)):  # everything below the shoulder pulled 25 % towards it
+            if upper in target.ancestors(b):
+                rest[b, :3, 3] = shoulder + 0.75 * (rest[b, :3, 3] - shoulder)
+    target = Skeleton(target.names, target.parents, rest, target.lengths)
+    the_plan = plan(ours, target, {n: n for n in ours.names}, np.eye(3))
+    assert the_plan.arm_ratios["hand_l"] == pytest.approx(0.75) and the_plan.ratio == pytest.approx(1.0)
+    sources = np.array(random_poses(model, layout, 3, seed=9))
+    hands = [["hand_l", "hand_r"]] * len(sources)
+    _, body_misses, used = solve_motion(the_plan, sources, hands, "body")
+    assert used == "body" and max(m for f in body_misses for m in f.values()) > 0.01
+    poses, misses, used = solve_motion(the_plan, sources, hands, "auto")
+    assert used == "arm" and max(m for f in misses for m in f.values()) < 1e-9
+    for pose, source in zip(poses, sources, strict=True):
+        for side in "lr":
+            upper, hand = ours.index(f"upper_arm_{side}"), ours.index(f"hand_{side}")
+            reach = 0.75 * (source[hand, :3, 3] - source[upper, :3, 3])
+            np.testing.assert_allclose(pose[hand, :3, 3] - pose[upper, :3, 3], reach, atol=1e-9)
+    assert "relatively shorter" in miss_cause(the_plan, "hand_l", "body")
+    with pytest.raises(ModelError, match="hand goals: expected one of auto, body, arm"):
+        solve_motion(the_plan, sources, hands, "nearest")
