@@ -13,7 +13,7 @@ from .common import EXIT_NOT_CONVERGED, EXIT_OK, check_folder_name
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """The ``validate`` subcommand on the command line's subparsers ``sub``."""
     p = sub.add_parser("validate", help="hold the predictions against motion capture: errors per posture measure")
-    p.add_argument("--out", default="validation", help="folder for the JSON, CSV, Markdown and PNG (default ./validation)")
+    p.add_argument("--out", default="validation", help="folder for the JSON, CSV, Markdown, PNG (default ./validation)")
     p.add_argument("--split", default="all", choices=["all", "train", "held-out"], help="the subjects (default all)")
     p.add_argument("--manifest", help="a manifest TOML of key frames (default presets/validation/manifest.toml)")
     p.add_argument("--key-frame", action="append", default=[], help="only this key frame (repeatable)")

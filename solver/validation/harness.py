@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import ScenarioError
 from ..presets import PRESETS_DIR
 from .bvh import Bvh, read_bvh
-from .keyframe import Subject, subject_body, solve_key_frame
+from .keyframe import Subject, solve_key_frame, subject_body
 from .measures import MEASURES, calibrated, measure
 from .skeleton import cmu_points, model_skeleton, stature_and_floor, to_our_frame
 
