@@ -51,7 +51,7 @@ def draw(report: dict, path: str | Path) -> Path:
     axes.flat[0].plot([], [], color=COLOURS["predicted"], label="predicted (Manikin)")
     axes.flat[0].legend(loc="upper left", fontsize=6)
     fig.suptitle("Measured (left) and predicted (right) postures, side view, forward to the right (m)", fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.97))  # room for the title
     path = Path(path)
     fig.savefig(path, dpi=90)
     plt.close(fig)
