@@ -19,10 +19,10 @@ import os
 import sys
 
 from ..errors import ArgumentParser, ManikinError
-from . import envelope, ergo, family, presets, solve, study, urdf
+from . import envelope, ergo, family, presets, solve, study, urdf, validate
 from .common import EXIT_BAD_INPUT, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED
 
-COMMAND_MODULES = (solve, ergo, study, urdf, presets, family, envelope)  # in the order --help lists them
+COMMAND_MODULES = (solve, ergo, study, urdf, presets, family, envelope, validate)  # in the order --help lists them
 COMMANDS = tuple(module.__name__.rpartition(".")[2] for module in COMMAND_MODULES)  # the command names
 
 
