@@ -65,8 +65,9 @@ def _gltf(path: Path, start: int, end: int) -> set[str]:
         filepath=str(path), check_existing=False, export_format="GLB" if path.suffix.lower() == ".glb" else
         "GLTF_SEPARATE", use_selection=True, export_animations=True, export_frame_range=True,
         export_force_sampling=True, export_anim_single_armature=True, export_skins=True, export_yup=True,
-        export_optimize_animation_size=False,
-    )  # fmt: skip
+        export_optimize_animation_size=False, export_animation_mode="ACTIVE_ACTIONS",
+        export_nla_strips_merged_animation_name="Manikin motion",
+    )  # fmt: skip  (the armature's and the box's actions as one glTF animation: an import plays both)
 
 
 @contextmanager
