@@ -74,6 +74,7 @@ def _gltf(path: Path, start: int, end: int) -> set[str]:
 def _keys_moved(objects: list[bpy.types.Object], frames: float) -> Iterator[None]:
     """Every key (and handle) of the objects' F-curves moved by ``frames`` while inside, moved back afterwards."""
     curves = list({fc.as_pointer(): fc for ob in objects for fc in object_fcurves(ob)}.values())  # shared actions once
+    actions = {ob.animation_data.action for ob in objects if ob.animation_data and ob.animation_data.action}
 
     def move(by: float) -> None:
         for fc in curves:
@@ -82,6 +83,8 @@ def _keys_moved(objects: list[bpy.types.Object], frames: float) -> Iterator[None
                 fc.keyframe_points.foreach_get(attribute, xy)
                 xy[0::2] += by
                 fc.keyframe_points.foreach_set(attribute, xy)
+        for action in actions:
+            action.update_tag()  # else the evaluated copy keeps the old keys (4.2)
 
     move(frames)
     try:
