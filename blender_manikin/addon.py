@@ -21,6 +21,7 @@ import bpy
 MODULES = (  # relative to this package, in registration order
     "pose.properties", "retarget.properties", "study.properties",
     "pose.operators", "scenario.operators", "envelope.operators", "motion.operators", "retarget.operators",
+    "motion.export_operator",
     "study.operators",
     "pose.panels", "motion.panel", "retarget.panel", "study.panel",
     "pose.live", "pose.overlay",

@@ -3,6 +3,7 @@ the last bake went (the frames that did not converge, and why)."""
 
 import bpy
 
+from ..scene.help import draw_help
 from ..scene.schema import last_bake, rig_of
 
 SHOWN_FAILURES = 6  # frames listed in the panel
@@ -15,6 +16,7 @@ class MANIKIN_PT_motion(bpy.types.Panel):
     bl_label = "Motion"
     bl_parent_id = "MANIKIN_PT_main"
     bl_order = 4  # under the pose's result (pose/panels.py lists the places)
+    draw_header_preset = draw_help  # the help button (scene/help.py)
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -29,6 +31,7 @@ class MANIKIN_PT_motion(bpy.types.Panel):
         row = layout.row()
         row.scale_y = 1.3
         row.operator("manikin.bake_motion", icon="RENDER_ANIMATION")
+        layout.operator("manikin.export_motion", icon="EXPORT")
         col = layout.column(align=True)
         col.prop(arm.manikin, "bound_motion")
         sub = col.column(align=True)

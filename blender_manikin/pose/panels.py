@@ -10,6 +10,7 @@ import math
 import bpy
 
 from ...solver.options import AXES
+from ..scene.help import draw_help
 from ..scene.registries import comfort_settings
 from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_result, rig_of
 
@@ -39,6 +40,7 @@ class _SidebarPanel(bpy.types.Panel):
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Manikin"
+    draw_header_preset = draw_help  # the help button (scene/help.py)
 
 
 class MANIKIN_PT_main(_SidebarPanel):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import bpy
 
+from ..scene.help import draw_help
 from ..scene.schema import is_manikin, last_retarget, rig_of
 
 
@@ -25,6 +26,7 @@ class MANIKIN_PT_retarget(bpy.types.Panel):
     bl_parent_id = "MANIKIN_PT_main"
     bl_order = 6  # the places of the subpanels: pose/panels.py
     bl_options = {"DEFAULT_CLOSED"}
+    draw_header_preset = draw_help  # the help button (scene/help.py)
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import bpy
 
+from ..scene.help import draw_help
 from ..scene.schema import rig_of
 from . import control
 from .properties import FOLDER
@@ -32,6 +33,7 @@ class MANIKIN_PT_study(bpy.types.Panel):
     bl_parent_id = "MANIKIN_PT_main"
     bl_order = 7  # the places of the subpanels: pose/panels.py
     bl_options = {"DEFAULT_CLOSED"}
+    draw_header_preset = draw_help  # the help button (scene/help.py)
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:

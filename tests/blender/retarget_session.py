@@ -231,7 +231,7 @@ seen["reloaded"] = record(character, manikin)
 paths = {ext: exports.export(character, WORK / f"character{ext}", FRAMES[0], FRAMES[-1]) for ext in (".fbx", ".glb")}
 seen["exported"] = {ext: p.stat().st_size for ext, p in paths.items()}
 before = set(bpy.data.objects)
-compat.call_known(bpy.ops.import_scene.fbx, filepath=str(paths[".fbx"]), anim_offset=0.0)  # else 1 frame later
+compat.call_known(bpy.ops.import_scene.fbx, filepath=str(paths[".fbx"]))  # defaults: lands on the baked frames
 imported = next(ob for ob in bpy.data.objects if ob not in before and ob.type == "ARMATURE")
 seen["fbx"] = {}
 for frame in FRAMES:
