@@ -22,6 +22,7 @@ MODULES = (  # relative to this package, in registration order
     "pose.properties", "retarget.properties", "study.properties",
     "pose.operators", "scenario.operators", "envelope.operators", "motion.operators", "retarget.operators",
     "study.operators",
+    "pose.manikins",
     "pose.panels", "motion.panel", "retarget.panel", "study.panel",
     "pose.live", "pose.overlay",
 )  # fmt: skip
