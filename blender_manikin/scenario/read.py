@@ -70,7 +70,7 @@ def apply_scenario(context: bpy.types.Context, sc: Scenario, name: str, onto: bp
     it makes remember)."""
     obstacle_objects.check_shapes(sc.problem.obstacles)  # before anything changes
     source = body_source(sc.model)
-    arm = onto
+    arm = onto if onto is not None and context.scene.objects.get(onto.name) == onto else None  # this scene's only
     if arm is None or rig_source(arm) != source:
         preset, file = source.get("preset", ""), source.get("file", "")
         model = armature.load_model(preset, file)

@@ -58,7 +58,8 @@ def delete_manikin(arm: bpy.types.Object) -> int:
 
 def _remove_data(block: bpy.types.ID) -> None:
     data = bpy.data
-    store = {bpy.types.Mesh: data.meshes, bpy.types.Armature: data.armatures, bpy.types.Action: data.actions}.get(type(block))
+    stores = {bpy.types.Mesh: data.meshes, bpy.types.Armature: data.armatures, bpy.types.Action: data.actions}
+    store = stores.get(type(block))
     if store is not None:
         store.remove(block)
 
