@@ -78,6 +78,19 @@ def owned_objects(arm: bpy.types.Object) -> list[bpy.types.Object]:
     return [bpy.data.objects[name] for name in owned(arm)]
 
 
+def remembered() -> list[str]:
+    """The file paths and one-shot choices of our operators that a click would reuse from the last call (a script's
+    call never does: Blender fills in the last properties for buttons only, except those marked SKIP_SAVE)."""
+    found = []
+    for name in dir(bpy.ops.manikin):
+        rna = getattr(bpy.ops.manikin, name).get_rna_type()
+        for prop in rna.properties:
+            one_shot = prop.identifier in ("frame_start", "frame_end", "target")
+            if (one_shot or getattr(prop, "subtype", "") in ("FILE_PATH", "DIR_PATH")) and not prop.is_skip_save:
+                found.append(f"{name}.{prop.identifier}")
+    return sorted(found)
+
+
 @part("body_file")
 def _body_file() -> None:
     """Item 1: a body file given once is not used by the next Add Manikin (and its move breaks nothing)."""
@@ -95,6 +108,7 @@ def _body_file() -> None:
         second=[second["manikin_preset"], second["manikin_body_file"]],
         moved_error=error,
         third=[third["manikin_preset"], third["manikin_body_file"]],
+        remembered=remembered(),
     )
 
 
@@ -239,10 +253,6 @@ def _replace() -> None:
     activate(arm)
     solved = sorted(bpy.ops.manikin.solve_pose())
     result = json.loads(arm["manikin_result"])
-    activate(arm)
-    bpy.ops.manikin.import_scenario(filepath=str(SCENARIOS / "cabinet_reach.toml"))
-    activate(arm)
-    bpy.ops.manikin.import_scenario(filepath=str(SCENARIOS / "deep_squat.toml"), replace=False)
     seen["replace"] = dict(
         first=first,
         after_cabinet=after_cabinet,
@@ -251,9 +261,12 @@ def _replace() -> None:
         solved=solved,
         converged=result["converged"],
         unmet=result["unmet"],
-        kept=imported(scene1),
-        arm_alive=arm.name in scene1.objects,
     )
+    activate(arm)
+    bpy.ops.manikin.import_scenario(filepath=str(SCENARIOS / "cabinet_reach.toml"))
+    activate(arm)
+    bpy.ops.manikin.import_scenario(filepath=str(SCENARIOS / "deep_squat.toml"), replace=False)
+    seen["replace"].update(kept=imported(scene1), arm_alive=arm.name in scene1.objects)
 
 
 @part("scenes")

@@ -26,6 +26,11 @@ def test_add_manikin_does_not_remember_a_body_file(session: dict) -> None:
     assert seen["first"][0] == "" and seen["first"][1].endswith("tall.toml")
     assert seen["second"] == ["female_5", ""]
     assert seen["moved_error"] == "" and seen["third"] == ["male_50", ""]
+    # what a click reuses: only the file browsers' paths (the browser sets them on every call)
+    assert seen["remembered"] == [
+        "export_scenario.filepath", "import_envelope.filepath", "import_scenario.filepath", "load_bone_map.filepath",
+        "save_bone_map.filepath",
+    ]  # fmt: skip
 
 
 def test_add_load_refuses_a_negative_mass_in_one_line(session: dict) -> None:
