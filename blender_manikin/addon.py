@@ -23,6 +23,7 @@ MODULES = (  # relative to this package, in registration order
     "pose.operators", "scenario.operators", "envelope.operators", "motion.operators", "retarget.operators",
     "motion.export_operator",
     "study.operators",
+    "pose.manikins",
     "pose.panels", "motion.panel", "retarget.panel", "study.panel",
     "pose.live", "pose.overlay",
 )  # fmt: skip

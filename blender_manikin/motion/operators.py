@@ -26,8 +26,10 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
     bl_label = "Bake Motion"
     bl_options = {"REGISTER", "UNDO"}
 
-    frame_start: IntProperty(name="Start", description="First frame (default: the scene's start)")
-    frame_end: IntProperty(name="End", description="Last frame (default: the scene's end)")
+    # SKIP_SAVE: a range typed once must not replace the scene's range in every later click of Bake Motion
+    frame_start: IntProperty(name="Start", description="First frame (default: the scene's start)",
+                             options={"SKIP_SAVE"})  # fmt: skip
+    frame_end: IntProperty(name="End", description="Last frame (default: the scene's end)", options={"SKIP_SAVE"})
 
     baker = None  # the running Baker (not an annotation: Blender reads an operator's annotations as properties)
     timer = None

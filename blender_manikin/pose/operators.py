@@ -12,7 +12,7 @@ from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringPro
 from ...solver.errors import ManikinError
 from ...solver.options import AXES
 from ...solver.presets import list_presets
-from ..scene.schema import TCP_KEY, rig_of
+from ..scene.schema import TCP_KEY, orphan_hint, rig_of
 
 _LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
 
@@ -42,7 +42,7 @@ class _RigOperator(bpy.types.Operator):
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
         if _active_rig(context) is None:
-            cls.poll_message_set("Select a manikin, or one of its targets")
+            cls.poll_message_set(orphan_hint(context.active_object) or "Select a manikin, or one of its targets")
             return False
         return context.mode in {"OBJECT", "POSE"}
 
@@ -66,7 +66,9 @@ class MANIKIN_OT_add_manikin(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     preset: EnumProperty(name="Preset", items=_preset_items())
-    filepath: StringProperty(name="Body file", subtype="FILE_PATH", description="A body TOML file (overrides preset)")
+    # SKIP_SAVE: a body file given once must not override the preset of every later Add > Manikin
+    filepath: StringProperty(name="Body file", subtype="FILE_PATH", description="A body TOML file (overrides preset)",
+                             options={"SKIP_SAVE"})  # fmt: skip
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -141,7 +143,8 @@ class MANIKIN_OT_add_load(_RigOperator):
     bl_label = "Add Load"
 
     tcp: StringProperty(name="TCP", default="hand_r")
-    mass: FloatProperty(name="Mass", default=5.0, min=0.0, soft_max=50.0, unit="MASS", description="kg")
+    # soft_min, not min: a hard min would clamp -3 kg to 0 silently; add_load rejects it in one line instead
+    mass: FloatProperty(name="Mass", default=5.0, soft_min=0.0, soft_max=50.0, unit="MASS", description="kg")
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ..scene import targets

@@ -24,6 +24,11 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
 
     filename_ext = ".toml"
     filter_glob: StringProperty(default="*.toml", options={"HIDDEN"})
+    replace: BoolProperty(
+        name="Replace the previous scenario's obstacles and box", default=True,
+        description="Remove the obstacles earlier scenario imports made in this scene, and the manikin's carried box, "
+        "before importing (off: they stay, and obstacles of the same name are replaced)",
+    )  # fmt: skip
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -33,7 +38,7 @@ class MANIKIN_OT_import_scenario(bpy.types.Operator, ImportHelper):
         from .read import import_scenario
 
         try:
-            done = import_scenario(context, self.filepath, onto=rig_of(context.active_object))
+            done = import_scenario(context, self.filepath, onto=rig_of(context.active_object), replace=self.replace)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}

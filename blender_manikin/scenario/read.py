@@ -55,25 +55,30 @@ def rig_source(arm: bpy.types.Object, resolved: bool = False) -> dict:
     return {"file": str(Path(path).resolve()) if resolved else path}
 
 
-def import_scenario(context: bpy.types.Context, path: str | Path, onto: bpy.types.Object | None = None) -> Imported:
+def import_scenario(context: bpy.types.Context, path: str | Path, onto: bpy.types.Object | None = None,
+                    replace: bool = False) -> Imported:  # fmt: skip
     """Read the scenario file ``path`` into the scene: onto the manikin ``onto`` if it has the scenario's body
-    (its empties replaced), else onto a new manikin at the world origin. The manikin ends selected and active.
+    (its empties replaced), else onto a new manikin at the world origin. With ``replace``, the obstacles earlier
+    imports brought into the scene and the manikin's carried box go first. The manikin ends selected and active.
     ManikinError (one line) for a bad file, before anything changes."""
-    return apply_scenario(context, solver.load_scenario(path), Path(path).name, onto)
+    return apply_scenario(context, solver.load_scenario(path), Path(path).name, onto, replace)
 
 
-def apply_scenario(context: bpy.types.Context, sc: Scenario, name: str, onto: bpy.types.Object | None = None
-                   ) -> Imported:  # fmt: skip
+def apply_scenario(context: bpy.types.Context, sc: Scenario, name: str, onto: bpy.types.Object | None = None,
+                   replace: bool = False) -> Imported:  # fmt: skip
     """:func:`import_scenario` of a scenario already read (``name``: its file's name, which the obstacle objects
-    it makes remember, so importing it again replaces them)."""
+    it makes remember)."""
     obstacle_objects.check_shapes(sc.problem.obstacles)  # before anything changes
     source = body_source(sc.model)
-    arm = onto
+    arm = onto if onto is not None and context.scene.objects.get(onto.name) == onto else None  # this scene's only
     if arm is None or rig_source(arm) != source:
         preset, file = source.get("preset", ""), source.get("file", "")
         model = armature.load_model(preset, file)
         arm = armature.create_manikin(context, model, preset, file, at_cursor=False)  # scenario = world
     warnings: list[str] = []
+    if replace:  # the previous scenario's obstacles (this scene's only) and box
+        obstacle_objects.remove_imported(context.scene)
+        carried_object.remove_carried(arm)
     keyed = _apply(context.scene, arm, sc, warnings)
     obstacles = sc.problem.obstacles
     warnings += obstacle_objects.add_obstacles(context.scene, arm, obstacles, name)

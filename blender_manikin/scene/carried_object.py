@@ -6,7 +6,8 @@ sidebar's and the batch's: :meth:`.bake.Baker.write`), written back by scenario 
 The object is no scene obstacle (it moves with the hands; it sits in the manikin's collection, never in
 "Obstacles"); :func:`.problem_io.read_problem` hands it to the solver as the carried box, which the body but the
 holding hands keeps out of. It remembers what it is in the custom property ``CARRIED_KEY``: JSON with its size
-(m), TCPs and manikin's name.
+(m), TCPs and manikin's name (for files saved before the pointer), and its manikin in ``CARRIED_RIG_KEY``: a
+pointer, so renaming the armature or the box changes nothing but the name.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from ...solver.body.spatial import matrix_to_quat
 from ...solver.collision.carried import Carried, carried_frame
 from . import keyframes
 from .armature import model_of
-from .schema import CARRIED_KEY, tcp_empty
+from .schema import CARRIED_KEY, CARRIED_RIG_KEY, tcp_empty
 
 MATERIAL = "manikin.carried"  # a name of OUR_MATERIALS: the key-pose picture renders it matte
 COLOR = (0.62, 0.42, 0.22, 1.0)  # cardboard
@@ -31,12 +32,29 @@ _FACES = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), 
 
 
 def find_carried(arm: bpy.types.Object) -> bpy.types.Object | None:
-    """The carried box of ``arm`` (by the manikin's name in its property), or None."""
+    """The carried box of ``arm`` (by the pointer it holds; a box saved before the pointer: by the manikin's name),
+    or None. Writes nothing (draw callbacks and handlers call it)."""
     for ob in bpy.data.objects:
-        text = ob.get(CARRIED_KEY)
-        if text and json.loads(text).get("armature") == arm.name:
+        if CARRIED_KEY not in ob:
+            continue
+        if CARRIED_RIG_KEY in ob:
+            if ob[CARRIED_RIG_KEY] == arm:
+                return ob
+        elif json.loads(ob[CARRIED_KEY]).get("armature") == arm.name:
             return ob
     return None
+
+
+def remove_carried(arm: bpy.types.Object) -> bool:
+    """Remove ``arm``'s box (and its mesh when nothing else uses it); False when it has none."""
+    old = find_carried(arm)
+    if old is None:
+        return False
+    mesh = old.data
+    bpy.data.objects.remove(old, do_unlink=True)
+    if mesh.users == 0:
+        bpy.data.meshes.remove(mesh)
+    return True
 
 
 def carried_spec(ob: bpy.types.Object) -> Carried:
@@ -57,12 +75,7 @@ def carried_table(arm: bpy.types.Object) -> dict | None:
 def add_carried(arm: bpy.types.Object, carried: Carried) -> bpy.types.Object:
     """A box object for ``carried`` beside ``arm`` (an earlier one of ``arm`` is replaced), placed between its
     TCPs as they are now."""
-    old = find_carried(arm)
-    if old is not None:
-        mesh = old.data
-        bpy.data.objects.remove(old, do_unlink=True)
-        if mesh.users == 0:
-            bpy.data.meshes.remove(mesh)
+    remove_carried(arm)
     half = np.asarray(carried.size, dtype=float) / 2.0
     corners = [(x * half[0], y * half[1], z * half[2]) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
     mesh = bpy.data.meshes.new(carried.name)
@@ -76,6 +89,7 @@ def add_carried(arm: bpy.types.Object, carried: Carried) -> bpy.types.Object:
     ob.rotation_mode = "QUATERNION"
     data = dict(name=carried.name, size=[float(v) for v in carried.size], tcps=list(carried.tcps), armature=arm.name)
     ob[CARRIED_KEY] = json.dumps(data)
+    ob[CARRIED_RIG_KEY] = arm  # the box's identity: a pointer, not the name in the JSON
     place_carried(ob, arm)
     return ob
 

@@ -33,6 +33,8 @@ CARRIED_KEY = "manikin_carried"  # on a carried box (scene/carried_object.py)
 ENVELOPE_KEY = "manikin_envelope"  # on a reach envelope object: the file it was imported from (envelope/objects.py)
 RETARGET_KEY = "manikin_retargeted"  # on a retarget target (retarget/motion.py); not the settings group's name
 OBSTACLES = "Obstacles"  # every mesh in a collection of this name is an obstacle
+OBSTACLES_KEY = "manikin_obstacles"  # on a scene's obstacle collection (Obstacles.001, ... in other scenes; renamed)
+CARRIED_RIG_KEY = "manikin_carried_rig"  # on a carried box: a pointer to its armature (renaming keeps it)
 
 TCP_PREFIX = "tcp."  # tcp.<name>: the empty riding on a TCP
 PREFIXES = {"TARGET": "target.", "LOOP": "loop.", "LOAD": "load."}  # the empties a user moves, by role
@@ -61,8 +63,9 @@ def is_manikin(obj: bpy.types.Object | None) -> bool:
     return obj is not None and obj.type == "ARMATURE" and (PRESET_KEY in obj or FILE_KEY in obj)
 
 
-def rig_of(obj: bpy.types.Object | None) -> bpy.types.Object | None:
-    """The manikin armature an object belongs to: itself, a target's manikin, or a TCP empty's parent."""
+def owner_rig(obj: bpy.types.Object | None, bodies: bool = True) -> bpy.types.Object | None:
+    """The manikin armature an object belongs to (itself, a target's manikin, a TCP empty's or, with ``bodies``, a
+    body's parent), even one deleted from every scene (X keeps it in the file while its targets point at it)."""
     if obj is None:
         return None
     if is_manikin(obj):
@@ -70,9 +73,23 @@ def rig_of(obj: bpy.types.Object | None) -> bpy.types.Object | None:
     settings = getattr(obj, "manikin_target", None)
     if settings is not None and settings.role != "NONE" and is_manikin(settings.rig):
         return settings.rig
-    if TCP_KEY in obj and is_manikin(obj.parent):
+    if (TCP_KEY in obj or (bodies and DISPLAY_KEY in obj)) and is_manikin(obj.parent):
         return obj.parent
     return None
+
+
+def rig_of(obj: bpy.types.Object | None) -> bpy.types.Object | None:
+    """:func:`owner_rig` when that manikin is in a scene, else None (a deleted rig is never solved)."""
+    arm = owner_rig(obj, bodies=False)
+    return arm if arm is not None and arm.users_scene else None
+
+
+def orphan_hint(obj: bpy.types.Object | None) -> str:
+    """One line for an object whose manikin was deleted from the scene, else ""."""
+    arm = owner_rig(obj)
+    if arm is None or arm.users_scene:
+        return ""
+    return f"{obj.name} belongs to the deleted manikin {arm.name}: remove what it left with Delete Manikin"
 
 
 def members(arm: bpy.types.Object) -> list[bpy.types.Object]:
@@ -99,7 +116,9 @@ def is_obstacle(ob: bpy.types.Object) -> bool:
     hands: as an obstacle it would push them away from itself)."""
     if ob.type != "MESH" or CARRIED_KEY in ob:
         return False
-    return bool(ob.manikin_obstacle.enabled) or any(c.name == OBSTACLES for c in ob.users_collection)
+    if ob.manikin_obstacle.enabled:
+        return True
+    return any(c.name == OBSTACLES or OBSTACLES_KEY in c for c in ob.users_collection)
 
 
 def _json(arm: bpy.types.Object, key: str) -> dict | None:

@@ -199,7 +199,10 @@ def registered() -> dict:
         timers=bpy.app.timers.is_registered(live.solve_pending),
         menus=[
             f.__module__
-            for menu in (bpy.types.VIEW3D_MT_add, bpy.types.TOPBAR_MT_file_import, bpy.types.TOPBAR_MT_file_export)
+            for menu in (
+                bpy.types.VIEW3D_MT_add, bpy.types.VIEW3D_MT_object, bpy.types.TOPBAR_MT_file_import,
+                bpy.types.TOPBAR_MT_file_export,
+            )  # fmt: skip
             for f in menu._dyn_ui_initialize()
             if f.__module__.startswith(module)
         ],

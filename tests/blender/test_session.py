@@ -207,11 +207,12 @@ def test_overlay_geometry(session: dict) -> None:
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
     there = session["registered"]  # before disabling, all of it was there
-    assert len(there["classes"]) == 35 and len(there["types"]) == 28  # PropertyGroups are not in bpy.types' dir
+    assert len(there["classes"]) == 37 and len(there["types"]) == 30  # PropertyGroups are not in bpy.types' dir
     assert there["object_props"] == ["manikin", "manikin_obstacle", "manikin_retarget", "manikin_target"]
     assert len(there["handlers"]) == 1 and there["timers"] and there["enabled"]
     features = [name.rpartition(".blender_manikin.")[2] for name in there["menus"]]  # one entry each, per menu
-    assert sorted(features) == ["envelope.operators", "pose.panels", "scenario.operators", "scenario.operators"]
+    assert sorted(features) == ["envelope.operators", "pose.manikins", "pose.panels", "scenario.operators",
+                                "scenario.operators"]  # fmt: skip
     left = session["left"]
     assert left == dict(types=[], classes=[], object_props=[], handlers=[], timers=False, menus=[], enabled=False)
 
