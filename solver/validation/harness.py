@@ -37,6 +37,9 @@ class KeyFrame:
     trial: str
     source_frame: int
     description: str
+    source_exact: bool = False  # source_frame counted from a file end (True) or estimated from a page offset
+    around: tuple[int, ...] = ()  # excerpt frames a few frames before and after, for a reader to check the key frame
+    heel_raised: tuple[str, ...] = ()  # sides ("r", "l") whose heel is off the floor (the foot is planted flat)
 
 
 def read_manifest(path: str | Path = MANIFEST) -> tuple[dict, dict[str, dict], list[KeyFrame]]:
@@ -47,7 +50,9 @@ def read_manifest(path: str | Path = MANIFEST) -> tuple[dict, dict[str, dict], l
         subjects = {str(s["id"]): dict(s) for s in data["subjects"]}
         frames = [
             KeyFrame(k["name"], str(k["subject"]), int(k["frame"]), k["task"], k.get("style", ""),
-                     tuple(k["hands"]), k["trial"], int(k["source_frame"]), k.get("description", ""))
+                     tuple(k["hands"]), k["trial"], int(k["source_frame"]), k.get("description", ""),
+                     bool(k.get("source_exact", False)), tuple(int(f) for f in k.get("around", ())),
+                     tuple(k.get("heel_raised", ())))
             for k in data["keyframes"]
         ]  # fmt: skip
     except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError, ValueError) as exc:
@@ -102,7 +107,8 @@ def _row(k: KeyFrame, s: _SubjectData) -> dict:
     p = measure(predicted, s.stature)
     return {
         "name": k.name, "subject": k.subject, "split": s.entry["split"], "task": k.task, "style": k.style,
-        "trial": k.trial, "source_frame": k.source_frame, "hands": list(k.hands), "stature": s.stature,
+        "trial": k.trial, "source_frame": k.source_frame, "source_exact": k.source_exact, "around": list(k.around),
+        "heel_raised": list(k.heel_raised), "hands": list(k.hands), "stature": s.stature,
         "converged": bool(result.converged), "unmet": list(result.unmet),
         "measured": m, "predicted": p, "error": {name: p[name] - m[name] for name in MEASURES},
         "skeletons": {

@@ -59,7 +59,8 @@ def markdown(report: dict) -> str:
             + " | ".join(MEASURES) + " |", "|---" * (4 + len(MEASURES)) + "|"]  # fmt: skip
     for r in report["rows"]:
         cells = " | ".join(_fmt(n, r["error"][n]) for n in MEASURES)
-        out.append(f"| {r['name']} | {r['task']} | {r['style']} | {'yes' if r['converged'] else 'NO'} | {cells} |")
+        style = r["style"] + "".join(f" (heel {side} raised, planted flat)" for side in r.get("heel_raised", ()))
+        out.append(f"| {r['name']} | {r['task']} | {style} | {'yes' if r['converged'] else 'NO'} | {cells} |")
     out += ["", report["citation"], ""]
     return "\n".join(out)
 
