@@ -3,7 +3,7 @@
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/envelope_compute_session.py <zip> <out.json> <work dir>
 
 A manikin away from the origin and turned; Compute Envelope on a coarse setting (the front half of 12 directions,
-5 cm tolerance, 2 kg) runs in a subprocess while this script drives the timer (background mode never fires
+10 cm tolerance, 2 kg) runs in a subprocess while this script drives the timer (background mode never fires
 ``bpy.app.timers``: ``poll_job`` is called every 0.2 s until it returns None, each call timed); the result is
 imported onto the manikin. The same settings again import the finished files at once; a full sphere is cancelled
 (nothing imported). Then the messages: a study varying a target the manikin does not have, and an OBJ Manikin did
@@ -91,7 +91,7 @@ seen["matrix"] = [list(row) for row in arm.matrix_world]
 loaded_before = {m for m in sys.modules if m.startswith(heavy)}
 
 settings = bpy.context.scene.manikin_envelope
-settings.frequency, settings.hemisphere, settings.tolerance, settings.load_kg = 1, "front", 0.05, 2.0
+settings.frequency, settings.hemisphere, settings.tolerance, settings.load_kg = 1, "front", 0.1, 2.0
 settings.folder = str(WORK / "envelopes")
 seen["idle_panel"] = draw()
 seen["start"] = compute()

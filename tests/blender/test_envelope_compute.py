@@ -98,4 +98,4 @@ def test_an_obj_manikin_did_not_write_is_not_an_envelope(session: dict) -> None:
 
 def test_no_traceback_and_the_session_stays_short(session: dict) -> None:
     assert "Traceback" not in session["log"]
-    assert session["session_s"] < 60.0
+    assert session["session_s"] < 120.0  # about 20 s on an idle 2-core machine: a runaway (a full sphere) fails
