@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import bpy
 
 from ...solver.errors import UsageError
+from ...solver.presets import MANIKINS_DIR
 from ..scene.schema import FILE_KEY, PRESET_KEY
 
 if TYPE_CHECKING:
@@ -89,11 +90,12 @@ def import_result(request: EnvelopeRequest, output: Path, arm: bpy.types.Object 
 
 def body_of(arm: bpy.types.Object) -> tuple[str, str, str]:
     """(the body as the envelope command takes it: a preset name or a body file's absolute path, its name in the
-    files, the text that identifies it: the preset's name or the body file's contents). UsageError if the body
+    files, the text that identifies it: the preset's name and file, or the body file's contents). UsageError if the body
     file is gone."""
     preset = arm.get(PRESET_KEY, "")
     if preset:
-        return preset, preset, preset
+        path = MANIKINS_DIR / f"{preset}.toml"  # its contents too: a preset changed by an update is another body
+        return preset, preset, preset + (path.read_text(encoding="utf-8") if path.is_file() else "")
     path = Path(bpy.path.abspath(arm.get(FILE_KEY, "")))
     if not path.is_file():
         raise UsageError(f"{arm.name}: its body file {path} is gone; an envelope needs the body")
