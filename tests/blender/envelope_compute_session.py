@@ -29,11 +29,18 @@ from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 DEADLINE_S = 120.0
-seen: dict = {"t0": time.monotonic()}
+seen: dict = {"t0": time.monotonic(), "marks": {}}
+
+
+def mark(name: str) -> None:
+    """When (s since the start) a part of the session ended."""
+    seen["marks"][name] = round(time.monotonic() - seen["t0"], 2)
+
 
 import bpy  # noqa: E402
 
 module = install(ZIP)
+mark("installed")
 control = importlib.import_module(module + ".blender_manikin.envelope.control")
 panel = importlib.import_module(module + ".blender_manikin.envelope.panel")
 heavy = ("scipy", "matplotlib")
@@ -89,6 +96,7 @@ arm.rotation_euler.z = math.radians(90.0)
 bpy.context.view_layer.update()
 seen["matrix"] = [list(row) for row in arm.matrix_world]
 loaded_before = {m for m in sys.modules if m.startswith(heavy)}
+mark("manikin")
 
 settings = bpy.context.scene.manikin_envelope
 settings.frequency, settings.hemisphere, settings.tolerance, settings.load_kg = 1, "front", 0.1, 2.0
@@ -100,6 +108,7 @@ seen["run"] = drive()
 seen["status"] = settings.status
 seen["done_panel"] = draw()
 seen["objects"] = envelopes()
+mark("computed")
 
 # The same settings again: the finished folder is imported at once, replacing the objects.
 seen["again"] = compute()
@@ -116,6 +125,7 @@ seen["cancel"] = list(bpy.ops.manikin.envelope_cancel())
 seen["cancelled"] = drive()
 seen["cancelled_status"] = settings.status
 seen["cancelled_objects"] = sorted(envelopes())
+mark("cancelled")
 seen["heavy_loaded"] = sorted({m for m in sys.modules if m.startswith(heavy)} - loaded_before)
 
 # Message: a study varying the height of a target the manikin does not have; nothing written.
@@ -124,6 +134,7 @@ study.vary, study.tcps, study.values, study.folder = "z", "hand_l", "0.0, 0.1", 
 bpy.ops.manikin.add_target(tcp="hand_r")
 bpy.context.view_layer.objects.active = arm
 seen["no_such_target"] = error_of(bpy.ops.manikin.study_run)
+mark("study message")
 seen["studies_written"] = sorted(str(p) for p in (WORK / "studies").rglob("*")) if (WORK / "studies").exists() else []
 
 # Message: an OBJ another program wrote is not an envelope.
@@ -139,6 +150,7 @@ bpy.ops.preferences.addon_disable(module=module)
 t0 = time.monotonic()
 while job.poll() and time.monotonic() - t0 < DEADLINE_S:
     time.sleep(0.1)
+mark("disabled")
 seen["disabled"] = dict(state=job.state, timer=bpy.app.timers.is_registered(control.poll_job),
                         settings=hasattr(bpy.types.Scene, "manikin_envelope"))  # fmt: skip
 seen["session_s"] = time.monotonic() - seen.pop("t0")
