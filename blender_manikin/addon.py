@@ -19,12 +19,12 @@ from types import ModuleType
 import bpy
 
 MODULES = (  # relative to this package, in registration order
-    "pose.properties", "retarget.properties", "study.properties",
+    "pose.properties", "retarget.properties", "study.properties", "envelope.properties",
     "pose.operators", "scenario.operators", "envelope.operators", "motion.operators", "retarget.operators",
     "motion.export_operator",
     "study.operators",
     "pose.manikins",
-    "pose.panels", "motion.panel", "retarget.panel", "study.panel",
+    "pose.panels", "motion.panel", "retarget.panel", "study.panel", "envelope.panel",
     "pose.live", "pose.overlay",
 )  # fmt: skip
 

@@ -1,5 +1,7 @@
 """Import Reach Envelope (File > Import and the sidebar): ``python -m solver envelope``'s ``.obj`` or ``.glb`` as
-objects beside the manikin. The work is :func:`.objects.import_envelope`, loaded inside ``execute``."""
+objects beside the manikin; and the "Reach Envelope" panel's Compute Envelope and Cancel Envelope, which run that
+command in the background for the active manikin and import its result. The work is :mod:`.objects`' and
+:mod:`.control`'s, loaded inside ``execute``; errors reach the user via report()."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ from bpy_extras.io_utils import ImportHelper
 
 from ...solver.errors import ManikinError
 from ..scene.schema import rig_of
+from . import control
 
 
 class MANIKIN_OT_import_envelope(bpy.types.Operator, ImportHelper):
@@ -50,4 +53,56 @@ def draw_import_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
 
 MENUS = (("TOPBAR_MT_file_import", draw_import_menu),)
 
-classes = (MANIKIN_OT_import_envelope,)
+
+class MANIKIN_OT_envelope_compute(bpy.types.Operator):
+    """Compute the active manikin's reach envelope with these settings in the background, then import it onto the
+    manikin (the same body and settings again import the envelope computed before)"""
+
+    bl_idname = "manikin.envelope_compute"
+    bl_label = "Compute Envelope"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        if control.is_running():
+            cls.poll_message_set("An envelope is being computed")
+            return False
+        return context.mode == "OBJECT" and rig_of(context.active_object) is not None
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        arm = rig_of(context.active_object)
+        try:
+            job, folder = control.start_envelope(context.scene, arm)
+        except (ManikinError, OSError) as exc:
+            self.report({"ERROR"}, " ".join(str(exc).split()))
+            return {"CANCELLED"}
+        if job is None:
+            self.report({"INFO"}, context.scene.manikin_envelope.status)
+        else:
+            self.report({"INFO"}, f"Envelope of {arm.name} started: {job.total} directions, into {folder}")
+        return {"FINISHED"}
+
+
+class MANIKIN_OT_envelope_cancel(bpy.types.Operator):
+    """Stop computing the envelope (nothing is imported)"""
+
+    bl_idname = "manikin.envelope_cancel"
+    bl_label = "Cancel Envelope"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        job = control.current_job()
+        return job is not None and job.state == "running"
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        job = control.current_job()
+        job.cancel()
+        self.report({"INFO"}, f"Stopping the envelope: {job.done} of {job.total} directions done")
+        return {"FINISHED"}
+
+
+classes = (MANIKIN_OT_import_envelope, MANIKIN_OT_envelope_compute, MANIKIN_OT_envelope_cancel)
+
+
+def unregister() -> None:
+    """Add-on disabled: stop a running envelope and stop watching it."""
+    control.stop_job()

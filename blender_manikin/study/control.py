@@ -126,6 +126,16 @@ def offsets(settings) -> tuple[str, tuple[str, ...], tuple[float, ...]]:
     return settings.vary, tcps, values
 
 
+def check_targets(arm: bpy.types.Object, scenario: dict, axis: str, tcps: tuple[str, ...]) -> None:
+    """Refuse, with one UsageError line naming them, TCPs the study would move that have no target on ``arm``."""
+    have = [str(t.get("tcp")) for t in scenario.get("targets", [])]
+    missing = [tcp for tcp in tcps if tcp not in have]
+    if missing:
+        known = ", ".join(dict.fromkeys(have)) or "none"
+        raise UsageError(f"Targets: {arm.name} has no target on {', '.join(missing)} to move by offset_{axis} "
+                         f"(its targets: {known})")  # fmt: skip
+
+
 def study_folder(settings, arm: bpy.types.Object, family: Path, inputs: list) -> Path:
     """``<output>/<manikin>_<family>_<hash of the inputs>``, in the output setting or in manikin_studies beside the
     .blend (or in the temp folder): the same study again goes on in its folder, another gets its own."""
@@ -142,7 +152,8 @@ def study_folder(settings, arm: bpy.types.Object, family: Path, inputs: list) ->
 
 def start_study(scene: bpy.types.Scene, arm: bpy.types.Object) -> tuple[StudyJob, Path]:
     """Start a study of ``arm``'s targets with ``scene``'s study settings and watch it with :func:`poll_job`; (the
-    job, its folder). ManikinError or OSError (one line) for bad input, before anything runs."""
+    job, its folder). ManikinError or OSError (one line) for bad input, before anything runs (a target the study
+    would move that is not there: before anything is written)."""
     global _job, _scene_name
     from ...solver.io.files import write_text
     from ...solver.io.scenario.write import write_scenario_files
@@ -155,6 +166,7 @@ def start_study(scene: bpy.types.Scene, arm: bpy.types.Object) -> tuple[StudyJob
     family = family_folder(settings)
     axis, tcps, values = offsets(settings)
     scenario = scene_scenario(arm)
+    check_targets(arm, scenario, axis, tcps)  # before anything is written
     text = study_text(family, "scenario.toml", f"{arm.name} x {family.name}", axis, tcps, values)
     folder = study_folder(settings, arm, family, [scenario, text])
     write_scenario_files(folder / "scenario.toml", scenario)

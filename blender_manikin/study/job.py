@@ -1,12 +1,8 @@
 """A population study run in the background: ``python -m solver study STUDY.toml -o OUT -q`` in a subprocess of
 the Python that runs Blender, watched through the study's journal (``OUT/runs.jsonl``) without ever waiting on it.
 
-The subprocess needs what the add-on uses inside Blender: the extension's own ``solver`` package (at the extension's
-root, beside ``blender_manikin``) and the wheels the extension ships (scipy, matplotlib), which Blender installs into
-``<user extensions>/.local/lib/python3.11/site-packages`` and puts on its own ``sys.path`` only. So the child gets a
-PYTHONPATH of exactly those folders, plus wherever this process finds scipy, matplotlib and numpy (the same copies
-Blender loads); the user's own site-packages stay out, as in Blender. In a real Blender ``sys.executable`` is its
-bundled Python (``<version>/python/bin/python3.11``).
+The subprocess and its environment (the extension's ``solver``, the wheels Blender installed, the same numpy)
+are :mod:`..scene.background`'s, shared with a reach envelope computed from the sidebar.
 
 Cancel asks the study to stop as Ctrl-C does (SIGINT: it keeps the finished rows, writes its tables and exits 130);
 if it has not stopped after ``GRACE_S``, its whole process group (the study and its worker processes) is killed.
@@ -15,17 +11,15 @@ Either way the journal keeps every finished row, and running the same study agai
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
-import signal
-import site
-import subprocess
-import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]  # the extension root: solver/, blender_manikin/, presets/
+from ..scene.background import child_env, interrupt, kill, last_line, python_path, solver_command, start
+
+__all__ = ["StudyJob", "child_env", "last_line", "python_path", "study_command", "study_text"]
+
 JOURNAL = "runs.jsonl"  # solver.study.outputs.JOURNAL (not imported: this module stays light)
 LOG = "study.log"  # the subprocess's standard error, in the output folder
 GRACE_S = 5.0  # s a cancelled study has to stop by itself before it is killed
@@ -33,52 +27,10 @@ EXIT_DONE = (0, 3)  # every run converged; some did not (a finished study either
 EXIT_INTERRUPTED = 130
 
 
-def wheel_folder() -> Path | None:
-    """Where Blender installs the wheels of extensions (as Blender's addon_utils names it), if it exists."""
-    import bpy
-
-    version = f"python{sys.version_info.major}.{sys.version_info.minor}"
-    path = Path(bpy.utils.user_resource("EXTENSIONS"), ".local", "lib", version, "site-packages")
-    return path if path.is_dir() else None
-
-
-def module_home(name: str) -> Path | None:
-    """The folder holding the top-level module ``name`` as this process would import it (not importing it)."""
-    spec = importlib.util.find_spec(name)
-    if spec is None or not spec.origin or spec.origin in ("built-in", "frozen"):
-        return None
-    origin = Path(spec.origin)
-    return origin.parent.parent if spec.submodule_search_locations else origin.parent
-
-
-def python_path(root: Path = ROOT) -> list[str]:
-    """The child's PYTHONPATH: the extension root, Blender's wheel folder, and the homes of scipy, matplotlib, numpy."""
-    found = [root, wheel_folder(), *(module_home(name) for name in ("scipy", "matplotlib", "numpy"))]
-    return list(dict.fromkeys(str(p) for p in found if p is not None))
-
-
-def child_env(root: Path = ROOT) -> dict[str, str]:
-    """The subprocess's environment: this one, its PYTHONPATH replaced by :func:`python_path`, one BLAS thread per
-    worker left to the study, no user site-packages where this process has none (Blender's default)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(python_path(root)))
-    if not site.ENABLE_USER_SITE:
-        env["PYTHONNOUSERSITE"] = "1"
-    return env
-
-
 def study_command(study: Path, output: Path, workers: int) -> list[str]:
     """The command the study runs as (``workers`` 0: all cores but one, which Blender keeps)."""
     count = workers or max(1, (os.cpu_count() or 2) - 1)
-    return [sys.executable, "-m", "solver", "study", str(study), "-o", str(output), "-q", "--workers", str(count)]
-
-
-def last_line(path: Path) -> str:
-    """The last non-empty line of a text file ("" if none or unreadable)."""
-    try:
-        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError:
-        return ""
-    return next((line.strip() for line in reversed(lines) if line.strip()), "")
+    return solver_command("study", str(study), "-o", str(output), "-q", "--workers", str(count))
 
 
 class StudyJob:
@@ -97,11 +49,7 @@ class StudyJob:
         self._read_journal()
         self.kept = len(self.rows)  # finished before this start (a resumed study)
         self.started = time.monotonic()
-        with open(self.output / LOG, "wb") as log:  # the child keeps its own handle
-            self.process = subprocess.Popen(
-                study_command(self.study, self.output, workers), cwd=str(self.study.parent), env=child_env(),
-                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=log, start_new_session=os.name == "posix",
-            )  # fmt: skip
+        self.process = start(study_command(self.study, self.output, workers), self.study.parent, self.output / LOG)
 
     @property
     def done(self) -> int:
@@ -140,19 +88,10 @@ class StudyJob:
             return
         self._cancelled_at = time.monotonic()
         self.state = "cancelling"
-        if os.name == "posix":
-            self.process.send_signal(signal.SIGINT)
-        else:
-            self.process.terminate()
+        interrupt(self.process)
 
     def _kill(self) -> None:
-        try:
-            if os.name == "posix":
-                os.killpg(self.process.pid, signal.SIGKILL)  # the study and its workers (one session)
-            else:
-                self.process.kill()
-        except OSError:
-            pass  # already gone
+        kill(self.process)  # the study and its workers (one session)
 
     def _read_journal(self) -> None:
         """Add the journal's complete lines since the last read; rows of other studies in the folder are skipped."""

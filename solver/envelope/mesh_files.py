@@ -4,10 +4,14 @@
 A file holds named triangle meshes (``balanced``, ``kinematic``) in the manikin's frame (m; the frame of its zero
 pose: feet on the floor about the origin, facing -y) and the shoulder the envelope is centred on:
 
-- OBJ: z up as the solver's world (like the obstacle OBJ files); one ``o NAME`` per mesh; a ``# shoulder x y z``
-  comment line and ``# key: value`` comments describing the run.
+- OBJ: z up as the solver's world (like the obstacle OBJ files); one ``o NAME`` per mesh; a first line
+  ``# Manikin reach envelope ...``, a ``# shoulder x y z`` comment line and ``# key: value`` comments describing
+  the run.
 - GLB: glTF 2.0 is y up, so a point (x, y, z) of the manikin's frame is stored as (x, z, -y); each mesh is a node
-  placed at the shoulder (its vertices relative to it) with the run in the scene's ``extras``.
+  placed at the shoulder (its vertices relative to it) with the run in the scene's ``extras``; its asset's
+  generator ``Manikin (python -m solver envelope)``.
+
+:func:`read_envelope` reads only files with those marks: any other OBJ or glTF is refused in one line.
 """
 
 from __future__ import annotations
@@ -26,6 +30,8 @@ CHUNK_JSON, CHUNK_BIN = 0x4E4F534A, 0x004E4942
 FLOAT, UNSIGNED_INT = 5126, 5125  # glTF component types
 ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
 COLOURS = {"balanced": (0.15, 0.65, 0.35, 0.45), "kinematic": (0.55, 0.55, 0.6, 0.2)}  # RGBA of each mesh
+OBJ_MARK = "# Manikin reach envelope"  # the first line of every envelope OBJ written here
+GLB_MARK = "Manikin"  # how the generator of every envelope GLB written here begins
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # (x, y, z) -> (x, z, -y)
 
 
@@ -50,7 +56,7 @@ class EnvelopeFile:
 
 def obj_text(envelope: EnvelopeFile) -> str:
     """The OBJ text of ``envelope`` (z up, m; 1-based indices running on over the meshes)."""
-    lines = ["# Manikin reach envelope (python -m solver envelope): m, z up, the manikin's frame"]
+    lines = [f"{OBJ_MARK} (python -m solver envelope): m, z up, the manikin's frame"]
     lines += [f"# {key}: {value}" for key, value in envelope.info.items()]
     lines.append("# shoulder {:.9g} {:.9g} {:.9g}".format(*envelope.shoulder))
     first = 1
@@ -105,7 +111,7 @@ def glb_bytes(envelope: EnvelopeFile) -> bytes:
 
 def read_envelope(path: str | Path) -> EnvelopeFile:
     """The meshes of an envelope ``.obj`` or ``.glb`` file; one ResultFileError line naming the file and what is
-    wrong."""
+    wrong (a mesh file without the marks an envelope written here has: not an envelope)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".obj", ".glb"):
@@ -118,6 +124,9 @@ def read_envelope(path: str | Path) -> EnvelopeFile:
         got = _read_obj(data.decode("utf-8")) if suffix == ".obj" else _read_glb(data)
     except (ValueError, KeyError, IndexError, TypeError, struct.error, UnicodeDecodeError) as exc:
         raise ResultFileError(f"{path}: not a readable envelope file ({exc})") from None
+    if got is None:
+        raise ResultFileError(f"{path}: not a reach envelope written by Manikin (python -m solver envelope writes "
+                              f"them); import other meshes with File > Import")  # fmt: skip
     if not got.meshes or not all(len(m.faces) for m in got.meshes):
         raise ResultFileError(f"{path}: no triangles in the file")
     for mesh in got.meshes:
@@ -126,8 +135,11 @@ def read_envelope(path: str | Path) -> EnvelopeFile:
     return got
 
 
-def _read_obj(text: str) -> EnvelopeFile:
-    """Meshes (``o`` starts one), shoulder and ``# key: value`` info of OBJ text; polygons become fans."""
+def _read_obj(text: str) -> EnvelopeFile | None:
+    """Meshes (``o`` starts one), shoulder and ``# key: value`` info of OBJ text; polygons become fans. None
+    when the text does not begin with :data:`OBJ_MARK`."""
+    if not text.lstrip("\ufeff").startswith(OBJ_MARK):
+        return None
     out = EnvelopeFile([])
     vertices: list[list[float]] = []
     name, faces, first = "envelope", [], 0
@@ -160,8 +172,9 @@ def _close(out: EnvelopeFile, name: str, vertices: list, faces: list, first: int
         out.meshes.append(EnvelopeMesh(name, np.array(vertices[first:], float), np.array(faces, np.int64) - first))
 
 
-def _read_glb(data: bytes) -> EnvelopeFile:
-    """Meshes of a GLB (positions and triangle indices of each node's mesh, back in the manikin's frame)."""
+def _read_glb(data: bytes) -> EnvelopeFile | None:
+    """Meshes of a GLB (positions and triangle indices of each node's mesh, back in the manikin's frame); None when
+    its generator is not :data:`GLB_MARK`'s."""
     magic, version, total = struct.unpack_from("<III", data, 0)
     if magic != GLB_MAGIC or version != 2 or total > len(data):
         raise ValueError("not a glTF 2.0 binary (GLB) file")
@@ -169,6 +182,8 @@ def _read_glb(data: bytes) -> EnvelopeFile:
     if kind != CHUNK_JSON:
         raise ValueError("the first chunk is not JSON")
     gltf = json.loads(data[20 : 20 + json_length])
+    if not str(gltf.get("asset", {}).get("generator", "")).startswith(GLB_MARK):
+        return None
     start = 20 + json_length
     bin_length, kind = struct.unpack_from("<II", data, start)
     if kind != CHUNK_BIN:

@@ -209,6 +209,18 @@ def test_the_obj_parses_back(envelope, tmp_path):
         read_envelope(tmp_path / "bad.glb")
 
 
+def test_a_mesh_file_manikin_did_not_write_is_not_an_envelope(envelope, tmp_path):
+    """Any OBJ or glTF parses as meshes; only the ones the envelope writer marked are envelopes (one line)."""
+    text = obj_text(envelope_file(envelope))
+    (tmp_path / "cube.obj").write_text("# Blender 4.2\n" + text.split("\n", 1)[1], encoding="utf-8")
+    data = glb_bytes(envelope_file(envelope)).replace(b'"generator":"Manikin', b'"generator":"Blender')
+    (tmp_path / "cube.glb").write_bytes(data)
+    for name in ("cube.obj", "cube.glb"):
+        with pytest.raises(ResultFileError, match=f"{name}: not a reach envelope written by Manikin") as caught:
+            read_envelope(tmp_path / name)
+        assert "\n" not in str(caught.value)
+
+
 def run_cli(*args: str) -> subprocess.CompletedProcess:
     env = dict(os.environ, PYTHONPATH=str(REPO))
     return subprocess.run([sys.executable, "-m", "solver", *args], cwd=REPO, env=env, capture_output=True,
