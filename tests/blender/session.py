@@ -181,7 +181,17 @@ import scipy  # noqa: E402
 seen["modules"] = dict(scipy=scipy.__file__, matplotlib=matplotlib.__file__)
 
 # Disable: nothing of the add-on may stay registered.
-ours = sys.modules[f"{module}.blender_manikin.addon"].classes()  # everything the add-on registers
+addon = sys.modules[f"{module}.blender_manikin.addon"]
+ours = addon.classes()  # everything the add-on registers
+seen["ours"] = dict(
+    classes=[c.__name__ for c in ours],
+    types=sorted(c.__name__ for c in ours if not issubclass(c, bpy.types.PropertyGroup)),  # not in bpy.types' dir
+    menus=sorted(
+        draw.__module__.rpartition(".blender_manikin.")[2]
+        for m in addon.modules()
+        for _, draw in getattr(m, "MENUS", ())
+    ),
+)
 
 
 def registered() -> dict:

@@ -206,13 +206,13 @@ def test_overlay_geometry(session: dict) -> None:
 
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
-    there = session["registered"]  # before disabling, all of it was there
-    assert len(there["classes"]) == 37 and len(there["types"]) == 30  # PropertyGroups are not in bpy.types' dir
+    there, ours = session["registered"], session["ours"]  # before disabling, all of it was there
+    assert there["classes"] == ours["classes"] and len(ours["classes"]) >= 37
+    assert sorted(there["types"]) == ours["types"]  # every operator, panel, menu and list is in bpy.types
     assert there["object_props"] == ["manikin", "manikin_obstacle", "manikin_retarget", "manikin_target"]
     assert len(there["handlers"]) == 1 and there["timers"] and there["enabled"]
     features = [name.rpartition(".blender_manikin.")[2] for name in there["menus"]]  # one entry each, per menu
-    assert sorted(features) == ["envelope.operators", "pose.manikins", "pose.panels", "scenario.operators",
-                                "scenario.operators"]  # fmt: skip
+    assert sorted(features) == ours["menus"] and {"pose.panels", "scenario.operators"} <= set(features)
     left = session["left"]
     assert left == dict(types=[], classes=[], object_props=[], handlers=[], timers=False, menus=[], enabled=False)
 
