@@ -175,7 +175,7 @@ def start_study(scene: bpy.types.Scene, arm: bpy.types.Object) -> tuple[StudyJob
     job = StudyJob(study, folder / "out", run_ids, settings.workers)
     _job, _scene_name = job, scene.name
     settings.rows.clear()
-    settings.status, settings.study_file, settings.source = "", str(study), arm.name
+    settings.status, settings.study_file, settings.source = "", str(study), arm
     if not bpy.app.timers.is_registered(poll_job):
         bpy.app.timers.register(poll_job, first_interval=POLL_S, persistent=True)
     return job, folder
@@ -202,7 +202,7 @@ def load_row(context: bpy.types.Context, settings, run_id: str) -> tuple[bpy.typ
     if arm is None:
         preset, file = source.get("preset", ""), source.get("file", "")
         arm = armature.create_manikin(context, armature.load_model(preset, file), preset, file, at_cursor=False)
-    where = bpy.data.objects.get(settings.source)
+    where = settings.source  # a pointer: renaming the manikin keeps it
     if where is not None and where is not arm:
         arm.matrix_world = where.matrix_world.copy()  # the study's targets are in its manikin's frame
     context.view_layer.update()

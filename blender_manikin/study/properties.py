@@ -4,7 +4,7 @@ and the rows of the last study, so the table stays with the .blend. Imports only
 from __future__ import annotations
 
 import bpy
-from bpy.props import BoolProperty, CollectionProperty, EnumProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, CollectionProperty, EnumProperty, IntProperty, PointerProperty, StringProperty
 
 from ...solver.presets import PRESETS_DIR
 
@@ -53,7 +53,7 @@ class MANIKIN_PG_study(bpy.types.PropertyGroup):
     )  # fmt: skip
     status: StringProperty(name="Status", description="How the last study ended")
     study_file: StringProperty(name="Study file", description="The study the rows come from")
-    source: StringProperty(name="Manikin", description="The armature whose targets the study ran on")
+    source: PointerProperty(type=bpy.types.Object, name="Manikin", description="The armature the study ran on")
     score_titles: StringProperty(name="Score columns", description="The table's score columns (tab-separated)")
     rows: CollectionProperty(type=MANIKIN_PG_study_row)
     row_index: IntProperty(name="Row", default=0, min=0)

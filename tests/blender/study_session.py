@@ -130,6 +130,7 @@ seen["drawn_rows"] = drawn_rows
 
 # Load Row: the last row (male_mean, the target 10 cm higher) poses a manikin of that body where the study's stands.
 settings.row_index = len(settings.rows) - 1
+arm.name = "study manikin, renamed"  # identity is not the name: the row still lands where this manikin stands
 seen["load"] = list(bpy.ops.manikin.study_load_row())
 loaded = bpy.context.active_object
 bpy.context.view_layer.update()
