@@ -7,14 +7,13 @@ from __future__ import annotations
 import math
 
 import pytest
+from test_ergonomics import G, frame_dict, pose
 
 from solver.ergonomics import ErgoOptions, evaluate
 from solver.ergonomics.base import Score, Verdict
 from solver.ergonomics.registry import SCORES, frame_scores, motion_scores
 from solver.io.result.read import frame_from_dict
 from solver.io.scenario.bodies import load_body
-
-from test_ergonomics import G, frame_dict, pose
 
 
 @pytest.fixture(scope="module")
