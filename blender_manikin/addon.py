@@ -23,6 +23,7 @@ MODULES = (  # relative to this package, in registration order
     "pose.operators", "scenario.operators", "envelope.operators", "motion.operators", "retarget.operators",
     "study.operators",
     "pose.panels", "motion.panel", "retarget.panel", "study.panel",
+    "motion.ergonomics_panel",
     "pose.live", "pose.overlay",
 )  # fmt: skip
 
