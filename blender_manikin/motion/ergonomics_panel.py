@@ -56,6 +56,9 @@ class MANIKIN_PT_motion_ergonomics(bpy.types.Panel):
         head = baked_frame(arm, "head")
         layout = self.layout
         layout.label(text=f"Baked frames {head['frame_start']}-{head['frame_end']}")
+        graphs = ", ".join(prop for _, _, prop in head["graphs"])
+        if graphs:  # the scores over time: F-curves of the armature's data
+            layout.label(text=f"Graph Editor (armature data): {graphs}", icon="GRAPH")
         levels = dict(head["motion_levels"])
         for line in head["motion_lines"]:  # "NIOSH lift: RWL 12.3 kg, load 10.0 kg, LI 0.81"
             severity = next((LEVEL_SEVERITY.get(lv) for t, lv in levels.items() if line.startswith(t)), None)
@@ -74,28 +77,26 @@ class MANIKIN_PT_motion_ergonomics(bpy.types.Panel):
             top = max((v["severity"] for v in rated), default=None)
             words = ", ".join(v["text"] for v in rated if v["severity"] == top) or "not rated"
             _frame_button(box, frame, f"Frame {frame}: {words}", top)
-        self.draw_frame(arm, context.scene.frame_current, head)
+        draw_frame(layout, arm, context.scene.frame_current)
 
-    def draw_frame(self, arm: bpy.types.Object, frame: int, head: dict) -> None:
-        """The current frame's scores, their levels and detail lines (the worksheet's items)."""
-        entry = baked_frame(arm, frame)
-        box = self.layout.box()
-        if entry is None:
-            box.label(text=f"Frame {frame} is outside the baked frames", icon="INFO")
-            return
-        state = "" if entry["converged"] else " (NOT converged: the solver's closest pose)"
-        box.label(text=f"Frame {frame}{state}")
-        for verdict in entry["verdicts"]:
-            text = verdict["text"] + (f": {verdict['level']}" if verdict["level"] else "")
-            draw_verdict(box, text, verdict["severity"])
-        for name, lines in entry["details"].items():
-            title = next((v["title"] for v in entry["verdicts"] if v["score"] == name), name)
-            box.label(text=f"{title}, item by item:")
-            for text, severity in lines:
-                draw_verdict(box, "  " + text, severity)
-        graphs = ", ".join(prop for _, _, prop in head["graphs"])
-        if graphs:
-            self.layout.label(text=f"Over time: Graph Editor, armature data: {graphs}", icon="GRAPH")
+
+def draw_frame(layout: bpy.types.UILayout, arm: bpy.types.Object, frame: int) -> None:
+    """The current frame's scores, their levels and detail lines (the worksheet's items)."""
+    entry = baked_frame(arm, frame)
+    box = layout.box()
+    if entry is None:
+        box.label(text=f"Frame {frame} is outside the baked frames", icon="INFO")
+        return
+    state = "" if entry["converged"] else " (NOT converged: the solver's closest pose)"
+    box.label(text=f"Frame {frame}{state}")
+    for verdict in entry["verdicts"]:
+        text = verdict["text"] + (f": {verdict['level']}" if verdict["level"] else "")
+        draw_verdict(box, text, verdict["severity"])
+    for name, lines in entry["details"].items():
+        title = next((v["title"] for v in entry["verdicts"] if v["score"] == name), name)
+        box.label(text=f"{title}, item by item:")
+        for text, severity in lines:
+            draw_verdict(box, "  " + text, severity)
 
 
 classes = (MANIKIN_OT_go_to_frame, MANIKIN_PT_motion_ergonomics)

@@ -181,8 +181,8 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=name)
             row.label(text=_shown(name, value))
         parts = ", ".join(f"{k} {v:.3f}" for k, v in data["comfort_parts"].items())
-        # the solver maximises comfort = -(weighted sum of the parts), <= 0: shown as discomfort, >= 0
-        layout.label(text=f"Discomfort {-data['comfort']:.3f} (weighted: {parts}; 0 = best)")
+        # the solver maximises comfort = -(the weighted sum of the parts) <= 0: shown as discomfort >= 0, 0 the best
+        layout.label(text=f"Discomfort {-data['comfort']:.3f} (0 = best; parts before weights: {parts})")
         words = data.get("scores")
         if isinstance(words, list) and words:  # the scores' words (an older version stored a dict)
             box = layout.box()
