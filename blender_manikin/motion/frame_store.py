@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 
 TOP_LOADS = 3  # most loaded joints kept per frame (the Result panel's list)
 WORST_SHOWN = 5  # worst frames listed in the panel
-STORE_MAX = 5000  # frames whose entries a bake stores on the armature (about 1.5 kB each); a longer bake stores none
+STORE_MAX = 5000  # frames whose entries a bake stores on the armature (about 2 kB each); a longer bake stores none
 GRAPH_PREFIX = "manikin_"  # a score's graph: the custom property "manikin_<score name>" on the armature's data
 
 

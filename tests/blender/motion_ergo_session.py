@@ -94,6 +94,11 @@ seen["graph_curves"] = {
 seen["arm_other_curves"] = sorted({fc.data_path for fc in keyframes.object_fcurves(arm)} - {
     fc.data_path for fc in keyframes.object_fcurves(arm) if fc.data_path.startswith("pose.bones")})  # fmt: skip
 
+# The score curves on the armature's data do not get in the way of the exports.
+exports = importlib.import_module(module + ".blender_manikin.motion.exports")
+seen["exported"] = {ext: exports.export(arm, WORK / f"baked{ext}", 1, 6).stat().st_size for ext in (".glb", ".fbx")}
+bpy.context.view_layer.objects.active = arm
+
 # The Motion Ergonomics panel at frame 1 (where the bake left the scene); each worst frame's button pressed.
 seen["ergo_panel"] = drawn(ergo_panel.MANIKIN_PT_motion_ergonomics)
 seen["ergo_lines"] = list(lines)

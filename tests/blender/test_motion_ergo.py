@@ -44,6 +44,7 @@ def test_the_bake_stores_each_frame_and_keys_the_scores_as_curves(session: dict)
         assert keys[:, 0].tolist() == FRAMES
         np.testing.assert_allclose(keys[:, 1], [stored[str(f)]["graph"][name] for f in FRAMES], atol=FLOAT32)
     assert session["arm_other_curves"] == []  # the object's action holds the bones only
+    assert all(size > 10_000 for size in session["exported"].values())  # the exports still write the bones
 
 
 def test_the_panel_shows_the_lift_and_where_each_score_is_worst(session: dict) -> None:

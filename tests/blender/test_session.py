@@ -207,7 +207,7 @@ def test_overlay_geometry(session: dict) -> None:
 
 def test_disable_leaves_nothing_registered(session: dict) -> None:
     there = session["registered"]  # before disabling, all of it was there
-    assert len(there["classes"]) == 35 and len(there["types"]) == 28  # PropertyGroups are not in bpy.types' dir
+    assert len(there["classes"]) == 37 and len(there["types"]) == 30  # PropertyGroups not in bpy.types
     assert there["object_props"] == ["manikin", "manikin_obstacle", "manikin_retarget", "manikin_target"]
     assert len(there["handlers"]) == 1 and there["timers"] and there["enabled"]
     features = [name.rpartition(".blender_manikin.")[2] for name in there["menus"]]  # one entry each, per menu
