@@ -24,7 +24,7 @@ MODULES = (  # relative to this package, in registration order
     "motion.export_operator",
     "study.operators",
     "pose.manikins",
-    "pose.panels", "motion.panel", "retarget.panel", "study.panel", "envelope.panel",
+    "pose.panels", "motion.panel", "motion.ergonomics_panel", "retarget.panel", "study.panel", "envelope.panel",
     "pose.live", "pose.overlay",
 )  # fmt: skip
 

@@ -20,8 +20,10 @@ from __future__ import annotations
 
 import json
 import time
+import zlib
 from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, field
+from typing import Protocol
 
 import bpy
 import numpy as np
@@ -32,7 +34,17 @@ from ...solver.io.result.write import interrupts_held
 from ...solver.motion.frames import MotionLimits, solve_frames
 from ..scene import carried_object, keyframes, problem_io
 from ..scene.armature import layout_of, model_of, read_x, write_pose
-from ..scene.schema import BAKE_KEY
+from ..scene.schema import BAKE_KEY, FRAMES_KEY, RESULT_KEY
+
+
+class Ergonomics(Protocol):
+    """What a bake hands each solved frame for the sidebar (:class:`.report.MotionReport` with a frame store)."""
+
+    store: object | None  # a .frame_store.FrameStore (not imported: that module's annotations name this one's)
+
+    def add(self, record: FrameRecord, result: Result) -> None: ...
+
+    def motion(self) -> dict[str, dict]: ...
 
 
 @dataclass
@@ -47,6 +59,12 @@ class FrameRecord:
     unmet: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     residuals: dict[str, float] = field(default_factory=dict)
+
+    def why(self) -> str:
+        """Why a frame did not converge, one line starting with its number: "frame 12: out of reach: hand_r"."""
+        notes = [note.removeprefix(f"frame {self.frame}: ") for note in self.notes]
+        detail = "; ".join(notes) or ("out of reach: " + ", ".join(self.unmet) if self.unmet else "not converged")
+        return f"frame {self.frame}: {detail}"
 
 
 def limits_of(arm: bpy.types.Object) -> MotionLimits | None:
@@ -92,6 +110,7 @@ class Baker:
         self.failed = 0  # frames that did not converge
         self.shown: Result | None = None  # the result at the frame the scene returns to, if baked (sidebar)
         self.last_x = first.x0  # the latest solution (joints, forces), to show progress
+        self.ergo: Ergonomics | None = None  # evaluates each frame's ergonomics for the sidebar, if set
         self._solving: Iterator[tuple[int, Result]] = solve_frames(
             self._problem_at, self.frames, first.x0, first.options, limits_of(arm)
         )
@@ -136,6 +155,8 @@ class Baker:
                 self.worlds[self.done] = np.array(self.arm.matrix_world)  # the scene is at ``frame``
                 self.records.append(record)
                 self.failed += not record.converged
+                if self.ergo is not None:
+                    self.ergo.add(record, result)
                 if self.on_frame is not None:
                     self.on_frame(record, result)
             if frame == self.original[0]:
@@ -157,12 +178,13 @@ class Baker:
     def not_converged(self) -> list[int]:
         return [r.frame for r in self.records if not r.converged]
 
-    def write(self, thin: bool = False) -> float:
+    def write(self, thin: bool = False, ergo: Ergonomics | None = None) -> float:
         """Key every joint of the solved frames (one F-curve per bone channel, grouped by bone) and the carried box
         between the hands (:func:`..scene.carried_object.key_carried`), store the report on the armature and return the
         scene to its frame. Returns the seconds spent keying. ``thin``: a joint is keyed where it changes (inner
         keys of runs of equal values left out: the same curves, for long motions far fewer keys, each held twice in
-        memory once the scene is evaluated)."""
+        memory once the scene is evaluated). ``ergo``: the report whose frame store the sidebar reads (default: the
+        one in ``ergo``)."""
         t0 = time.perf_counter()
         arm, layout = self.arm, layout_of(self.model)
         frames = np.array([r.frame for r in self.records], dtype=float)
@@ -183,7 +205,24 @@ class Baker:
         self.scene.frame_set(self.original[0], subframe=self.original[1])
         if self.shown is not None:  # the pose there is the keyed one; the sidebar shows its result
             problem_io.write_result(arm, self.shown)
+        self._store(ergo or self.ergo, thin)
         return seconds
+
+    def _store(self, ergo: Ergonomics | None, thin: bool) -> None:
+        """Each frame's sidebar entry on the armature (``FRAMES_KEY``: a group of JSON texts, "head" and one per
+        frame) and each graphed score keyed as a custom property of its data (the Graph Editor's curves)."""
+        arm = self.arm
+        store = ergo.store if ergo is not None else None
+        if store is None or not store.entries:
+            if FRAMES_KEY in arm:  # the stored frames are of an earlier bake: the sidebar must not show them
+                del arm[FRAMES_KEY]
+            return
+        crc = zlib.crc32(str(arm.get(RESULT_KEY, "")).encode())
+        arm[FRAMES_KEY] = {"head": json.dumps(store.head(ergo.motion(), crc), allow_nan=False)} | store.texts()
+        for prop, (frames, values) in store.series().items():
+            arm.data[prop] = float(values[0])
+            fc = keyframes.fcurve(arm.data, f'["{prop}"]', 0, "Manikin ergonomics")
+            keyframes.replace_keys(fc, frames, values, thin)
 
     def _quaternion_bones(self, thetas: np.ndarray) -> dict[int, np.ndarray]:
         """(frames, 4) quaternions of the bones whose joints are not one Euler channel each (body files only)."""

@@ -35,6 +35,7 @@ from ..scene import keyframes
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 from . import exports
 from .bake import Baker, FrameRecord
+from .frame_store import STORE_MAX
 from .quiet import quietly
 from .report import MotionReport, captions, choose_frames, summary_lines
 
@@ -108,13 +109,14 @@ class Sinks:
     """Where each baked frame goes as it is solved: the result file (frame by frame) and the report (its
     ergonomics). Nothing is kept per frame but what the plots, captions and summary lines show."""
 
-    def __init__(self, job: Job, arm: bpy.types.Object, model: solver.Model) -> None:
+    def __init__(self, job: Job, arm: bpy.types.Object, model: solver.Model, store: bool = False) -> None:
         self.source = dict(scenario=str(job.scenario) if job.scenario else None,
                            blend=str(job.blend) if job.blend else None)  # fmt: skip
         self.body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
         self.result = ResultWriter(job.result.resolve(), self.source["scenario"]) if job.result is not None else None
         wanted = job.report is not None or job.picture is not None or job.plots is not None
-        self.report = MotionReport(model, self.body, job.report, job.plots is not None) if wanted else None
+        plots = job.plots is not None  # store: each frame's sidebar entry too, for the .blend's panels
+        self.report = MotionReport(model, self.body, job.report, plots, store) if wanted else None
 
     def __call__(self, record: FrameRecord, result: solver.Result) -> None:
         state = result.state  # the pose's kinematics and statics, computed once for both
@@ -153,8 +155,7 @@ def report_bake(job: Job, baker: Baker, seconds: float) -> None:
     converge (the first ten) and the totals."""
     failed = [r for r in baker.records if not r.converged]
     for record in failed[:10]:
-        detail = "; ".join(record.notes) or "unmet: " + ", ".join(record.unmet)
-        _say(job, f"  frame {record.frame} NOT converged: {detail}")
+        _say(job, f"  NOT converged: {record.why()}")
     if len(failed) > 10:
         _say(job, f"  ... and {len(failed) - 10} more frames not converged")
     n = baker.done
@@ -275,10 +276,10 @@ def run(job: Job) -> int:
 
         check_name(job.retarget, arm)
     baker = Baker(scene, arm, start, end)
-    sinks = baker.on_frame = Sinks(job, arm, baker.model)
+    sinks = baker.on_frame = Sinks(job, arm, baker.model, len(baker.frames) <= STORE_MAX)
     try:
         stopped, seconds = bake(job, baker)
-        keyed = baker.write(thin=True)
+        keyed = baker.write(thin=True, ergo=sinks.report)
         report_bake(job, baker, seconds + keyed)
         target = retarget_step(job, arm, baker) if job.retarget is not None and stopped is None else None
         written = write_outputs(job, arm, baker, sinks, stopped, target)

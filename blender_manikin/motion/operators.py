@@ -12,7 +12,7 @@ import bpy
 from bpy.props import IntProperty
 
 from ...solver.errors import ManikinError
-from ..scene.schema import rig_of
+from ..scene.schema import FILE_KEY, PRESET_KEY, rig_of
 
 SLICE_S = 0.05  # s of solving per timer tick: keeps the UI responsive to Esc
 VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE"}
@@ -44,6 +44,8 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
     def start(self, context: bpy.types.Context) -> bool:
         """Set up the Baker for the chosen range (default: the scene's); False after reporting why not."""
         from .bake import Baker
+        from .frame_store import STORE_MAX
+        from .report import MotionReport
 
         scene = context.scene
         for name, default in (("frame_start", scene.frame_start), ("frame_end", scene.frame_end)):
@@ -58,6 +60,9 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return False
+        if len(self.baker.frames) <= STORE_MAX:  # each frame's ergonomics for the sidebar (motion/ergonomics_panel.py)
+            body = arm.get(PRESET_KEY) or arm.get(FILE_KEY, "")
+            self.baker.ergo = MotionReport(self.baker.model, body, None, plots=False, store=True)
         context.window_manager.progress_begin(0, len(self.baker.frames))
         return True
 
@@ -147,9 +152,8 @@ class MANIKIN_OT_bake_motion(bpy.types.Operator):
             return {"FINISHED"}
         shown = ", ".join(map(str, failed[:SHOWN_FAILURES])) + (", ..." if len(failed) > SHOWN_FAILURES else "")
         self.report({"WARNING"}, f"Baked {n} frames; {len(failed)} did not converge: {shown}")
-        notes = [note for record in baker.records for note in record.notes]
-        for note in notes[:SHOWN_FAILURES]:  # "a target moved too far since the previous frame ..."
-            self.report({"WARNING"}, note)
+        for record in [r for r in baker.records if not r.converged][:SHOWN_FAILURES]:
+            self.report({"WARNING"}, record.why())  # "frame 12: out of reach: hand_r", "frame 13: a target moved ..."
         return {"FINISHED"}
 
 

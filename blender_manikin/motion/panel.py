@@ -48,9 +48,12 @@ class MANIKIN_PT_motion(bpy.types.Panel):
             return
         layout.label(text=f"Baked {span}: {len(failed)} frames not converged", icon="ERROR")
         box = layout.box()
-        for record in failed[:SHOWN_FAILURES]:
-            why = record["notes"][0] if record["notes"] else "unmet: " + ", ".join(record["unmet"])
-            box.label(text=f"{record['frame']}: {why}")
+        for record in failed[:SHOWN_FAILURES]:  # as FrameRecord.why, from the stored record
+            frame = record["frame"]
+            notes = [note.removeprefix(f"frame {frame}: ") for note in record["notes"]]
+            unmet = "out of reach: " + ", ".join(record["unmet"]) if record["unmet"] else "not converged"
+            why = "; ".join(notes) or unmet
+            box.label(text=f"frame {frame}: {why}")
         if len(failed) > SHOWN_FAILURES:
             box.label(text=f"... and {len(failed) - SHOWN_FAILURES} more")
 

@@ -30,6 +30,7 @@ from ...solver.ergonomics.stream import PlotSeries
 from ...solver.io.files import open_output
 from ...solver.io.result.frame import Frame, frame_of_result
 from ...solver.io.result.frame_text import SLOT
+from .frame_store import FrameStore
 
 if TYPE_CHECKING:
     from ...solver import Model, Result
@@ -58,10 +59,11 @@ class MotionReport:
     the plots, captions and summary lines show and what each motion score keeps of a frame (the hands' point).
 
     ``body`` (the manikin's preset name or body file) only names it; the strengths are those of ``model``. The
-    scores are those registered when the report is made.
+    scores are those registered when the report is made. ``store``: keep each frame's sidebar entry too
+    (:class:`.frame_store.FrameStore`, stored on the armature by the bake).
     """
 
-    def __init__(self, model: Model, body: str, path: Path | None, plots: bool) -> None:
+    def __init__(self, model: Model, body: str, path: Path | None, plots: bool, store: bool = False) -> None:
         self.options = checked(ErgoOptions(manikin=body or None))
         self.model, self.body, self.area = model, body, working_area(model)
         self.valued, self.motions = valued(), motion_scores()
@@ -70,6 +72,7 @@ class MotionReport:
         if taken:
             raise ValueError(f"motion score name {taken[0]!r} is a key of the bake report")
         self.series = PlotSeries() if plots else None
+        self.store = FrameStore(model) if store else None
         self.shown: list[tuple] = []  # per frame: the valued scores, trunk bend and L4/L5 compression (summary)
         self.kept: list[dict] = []  # per frame: what each motion score keeps of it (by name)
         self.ends: list[Frame] = []  # the first and the latest frame: where the motion scores' actions start, end
@@ -88,6 +91,8 @@ class MotionReport:
         self.kept.append({s.name: s.keep(f) for s in self.motions})
         if self.series is not None:
             self.series.add(ergo, loads)
+        if self.store is not None:  # the scores' words read the L4/L5 compression
+            self.store.add(record, result, ergo | {"joint_loads": {"l4_l5": loads.l4_l5}}, loads.percent)
         compression = loads.l4_l5.get("compression")
         trunk = ergo["posture"].get("trunk_flexion")
         values = tuple(ergo[s.name].get(s.value) for s in self.valued)

@@ -12,7 +12,7 @@ import bpy
 from ...solver.options import AXES
 from ..scene.help import draw_help
 from ..scene.registries import comfort_settings
-from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, last_result, rig_of
+from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, frame_result, last_result, rig_of
 
 _UNITS = {
     ".position": ("mm", 1e3),
@@ -134,7 +134,19 @@ class MANIKIN_PT_obstacle(_SidebarPanel):
         layout.label(text='(or put it in a collection named "Obstacles")')
 
 
+SEVERITY_ICONS = {0: "CHECKMARK", 1: "ERROR", 2: "ERROR"}  # a score's severity (2 also drawn red: alert)
+
+
+def draw_verdict(layout: bpy.types.UILayout, text: str, severity: int | None) -> None:
+    """One line of a score's words with its severity's icon, red when it says change it."""
+    row = layout.row()
+    row.alert = severity == 2
+    row.label(text=text, icon=SEVERITY_ICONS.get(severity, "NONE"))
+
+
 class MANIKIN_PT_result(_SidebarPanel):
+    """The last solve's result or, after a bake, the current frame's (stored by the bake: motion/frame_store.py)."""
+
     bl_label = "Result"
     bl_parent_id = "MANIKIN_PT_main"
     bl_order = 3
@@ -142,11 +154,16 @@ class MANIKIN_PT_result(_SidebarPanel):
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
         arm = rig_of(context.active_object)
-        return arm is not None and last_result(arm) is not None
+        return arm is not None and (last_result(arm) or frame_result(arm, context.scene.frame_current)) is not None
 
     def draw(self, context: bpy.types.Context) -> None:
-        data = last_result(rig_of(context.active_object))
+        arm, frame = rig_of(context.active_object), context.scene.frame_current
+        data = frame_result(arm, frame)
         layout = self.layout
+        if data is not None:  # the panel follows the timeline through the baked frames
+            layout.label(text=f"Baked frame {frame}", icon="TIME")
+        else:
+            data = last_result(arm)
         ok = data["converged"]
         layout.label(
             text=f"{'Converged' if ok else 'NOT converged'}: {data['iterations']} it, {data['time_ms']:.0f} ms",
@@ -166,13 +183,18 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=name)
             row.label(text=_shown(name, value))
         parts = ", ".join(f"{k} {v:.3f}" for k, v in data["comfort_parts"].items())
-        layout.label(text=f"Comfort {data['comfort']:.3f} ({parts})")
+        # the solver maximises comfort = -(the weighted sum of the parts) <= 0: shown as discomfort >= 0, 0 the best
+        layout.label(text=f"Discomfort {-data['comfort']:.3f} (0 = best; parts before weights: {parts})")
         words = data.get("scores")
         if isinstance(words, list) and words:  # the scores' words (an older version stored a dict)
             box = layout.box()
             box.label(text="Ergonomics (this pose)")
+            rated = {v["text"]: v for v in data.get("verdicts", ()) if isinstance(v, dict)}
             for text in words:
-                box.label(text=text)
+                draw_verdict(box, text, rated.get(text, {}).get("severity"))
+            for verdict in rated.values():  # what each level means: OWAS's action category, the worksheet's worst item
+                if verdict.get("level"):
+                    box.label(text=f"{verdict['title']}: {verdict['level']}")
         box = layout.box()
         box.label(text="Most loaded joints (% of strength)")
         for name, tau, percent in data["joint_loads"]:

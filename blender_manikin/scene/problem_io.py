@@ -22,7 +22,7 @@ from ...solver.collision.body import capsules_of
 from ...solver.constraints.clearance import TOLERANCE
 from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
-from ...solver.ergonomics.registry import in_frame_order
+from ...solver.ergonomics.registry import verdicts
 from ...solver.iteration.result import shortfall_text
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
@@ -209,7 +209,7 @@ def summarize(result: Result) -> dict:
         loads=[dict(tcp=ld.tcp.name, force=[float(v) for v in ld.force]) for ld in problem.loads],
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
         joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
-        scores=scores(result),
+        **ergonomics(result),
         closest=[
             dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE), body=c.other in parts)
             for c in result.closest
@@ -229,8 +229,14 @@ def capsules(model: Model, state: State) -> list[dict]:
 def scores(result: Result) -> list[str]:
     """This pose's ergonomics as the sidebar shows them: each registered score's words, as ``python -m solver ergo``
     prints them (:meth:`~solver.ergonomics.base.Score.brief`: "RULA 3", ..., "L4/L5 1520 N, worksheet yellow")."""
-    frame = solver.evaluate(result, ErgoOptions())["frames"][0]
-    return [words for words in (s.brief(frame) for s in in_frame_order()) if words is not None]
+    return ergonomics(result)["scores"]
+
+
+def ergonomics(result: Result) -> dict:
+    """``scores``: :func:`scores`' words; ``verdicts``: each score's words with their level and severity
+    (:func:`solver.ergonomics.registry.verdicts`: "OWAS 2141", "action category 2: ...", 1)."""
+    rated = verdicts(solver.evaluate(result, ErgoOptions())["frames"][0])
+    return dict(scores=[v["text"] for v in rated], verdicts=rated)
 
 
 def write_result(arm: bpy.types.Object, result: Result) -> None:

@@ -4,7 +4,8 @@ that find a manikin's parts (bpy only; no solver, so the UI can draw before anyt
 On the armature object: ``manikin_preset`` (preset name, or "" for a body file), ``manikin_body_file`` (path or
 ""), ``manikin_x`` (the last solution: joint values, then contact-edge weights), ``manikin_result`` (JSON summary
 of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
-that did not converge) and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
+that did not converge), ``manikin_frames`` (the last bake's per-frame sidebar entries: motion/frame_store.py)
+and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
 (its TCP's name). On each body object (the skinned human, the capsules, the solids): ``manikin_display``. On an
 obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing again replaces it). On
 a carried box: ``manikin_carried`` (JSON: its size, TCPs and manikin; never an obstacle). On a reach envelope:
@@ -18,6 +19,7 @@ and the bone map); a population study's settings and rows in ``Scene.manikin_stu
 from __future__ import annotations
 
 import json
+import zlib
 
 import bpy
 
@@ -26,6 +28,7 @@ FILE_KEY = "manikin_body_file"
 X_KEY = "manikin_x"
 RESULT_KEY = "manikin_result"
 BAKE_KEY = "manikin_bake"
+FRAMES_KEY = "manikin_frames"  # group of JSON texts: "head" and, per baked frame (its number), the sidebar's entry
 ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name
@@ -140,6 +143,27 @@ def last_result(arm: bpy.types.Object) -> dict | None:
 def last_retarget(arm: bpy.types.Object) -> dict | None:
     """The summary the last retarget onto ``arm`` stored, or None."""
     return _json(arm, RETARGET_KEY)
+
+
+def baked_frame(arm: bpy.types.Object, frame: int | str) -> dict | None:
+    """The sidebar entry the last bake stored for ``frame`` ("head": the motion's), or None."""
+    group = arm.get(FRAMES_KEY)
+    text = group.get(str(frame)) if hasattr(group, "get") else None
+    try:
+        data = json.loads(text) if isinstance(text, str) else None
+    except ValueError:
+        return None
+    return data if isinstance(data, dict) else None
+
+
+def frame_result(arm: bpy.types.Object, frame: int) -> dict | None:
+    """What the Result panel shows at ``frame`` after a bake: the frame's stored entry (the same keys as
+    :func:`last_result`'s, plus its ergonomics), or None outside the baked range or once a solve (Solve Pose, live)
+    has replaced the result the bake left (its checksum, stored in the bake's "head", differs)."""
+    head = baked_frame(arm, "head")
+    if head is None or zlib.crc32(str(arm.get(RESULT_KEY, "")).encode()) != head.get("result_crc"):
+        return None
+    return baked_frame(arm, frame)
 
 
 def last_bake(arm: bpy.types.Object) -> dict | None:

@@ -51,6 +51,23 @@ class Bands:
     legend: str
 
 
+SEVERITY = {"green": 0, "yellow": 1, "red": 2}  # a level's severity: 0 fine, 1 look into it, 2 act
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """How a score rates one frame, for the sidebar: ``text`` its words (:meth:`Score.brief`, "OWAS 2141"),
+    ``level`` what that means in the method's own terms ("action category 2: slightly harmful, ...") and
+    ``severity`` 0 (green: acceptable), 1 (yellow: investigate) or 2 (red: change it); None: not rated."""
+
+    text: str
+    level: str | None = None
+    severity: int | None = None
+
+    def as_dict(self) -> dict:
+        return dict(text=self.text, level=self.level, severity=self.severity)
+
+
 def peak(values: list) -> float | int | None:
     """The largest finite value (None and NaN left out); None if there is none."""
     finite = [v for v in values if v is not None and math.isfinite(v)]
@@ -87,6 +104,22 @@ class Score(ABC):
     def brief(self, frame: dict) -> str | None:
         """Its words in the ``ergo`` summary line of one frame's report (None: it says nothing there)."""
         return f"{self.title} {frame[self.name].get(self.value)}"
+
+    def verdict(self, frame: dict) -> Verdict | None:
+        """Its words in one frame's report with the level they stand for and its severity (the sidebar's lines;
+        None: it says nothing of a frame). The default: :meth:`brief`'s words, not rated."""
+        words = self.brief(frame)
+        return None if words is None else Verdict(words)
+
+    def graph(self, frame: dict) -> float | None:
+        """The one number per frame a motion's graph shows of it (its ``value``; a rated score without one may give
+        its level's number), None where it has none."""
+        v = frame[self.name].get(self.value) if self.value is not None else None
+        return float(v) if isinstance(v, (int, float)) else None
+
+    def details(self, frame: dict) -> list[tuple[str, int | None]]:
+        """Lines a frame's panel lists under the score (a worksheet's items), each with its severity."""
+        return []
 
     def study_columns(self) -> list[str]:
         """The columns a study row records of it (the peak of its value over the motion's frames)."""
@@ -132,4 +165,10 @@ class MotionScore(Score):
         return self.at_frame(self.keep(inputs.frame), inputs.motion[self.name], inputs.options)
 
     def brief(self, frame: dict) -> str | None:
+        return None
+
+    def verdict(self, frame: dict) -> Verdict | None:
+        return None
+
+    def graph(self, frame: dict) -> float | None:
         return None

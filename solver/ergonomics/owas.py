@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from ..io.result.frame import Frame
 from . import options as opt
-from .base import FrameInputs, Score
+from .base import FrameInputs, Score, Verdict
 
 OWAS_TWIST_DEG = 20.0  # twisted / side bent beyond 20 deg (the OWAS summary quoted above)
 
@@ -125,3 +125,16 @@ class Owas(Score):
 
     def brief(self, frame: dict) -> str | None:
         return f"OWAS {frame['owas'].get('code')}"
+
+    def verdict(self, frame: dict) -> Verdict | None:
+        """The code with its action category (1 green, 2 yellow, 3-4 red)."""
+        entry = frame[self.name]
+        category = entry.get("action_category")
+        if category is None:
+            return Verdict(f"{self.title} n/a", entry.get("reason"))
+        return Verdict(self.brief(frame), f"action category {category}: {entry['action']}", min(category - 1, 2))
+
+    def graph(self, frame: dict) -> float | None:
+        """The action category (1-4): a code has no number to draw."""
+        category = frame[self.name].get("action_category")
+        return None if category is None else float(category)

@@ -12,7 +12,7 @@ whole degrees; word thresholds are the PROJECT DEFAULTS of :mod:`.options`. Both
 from __future__ import annotations
 
 from . import options as opt
-from .base import Bands, FrameInputs, Score
+from .base import Bands, FrameInputs, Score, Verdict
 
 TABLE_A = {  # [trunk][neck][legs - 1]
     1: {1: [1, 2, 3, 4], 2: [1, 2, 3, 4], 3: [3, 3, 5, 6]},
@@ -151,3 +151,11 @@ class Reba(Score):
 
     def cells(self, frame: dict) -> list:
         return [frame["reba"]["score"], frame["reba"].get("risk")]
+
+    def verdict(self, frame: dict) -> Verdict | None:
+        """The score with its risk level (1-3 green, 4-7 yellow, 8+ red, as the scores plot's bands)."""
+        entry = frame[self.name]
+        score = entry.get("score")
+        if score is None:
+            return Verdict(f"{self.title} n/a", entry.get("reason"))
+        return Verdict(self.brief(frame), f"{entry['risk']} risk", 0 if score <= 3 else 1 if score <= 7 else 2)

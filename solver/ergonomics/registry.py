@@ -51,3 +51,14 @@ def motion_scores() -> list[MotionScore]:
 def in_frame_order() -> list[Score]:
     """Every score in the order of a report frame's entries: the frame scores, then the motion scores."""
     return [*frame_scores(), *motion_scores()]
+
+
+def verdicts(frame: dict) -> list[dict]:
+    """How every score rates one report frame, for the sidebar: each :meth:`~.base.Score.verdict` (text, level,
+    severity) with the score's name and title, in report order (a score with nothing to say left out)."""
+    out = []
+    for score in in_frame_order():
+        verdict = score.verdict(frame)
+        if verdict is not None:
+            out.append(verdict.as_dict() | dict(score=score.name, title=score.title))
+    return out

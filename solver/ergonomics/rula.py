@@ -10,7 +10,7 @@ Both sides are scored; the report's ``score`` is the worse side.
 from __future__ import annotations
 
 from . import options as opt
-from .base import Bands, FrameInputs, Score
+from .base import Bands, FrameInputs, Score, Verdict
 
 # McAtamney & Corlett 1993, Table 1 ("Table A"): [upper arm-1][lower arm-1][(wrist-1)*2 + (twist-1)]
 TABLE_A = [
@@ -146,3 +146,11 @@ class Rula(Score):
 
     def evaluate(self, inputs: FrameInputs) -> dict:
         return rula(inputs.posture, inputs.load_kg, inputs.options)
+
+    def verdict(self, frame: dict) -> Verdict | None:
+        """The grand score with its action level (1: green, 2: yellow, 3-4: red, as the scores plot's bands)."""
+        entry = frame[self.name]
+        level = entry.get("action_level")
+        if level is None:
+            return Verdict(f"{self.title} n/a", entry.get("reason"))
+        return Verdict(self.brief(frame), f"action level {level}: {entry['action']}", min(level - 1, 2))

@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from ..io.result.frame import Frame
-from .base import FrameInputs, Score
+from .base import SEVERITY, FrameInputs, Score, Verdict
 from .manikin import WorkingArea, feet_frame, to_feet
 
 ISO = "ISO 11226 / EN 1005-4"
@@ -141,6 +141,17 @@ ANGLES = [("trunk_flexion",), ("trunk_side_bend",), ("trunk_twist",), ("neck_fle
 ANGLES += [(s, k) for s in ("l", "r") for k in ("upper_arm_elevation", "elbow_flexion", "knee_flexion")]
 
 
+def item_name(key: str) -> str:
+    """An item's name as a person writes it: "shoulder_l" -> "left shoulder", "back_bend" -> "back bend"."""
+    side = {"_l": "left ", "_r": "right "}.get(key[-2:], "")
+    return side + (key[:-2] if side else key).replace("_", " ")
+
+
+def _shown(item: dict) -> str:
+    value = item["value"]
+    return "n/a" if value is None else f"{value:g} {item['unit']}"
+
+
 def _get(d: dict | None, *keys):
     for k in keys:
         if not isinstance(d, dict):
@@ -184,3 +195,29 @@ class Worksheet(Score):
         broken = str(frame.get("status", "")).startswith("NOT held")
         disc = "n/a" if c is None else ("not physical" if broken else f"{c:.0f} N")
         return f"L4/L5 {disc}, worksheet {frame['worksheet']['overall']}"
+
+    def verdict(self, frame: dict) -> Verdict | None:
+        """The words with the worst level and the items at that level (their values): what to change first."""
+        ws = frame[self.name]
+        overall = ws.get("overall")
+        if overall is None:
+            return Verdict(self.brief(frame))
+        worst = [f"{item_name(k)} {_shown(it)}" for k, it in ws.items() if k != "overall" and it["level"] == overall]
+        return Verdict(self.brief(frame), f"worst level {overall}: " + ", ".join(worst), SEVERITY[overall])
+
+    def graph(self, frame: dict) -> float | None:
+        """The worst level as a number: green 0, yellow 1, red 2."""
+        overall = frame[self.name].get("overall")
+        return None if overall is None else level_number(overall)
+
+    def details(self, frame: dict) -> list[tuple[str, int | None]]:
+        """Each item: its value, level and threshold ("back bend 65 deg: red (green 0-20, ...)")."""
+        out = []
+        for key, it in frame[self.name].items():
+            if key == "overall":
+                continue
+            if it["level"] is None:
+                out.append((f"{item_name(key)}: n/a ({it.get('reason', '')})", None))
+            else:
+                out.append((f"{item_name(key)} {_shown(it)}: {it['level']} ({it['threshold']})", SEVERITY[it["level"]]))
+        return out
