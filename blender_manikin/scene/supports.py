@@ -37,8 +37,8 @@ def may_slide(lock: tuple[str, ...]) -> bool:
 
 
 def moved_supports(result: Result) -> dict[str, dict[str, float]]:
-    """Each enabled support whose TCP ended away from its target: {tcp: {"mm": distance, "deg": turn}} (the
-    distance in the target's plane and the turn about any axis), larger than 1 mm or 1 deg."""
+    """Each enabled support whose TCP ended away from its target: {tcp: {"mm": distance, "deg": turn, "held": 1.0
+    if its locked axes are met (it slid on purpose), 0.0 if it was not held}} (more than 1 mm or 1 deg off)."""
     problem = result.problem
     kin = result.state.kin
     out = {}
@@ -52,17 +52,19 @@ def moved_supports(result: Result) -> dict[str, dict[str, float]]:
             cos = (np.trace(np.asarray(t.rotation).T @ rot) - 1.0) / 2.0
             deg = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
         if mm > MOVED_MM or deg > MOVED_DEG:
-            out[t.tcp] = {"mm": mm, "deg": deg}
+            out[t.tcp] = {"mm": mm, "deg": deg, "held": float(t.tcp not in result.broken)}
     return out
 
 
 def moved_text(moved: dict[str, dict[str, float]]) -> list[str]:
-    """ "foot_r slid 412 mm", "foot_l turned 12 deg", "foot_l slid 20 mm, turned 3 deg": one per moved support."""
+    """ "foot_r slid 412 mm", "foot_l turned 12 deg", "foot_l slid 20 mm, turned 3 deg" (a support not held: "foot_l
+    is 556 mm, 5 deg off its target"): one per moved support."""
     lines = []
     for tcp, m in moved.items():
-        parts = [f"slid {m['mm']:.0f} mm"] if m["mm"] > MOVED_MM else []
-        parts += [f"turned {m['deg']:.0f} deg"] if m["deg"] > MOVED_DEG else []
-        lines.append(f"{tcp} " + ", ".join(parts))
+        held = m.get("held", 1.0) > 0.0
+        parts = [f"{'slid ' if held else ''}{m['mm']:.0f} mm"] if m["mm"] > MOVED_MM else []
+        parts += [f"{'turned ' if held else ''}{m['deg']:.0f} deg"] if m["deg"] > MOVED_DEG else []
+        lines.append(f"{tcp} " + ", ".join(parts) if held else f"{tcp} is {', '.join(parts)} off its target")
     return lines
 
 

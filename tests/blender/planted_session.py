@@ -126,8 +126,9 @@ arm.location.z += 0.3
 view_layer.update()
 seen["below_floor"] = solve()
 arm.location.z -= 0.3
+view_layer.update()  # the armature's world matrix, before the foot target is parented to it again
 left.parent = arm
-left.matrix_parent_inverse = arm.matrix_world.inverted()
+left.matrix_world = frame
 view_layer.update()
 bpy.ops.manikin.reset_pose()  # the failed solve left the legs bent towards the sunken foot
 seen["back"] = solve()
@@ -138,6 +139,7 @@ plane = bpy.context.active_object
 plane.name = "table top"
 plane.manikin_obstacle.enabled, plane.manikin_obstacle.shape = True, "PLANE"
 seen["plane"] = solve()
+seen["plane"]["words"] = supports.moved_text(seen["plane"]["moved"])
 bpy.data.objects.remove(plane, do_unlink=True)
 
 # Units of every residual the Result panel shows.

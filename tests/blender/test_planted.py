@@ -60,6 +60,7 @@ def test_an_obstacle_pushing_the_feet_is_named(session: dict) -> None:
     plane = session["plane"]
     assert not plane["converged"] and set(plane["broken"]) >= {"foot_l", "foot_r"}
     assert any("obstacle 'table top'" in n and n.startswith("foot_") for n in plane["notes"])
+    assert plane["words"] and all(w.endswith(" off its target") for w in plane["words"])  # pushed, not "slid"
 
 
 def test_every_residual_has_its_unit(session: dict) -> None:

@@ -76,6 +76,7 @@ def test_sliding_feet_converge_and_are_reported_in_mm() -> None:
     assert result.converged
     moved = moved_supports(result)
     assert sorted(moved) == ["foot_l", "foot_r"] and all(2000.0 < m["mm"] < 2600.0 for m in moved.values())
+    assert all(m["held"] == 1.0 for m in moved.values())
     words = moved_text(moved)
     assert words[0].startswith("foot_l slid ") and words[0].split(",")[0].endswith(" mm")
 
@@ -84,6 +85,7 @@ def test_moved_text_says_slid_and_turned() -> None:
     assert moved_text({"foot_r": {"mm": 412.3, "deg": 0.2}}) == ["foot_r slid 412 mm"]
     assert moved_text({"foot_l": {"mm": 0.5, "deg": 12.0}}) == ["foot_l turned 12 deg"]
     assert moved_text({"foot_l": {"mm": 20.0, "deg": 3.0}}) == ["foot_l slid 20 mm, turned 3 deg"]
+    assert moved_text({"foot_l": {"mm": 556.3, "deg": 5.0, "held": 0.0}}) == ["foot_l is 556 mm, 5 deg off its target"]
 
 
 def test_a_support_below_the_floor_is_named_with_a_hint() -> None:
@@ -102,4 +104,5 @@ def test_an_obstacle_pushing_the_feet_is_named() -> None:
     assert {"foot_l", "foot_r"} <= set(result.broken)
     notes = pushed_notes(result)
     assert notes and all("obstacle 'table top'" in n for n in notes)
+    assert all(m["held"] == 0.0 for m in moved_supports(result).values())  # pushed off: not "slid"
     assert {n.split()[0] for n in notes} == {"foot_l", "foot_r"}
