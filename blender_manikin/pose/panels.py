@@ -54,7 +54,7 @@ class MANIKIN_UL_targets(bpy.types.UIList):
     def filter_items(self, context: bpy.types.Context, data, propname: str) -> tuple[list[int], list[int]]:
         objects = getattr(data, propname)
         flags = [self.bitflag_filter_item if ok else 0 for ok in listed(rig_of(context.active_object), objects)]
-        return flags, bpy.types.UI_UL_list.sort_items_by_name(objects, "name")
+        return flags, []  # no new order: bpy.data.objects is kept sorted by name
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_prop, index=0, flt_flag=0) -> None:
         s = item.manikin_target

@@ -162,10 +162,13 @@ rows: list = []
 for ob, on in zip(objects, flags, strict=True):
     if on:
         ui_list.draw_item(None, bpy.context, Layout(rows), objects, ob, 0, arm.manikin, "target_index")
+shown, _order = ui_list.filter_items(type("List", (), {"bitflag_filter_item": 1 << 30})(), bpy.context, bpy.data,
+                                     "objects")  # fmt: skip
 arm.manikin.target_index = objects.find("target.hand_r")
 seen["list"] = dict(
     registered=ui_list is not None and issubclass(ui_list, bpy.types.UIList),
     listed=sorted(ob.name for ob, on in zip(objects, flags, strict=True) if on),
+    filtered=sorted(ob.name for ob, flag in zip(objects, shown, strict=True) if flag),
     members=sorted(ob.name for ob in objects if ob.manikin_target.role != "NONE" and ob.manikin_target.rig == arm),
     rows=rows,
     active_after_click=bpy.context.view_layer.objects.active.name,

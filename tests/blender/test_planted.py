@@ -76,7 +76,8 @@ def test_solve_in_edit_mode_says_what_to_do(session: dict) -> None:
 def test_the_target_list_lists_every_target_and_selects_a_clicked_row(session: dict) -> None:
     listed = session["list"]
     assert listed["registered"]
-    assert listed["listed"] == listed["members"] == ["load.hand_l", "target.foot_l", "target.foot_r", "target.hand_r"]
+    every = ["load.hand_l", "target.foot_l", "target.foot_r", "target.hand_r"]
+    assert listed["filtered"] == listed["listed"] == listed["members"] == every
     assert {"target.hand_r", "load.hand_l", "2.0 kg"} <= set(listed["rows"])
     assert listed["active_after_click"] == "target.hand_r" and listed["index_after_click"]
 
