@@ -12,7 +12,7 @@ from bpy.props import BoolVectorProperty, EnumProperty, FloatProperty, StringPro
 from ...solver.errors import ManikinError
 from ...solver.options import AXES
 from ...solver.presets import list_presets
-from ..scene.schema import TCP_KEY, orphan_hint, rig_of
+from ..scene.schema import TCP_KEY, last_result, orphan_hint, rig_of
 
 _LOCK_DESCRIPTION = "Constrained axes of the target frame: x y z (position), rx ry rz (rotation)"
 
@@ -24,6 +24,16 @@ def _preset_items() -> list[tuple[str, str, str]]:
 
 def _active_rig(context: bpy.types.Context) -> bpy.types.Object | None:
     return rig_of(context.active_object)
+
+
+def _mode_ok(cls: type, context: bpy.types.Context, modes: set[str]) -> bool:
+    """In one of ``modes``; else say so where the button's tooltip (and a script's error) shows it."""
+    if context.mode in modes:
+        return True
+    wanted = " or ".join(m.title() for m in sorted(modes, reverse=True))
+    mode = context.mode.replace("_", " ").title()
+    cls.poll_message_set(f"Not in {mode} mode: switch to {wanted} mode first (Tab, or the mode menu)")
+    return False
 
 
 def _select_only(context: bpy.types.Context, ob: bpy.types.Object) -> None:
@@ -44,7 +54,7 @@ class _RigOperator(bpy.types.Operator):
         if _active_rig(context) is None:
             cls.poll_message_set(orphan_hint(context.active_object) or "Select a manikin, or one of its targets")
             return False
-        return context.mode in {"OBJECT", "POSE"}
+        return _mode_ok(cls, context, {"OBJECT", "POSE"})
 
     def add_empty(self, context: bpy.types.Context, add: Callable[[], bpy.types.Object]) -> set[str]:
         """Run ``add`` (a scene call making a target, loop or load empty) and select what it made; an error is
@@ -72,7 +82,7 @@ class MANIKIN_OT_add_manikin(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        return context.mode == "OBJECT"
+        return _mode_ok(cls, context, {"OBJECT"})
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ..scene import armature, targets
@@ -113,7 +123,8 @@ class MANIKIN_OT_add_target(_RigOperator):
 
         lock = tuple(a for a, on in zip(AXES, self.lock, strict=True) if on)
         return self.add_empty(
-            context, lambda: targets.add_target(_active_rig(context), self.tcp, lock=lock, support=self.support)
+            context,
+            lambda: targets.add_target(_active_rig(context), self.tcp, lock=lock, support=self.support, follow=True),
         )
 
 
@@ -159,17 +170,22 @@ class MANIKIN_OT_solve_pose(_RigOperator):
     bl_label = "Solve Pose"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
+        from ..scene.supports import moved_text
         from .solve import solve_pose
 
+        arm = _active_rig(context)
         try:
-            result = solve_pose(_active_rig(context))
+            result = solve_pose(arm)
         except ManikinError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
+        data = last_result(arm) or {}
+        said = moved_text(data.get("moved", {})) + data.get("notes", [])  # slid feet and hints, with units
+        tail = "".join(f"; {line}" for line in said)
         if result.converged:
-            self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms)")
+            self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms){tail}")
         else:
-            self.report({"WARNING"}, "Not converged: " + result.verdict())
+            self.report({"WARNING"}, "Not converged: " + result.verdict() + tail)
         return {"FINISHED"}
 
 

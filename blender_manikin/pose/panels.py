@@ -12,21 +12,67 @@ import bpy
 from ...solver.options import AXES
 from ..scene.help import draw_help
 from ..scene.registries import comfort_settings
-from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, frame_result, last_result, rig_of
+from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, frame_result, last_result, members, rig_of
 
 _UNITS = {
     ".position": ("mm", 1e3),
     ".rotation": ("deg", 180.0 / math.pi),
     ".force": ("N", 1.0),
     ".moment": ("N m", 1.0),
+    ".shortfall": ("mm", 1e3),  # floor, obstacles, self-collision: how far inside the clearance (m)
 }
+_ROLE_ICONS = {"TARGET": "EMPTY_ARROWS", "LOOP": "LINKED", "LOAD": "CUBE"}
 
 
 def _shown(name: str, value: float) -> str:
+    """A residual with its unit: mm, deg, N, N m; a target held by a combination of axes (no own unit) says so."""
     for suffix, (unit, scale) in _UNITS.items():
         if name.endswith(suffix):
             return f"{value * scale:.2f} {unit}"
-    return f"{value:.3g}"
+    return f"{value:.3g} (m and rad combined)"
+
+
+def _loose_supports(arm: bpy.types.Object) -> list[str]:
+    """TCPs of ``arm``'s supports with x, y or rz unlocked: they slide even when the feet are planted."""
+    found = []
+    for ob in members(arm):
+        s = ob.manikin_target
+        if s.role == "TARGET" and s.support and s.enabled and not (s.lock[0] and s.lock[1] and s.lock[5]):
+            found.append(s.tcp)
+    return found
+
+
+def listed(arm: bpy.types.Object | None, objects) -> list[bool]:
+    """Per object of ``objects`` (bpy.data.objects): is it a target, loop or load of ``arm`` in some scene."""
+    return [arm is not None and ob.manikin_target.role != "NONE" and ob.manikin_target.rig == arm
+            and bool(ob.users_scene) for ob in objects]  # fmt: skip
+
+
+class MANIKIN_UL_targets(bpy.types.UIList):
+    """The manikin's targets, loops and loads, one row each: enabled, name (and TCP), priority, locks, support,
+    weight; clicking a row selects that empty (its Target panel then shows the rest)."""
+
+    def filter_items(self, context: bpy.types.Context, data, propname: str) -> tuple[list[int], list[int]]:
+        objects = getattr(data, propname)
+        flags = [self.bitflag_filter_item if ok else 0 for ok in listed(rig_of(context.active_object), objects)]
+        return flags, []  # no new order: bpy.data.objects is kept sorted by name
+
+    def draw_item(self, context, layout, data, item, icon, active_data, active_prop, index=0, flt_flag=0) -> None:
+        s = item.manikin_target
+        row = layout.row(align=True)
+        row.prop(s, "enabled", text="")
+        row.label(text=item.name + (f" > {s.other}" if s.role == "LOOP" else ""), icon=_ROLE_ICONS.get(s.role, "DOT"))
+        if s.role == "LOAD":
+            row.label(text=f"{-s.force[2] / 9.81:.1f} kg")
+            return
+        if s.role == "TARGET":
+            row.prop(s, "priority", text="")
+        locks = row.row(align=True)
+        for i, axis in enumerate(AXES):
+            locks.prop(s, "lock", index=i, text=axis, toggle=True)
+        if s.role == "TARGET":
+            row.prop(s, "support", text="", icon="SNAP_FACE")
+        row.prop(s, "weight", text="")
 
 
 def draw_add_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
@@ -56,6 +102,11 @@ class MANIKIN_PT_main(_SidebarPanel):
             return
         layout.label(text=f"{arm.name} ({arm.get(PRESET_KEY) or arm.get(FILE_KEY)})")
         layout.row(align=True).prop(arm.manikin, "display", expand=True)
+        layout.row(align=True).prop(arm.manikin, "feet", expand=True)
+        if arm.manikin.feet == "PLANTED":  # a support's own unlocked axes still let it slide: say which
+            loose = _loose_supports(arm)
+            if loose:
+                layout.label(text=f"May still slide (x, y or rz unlocked): {', '.join(loose)}", icon="INFO")
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("manikin.solve_pose", icon="PLAY")
@@ -68,6 +119,8 @@ class MANIKIN_PT_main(_SidebarPanel):
         col.operator("manikin.add_target", icon="EMPTY_ARROWS")
         col.operator("manikin.add_loop", icon="LINKED")
         col.operator("manikin.add_load", icon="CUBE")
+        layout.label(text="Targets, loops and loads")
+        layout.template_list("MANIKIN_UL_targets", "", bpy.data, "objects", arm.manikin, "target_index", rows=3)
         row = layout.row(align=True)
         row.operator("manikin.import_scenario", icon="IMPORT")
         row.operator("manikin.export_scenario", icon="EXPORT")
@@ -169,6 +222,12 @@ class MANIKIN_PT_result(_SidebarPanel):
             text=f"{'Converged' if ok else 'NOT converged'}: {data['iterations']} it, {data['time_ms']:.0f} ms",
             icon="CHECKMARK" if ok else "ERROR",
         )
+        from ..scene.supports import moved_text  # light (NumPy), but kept out of enabling like the scene code
+
+        for line in moved_text(data.get("moved", {})):
+            layout.label(text=line, icon="TRACKING_FORWARDS")
+        for line in data.get("notes", []):
+            layout.label(text=line, icon="ERROR")
         for name in data["unmet"]:
             if name in data.get("shortfall", {}):
                 layout.label(text=f"{name}: short by {data['shortfall'][name]}", icon="X")
@@ -229,4 +288,11 @@ class MANIKIN_PT_settings(_SidebarPanel):
                 col.prop(settings, setting.prop)
 
 
-classes = (MANIKIN_PT_main, MANIKIN_PT_target, MANIKIN_PT_obstacle, MANIKIN_PT_result, MANIKIN_PT_settings)
+classes = (
+    MANIKIN_UL_targets,
+    MANIKIN_PT_main,
+    MANIKIN_PT_target,
+    MANIKIN_PT_obstacle,
+    MANIKIN_PT_result,
+    MANIKIN_PT_settings,
+)

@@ -138,6 +138,34 @@ class MANIKIN_PG_obstacle(bpy.types.PropertyGroup):
     )  # fmt: skip
 
 
+FEET = (
+    ("PLANTED", "Planted", "Each support keeps its own locks; the supports Add Manikin and Add Target make lock all "
+     "six axes, so the feet stay where they are and a reach too far ends short"),
+    ("SLIDE", "May slide", "Every support may slide and turn on its plane (its x, y and rz are freed, whatever its "
+     "locks); how far each slid is reported"),
+)  # fmt: skip
+
+
+def _get_target_index(self) -> int:
+    """The row of the active object in the target list (an index into bpy.data.objects), -1 when none."""
+    ob = bpy.context.active_object
+    return bpy.data.objects.find(ob.name) if ob is not None and ob.manikin_target.role != "NONE" else -1
+
+
+def _set_target_index(self, index: int) -> None:
+    """Clicking a row selects that target empty (only) and makes it active, so its Target panel shows."""
+    if not 0 <= index < len(bpy.data.objects):
+        return
+    ob = bpy.data.objects[index]
+    view_layer = bpy.context.view_layer
+    if ob.name not in view_layer.objects:
+        return
+    for other in view_layer.objects.selected:
+        other.select_set(False)
+    ob.select_set(True)
+    view_layer.objects.active = ob
+
+
 DISPLAYS = (
     ("HUMAN", "Human", "The skinned human: the MakeHuman mesh fitted to the manikin's body"),
     ("CAPSULES", "Capsules", "The solver's collision capsules, riding on the bones"),
@@ -153,6 +181,16 @@ class MANIKIN_PG_rig(bpy.types.PropertyGroup):
         name="Display", items=DISPLAYS, default="HUMAN", description="What shows the body", update=_display_changed
     )
 
+    feet: EnumProperty(
+        name="Feet",
+        items=FEET,
+        default="PLANTED",
+        description="Whether the supports (the feet) may slide",
+        update=_rig_changed,
+    )
+    target_index: IntProperty(
+        name="Target", get=_get_target_index, set=_set_target_index, description="The active row of the target list"
+    )
     balance: BoolProperty(
         name="Balance", default=True, description="Static balance with unknown contact forces", update=_rig_changed
     )

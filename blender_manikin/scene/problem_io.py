@@ -29,6 +29,7 @@ from .carried_object import carried_spec, find_carried, follow_solve
 from .obstacles import scene_obstacles
 from .registries import comfort_weights
 from .schema import ERROR_KEY, RESULT_KEY, members
+from .supports import floor_notes, moved_supports, pushed_notes, solved_lock
 
 if TYPE_CHECKING:
     from ...solver.body.model import Model
@@ -115,8 +116,8 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
         rot, pos = _frame(to_local @ ob.matrix_world)
         if s.role == "TARGET":
             targets.append(
-                Target(s.tcp, pos, rot, s.locked_axes(), None, s.weight, s.support, s.friction, None, s.enabled,
-                       s.priority_number())
+                Target(s.tcp, pos, rot, solved_lock(s.locked_axes(), s.support, settings.feet), None, s.weight,
+                       s.support, s.friction, None, s.enabled, s.priority_number())
             )  # fmt: skip
             given = (pos, rot)
         elif s.role == "LOOP" and s.enabled:
@@ -149,7 +150,7 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
             restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
         )
         box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
-        labels.append((settings.balance, settings.floor, settings.self_collision, settings.comfort,
+        labels.append((settings.feet, settings.balance, settings.floor, settings.self_collision, settings.comfort,
                        settings.reduction, weights, options, box))  # fmt: skip
         # all but the targets' poses; obstacles by identity (unchanged shapes made from bounds are the same objects)
         setup = (id(model), repr(labels), np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
@@ -215,6 +216,8 @@ def summarize(result: Result) -> dict:
             for c in result.closest
         ],  # fmt: skip
         capsules=capsules(problem.model, state),
+        moved=moved_supports(result),  # {tcp: {"mm", "deg"}}: supports that ended away from their targets
+        notes=floor_notes(result) + pushed_notes(result),  # hints: a support off the floor, pushed by an obstacle
     )
 
 

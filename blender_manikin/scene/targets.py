@@ -1,8 +1,11 @@
 """Creating the empties a user moves: ``target.<tcp>``, ``loop.<tcp>`` and ``load.<tcp>`` (bpy).
 
-Targets live in the world; loops and loads are parented to a TCP empty so they travel with the manikin. Each
-new empty starts where it is already met (a target on its TCP's current frame, a loop at the current offset),
-so adding one never jerks the pose.
+A target the user adds (Add Target, the feet of Add Manikin) is parented to the armature object, so moving the
+manikin (G on the armature) carries its targets along, as it carries its bones; a target given no parent (a
+scenario's, whose keys are world locations) stays in the world, and a user may re-parent any target (to a fixture,
+or to nothing: Alt+P). Loops and loads are parented to a TCP empty so they travel with the pose. Each new empty
+starts where it is already met (a target on its TCP's current frame, a loop at the current offset), so adding one
+never jerks the pose.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from .armature import model_of, read_x, tcp_world_frame
 from .schema import member_name, members, tcp_empty
 
 FEET = ("foot_l", "foot_r")
-FLOOR_LOCK = ("z", "rx", "ry")  # a sole stays flat on the floor and may slide and turn
+FOOT_LOCK = AXES  # planted: a foot holds where it stands; Feet = "May slide" frees x, y, rz (supports.py)
 
 
 def _collection(arm: bpy.types.Object) -> bpy.types.Collection:
@@ -49,9 +52,15 @@ def _new_empty(arm: bpy.types.Object, name: str, role: str, tcp: str, display: s
 
 
 def add_target(
-    arm: bpy.types.Object, tcp: str, lock: tuple[str, ...] = AXES, support: bool = False, friction: float = 0.6
+    arm: bpy.types.Object,
+    tcp: str,
+    lock: tuple[str, ...] = AXES,
+    support: bool = False,
+    friction: float = 0.6,
+    follow: bool = False,
 ) -> bpy.types.Object:
-    """A target for ``tcp`` on the TCP's current frame; an existing target of that TCP is snapped there instead."""
+    """A target for ``tcp`` on the TCP's current frame; an existing target of that TCP is snapped there instead.
+    ``follow``: parent it to the armature object (it moves with the manikin), else it stays in the world."""
     _check_tcp(arm, tcp)
     ob = find_member(arm, "TARGET", tcp)
     if ob is None:
@@ -59,17 +68,18 @@ def add_target(
         s = ob.manikin_target
         s.lock = [a in lock for a in AXES]
         s.support, s.friction = support, friction
-    ob.parent = None
+    ob.parent = arm if follow else None
+    ob.matrix_parent_inverse = Matrix.Identity(4)  # its location is then in the manikin's frame
     ob.matrix_world = tcp_world_frame(arm, read_x(arm), tcp)
     return ob
 
 
 def add_default_supports(arm: bpy.types.Object) -> list[bpy.types.Object]:
-    """Both feet on the floor as supports that may slide and turn (z, rx, ry locked); a body without feet stands
-    on its "floor" TCP (the snake), else on its first TCP."""
+    """Both feet on the floor as planted supports (all six axes locked), parented to the armature; a body without
+    feet stands on its "floor" TCP (the snake), else on its first TCP."""
     model = model_of(arm)
     tcps = [t for t in FEET if t in model.tcps] or [t for t in ("floor",) if t in model.tcps] or list(model.tcps)[:1]
-    return [add_target(arm, t, lock=FLOOR_LOCK, support=True) for t in tcps]
+    return [add_target(arm, t, lock=FOOT_LOCK, support=True, follow=True) for t in tcps]
 
 
 def _parent_to_tcp(ob: bpy.types.Object, arm: bpy.types.Object, tcp: str, world: Matrix) -> None:
