@@ -12,7 +12,7 @@ import bpy
 from ...solver.options import AXES
 from ..scene.help import draw_help
 from ..scene.registries import comfort_settings
-from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, frame_result, last_result, members, rig_of
+from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, frame_result, last_result, members, orphan_hint, rig_of
 
 _UNITS = {
     ".position": ("mm", 1e3),
@@ -98,7 +98,10 @@ class MANIKIN_PT_main(_SidebarPanel):
         arm = rig_of(context.active_object)
         layout.operator_menu_enum("manikin.add_manikin", "preset", text="Add Manikin", icon="ARMATURE_DATA")
         if arm is None:
-            layout.label(text="Select a manikin or one of its targets", icon="INFO")
+            orphan = orphan_hint(context.active_object)  # a target or body whose manikin was deleted with X
+            layout.label(text=orphan or "Select a manikin or one of its targets", icon="ERROR" if orphan else "INFO")
+            if orphan:
+                layout.operator("manikin.delete_manikin", icon="TRASH")
             return
         layout.label(text=f"{arm.name} ({arm.get(PRESET_KEY) or arm.get(FILE_KEY)})")
         layout.row(align=True).prop(arm.manikin, "display", expand=True)
@@ -125,6 +128,9 @@ class MANIKIN_PT_main(_SidebarPanel):
         row.operator("manikin.import_scenario", icon="IMPORT")
         row.operator("manikin.export_scenario", icon="EXPORT")
         layout.operator("manikin.import_envelope", icon="MESH_UVSPHERE")
+        row = layout.row(align=True)
+        row.operator("manikin.duplicate_manikin", icon="DUPLICATE")
+        row.operator("manikin.delete_manikin", icon="TRASH")
         if arm.get(ERROR_KEY):  # from live mode, which has no report()
             layout.label(text=arm[ERROR_KEY], icon="ERROR")
 

@@ -23,7 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from session_tools import error_of  # noqa: E402
+from session_tools import Layout, error_of  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
 from blender_manikin.dev.build import install  # noqa: E402
@@ -294,20 +294,44 @@ def _scenes() -> None:
     scene2.collection.children.unlink(shared)
 
 
+def main_panel() -> dict:
+    """What the Manikin panel draws for the active object: its lines and the operators it offers."""
+    log: list = []
+    operators: list[str] = []
+
+    class Recording(Layout):
+        def operator(self, idname: str, **kw) -> None:
+            operators.append(idname)
+            super().operator(idname, **kw)
+
+        def row(self, **kw) -> Recording:
+            return self
+
+        column = box = split = row
+
+    panel = bpy.types.MANIKIN_PT_main
+    panel.draw(type("Panel", (), {"layout": Recording(log)})(), bpy.context)
+    return dict(lines=log, operators=operators)
+
+
 @part("ghost")
 def _ghost() -> None:
     """Item 4: the armature deleted with X: Solve on a leftover target says so; Delete Manikin clears the rest."""
     arm = bpy.data.objects["worker"]
     owned_names = owned(arm)
     activate(arm)
+    live_panel = main_panel()
     bpy.ops.object.delete()
     left = [name for name in owned_names if name in scene1.objects]
     target = next(bpy.data.objects[n] for n in owned_names if bpy.data.objects[n].manikin_target.role == "TARGET")
     activate(target)
     solve = error_of(lambda: bpy.ops.manikin.solve_pose())
     activate(target)
+    panel = main_panel()
     done = sorted(bpy.ops.manikin.delete_manikin())
     seen["ghost"] = dict(
+        panel=panel,
+        live_panel=live_panel,
         left_by_x=len(left),
         solve=solve,
         done=done,

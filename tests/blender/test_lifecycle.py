@@ -28,8 +28,8 @@ def test_add_manikin_does_not_remember_a_body_file(session: dict) -> None:
     assert seen["moved_error"] == "" and seen["third"] == ["male_50", ""]
     # what a click reuses: only the file browsers' paths (the browser sets them on every call)
     assert seen["remembered"] == [
-        "export_scenario.filepath", "import_envelope.filepath", "import_scenario.filepath", "load_bone_map.filepath",
-        "save_bone_map.filepath",
+        "export_motion.filepath", "export_scenario.filepath", "import_envelope.filepath", "import_scenario.filepath",
+        "load_bone_map.filepath", "save_bone_map.filepath",
     ]  # fmt: skip
 
 
@@ -106,6 +106,14 @@ def test_a_manikin_deleted_with_x_is_not_solved_and_its_leftovers_can_be_deleted
     solve = seen["solve"].strip()
     assert "belongs to the deleted manikin worker" in solve and "Delete Manikin" in solve and "\n" not in solve
     assert seen["done"] == ["FINISHED"] and seen["left"] == [] and seen["arm_gone"]
+
+
+def test_the_manikin_panel_offers_delete_and_duplicate(session: dict) -> None:
+    """The buttons are in the sidebar: both for a manikin; for a target left by X, the hint and Delete Manikin."""
+    seen = _part(session, "ghost")
+    assert {"manikin.duplicate_manikin", "manikin.delete_manikin"} <= set(seen["live_panel"]["operators"])
+    assert seen["panel"]["operators"][-1] == "manikin.delete_manikin"
+    assert any("belongs to the deleted manikin worker" in line for line in seen["panel"]["lines"])
 
 
 def test_the_session_stays_short(session: dict) -> None:
