@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from ..errors import ManikinError
+from .parse_limits import check_depth, too_deep, too_many_digits
 
 STDOUT = "-"  # the output path that means standard output
 
@@ -30,29 +31,49 @@ def read_text(path: Path, error: type[ManikinError] = ManikinError) -> str:
         return Path(path).read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise error(f"{path}: file not found") from None
-    except IsADirectoryError:
-        raise error(f"{path}: is a directory, expected a file") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise error(f"{path}: cannot read ({_reason(exc)})") from None
+        raise read_error(path, exc, error) from None
+
+
+def read_error(path: Path | str, exc: OSError | UnicodeDecodeError, error: type[ManikinError]) -> ManikinError:
+    """The one line for an input that cannot be read: a folder (Windows says "permission denied" for one), text
+    that is not UTF-8 (where), or the system's reason."""
+    if isinstance(exc, IsADirectoryError) or (isinstance(exc, OSError) and os.path.isdir(path)):
+        return error(f"{path}: is a folder, expected a file")
+    if isinstance(exc, UnicodeDecodeError):
+        byte = exc.object[exc.start : exc.start + 1].hex()
+        return error(f"{path}: cannot read (not utf-8 text: byte 0x{byte}, {exc.reason}; save it as UTF-8)")
+    return error(f"{path}: cannot read ({_reason(exc)})")
 
 
 def read_toml(path: Path, error: type[ManikinError] = ManikinError) -> dict:
     """A TOML file's tables (the one TOML reader: scenarios and bodies); malformed TOML raises ``error``."""
     text = read_text(path, error)
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: malformed TOML ({exc})") from None
+    except ValueError:  # int() refused a number of more than 4,300 digits
+        raise too_many_digits(path, text, error) from None
+    except RecursionError:
+        raise too_deep(path, text, error) from None
+    check_depth(data, path, error)
+    return data
 
 
 def read_json(path: Path, error: type[ManikinError]) -> Any:
     """A JSON file's content; unreadable or malformed files raise ``error`` with one line naming the file."""
+    text = read_text(path, error)
     try:
-        return json.loads(read_text(path, error))
+        data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise error(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except ValueError:  # int() refused a number of more than 4,300 digits
+        raise too_many_digits(path, text, error) from None
     except RecursionError:
-        raise error(f"{path}: not JSON (nested too deeply)") from None
+        raise too_deep(path, text, error) from None
+    check_depth(data, path, error)
+    return data
 
 
 def writes_in_place(path: Path) -> bool:
