@@ -3,7 +3,8 @@
 Writing (:func:`open_output`): ``"-"`` is standard output; a path that exists and is not a regular file (a
 device such as ``/dev/null``, a FIFO, ``/dev/stdout``) is written in place and never replaced; anything else is
 written to a temporary file beside it that then replaces it, so a reader never sees half a file, and a failed
-write leaves the old file and no temporary file behind.
+write leaves the old file and no temporary file behind (one a killed run left is removed by the next run writing
+there: :mod:`.temporaries`).
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import json
 import os
 import stat
 import sys
-import tempfile
 import tomllib
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -21,6 +21,7 @@ from typing import IO, Any
 
 from ..errors import ManikinError
 from .parse_limits import check_depth, too_deep, too_many_digits
+from .temporaries import make_temporary
 
 STDOUT = "-"  # the output path that means standard output
 
@@ -116,7 +117,7 @@ class OutputFile:
             else:
                 self._target = Path(os.path.realpath(path))
                 self._target.parent.mkdir(parents=True, exist_ok=True)
-                fd, self._tmp = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=self._target.parent)
+                fd, self._tmp = make_temporary(self._target.parent)  # (and a killed run's there removed)
                 os.chmod(self._tmp, _mode_for(self._target))  # mkstemp's 0600 would make every output private
                 self.stream = os.fdopen(fd, mode, **text)
         except OSError as exc:
