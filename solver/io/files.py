@@ -126,6 +126,13 @@ class OutputFile:
             why = "a file is where its folder should be" if in_the_way else _reason(exc)
             raise ManikinError(f"{path}: cannot write ({why})") from None
 
+    def write(self, data: str | bytes) -> int:
+        """Write ``data`` to the stream; an OSError (a full disk) is one ManikinError line naming the file."""
+        try:
+            return self.stream.write(data)
+        except OSError as exc:
+            raise ManikinError(f"{self.path}: cannot write ({_reason(exc)})") from None
+
     def commit(self) -> None:
         """Finish the output: flush and close it, and rename a temporary file onto the path."""
         try:
