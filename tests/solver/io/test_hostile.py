@@ -174,6 +174,11 @@ STUDY = [
     ("values_2000_deep", ["{in}/study_values_2000_deep.toml"], ["line 12: values", "nested more than 32"]),
     ("a_folder", ["{in}"], ["is a folder, expected a file"]),
 ]
+VALIDATE = [  # --manifest: the validation's key frames
+    ("manifest_5000_digits", ["{in}/body_5000_digits.toml"], ["line 4: segments", "integer of 5000 digits"]),
+    ("manifest_2000_deep", ["{in}/body_2000_deep.toml"], ["line 4: segments", "nested more than 32 levels"]),
+    ("manifest_a_folder", ["{in}"], ["is a folder, expected a file"]),
+]
 ENVELOPE = [
     ("stature_400_digits", ["{in}/body_stature_400_digits.toml"], ["stature", "[0.5, 2.5] m"]),
     ("a_folder", ["{in}"], ["is a folder, expected a body file"]),
@@ -188,6 +193,7 @@ CASES = (
     + [(f"urdf-{c}", ["urdf", *a], w) for c, a, w in URDF]
     + [(f"study-{c}", ["study", "-q", *a, "-o", "{out}/study"], w) for c, a, w in STUDY]
     + [(f"envelope-{c}", ["envelope", "-q", *a, "-o", "{out}/envelope"], w) for c, a, w in ENVELOPE]
+    + [(f"validate-{c}", ["validate", "-q", "--manifest", *a, "--out", "{out}/v"], w) for c, a, w in VALIDATE]
 )
 
 
