@@ -3,7 +3,7 @@
 u_i = (pi/2)(theta_i - n_i)/(hi_i - n_i) above the neutral value n_i and (pi/2)(theta_i - n_i)/(n_i - lo_i) below:
 the thesis's tan^2 form, generalised to asymmetric limits; past |u| = U_MAX it continues linearly (C1) so it stays
 finite. c_i is the model's per-joint comfort weight (1/17 per thoracolumbar vertebra, so bending the whole region
-costs like one joint).
+costs like one joint), times the joint's :data:`POSTURE_SCALE` (1 unless listed there).
 """
 
 from __future__ import annotations
@@ -15,6 +15,21 @@ from ..body.state import State
 from .base import ComfortTerm
 
 U_MAX = 0.48 * np.pi
+# Per motion (bone_motion, either side): the range cost's scale. Bending the knees, hips and ankles costs less per
+# degree than leaning the trunk (priced by :mod:`.trunk_tilt`): with 1 everywhere a squat cost 4 times a stoop and
+# the manikin stooped every low lift where people bend the knees. Fitted on the training subjects of the motion-
+# capture validation (docs/explanation/mocap-validation.md, docs/TUNING.md); the held-out subjects test them.
+POSTURE_SCALE = {"knee_flexion": 0.1, "hip_flexion": 0.5, "ankle_dorsiflexion": 0.2}
+
+
+def posture_scale(names: tuple[str, ...], table: dict[str, float] = POSTURE_SCALE) -> np.ndarray:
+    """Per joint, the scale ``table`` gives its motion (``knee_r_flexion`` -> ``knee_flexion``), else 1."""
+    out = np.ones(len(names))
+    for i, name in enumerate(names):
+        parts = name.split("_")
+        if len(parts) == 3 and parts[1] in ("r", "l"):
+            out[i] = table.get(f"{parts[0]}_{parts[2]}", 1.0)
+    return out
 
 
 class JointRange(ComfortTerm):
@@ -27,7 +42,7 @@ class JointRange(ComfortTerm):
         self.model = model
         lo, hi, mid = model.lower, model.upper, model.neutral
         finite = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
-        self.joint_weight = np.where(finite, model.range_weight, 0.0)
+        self.joint_weight = np.where(finite, model.range_weight * posture_scale(model.joint_names), 0.0)
         self.span_up = np.where(finite, np.maximum(hi - mid, 1e-9), 1.0)
         self.span_down = np.where(finite, np.maximum(mid - lo, 1e-9), 1.0)
 

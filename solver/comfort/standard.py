@@ -15,6 +15,7 @@ from .base import ComfortTerm
 from .contact_spread import ContactSpread
 from .joint_load import JointLoad
 from .joint_range import JointRange
+from .trunk_tilt import TrunkTilt
 
 
 class StandardTerm(NamedTuple):
@@ -37,12 +38,13 @@ def register(term: type[ComfortTerm], weight: float) -> None:
 register(JointRange, 1.0)
 register(JointLoad, 1.0)
 register(ContactSpread, 0.01)
+register(TrunkTilt, 5.0)  # fitted on the motion-capture training subjects (docs/TUNING.md)
 
 
 class ComfortWeights(Mapping):
     """Weights of the standard comfort terms (dimensionless), one per registered term: by name,
     ``ComfortWeights(range=1.0, load=0.5)``, or in the registry's order, ``ComfortWeights(1.0, 0.5, 0.01)`` (range,
-    load, contact); a term not given keeps its default. Read as attributes (``weights.load``) or as a mapping
+    load, contact, trunk); a term not given keeps its default. Read as attributes (``weights.load``) or as a mapping
     (``weights["load"]``, ``dict(weights)``). Frozen (:meth:`replace` makes another); equal when the weights are."""
 
     __slots__ = ("_values",)

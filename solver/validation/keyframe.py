@@ -1,5 +1,6 @@
 """A motion-capture key frame made a pose problem: a body from the subject's stature (and arm lengths), the
-measured wrists as reach targets, the measured feet as planted supports, solved from the zero pose."""
+measured wrists as reach targets, the measured feet as planted supports, solved from the zero pose (and from a
+crouch for a low hand)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from ..iteration import solve
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from ..problem.specs import ProblemSpec, Target
+from ..problem.starts import start_poses
 from .skeleton import Skeleton
 
 BMI = 24.0  # kg/m^2, the mass estimate where a subject's mass is not published (as presets/manikins/male_50.toml)
@@ -88,6 +90,13 @@ def key_frame_problem(model: Model, measured: Skeleton, hands: tuple[str, ...]) 
 
 
 def solve_key_frame(model: Model, measured: Skeleton, hands: tuple[str, ...], options: SolverOptions | None = None):
-    """The solver's pose for the key frame, from the zero pose; a :class:`~solver.iteration.result.Result`."""
+    """The solver's pose for the key frame (a :class:`~solver.iteration.result.Result`): from the zero pose and,
+    when a hand is below the standing hip, from a crouch too (:func:`~solver.problem.starts.start_poses`); of
+    those that converged, the more comfortable."""
     problem = key_frame_problem(model, measured, hands)
-    return solve(problem, model.zero_pose(), options or SolverOptions())
+    best = None
+    for start in start_poses(problem):
+        result = solve(problem, start, options or SolverOptions())
+        if best is None or (result.converged, result.comfort) > (best.converged, best.comfort):
+            best = result
+    return best
