@@ -1,0 +1,97 @@
+"""The behaviour model (issue 35, part 2): the trunk-tilt term's gradient and curvature against finite differences,
+the leg range scales, and the crouched second start for a low hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import finite_difference
+
+from solver import Problem, ProblemSpec, Target
+from solver.comfort import Comfort, JointRange, TrunkTilt
+from solver.comfort.joint_range import POSTURE_SCALE, posture_scale
+from solver.io.scenario.bodies import load_body
+from solver.problem.starts import crouched_pose, low_reach, start_poses
+
+
+@pytest.fixture(scope="module")
+def male50():
+    return load_body(preset="male_50")
+
+
+def _problem(model, hand_z: float, terms=None) -> Problem:
+    zero = model.forward(model.zero_pose())
+    feet = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
+    hand = Target("hand_r", np.array([-0.2, -0.45, hand_z]), lock=("x", "y", "z"))
+    return Problem(model, ProblemSpec([*feet, hand], balance=True, comfort=terms))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_trunk_tilt_gradient_and_curvature_match_finite_differences(male50, seed) -> None:
+    term = TrunkTilt(male50)
+    problem = _problem(male50, 1.0, Comfort([(2.5, term)]))
+    rng = np.random.default_rng(seed)
+    theta = np.clip(rng.normal(0.0, 0.4, male50.n), male50.lower + 0.01, male50.upper - 0.01)
+    theta[:3] = 0.0  # the root's position does not tilt anything
+    x = problem.start(theta)
+    state = problem.state(x)
+    grad, curv = term.derivatives(state, 2.5)
+    numeric = finite_difference(lambda xx: [2.5 * term.cost(problem.state(xx))], x)[0]
+    np.testing.assert_allclose(grad, numeric, rtol=1e-5, atol=1e-7)
+    assert np.all(curv >= 0.0) and np.any(curv > 0.0)
+    h = 1e-4  # the diagonal curvature is the exact second derivative where it is positive
+    for j in np.flatnonzero(curv > 1e-3)[:12]:
+        e = np.zeros_like(x)
+        e[j] = h
+        second = 2.5 * (term.cost(problem.state(x + e)) - 2 * term.cost(state) + term.cost(problem.state(x - e)))
+        assert curv[j] == pytest.approx(second / h**2, rel=1e-3, abs=1e-6)
+
+
+def test_trunk_tilt_is_zero_upright_and_one_at_twenty_degrees(male50) -> None:
+    term = TrunkTilt(male50)
+    problem = _problem(male50, 1.0)
+    assert term.cost(problem.state(problem.start())) == pytest.approx(0.0, abs=1e-12)
+    theta = male50.zero_pose()
+    theta[male50.joint_index("root_rx")] = np.radians(20.0)  # the whole body pitched by 20 deg
+    assert term.cost(problem.state(problem.start(theta))) == pytest.approx(1.0, rel=1e-9)
+
+
+def test_a_model_without_a_thorax_has_no_trunk_cost() -> None:
+    snake = load_body(preset="snake")
+    term = TrunkTilt(snake)
+    assert term.chain.size == 0
+
+
+def test_leg_flexion_is_scaled_in_the_range_term_only(male50) -> None:
+    scale = posture_scale(male50.joint_names)
+    for motion, value in POSTURE_SCALE.items():
+        bone, what = motion.split("_")
+        for side in ("r", "l"):
+            assert scale[male50.joint_index(f"{bone}_{side}_{what}")] == value
+    assert scale[male50.joint_index("l4_rx")] == 1.0 and scale[male50.joint_index("elbow_r_flexion")] == 1.0
+    knee = male50.joint_index("knee_r_flexion")
+    assert JointRange(male50).joint_weight[knee] == pytest.approx(POSTURE_SCALE["knee_flexion"] * male50.range_weight[knee])
+
+
+def test_a_low_hand_adds_a_crouched_start(male50) -> None:
+    assert low_reach(_problem(male50, 0.4)) and not low_reach(_problem(male50, 1.1))
+    assert len(start_poses(_problem(male50, 1.1))) == 1
+    starts = start_poses(_problem(male50, 0.4))
+    assert len(starts) == 2 and np.array_equal(starts[0], male50.zero_pose())
+    crouch = crouched_pose(male50)
+    assert np.degrees(crouch[male50.joint_index("knee_l_flexion")]) == pytest.approx(100.0)
+    assert np.all(crouch >= male50.lower) and np.all(crouch <= male50.upper)
+    assert crouched_pose(load_body(preset="snake")) is None
+
+
+def test_from_the_crouch_a_low_pick_bends_the_knees(male50) -> None:
+    """Hand 0.35 m above the floor: the more comfortable of the two starts' poses has the knees bent (the standing
+    start alone stoops with straight knees)."""
+    from solver import solve
+
+    problem = _problem(male50, 0.35)
+    results = [solve(problem, start) for start in start_poses(problem)]
+    assert all(r.converged for r in results)
+    best = max(results, key=lambda r: r.comfort)
+    knee = male50.joint_index("knee_r_flexion")
+    assert np.degrees(best.theta[knee]) > 45.0
