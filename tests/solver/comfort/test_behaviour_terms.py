@@ -70,7 +70,8 @@ def test_leg_flexion_is_scaled_in_the_range_term_only(male50) -> None:
             assert scale[male50.joint_index(f"{bone}_{side}_{what}")] == value
     assert scale[male50.joint_index("l4_rx")] == 1.0 and scale[male50.joint_index("elbow_r_flexion")] == 1.0
     knee = male50.joint_index("knee_r_flexion")
-    assert JointRange(male50).joint_weight[knee] == pytest.approx(POSTURE_SCALE["knee_flexion"] * male50.range_weight[knee])
+    expected = POSTURE_SCALE["knee_flexion"] * male50.range_weight[knee]
+    assert JointRange(male50).joint_weight[knee] == pytest.approx(expected)
 
 
 def test_a_low_hand_adds_a_crouched_start(male50) -> None:

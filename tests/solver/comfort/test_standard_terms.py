@@ -28,7 +28,8 @@ def test_weights_by_name_in_order_and_as_a_mapping() -> None:
     assert dict(w) == {"range": 1.0, "load": 0.5, "contact": 0.01, "trunk": 5.0} and w["contact"] == 0.01
     assert hash(w) == hash(ComfortWeights(load=0.5)) and w != DEFAULT_COMFORT
     assert w.replace(contact=0.2) == ComfortWeights(1.0, 0.5, 0.2) and w.contact == 0.01
-    assert pickle.loads(pickle.dumps(w)) == w and repr(w) == "ComfortWeights(range=1.0, load=0.5, contact=0.01, trunk=5.0)"
+    assert pickle.loads(pickle.dumps(w)) == w
+    assert repr(w) == "ComfortWeights(range=1.0, load=0.5, contact=0.01, trunk=5.0)"
     with pytest.raises(AttributeError):
         w.range = 2.0
     for args, named in (((1, 2, 3, 4, 5), {}), ((), {"elbow": 1.0}), ((1,), {"range": 2})):
