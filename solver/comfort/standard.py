@@ -38,7 +38,7 @@ def register(term: type[ComfortTerm], weight: float) -> None:
 register(JointRange, 1.0)
 register(JointLoad, 1.0)
 register(ContactSpread, 0.01)
-register(TrunkTilt, 5.0)  # fitted on the motion-capture training subjects (docs/TUNING.md)
+register(TrunkTilt, 0.0)  # off by default; 5 (BEHAVIOUR_TRUNK) is the behaviour model (docs/TUNING.md)
 
 
 class ComfortWeights(Mapping):
@@ -104,9 +104,22 @@ def _by_name(values: dict[str, float]) -> ComfortWeights:
 
 
 DEFAULT_COMFORT = ComfortWeights()
+# The behaviour model fitted against motion capture (docs/explanation/mocap-validation.md): a positive ``trunk``
+# weight prices the trunk's lean and switches the range term to its posture tables (legs bend, elbows rest bent).
+# Off by default: it doubles the random benchmark's iterations with the elbow's neutral value (docs/TUNING.md).
+BEHAVIOUR_TRUNK = 5.0
+BEHAVIOUR = DEFAULT_COMFORT.replace(trunk=BEHAVIOUR_TRUNK)
+
+
+def behaviour_on(weights: Mapping[str, float]) -> bool:
+    """Whether ``weights`` switch the behaviour model on (a positive ``trunk`` weight)."""
+    return weights.get("trunk", 0.0) > 0.0
 
 
 def standard_terms(model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> list[tuple[float, ComfortTerm]]:
     """(weight, term) of every standard term for ``model``, in the registry's order (a term registered after
-    ``weights`` were made has its default weight)."""
-    return [(weights.get(name, term.weight), term.factory(model)) for name, term in STANDARD_TERMS.items()]
+    ``weights`` were made has its default weight); the range term with its posture tables when
+    :func:`behaviour_on`."""
+    posture = behaviour_on(weights)
+    return [(weights.get(name, term.weight), JointRange(model, posture) if term.factory is JointRange and posture
+             else term.factory(model)) for name, term in STANDARD_TERMS.items()]  # fmt: skip

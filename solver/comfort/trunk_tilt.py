@@ -6,7 +6,8 @@ and the load on the low back grows with the trunk's lean. The joint-range term a
 about as costly as the knee, hip and ankle flexion of a squat, so it stooped every low lift; people keep the trunk
 more upright and bend the knees (docs/explanation/mocap-validation.md: the weight is fitted there on the training
 subjects). The tilted axis is the thorax's up axis (the link the top thoracic joint moves); a model without that
-joint (the snake) has no trunk and costs 0.
+joint (the snake) has no trunk and costs 0. Its weight is 0 by default; a positive weight is the switch of the whole
+behaviour model (:func:`.standard.behaviour_on`).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ class TrunkTilt(ComfortTerm):
     """k (1 - z . up), z the thorax's up axis; the curvature model is the exact diagonal of the Hessian (>= 0)."""
 
     name = "trunk"
-    description = "trunk leaning from vertical"
+    description = "trunk lean; above 0 the behaviour model (knees bend, elbows rest bent)"
 
     def __init__(self, model: Model) -> None:
         self.link = model.joint_names.index(THORAX_JOINT) if THORAX_JOINT in model.joint_names else -1

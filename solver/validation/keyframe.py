@@ -12,6 +12,7 @@ import numpy as np
 from ..body.humans.human import build_human
 from ..body.humans.measurements import MEASUREMENTS
 from ..body.model import Model, Tcp
+from ..comfort import BEHAVIOUR, DEFAULT_COMFORT
 from ..iteration import solve
 from ..options import SolverOptions
 from ..problem.problem import Problem
@@ -80,22 +81,28 @@ def foot_targets(model: Model, measured: Skeleton) -> list[Target]:
     return out
 
 
-def key_frame_problem(model: Model, measured: Skeleton, hands: tuple[str, ...]) -> Problem:
+def key_frame_problem(model: Model, measured: Skeleton, hands: tuple[str, ...], behaviour: bool = True) -> Problem:
     """Feet planted where measured, each wrist in ``hands`` ("r", "l") held at its measured point (position only:
-    CMU's hand segment has too few markers for its roll to be trusted), in balance, floor and self-collision on."""
+    CMU's hand segment has too few markers for its roll to be trusted), in balance, floor and self-collision on;
+    comfort is the behaviour model (:data:`~solver.comfort.BEHAVIOUR`) unless ``behaviour`` is False."""
     targets = foot_targets(model, measured)
     for side in hands:
         targets.append(Target(f"wrist_{side}", measured[f"wrist_{side}"].copy(), lock=("x", "y", "z")))
-    return Problem(model, ProblemSpec(targets=tuple(targets), balance=True))
+    weights = BEHAVIOUR if behaviour else DEFAULT_COMFORT
+    return Problem(model, ProblemSpec(targets=tuple(targets), balance=True, comfort_weights=weights))
 
 
-def solve_key_frame(model: Model, measured: Skeleton, hands: tuple[str, ...], options: SolverOptions | None = None):
-    """The solver's pose for the key frame (a :class:`~solver.iteration.result.Result`): from the zero pose and,
-    when a hand is below the standing hip, from a crouch too (:func:`~solver.problem.starts.start_poses`); of
-    those that converged, the more comfortable."""
-    problem = key_frame_problem(model, measured, hands)
+def solve_key_frame(
+    model: Model, measured: Skeleton, hands: tuple[str, ...], options: SolverOptions | None = None,
+    behaviour: bool = True,
+):  # fmt: skip
+    """The solver's pose for the key frame (a :class:`~solver.iteration.result.Result`). With ``behaviour``: the
+    behaviour model, from the zero pose and, when a hand is below the standing hip, from a crouch too
+    (:func:`~solver.problem.starts.start_poses`), of those that converged the more comfortable; without: the
+    standard comfort from the zero pose (what a solve does by default)."""
+    problem = key_frame_problem(model, measured, hands, behaviour)
     best = None
-    for start in start_poses(problem):
+    for start in start_poses(problem) if behaviour else [model.zero_pose()]:
         result = solve(problem, start, options or SolverOptions())
         if best is None or (result.converged, result.comfort) > (best.converged, best.comfort):
             best = result

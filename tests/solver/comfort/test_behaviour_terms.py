@@ -8,8 +8,8 @@ import pytest
 from helpers import finite_difference
 
 from solver import Problem, ProblemSpec, Target
-from solver.comfort import Comfort, JointRange, TrunkTilt
-from solver.comfort.joint_range import POSTURE_SCALE, posture_scale
+from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT, Comfort, JointRange, TrunkTilt
+from solver.comfort.joint_range import POSTURE_NEUTRAL, POSTURE_SCALE, posture_neutral, posture_scale
 from solver.io.scenario.bodies import load_body
 from solver.problem.starts import crouched_pose, low_reach, start_poses
 
@@ -19,11 +19,11 @@ def male50():
     return load_body(preset="male_50")
 
 
-def _problem(model, hand_z: float, terms=None) -> Problem:
+def _problem(model, hand_z: float, terms=None, weights=DEFAULT_COMFORT) -> Problem:
     zero = model.forward(model.zero_pose())
     feet = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
     hand = Target("hand_r", np.array([-0.2, -0.45, hand_z]), lock=("x", "y", "z"))
-    return Problem(model, ProblemSpec([*feet, hand], balance=True, comfort=terms))
+    return Problem(model, ProblemSpec([*feet, hand], balance=True, comfort=terms, comfort_weights=weights))
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -62,6 +62,18 @@ def test_a_model_without_a_thorax_has_no_trunk_cost() -> None:
     assert term.chain.size == 0
 
 
+def test_the_behaviour_model_is_off_by_default_and_switched_on_by_a_trunk_weight(male50) -> None:
+    """Default comfort: the trunk term weighs 0 and the range term is the thesis's (no scales, the model's neutral
+    values); a positive trunk weight (BEHAVIOUR) turns both on."""
+    off = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0).comfort.terms)
+    assert off["trunk"][0] == 0.0 and not off["range"][1].posture
+    np.testing.assert_array_equal(off["range"][1].neutral, male50.neutral)
+    on = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0, weights=BEHAVIOUR).comfort.terms)
+    assert on["trunk"][0] == 5.0 and on["range"][1].posture
+    knee = male50.joint_index("knee_r_flexion")
+    assert on["range"][1].joint_weight[knee] == pytest.approx(0.1 * off["range"][1].joint_weight[knee])
+
+
 def test_leg_flexion_is_scaled_in_the_range_term_only(male50) -> None:
     scale = posture_scale(male50.joint_names)
     for motion, value in POSTURE_SCALE.items():
@@ -71,7 +83,7 @@ def test_leg_flexion_is_scaled_in_the_range_term_only(male50) -> None:
     assert scale[male50.joint_index("l4_rx")] == 1.0 and scale[male50.joint_index("elbow_r_flexion")] == 1.0
     knee = male50.joint_index("knee_r_flexion")
     expected = POSTURE_SCALE["knee_flexion"] * male50.range_weight[knee]
-    assert JointRange(male50).joint_weight[knee] == pytest.approx(expected)
+    assert JointRange(male50, posture=True).joint_weight[knee] == pytest.approx(expected)
 
 
 def test_a_low_hand_adds_a_crouched_start(male50) -> None:
@@ -86,13 +98,28 @@ def test_a_low_hand_adds_a_crouched_start(male50) -> None:
 
 
 def test_from_the_crouch_a_low_pick_bends_the_knees(male50) -> None:
-    """Hand 0.35 m above the floor: the more comfortable of the two starts' poses has the knees bent (the standing
-    start alone stoops with straight knees)."""
+    """Hand 0.35 m above the floor, the behaviour model: the more comfortable of the two starts' poses has the knees
+    bent (the standard comfort from the standing start stoops with straight knees)."""
     from solver import solve
 
-    problem = _problem(male50, 0.35)
+    problem = _problem(male50, 0.35, weights=BEHAVIOUR)
     results = [solve(problem, start) for start in start_poses(problem)]
     assert all(r.converged for r in results)
     best = max(results, key=lambda r: r.comfort)
     knee = male50.joint_index("knee_r_flexion")
     assert np.degrees(best.theta[knee]) > 45.0
+    standard = solve(_problem(male50, 0.35))
+    assert standard.converged and np.degrees(standard.theta[knee]) < 10.0
+
+
+def test_the_elbow_is_neutral_bent_in_the_range_term(male50) -> None:
+    """The behaviour model's range term: the neutral elbow is POSTURE_NEUTRAL's (60 deg, where RULA's best lower-arm
+    band starts): a straight elbow costs, a 60-degree one does not; other joints keep the model's neutral values."""
+    term = JointRange(male50, posture=True)
+    elbow, knee = male50.joint_index("elbow_l_flexion"), male50.joint_index("knee_l_flexion")
+    assert term.neutral[elbow] == pytest.approx(POSTURE_NEUTRAL["elbow_flexion"]) and term.neutral[knee] == 0.0
+    theta = male50.zero_pose()
+    straight = term.per_joint(theta, False)[0][elbow]
+    theta[elbow] = POSTURE_NEUTRAL["elbow_flexion"]
+    assert straight > 0.5 and term.per_joint(theta, False)[0][elbow] == pytest.approx(0.0, abs=1e-12)
+    np.testing.assert_allclose(posture_neutral(male50, {}), male50.neutral)
