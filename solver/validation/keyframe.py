@@ -1,6 +1,6 @@
 """A motion-capture key frame made a pose problem: a body from the subject's stature (and arm lengths), the
-measured wrists as reach targets, the measured feet as planted supports, solved from the zero pose (and from a
-crouch for a low hand)."""
+measured wrists as reach targets, the measured feet as planted supports, solved from the zero pose (the behaviour
+model starts from a crouch for a low hand)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,6 @@ from ..iteration import solve
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from ..problem.specs import ProblemSpec, Target
-from ..problem.starts import start_poses
 from .skeleton import Skeleton
 
 BMI = 24.0  # kg/m^2, the mass estimate where a subject's mass is not published (as presets/manikins/male_50.toml)
@@ -96,14 +95,8 @@ def solve_key_frame(
     model: Model, measured: Skeleton, hands: tuple[str, ...], options: SolverOptions | None = None,
     behaviour: bool = True,
 ):  # fmt: skip
-    """The solver's pose for the key frame (a :class:`~solver.iteration.result.Result`). With ``behaviour``: the
-    behaviour model, from the zero pose and, when a hand is below the standing hip, from a crouch too
-    (:func:`~solver.problem.starts.start_poses`), of those that converged the more comfortable; without: the
-    standard comfort from the zero pose (what a solve does by default)."""
+    """The solver's pose for the key frame (a :class:`~solver.iteration.result.Result`), from the zero pose: with
+    ``behaviour`` the behaviour model (which starts from a crouch when a hand is below the standing hip,
+    :mod:`solver.problem.starts`), else the standard comfort."""
     problem = key_frame_problem(model, measured, hands, behaviour)
-    best = None
-    for start in start_poses(problem) if behaviour else [model.zero_pose()]:
-        result = solve(problem, start, options or SolverOptions())
-        if best is None or (result.converged, result.comfort) > (best.converged, best.comfort):
-            best = result
-    return best
+    return solve(problem, model.zero_pose(), options or SolverOptions())

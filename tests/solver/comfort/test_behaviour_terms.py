@@ -1,5 +1,5 @@
 """The behaviour model (issue 35, part 2): the trunk-tilt term's gradient and curvature against finite differences,
-the leg range scales, and the crouched second start for a low hand."""
+the switch, the leg range scales, the elbow's neutral value and the crouched start for a low hand."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from solver import Problem, ProblemSpec, Target
 from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT, Comfort, JointRange, TrunkTilt
 from solver.comfort.joint_range import POSTURE_NEUTRAL, POSTURE_SCALE, posture_neutral, posture_scale
 from solver.io.scenario.bodies import load_body
-from solver.problem.starts import crouched_pose, low_reach, start_poses
+from solver.problem.starts import crouched_pose, low_reach
 
 
 @pytest.fixture(scope="module")
@@ -86,28 +86,33 @@ def test_leg_flexion_is_scaled_in_the_range_term_only(male50) -> None:
     assert JointRange(male50, posture=True).joint_weight[knee] == pytest.approx(expected)
 
 
-def test_a_low_hand_adds_a_crouched_start(male50) -> None:
+def test_the_behaviour_model_starts_a_low_reach_from_a_crouch(male50) -> None:
+    """Problem.start: the zero pose becomes the crouch only with the behaviour model on and a hand target below the
+    standing hip; any other start pose, a high target or the standard comfort keep what was given."""
     assert low_reach(_problem(male50, 0.4)) and not low_reach(_problem(male50, 1.1))
-    assert len(start_poses(_problem(male50, 1.1))) == 1
-    starts = start_poses(_problem(male50, 0.4))
-    assert len(starts) == 2 and np.array_equal(starts[0], male50.zero_pose())
     crouch = crouched_pose(male50)
-    assert np.degrees(crouch[male50.joint_index("knee_l_flexion")]) == pytest.approx(100.0)
+    knee = male50.joint_index("knee_l_flexion")
+    assert np.degrees(crouch[knee]) == pytest.approx(100.0)
     assert np.all(crouch >= male50.lower) and np.all(crouch <= male50.upper)
+    low = _problem(male50, 0.4, weights=BEHAVIOUR)
+    assert np.degrees(low.start()[knee]) == pytest.approx(100.0)  # the solver variables: joints first
+    assert np.degrees(low.start(male50.zero_pose())[knee]) == pytest.approx(100.0)
+    given = male50.zero_pose()
+    given[male50.joint_index("elbow_r_flexion")] = 0.3
+    assert low.start(given)[knee] == 0.0
+    assert _problem(male50, 1.1, weights=BEHAVIOUR).start()[knee] == 0.0
+    assert _problem(male50, 0.4).start()[knee] == 0.0
     assert crouched_pose(load_body(preset="snake")) is None
 
 
-def test_from_the_crouch_a_low_pick_bends_the_knees(male50) -> None:
-    """Hand 0.35 m above the floor, the behaviour model: the more comfortable of the two starts' poses has the knees
-    bent (the standard comfort from the standing start stoops with straight knees)."""
+def test_a_low_pick_bends_the_knees_with_the_behaviour_model(male50) -> None:
+    """Hand 0.35 m above the floor: the behaviour model (crouched start) bends the knees; the standard comfort from
+    the standing start stoops with straight knees."""
     from solver import solve
 
-    problem = _problem(male50, 0.35, weights=BEHAVIOUR)
-    results = [solve(problem, start) for start in start_poses(problem)]
-    assert all(r.converged for r in results)
-    best = max(results, key=lambda r: r.comfort)
     knee = male50.joint_index("knee_r_flexion")
-    assert np.degrees(best.theta[knee]) > 45.0
+    behaviour = solve(_problem(male50, 0.35, weights=BEHAVIOUR))
+    assert behaviour.converged and np.degrees(behaviour.theta[knee]) > 45.0
     standard = solve(_problem(male50, 0.35))
     assert standard.converged and np.degrees(standard.theta[knee]) < 10.0
 
