@@ -11,15 +11,22 @@ same errors within 0.3 deg for about twice the iterations.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
+from ..body.model import Model
+from ..comfort import Comfort
 from ..comfort.standard import behaviour_on
+from .specs import ProblemSpec
 
-if TYPE_CHECKING:
-    from ..body.model import Model
-    from .problem import Problem
+
+class Problem(Protocol):
+    """What the rule reads of a :class:`~solver.problem.problem.Problem` (which imports this module)."""
+
+    model: Model
+    spec: ProblemSpec
+    comfort: Comfort
 
 # The crouch: knees 100 deg, hips 80 deg, ankles 15 deg dorsiflexed, on both sides (a half squat; the solver
 # moves on from it).
