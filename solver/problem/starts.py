@@ -21,7 +21,7 @@ from ..comfort.standard import behaviour_on
 from .specs import ProblemSpec
 
 
-class Problem(Protocol):
+class PoseTask(Protocol):
     """What the rule reads of a :class:`~solver.problem.problem.Problem` (which imports this module)."""
 
     model: Model
@@ -48,7 +48,7 @@ def crouched_pose(model: Model) -> np.ndarray | None:
     return theta
 
 
-def low_reach(problem: Problem) -> bool:
+def low_reach(problem: PoseTask) -> bool:
     """Whether a reach target (not a support) that holds a height (locks z) lies below the standing hip joint (m,
     world z; the zero pose stands on z = 0)."""
     model = problem.model
@@ -64,7 +64,7 @@ def low_reach(problem: Problem) -> bool:
     return False
 
 
-def behaviour_start(problem: Problem) -> np.ndarray | None:
+def behaviour_start(problem: PoseTask) -> np.ndarray | None:
     """The joint values to start from instead of the zero pose (the crouch), None to keep it."""
     weights = problem.comfort.weights
     if weights is None or not behaviour_on(weights) or not low_reach(problem):
