@@ -1,10 +1,10 @@
 """The comfort function h(x) the solver maximises in the constraints' null space (thesis §3.3).
 
 h = -sum_k weight_k cost_k(x) over :class:`ComfortTerm` objects, one per module: ``joint_range`` (tan^2 of each
-joint's deviation from neutral), ``joint_load`` (squared joint strain), ``contact_spread`` (squared contact forces).
-A new term is a new module with a ComfortTerm; :class:`Comfort` takes any list of (weight, term). The standard
-terms, which every problem has unless it brings its own, are registered by name in :mod:`.standard` (one line each),
-weighted by :class:`ComfortWeights`.
+joint's deviation from neutral), ``joint_load`` (squared joint strain), ``contact_spread`` (squared contact forces),
+``trunk_tilt`` (the trunk's lean from vertical). A new term is a new module with a ComfortTerm; :class:`Comfort`
+takes any list of (weight, term). The standard terms, which every problem has unless it brings its own, are
+registered by name in :mod:`.standard` (one line each), weighted by :class:`ComfortWeights`.
 """
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ from .base import ComfortTerm
 from .contact_spread import ContactSpread
 from .joint_load import JointLoad
 from .joint_range import JointRange
-from .standard import DEFAULT_COMFORT, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
+from .standard import BEHAVIOUR, DEFAULT_COMFORT, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
+from .trunk_tilt import TrunkTilt
 
 
 class Comfort:
@@ -74,5 +75,5 @@ class Comfort:
         return self.derivatives(state)[0]
 
 
-__all__ = ["DEFAULT_COMFORT", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights", "ContactSpread",
-           "JointLoad", "JointRange", "StandardTerm"]
+__all__ = ["BEHAVIOUR", "DEFAULT_COMFORT", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights",
+           "ContactSpread", "JointLoad", "JointRange", "StandardTerm", "TrunkTilt"]

@@ -3,7 +3,9 @@
 u_i = (pi/2)(theta_i - n_i)/(hi_i - n_i) above the neutral value n_i and (pi/2)(theta_i - n_i)/(n_i - lo_i) below:
 the thesis's tan^2 form, generalised to asymmetric limits; past |u| = U_MAX it continues linearly (C1) so it stays
 finite. c_i is the model's per-joint comfort weight (1/17 per thoracolumbar vertebra, so bending the whole region
-costs like one joint).
+costs like one joint). With ``posture`` (the behaviour model: on when a problem's ``trunk`` comfort weight is
+positive, see :mod:`.standard`) c_i is also scaled by :data:`POSTURE_SCALE` and n_i replaced by
+:data:`POSTURE_NEUTRAL` where they list the joint's motion.
 """
 
 from __future__ import annotations
@@ -15,6 +17,39 @@ from ..body.state import State
 from .base import ComfortTerm
 
 U_MAX = 0.48 * np.pi
+# Per motion (bone_motion, either side): the range cost's scale in the behaviour model. Bending the knees, hips and
+# ankles costs less per degree than leaning the trunk (priced by :mod:`.trunk_tilt`): with 1 everywhere a squat cost
+# 4 times a stoop and the manikin stooped every low lift where people bend the knees. Fitted on the training subjects
+# of the motion-capture validation (docs/explanation/mocap-validation.md, docs/TUNING.md); the held-out test them.
+POSTURE_SCALE = {"knee_flexion": 0.1, "hip_flexion": 0.5, "ankle_dorsiflexion": 0.2}
+
+
+# Per motion: a neutral value (rad) replacing the model's in the behaviour model (clipped into the joint's limits).
+# The elbow's: RULA (McAtamney & Corlett 1993) scores the lower arm best from 60 to 100 deg of flexion; with 0 the
+# manikin reached near targets with straight elbows and raised arms. 60 deg is the lower end of that band, within
+# the flat optimum (50-80 deg) on the training subjects (docs/TUNING.md).
+POSTURE_NEUTRAL: dict[str, float] = {"elbow_flexion": float(np.radians(60.0))}
+
+
+def posture_scale(names: tuple[str, ...], table: dict[str, float] = POSTURE_SCALE) -> np.ndarray:
+    """Per joint, the scale ``table`` gives its motion (``knee_r_flexion`` -> ``knee_flexion``), else 1."""
+    out = np.ones(len(names))
+    for i, name in enumerate(names):
+        parts = name.split("_")
+        if len(parts) == 3 and parts[1] in ("r", "l"):
+            out[i] = table.get(f"{parts[0]}_{parts[2]}", 1.0)
+    return out
+
+
+def posture_neutral(model: Model, table: dict[str, float] = POSTURE_NEUTRAL) -> np.ndarray:
+    """The model's neutral values with those ``table`` gives by motion (rad), clipped into the joints' limits."""
+    out = np.array(model.neutral, dtype=float)
+    for i, name in enumerate(model.joint_names):
+        parts = name.split("_")
+        key = f"{parts[0]}_{parts[-1]}" if len(parts) == 3 and parts[1] in ("r", "l") else None
+        if key in table:
+            out[i] = min(max(table[key], model.lower[i]), model.upper[i])
+    return out
 
 
 class JointRange(ComfortTerm):
@@ -23,17 +58,20 @@ class JointRange(ComfortTerm):
     name = "range"
     description = "joints near their limits"
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: Model, posture: bool = False) -> None:
         self.model = model
-        lo, hi, mid = model.lower, model.upper, model.neutral
+        self.posture = posture  # the behaviour model's scales and neutral values (off: the thesis's form)
+        lo, hi = model.lower, model.upper
+        self.neutral = mid = posture_neutral(model) if posture else np.array(model.neutral, dtype=float)
+        scale = posture_scale(model.joint_names) if posture else 1.0
         finite = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
-        self.joint_weight = np.where(finite, model.range_weight, 0.0)
+        self.joint_weight = np.where(finite, model.range_weight * scale, 0.0)
         self.span_up = np.where(finite, np.maximum(hi - mid, 1e-9), 1.0)
         self.span_down = np.where(finite, np.maximum(mid - lo, 1e-9), 1.0)
 
     def per_joint(self, theta: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
         """tan^2(u) per joint (unweighted) and, with ``derivatives``, its first and second derivative (per rad or m)."""
-        d = theta - self.model.neutral
+        d = theta - self.neutral
         span = np.where(d >= 0.0, self.span_up, self.span_down)
         u = 0.5 * np.pi * d / span
         t = np.tan(np.clip(u, -U_MAX, U_MAX))

@@ -15,6 +15,7 @@ from .base import ComfortTerm
 from .contact_spread import ContactSpread
 from .joint_load import JointLoad
 from .joint_range import JointRange
+from .trunk_tilt import TrunkTilt
 
 
 class StandardTerm(NamedTuple):
@@ -37,12 +38,13 @@ def register(term: type[ComfortTerm], weight: float) -> None:
 register(JointRange, 1.0)
 register(JointLoad, 1.0)
 register(ContactSpread, 0.01)
+register(TrunkTilt, 0.0)  # off by default; 5 (BEHAVIOUR_TRUNK) is the behaviour model (docs/TUNING.md)
 
 
 class ComfortWeights(Mapping):
     """Weights of the standard comfort terms (dimensionless), one per registered term: by name,
     ``ComfortWeights(range=1.0, load=0.5)``, or in the registry's order, ``ComfortWeights(1.0, 0.5, 0.01)`` (range,
-    load, contact); a term not given keeps its default. Read as attributes (``weights.load``) or as a mapping
+    load, contact, trunk); a term not given keeps its default. Read as attributes (``weights.load``) or as a mapping
     (``weights["load"]``, ``dict(weights)``). Frozen (:meth:`replace` makes another); equal when the weights are."""
 
     __slots__ = ("_values",)
@@ -102,9 +104,22 @@ def _by_name(values: dict[str, float]) -> ComfortWeights:
 
 
 DEFAULT_COMFORT = ComfortWeights()
+# The behaviour model fitted against motion capture (docs/explanation/mocap-validation.md): a positive ``trunk``
+# weight prices the trunk's lean and switches the range term to its posture tables (legs bend, elbows rest bent).
+# Off by default: it doubles the random benchmark's iterations with the elbow's neutral value (docs/TUNING.md).
+BEHAVIOUR_TRUNK = 5.0
+BEHAVIOUR = DEFAULT_COMFORT.replace(trunk=BEHAVIOUR_TRUNK)
+
+
+def behaviour_on(weights: Mapping[str, float]) -> bool:
+    """Whether ``weights`` switch the behaviour model on (a positive ``trunk`` weight)."""
+    return weights.get("trunk", 0.0) > 0.0
 
 
 def standard_terms(model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> list[tuple[float, ComfortTerm]]:
     """(weight, term) of every standard term for ``model``, in the registry's order (a term registered after
-    ``weights`` were made has its default weight)."""
-    return [(weights.get(name, term.weight), term.factory(model)) for name, term in STANDARD_TERMS.items()]
+    ``weights`` were made has its default weight); the range term with its posture tables when
+    :func:`behaviour_on`."""
+    posture = behaviour_on(weights)
+    return [(weights.get(name, term.weight), JointRange(model, posture) if term.factory is JointRange and posture
+             else term.factory(model)) for name, term in STANDARD_TERMS.items()]  # fmt: skip

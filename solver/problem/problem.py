@@ -28,6 +28,7 @@ from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
+from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
 
@@ -233,13 +234,17 @@ class Problem:
     def start(self, x0: np.ndarray | None = None) -> np.ndarray:
         """Valid starting solver variables from ``x0`` (joint values alone, or joints + forces), in bounds.
 
-        Missing or mismatched force values are replaced by an even share of body weight plus loads.
+        Missing or mismatched force values are replaced by an even share of body weight plus loads. With the
+        behaviour model on, the zero pose becomes a crouch when a reach target is low (:mod:`.starts`).
         """
         n = self.model.n
         x0 = self.model.zero_pose() if x0 is None else np.asarray(x0, dtype=float)
         if x0.shape[0] not in (n, self.n_x) or not np.isfinite(x0).all():
             raise ManikinError(f"start pose must be {n} finite joint values (or {self.n_x} with forces)")
         theta = x0[:n]
+        if not theta.any():  # the zero pose, the default start: the behaviour model may crouch instead
+            crouch = behaviour_start(self)
+            theta = theta if crouch is None else crouch
         if x0.shape[0] == self.n_x and self.contacts.n_vars:
             w = x0[n:]
         else:

@@ -81,9 +81,12 @@ class _SubjectData:
         self.ours_upright = measure(model_skeleton(self.model, self.model.zero_pose(), self.stature), self.stature)
 
 
-def run_validation(path: str | Path = MANIFEST, split: str = "all", only: tuple[str, ...] = ()) -> dict:
-    """Solve and measure every key frame of ``split`` ("train", "held-out" or "all"; ``only``: these names);
-    ``{"rows": [...], "summary": {...}, "citation": ...}``."""
+def run_validation(
+    path: str | Path = MANIFEST, split: str = "all", only: tuple[str, ...] = (), behaviour: bool = True
+) -> dict:
+    """Solve and measure every key frame of ``split`` ("train", "held-out" or "all"; ``only``: these names) with
+    the behaviour model (or, ``behaviour`` False, the standard comfort from the zero pose);
+    ``{"rows": [...], "summary": {...}, "citation": ..., "model": "behaviour" | "standard"}``."""
     path = Path(path)
     top, subjects, frames = read_manifest(path)
     chosen = [k for k in frames if split in ("all", subjects[k.subject]["split"]) and (not only or k.name in only)]
@@ -94,14 +97,16 @@ def run_validation(path: str | Path = MANIFEST, split: str = "all", only: tuple[
     for k in chosen:
         if k.subject not in loaded:
             loaded[k.subject] = _SubjectData(subjects[k.subject], path.parent)
-        rows.append(_row(k, loaded[k.subject]))
-    return {"citation": top.get("citation", ""), "split": split, "rows": rows, "summary": summarize(rows)}
+        rows.append(_row(k, loaded[k.subject], behaviour))
+    model = "behaviour" if behaviour else "standard"
+    return {"citation": top.get("citation", ""), "split": split, "model": model, "rows": rows,
+            "summary": summarize(rows)}  # fmt: skip
 
 
-def _row(k: KeyFrame, s: _SubjectData) -> dict:
+def _row(k: KeyFrame, s: _SubjectData, behaviour: bool = True) -> dict:
     """One key frame solved and measured."""
     measured = to_our_frame(cmu_points(s.bvh, k.frame), CMU_FLOOR)
-    result = solve_key_frame(s.model, measured, k.hands)
+    result = solve_key_frame(s.model, measured, k.hands, behaviour=behaviour)
     predicted = model_skeleton(s.model, result.theta, s.stature)
     m = calibrated(measure(measured, s.stature), s.upright, s.ours_upright)
     p = measure(predicted, s.stature)

@@ -1,5 +1,6 @@
 """A motion-capture key frame made a pose problem: a body from the subject's stature (and arm lengths), the
-measured wrists as reach targets, the measured feet as planted supports, solved from the zero pose."""
+measured wrists as reach targets, the measured feet as planted supports, solved from the zero pose (the behaviour
+model starts from a crouch for a low hand)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import numpy as np
 from ..body.humans.human import build_human
 from ..body.humans.measurements import MEASUREMENTS
 from ..body.model import Model, Tcp
+from ..comfort import BEHAVIOUR, DEFAULT_COMFORT
 from ..iteration import solve
 from ..options import SolverOptions
 from ..problem.problem import Problem
@@ -78,16 +80,23 @@ def foot_targets(model: Model, measured: Skeleton) -> list[Target]:
     return out
 
 
-def key_frame_problem(model: Model, measured: Skeleton, hands: tuple[str, ...]) -> Problem:
+def key_frame_problem(model: Model, measured: Skeleton, hands: tuple[str, ...], behaviour: bool = True) -> Problem:
     """Feet planted where measured, each wrist in ``hands`` ("r", "l") held at its measured point (position only:
-    CMU's hand segment has too few markers for its roll to be trusted), in balance, floor and self-collision on."""
+    CMU's hand segment has too few markers for its roll to be trusted), in balance, floor and self-collision on;
+    comfort is the behaviour model (:data:`~solver.comfort.BEHAVIOUR`) unless ``behaviour`` is False."""
     targets = foot_targets(model, measured)
     for side in hands:
         targets.append(Target(f"wrist_{side}", measured[f"wrist_{side}"].copy(), lock=("x", "y", "z")))
-    return Problem(model, ProblemSpec(targets=tuple(targets), balance=True))
+    weights = BEHAVIOUR if behaviour else DEFAULT_COMFORT
+    return Problem(model, ProblemSpec(targets=tuple(targets), balance=True, comfort_weights=weights))
 
 
-def solve_key_frame(model: Model, measured: Skeleton, hands: tuple[str, ...], options: SolverOptions | None = None):
-    """The solver's pose for the key frame, from the zero pose; a :class:`~solver.iteration.result.Result`."""
-    problem = key_frame_problem(model, measured, hands)
+def solve_key_frame(
+    model: Model, measured: Skeleton, hands: tuple[str, ...], options: SolverOptions | None = None,
+    behaviour: bool = True,
+):  # fmt: skip
+    """The solver's pose for the key frame (a :class:`~solver.iteration.result.Result`), from the zero pose: with
+    ``behaviour`` the behaviour model (which starts from a crouch when a hand is below the standing hip,
+    :mod:`solver.problem.starts`), else the standard comfort."""
+    problem = key_frame_problem(model, measured, hands, behaviour)
     return solve(problem, model.zero_pose(), options or SolverOptions())

@@ -49,7 +49,8 @@ def summary_table(stats: dict) -> list[str]:
 def markdown(report: dict) -> str:
     """The summary in Markdown: totals, per split, per task kind, then every key frame's errors."""
     s = report["summary"]
-    out = [f"# Validation against motion capture (split: {report['split']})", "",
+    model = report.get("model", "behaviour")
+    out = [f"# Validation against motion capture (split: {report['split']}, {model} model)", "",
            f"{s['count']} key frames, {s['converged']} converged. Errors are predicted - measured; angles in deg, "
            "the pelvis height in % of stature.", "", "## All key frames", "", *summary_table(s["total"])]  # fmt: skip
     for group in ("split", "task"):

@@ -93,3 +93,21 @@ def test_the_manikin_upright_reads_zero() -> None:
     m = measure(model_skeleton(model, model.zero_pose(), 1.74), 1.74)
     for name in ("trunk_flexion", "lateral_bend", "knee_flexion_r", "knee_flexion_l", "elbow_flexion_r"):
         assert abs(m[name]) < 3.0, name
+
+
+def test_the_behaviour_model_squats_where_the_standard_comfort_stoops(report, tmp_path) -> None:
+    """115_09_squat_low (the person's knees at 120 deg): the behaviour model (the command's default) bends the knees
+    past 60 deg and keeps the trunk within 20 deg of the person's; ``--model standard`` stoops with straight knees
+    (the figures before the behaviour model). Each file says which model made it."""
+    run, out = report
+    assert run.returncode == 0, run.stderr
+    rows = {r["name"]: r for r in json.loads((out / "validation.json").read_text())["rows"]}
+    squat = rows["115_09_squat_low"]
+    assert squat["measured"]["knee_flexion_r"] > 100.0
+    assert squat["predicted"]["knee_flexion_r"] > 60.0 and abs(squat["error"]["trunk_flexion"]) < 20.0
+    assert "behaviour model" in (out / "validation.md").read_text()
+    standard = _run("--out", str(tmp_path), "--model", "standard", "--key-frame", "115_09_squat_low", "--no-picture")
+    assert standard.returncode == 0, standard.stderr
+    stooped = json.loads((tmp_path / "validation.json").read_text())["rows"][0]
+    assert stooped["predicted"]["knee_flexion_r"] < 10.0 and stooped["error"]["trunk_flexion"] > 40.0
+    assert "standard model" in (tmp_path / "validation.md").read_text()

@@ -1,0 +1,130 @@
+"""The behaviour model (issue 35, part 2): the trunk-tilt term's gradient and curvature against finite differences,
+the switch, the leg range scales, the elbow's neutral value and the crouched start for a low hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import finite_difference
+
+from solver import Problem, ProblemSpec, Target
+from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT, Comfort, JointRange, TrunkTilt
+from solver.comfort.joint_range import POSTURE_NEUTRAL, POSTURE_SCALE, posture_neutral, posture_scale
+from solver.io.scenario.bodies import load_body
+from solver.problem.starts import crouched_pose, low_reach
+
+
+@pytest.fixture(scope="module")
+def male50():
+    return load_body(preset="male_50")
+
+
+def _problem(model, hand_z: float, terms=None, weights=DEFAULT_COMFORT) -> Problem:
+    zero = model.forward(model.zero_pose())
+    feet = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
+    hand = Target("hand_r", np.array([-0.2, -0.45, hand_z]), lock=("x", "y", "z"))
+    return Problem(model, ProblemSpec([*feet, hand], balance=True, comfort=terms, comfort_weights=weights))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_trunk_tilt_gradient_and_curvature_match_finite_differences(male50, seed) -> None:
+    term = TrunkTilt(male50)
+    problem = _problem(male50, 1.0, Comfort([(2.5, term)]))
+    rng = np.random.default_rng(seed)
+    theta = np.clip(rng.normal(0.0, 0.4, male50.n), male50.lower + 0.01, male50.upper - 0.01)
+    theta[:3] = 0.0  # the root's position does not tilt anything
+    x = problem.start(theta)
+    state = problem.state(x)
+    grad, curv = term.derivatives(state, 2.5)
+    numeric = finite_difference(lambda xx: [2.5 * term.cost(problem.state(xx))], x)[0]
+    np.testing.assert_allclose(grad, numeric, rtol=1e-5, atol=1e-7)
+    assert np.all(curv >= 0.0) and np.any(curv > 0.0)
+    h = 1e-4  # the diagonal curvature is the exact second derivative where it is positive
+    for j in np.flatnonzero(curv > 1e-3)[:12]:
+        e = np.zeros_like(x)
+        e[j] = h
+        second = 2.5 * (term.cost(problem.state(x + e)) - 2 * term.cost(state) + term.cost(problem.state(x - e)))
+        assert curv[j] == pytest.approx(second / h**2, rel=1e-3, abs=1e-6)
+
+
+def test_trunk_tilt_is_zero_upright_and_one_at_twenty_degrees(male50) -> None:
+    term = TrunkTilt(male50)
+    problem = _problem(male50, 1.0)
+    assert term.cost(problem.state(problem.start())) == pytest.approx(0.0, abs=1e-12)
+    theta = male50.zero_pose()
+    theta[male50.joint_index("root_rx")] = np.radians(20.0)  # the whole body pitched by 20 deg
+    assert term.cost(problem.state(problem.start(theta))) == pytest.approx(1.0, rel=1e-9)
+
+
+def test_a_model_without_a_thorax_has_no_trunk_cost() -> None:
+    snake = load_body(preset="snake")
+    term = TrunkTilt(snake)
+    assert term.chain.size == 0
+
+
+def test_the_behaviour_model_is_off_by_default_and_switched_on_by_a_trunk_weight(male50) -> None:
+    """Default comfort: the trunk term weighs 0 and the range term is the thesis's (no scales, the model's neutral
+    values); a positive trunk weight (BEHAVIOUR) turns both on."""
+    off = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0).comfort.terms)
+    assert off["trunk"][0] == 0.0 and not off["range"][1].posture
+    np.testing.assert_array_equal(off["range"][1].neutral, male50.neutral)
+    on = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0, weights=BEHAVIOUR).comfort.terms)
+    assert on["trunk"][0] == 5.0 and on["range"][1].posture
+    knee = male50.joint_index("knee_r_flexion")
+    assert on["range"][1].joint_weight[knee] == pytest.approx(0.1 * off["range"][1].joint_weight[knee])
+
+
+def test_leg_flexion_is_scaled_in_the_range_term_only(male50) -> None:
+    scale = posture_scale(male50.joint_names)
+    for motion, value in POSTURE_SCALE.items():
+        bone, what = motion.split("_")
+        for side in ("r", "l"):
+            assert scale[male50.joint_index(f"{bone}_{side}_{what}")] == value
+    assert scale[male50.joint_index("l4_rx")] == 1.0 and scale[male50.joint_index("elbow_r_flexion")] == 1.0
+    knee = male50.joint_index("knee_r_flexion")
+    expected = POSTURE_SCALE["knee_flexion"] * male50.range_weight[knee]
+    assert JointRange(male50, posture=True).joint_weight[knee] == pytest.approx(expected)
+
+
+def test_the_behaviour_model_starts_a_low_reach_from_a_crouch(male50) -> None:
+    """Problem.start: the zero pose becomes the crouch only with the behaviour model on and a hand target below the
+    standing hip; any other start pose, a high target or the standard comfort keep what was given."""
+    assert low_reach(_problem(male50, 0.4)) and not low_reach(_problem(male50, 1.1))
+    crouch = crouched_pose(male50)
+    knee = male50.joint_index("knee_l_flexion")
+    assert np.degrees(crouch[knee]) == pytest.approx(100.0)
+    assert np.all(crouch >= male50.lower) and np.all(crouch <= male50.upper)
+    low = _problem(male50, 0.4, weights=BEHAVIOUR)
+    assert np.degrees(low.start()[knee]) == pytest.approx(100.0)  # the solver variables: joints first
+    assert np.degrees(low.start(male50.zero_pose())[knee]) == pytest.approx(100.0)
+    given = male50.zero_pose()
+    given[male50.joint_index("elbow_r_flexion")] = 0.3
+    assert low.start(given)[knee] == 0.0
+    assert _problem(male50, 1.1, weights=BEHAVIOUR).start()[knee] == 0.0
+    assert _problem(male50, 0.4).start()[knee] == 0.0
+    assert crouched_pose(load_body(preset="snake")) is None
+
+
+def test_a_low_pick_bends_the_knees_with_the_behaviour_model(male50) -> None:
+    """Hand 0.35 m above the floor: the behaviour model (crouched start) bends the knees; the standard comfort from
+    the standing start stoops with straight knees."""
+    from solver import solve
+
+    knee = male50.joint_index("knee_r_flexion")
+    behaviour = solve(_problem(male50, 0.35, weights=BEHAVIOUR))
+    assert behaviour.converged and np.degrees(behaviour.theta[knee]) > 45.0
+    standard = solve(_problem(male50, 0.35))
+    assert standard.converged and np.degrees(standard.theta[knee]) < 10.0
+
+
+def test_the_elbow_is_neutral_bent_in_the_range_term(male50) -> None:
+    """The behaviour model's range term: the neutral elbow is POSTURE_NEUTRAL's (60 deg, where RULA's best lower-arm
+    band starts): a straight elbow costs, a 60-degree one does not; other joints keep the model's neutral values."""
+    term = JointRange(male50, posture=True)
+    elbow, knee = male50.joint_index("elbow_l_flexion"), male50.joint_index("knee_l_flexion")
+    assert term.neutral[elbow] == pytest.approx(POSTURE_NEUTRAL["elbow_flexion"]) and term.neutral[knee] == 0.0
+    theta = male50.zero_pose()
+    straight = term.per_joint(theta, False)[0][elbow]
+    theta[elbow] = POSTURE_NEUTRAL["elbow_flexion"]
+    assert straight > 0.5 and term.per_joint(theta, False)[0][elbow] == pytest.approx(0.0, abs=1e-12)
+    np.testing.assert_allclose(posture_neutral(male50, {}), male50.neutral)
