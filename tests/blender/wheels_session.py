@@ -5,7 +5,8 @@
 
 a bake of three frames of the box lift with its ergonomics plots and key-pose picture (what batch.py runs), and a
 small study (the box lift and a coarse reach envelope, one manikin) run as the sidebar runs it, with its summary
-plots and its envelope picture. Records which wheels Blender installed and where matplotlib and its helpers came from; bpy here only.
+plots and its envelope picture. Records which wheels Blender installed and where matplotlib and its helpers came
+from; bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -68,8 +69,8 @@ done = subprocess.run(command, cwd=WORK, env=study_job.child_env(), capture_outp
 seen["study"] = dict(code=done.returncode, log=done.stdout[-2000:] + done.stderr[-2000:],
                      pictures=sorted(str(p) for p in (WORK / "study").rglob("*.png")))  # fmt: skip
 seen["study_s"] = time.perf_counter() - t0
-seen["loaded"] = sorted(m for m in sys.modules if "." not in m and m in
-                        ("matplotlib", "PIL", "dateutil", "fontTools", "tzdata", "kiwisolver", "contourpy"))  # fmt: skip
+HELPERS = ("matplotlib", "PIL", "dateutil", "fontTools", "tzdata", "kiwisolver", "contourpy")
+seen["loaded"] = sorted(m for m in sys.modules if m in HELPERS)
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)
