@@ -99,6 +99,9 @@ def measure(series: str, runs: int, roots: dict[str, Path]) -> dict[str, dict]:
     with tempfile.TemporaryDirectory() as tmp:
         zips = {label: build_zip(python, root, str(Path(tmp, label))) for label, root in roots.items()}
         results = {label: dict(contents=wheel_contents(path), times={}) for label, path in zips.items()}
+        for label, root in roots.items():
+            head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=root, capture_output=True, text=True)
+            results[label]["contents"]["commit"] = head.stdout.strip() or "?"
         for run in range(runs):
             for label, zip_path in zips.items():  # the zips take turns
                 user = Path(tmp, f"user-{label}-{run}")
@@ -136,8 +139,9 @@ def section(results: dict[str, dict[str, dict]], runs: int, command: str) -> str
     for label in labels:
         c = next(iter(results.values()))[label]["contents"]
         lines.append(
-            f"- {label}: {c['wheels']} wheels, {c['files']:,} files and folders ({c['unpacked_mb']:.0f} MB "
-            f"unpacked) that Blender extracts on install and on every enable; the zip {c['zip_mb']:.0f} MB."
+            f"- {label} (commit {c['commit']}): {c['wheels']} wheels, {c['files']:,} files and folders "
+            f"({c['unpacked_mb']:.0f} MB unpacked) that Blender extracts on install and on every enable; the zip "
+            f"{c['zip_mb']:.0f} MB."
         )
     lines += ["", "| Blender | step | " + " | ".join(f"{x} median s | {x} p95 s" for x in labels) + " |",
               "|---|---|" + "---:|---:|" * len(labels)]  # fmt: skip
