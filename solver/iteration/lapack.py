@@ -1,7 +1,7 @@
 """The LAPACK routines the solver calls (dgesv, dpotrf, dpotrs, dtrtri): scipy's own Fortran wrappers,
 ``scipy.linalg._flapack``, the very functions ``scipy.linalg.lapack`` exports, loaded without running the
 ``scipy.linalg`` package. That package also imports scipy.sparse and the rest of scipy.linalg, which the solver never
-uses: 0.3-0.5 s of the first solve in Blender. Where scipy.linalg is loaded already, or this scipy keeps its
+uses: 0.2-0.5 s of the first solve in Blender. Where scipy.linalg is loaded already, or this scipy keeps its
 wrappers elsewhere, they come from ``scipy.linalg.lapack`` as before.
 """
 
