@@ -113,7 +113,7 @@ def test_matplotlib_s_requirements_left_out_are_the_ones_named() -> None:
     assert left_out_modules() == {"fontTools", "tzdata"}
 
 
-@pytest.mark.slow  # a solve, an ergonomics report, two small studies: ~40 s
+@pytest.mark.slow  # a solve, an ergonomics report, two small studies: 10-35 s
 def test_the_add_on_draws_without_what_is_left_out(tmp_path: Path) -> None:
     (tmp_path / "sitecustomize.py").write_text(BLOCKER.format(left_out=sorted(left_out_modules())), encoding="utf-8")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), str(ROOT)]))
