@@ -1,18 +1,21 @@
 """What installing, enabling and the first solve take as a user meets them, written to docs/BENCHMARKS.md.
 
-    python -m bench.enable_timings [-o docs/BENCHMARKS.md] [--runs 5] [--series 4.2 4.5 5.0]   # repository root
+    python -m bench.enable_timings [-o docs/BENCHMARKS.md] [--runs 5] [--series 4.2 4.5 5.0] [--before DIR]
 
 For each Blender series it builds the linux-x64 zip with that series' bpy-only environment (.venvs/bpy-*: numpy,
 no scipy), then per run, in fresh processes with a fresh user folder: installs and enables the zip (Preferences >
 Install from Disk: Blender extracts the wheels), disables and enables it again, then in a second process (Blender
 started again with the extension installed) enables it, adds a manikin and a hand target and times the first
 Solve Pose (the solver and scipy load from the extension's wheels) and a second one. Wall-clock seconds.
+``--before DIR`` (another checkout, e.g. ``git worktree add /tmp/before main``) measures that checkout's zip too,
+the two zips taking turns run by run so that the shared machine's drift hits them alike: a before/after table.
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
+import io
 import json
 import os
 import platform
@@ -20,6 +23,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -70,21 +74,42 @@ def _run_child(python: Path, user: Path, *args: str) -> dict:
     return json.loads(line[len(MARK) :])
 
 
-def measure(series: str, runs: int) -> dict[str, list[float]]:
-    """Per step, the seconds of each run on Blender ``series``."""
+def build_zip(python: Path, root: Path, out: str) -> Path:
+    """The linux-x64 zip of the checkout ``root``, built by its own build module in ``out``."""
+    built = subprocess.run([str(python), "-m", "blender_manikin.dev.build", "--output-dir", out, "--platform",
+                            "linux-x64"], cwd=root, capture_output=True, text=True, check=True)  # fmt: skip
+    return Path(built.stdout.strip())
+
+
+def wheel_contents(zip_path: Path) -> dict[str, float]:
+    """The wheels in a zip: how many, the files and folders Blender extracts from them, their size unpacked (MB)."""
+    wheels = files = size = 0
+    with zipfile.ZipFile(zip_path) as outer:
+        for name in outer.namelist():
+            if name.startswith("wheels/") and name.endswith(".whl"):
+                with zipfile.ZipFile(io.BytesIO(outer.read(name))) as wheel:
+                    infos = wheel.infolist()
+                wheels, files, size = wheels + 1, files + len(infos), size + sum(i.file_size for i in infos)
+    return {"wheels": wheels, "files": files, "unpacked_mb": size / 1e6, "zip_mb": zip_path.stat().st_size / 1e6}
+
+
+def measure(series: str, runs: int, roots: dict[str, Path]) -> dict[str, dict]:
+    """Per zip (label: checkout), its wheel contents and per step the seconds of each run on Blender ``series``."""
     python = next(VENVS.glob(f"bpy-{series}.*")) / "bin" / "python"
     with tempfile.TemporaryDirectory() as tmp:
-        built = subprocess.run([str(python), "-m", "blender_manikin.dev.build", "--output-dir", tmp, "--platform",
-                                "linux-x64"], cwd=ROOT, capture_output=True, text=True, check=True)  # fmt: skip
-        zip_path = built.stdout.strip()
-        times: dict[str, list[float]] = {}
+        zips = {label: build_zip(python, root, str(Path(tmp, label))) for label, root in roots.items()}
+        results = {label: dict(contents=wheel_contents(path), times={}) for label, path in zips.items()}
+        for label, root in roots.items():
+            head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=root, capture_output=True, text=True)
+            results[label]["contents"]["commit"] = head.stdout.strip() or "?"
         for run in range(runs):
-            user = Path(tmp, f"user{run}")
-            seen = _run_child(python, user, "install", zip_path) | _run_child(python, user, "solve")
-            for step, seconds in seen.items():
-                times.setdefault(step, []).append(seconds)
-            print(series, run, {k: round(v, 2) for k, v in seen.items()}, flush=True)
-    return times
+            for label, zip_path in zips.items():  # the zips take turns
+                user = Path(tmp, f"user-{label}-{run}")
+                seen = _run_child(python, user, "install", str(zip_path)) | _run_child(python, user, "solve")
+                for step, seconds in seen.items():
+                    results[label]["times"].setdefault(step, []).append(seconds)
+                print(series, label, run, {k: round(v, 2) for k, v in seen.items()}, flush=True)
+    return results
 
 
 STEPS = {
@@ -96,25 +121,37 @@ STEPS = {
 }
 
 
-def section(results: dict[str, dict[str, list[float]]], runs: int, zip_mb: float | None) -> str:
-    """The Markdown section for docs/BENCHMARKS.md."""
+def section(results: dict[str, dict[str, dict]], runs: int, command: str) -> str:
+    """The Markdown section for docs/BENCHMARKS.md: per series and step, median and p95 of each zip."""
     cpu = Path("/proc/cpuinfo")
     names = [x.split(":", 1)[1].strip() for x in cpu.read_text().splitlines() if x.startswith("model name")] if (
         cpu.is_file()) else []  # fmt: skip
     system = f"{platform.system()} {platform.release()}"
     machine = f"{names[0] if names else platform.machine()}, {os.cpu_count()} cores, {system}"
+    labels = list(next(iter(results.values())))
     lines = [f"<!-- {MARK}:start -->", "## Installing, enabling and the first solve", "",
-             f"Written by `python -m bench.enable_timings --runs {runs}` on {datetime.date.today()}; each run in fresh "
+             f"Written by `{command}` on {datetime.date.today()}; each run in fresh "
              "processes and a fresh user folder, the linux-x64 zip built by that series' own build tool, the bpy-only "
              "environments (Blender's Python: numpy, no scipy). Wall-clock seconds, median and 95th percentile of "
-             f"the runs. Machine: {machine}, Python {platform.python_version()}.", "",
-             "| Blender | step | median s | p95 s |", "|---|---|---:|---:|"]  # fmt: skip
-    for series, times in results.items():
+             f"the runs. Machine: {machine}, Python {platform.python_version()}.", ""]  # fmt: skip
+    if len(labels) > 1:
+        lines += [f"The zips took turns run by run: {' and '.join(labels)}.", ""]
+    for label in labels:
+        c = next(iter(results.values()))[label]["contents"]
+        lines.append(
+            f"- {label} (commit {c['commit']}): {c['wheels']} wheels, {c['files']:,} files and folders "
+            f"({c['unpacked_mb']:.0f} MB unpacked) that Blender extracts on install and on every enable; the zip "
+            f"{c['zip_mb']:.0f} MB."
+        )
+    lines += ["", "| Blender | step | " + " | ".join(f"{x} median s | {x} p95 s" for x in labels) + " |",
+              "|---|---|" + "---:|---:|" * len(labels)]  # fmt: skip
+    for series, by_zip in results.items():
         for step, label in STEPS.items():
-            values = np.array(times[step])
-            lines.append(f"| {series} | {label} | {np.median(values):.2f} | {np.percentile(values, 95):.2f} |")
-    if zip_mb is not None:
-        lines += ["", f"The linux-x64 zip: {zip_mb:.1f} MB."]
+            cells = []
+            for zip_label in labels:
+                values = np.array(by_zip[zip_label]["times"][step])
+                cells += [f"{np.median(values):.2f}", f"{np.percentile(values, 95):.2f}"]
+            lines.append(f"| {series} | {label} | " + " | ".join(cells) + " |")
     lines.append(f"<!-- {MARK}:end -->")
     return "\n".join(lines) + "\n"
 
@@ -135,14 +172,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs" / "BENCHMARKS.md")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--series", nargs="+", default=["4.2", "4.5", "5.0"])
+    parser.add_argument("--before", type=Path, help="another checkout whose zip is measured too, taking turns")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.child:
         seen = _child_install(args.child[1]) if args.child[0] == "install" else _child_solve()
         print(MARK + json.dumps(seen), flush=True)
         os._exit(0)  # bpy 4.2 may segfault at exit (blender_manikin/batch.py exit_process)
-    results = {series: measure(series, args.runs) for series in args.series}
-    write(args.output, section(results, args.runs, None))
+    roots = {"before": args.before.resolve(), "now": ROOT} if args.before else {"now": ROOT}
+    results = {series: measure(series, args.runs, roots) for series in args.series}
+    command = f"python -m bench.enable_timings --runs {args.runs}" + (" --before DIR" if args.before else "")
+    write(args.output, section(results, args.runs, command))
     return 0
 
 

@@ -2,8 +2,8 @@
 
     python -m blender_manikin.dev.build [--output-dir dist] [--platform linux-x64]   # from the repository root
 
-fetches the wheels the manifest lists (scipy, matplotlib and what matplotlib needs, per platform) from the package
-registry into ``wheels/`` unless they are there already, then writes one zip per platform,
+fetches the wheels the manifest lists (scipy, matplotlib and what it needs for PNG pictures, per platform) from the
+package registry into ``wheels/`` unless they are there already, then writes one zip per platform,
 ``dist/manikin-<version>-<platform>.zip`` (windows_x64, macos_arm64, macos_x64, linux_x64), each with only its
 platform's wheels, checks the manifest's tags against Blender's list and validates every zip. bpy itself is never
 imported: the tool is found through the installed package's files.

@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import lapack
+
+from . import lapack
 
 
 class LeastSquares:

@@ -13,9 +13,9 @@ from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
-from scipy.linalg import lapack
 
 from ..problem.problem import Problem
+from . import lapack
 from .curvature_memory import CurvatureMemory, null_space_newton
 from .least_squares import LeastSquares
 from .trial import Trial
