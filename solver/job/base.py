@@ -1,0 +1,47 @@
+"""What every job method gets and gives: :class:`JobInputs` (the job, the motion's frames, the per-frame ergonomics
+report) and :class:`Method` (a name, a title, its published source, and :meth:`Method.evaluate`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..io.result.frame import Frame
+from .spec import Job
+
+
+@dataclass(frozen=True)
+class JobInputs:
+    """The job, the frames of its motion (one work cycle's motion), and the ``ergo`` report of those frames
+    (:func:`solver.ergonomics.evaluate`, its ``frames`` in the same order)."""
+
+    job: Job
+    frames: list[Frame]
+    ergo: dict
+
+    @property
+    def frame_time(self) -> float:
+        """s each frame stands for (1 / fps)."""
+        return 1.0 / self.job.fps
+
+    @property
+    def motion_time(self) -> float:
+        """s the motion lasts: its frames x the frame time."""
+        return len(self.frames) * self.frame_time
+
+
+def verdict(text: str, severity: int, frames: list[int] | None = None) -> dict:
+    """A method's verdict on the job: one line, severity 0 (green) / 1 (yellow) / 2 (red) / None (no rating), and the
+    frames that drive it."""
+    return dict(text=text, severity=severity, frames=frames or [])
+
+
+class Method:
+    """One job method. ``evaluate`` returns a JSON-safe dict with at least ``verdict`` (:func:`verdict`); an entry
+    ``per_frame`` (column name -> one value per frame) goes into the CSV, ``plot`` (optional) into the HTML."""
+
+    name = ""
+    title = ""
+    source = ""
+
+    def evaluate(self, inputs: JobInputs) -> dict:
+        raise NotImplementedError

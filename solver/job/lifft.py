@@ -1,0 +1,91 @@
+"""LiFFT, the Lifting Fatigue Failure Tool (Gallagher, Sesek, Schall & Huangfu 2017, "Development and validation of
+an easy-to-use risk assessment tool for cumulative low back loading: The Lifting Fatigue Failure Tool (LiFFT)",
+Applied Ergonomics 63:142-150): a daily dose of low-back loading by fatigue-failure theory.
+
+Each lift's peak load moment PLM (N*m) = the load's weight (N) x the largest horizontal distance (m) from the low
+back to the load during the lift. Damage per lift and the probability of a high-risk job (12+ low-back injuries per
+200,000 h worked, Marras et al. 1993) in the form Zelik, Nurse, Schall, Sesek, Marino & Gallagher 2022 (Applied
+Ergonomics 99:103619, eq. 1-2) print for LiFFT::
+
+    damage per lift  = 1 / (1,902,416 x exp(-(0.038 x PLM + 0.32)))
+    CD               = sum over tasks of lifts per day x damage per lift   (Palmgren-Miner)
+    P(high-risk job) = exp(Y) / (1 + exp(Y)),  Y = 1.72 + 1.03 x log10(CD)
+
+Here the motion is one task: its lift's PLM is the largest over the frames of the load's weight x the horizontal
+distance from the lumbosacral joint (L5/S1, the body's ``l5_rx``) to the hands holding the load (their midpoint
+for both hands); the lifts per day are the job's cycles per shift x lifts per cycle.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..io.result.frame import Frame
+from .base import JobInputs, Method, verdict
+
+SCALE = 1_902_416.0  # damage-per-lift equation's constant (Zelik et al. 2022 eq. 1)
+MOMENT_COEFFICIENT = 0.038  # 1/(N*m)
+OFFSET = 0.32
+BETA0, BETA1 = 1.72, 1.03  # logistic model of a high-risk job on log10(CD) (Zelik et al. 2022 eq. 2)
+SPINE = "l5_rx"  # the lumbosacral (L5/S1) joint the horizontal distance is measured from
+
+
+def damage_per_lift(plm: float) -> float:
+    """LiFFT damage of one lift with peak load moment ``plm`` (N*m); dimensionless."""
+    return 1.0 / (SCALE * math.exp(-(MOMENT_COEFFICIENT * plm + OFFSET)))
+
+
+def cumulative_damage(tasks: list[tuple[float, float]]) -> float:
+    """CD of a day's tasks, each (PLM N*m, lifts per day): the sum of lifts x damage per lift."""
+    return sum(lifts * damage_per_lift(plm) for plm, lifts in tasks)
+
+
+def probability(cd: float) -> float:
+    """Probability (0-1) that a job of cumulative damage ``cd`` is a high-risk job; 0 for no damage (no lifts)."""
+    if cd <= 0.0:
+        return 0.0
+    y = BETA0 + BETA1 * math.log10(cd)
+    return 1.0 / (1.0 + math.exp(-y))
+
+
+def horizontal_distance(frame: Frame, hands: tuple[str, ...]) -> float:
+    """m from L5/S1 to the hands (their midpoint), across gravity."""
+    down = frame.gravity / np.linalg.norm(frame.gravity)
+    d = np.mean([frame.tcp_position[h] for h in hands], axis=0) - frame.pos(SPINE)
+    return float(np.linalg.norm(d - np.dot(d, down) * down))
+
+
+class Lifft(Method):
+    name = "lifft"
+    title = "LiFFT low-back cumulative damage"
+    source = (
+        "Gallagher, Sesek, Schall & Huangfu 2017, Applied Ergonomics 63:142-150 (LiFFT); equations as printed by "
+        "Zelik et al. 2022, Applied Ergonomics 99:103619, eq. 1-2"
+    )
+
+    def evaluate(self, inputs: JobInputs) -> dict:
+        job = inputs.job
+        missing = [h for h in job.hands if h not in inputs.frames[0].tcp_position]
+        if SPINE not in inputs.frames[0].index or missing:
+            return dict(verdict=verdict(f"not rated: the manikin has no {SPINE} or {', '.join(missing)}", None))
+        weight = job.load_mass * float(np.linalg.norm(inputs.frames[0].gravity))  # N
+        distance = [horizontal_distance(f, job.hands) for f in inputs.frames]
+        moment = [weight * d for d in distance]
+        peak = int(np.argmax(moment))
+        plm = moment[peak]
+        per_lift = damage_per_lift(plm)
+        cd = cumulative_damage([(plm, job.lifts)])
+        p = probability(cd)
+        number = inputs.frames[peak].number
+        text = f"P(high-risk job) {100 * p:.0f} % (CD {cd:.3g}, PLM {plm:.0f} N*m at frame {number}, {job.lifts} lifts)"
+        if p >= 0.5:
+            text += ": more likely than not a high-risk job"
+        return dict(
+            verdict=verdict(text, 2 if p >= 0.5 else None, [number]),
+            peak_load_moment_Nm=plm, peak_frame=number, horizontal_distance_m=distance[peak], load_weight_N=weight,
+            lifts_per_shift=job.lifts, damage_per_lift=per_lift, cumulative_damage=cd, probability_high_risk=p,
+            per_frame={"lifft_horizontal_distance_m": distance, "lifft_load_moment_Nm": moment},
+            plot=dict(kind="line", y="lifft_load_moment_Nm", label="load moment about L5/S1 (N*m)", mark=peak),
+        )  # fmt: skip

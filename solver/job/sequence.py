@@ -1,0 +1,58 @@
+"""The sequence-level summary of the per-frame scores (:mod:`solver.ergonomics`: RULA, REBA, OWAS): the time the
+motion spends at each RULA action level, REBA risk level and OWAS action category (s, % of the motion, % of the
+work cycle), not only the worst frame. Each frame stands for 1/fps s. The levels are the sources' own (McAtamney &
+Corlett 1993 for RULA, Hignett & McAtamney 2000 for REBA, Karhu, Kansi & Kuorinka 1977 for OWAS)."""
+
+from __future__ import annotations
+
+from .base import JobInputs, Method, verdict
+
+REBA_RISKS = ("negligible", "low", "medium", "high", "very high")
+# score: (entry key, its levels in order, how the level is named, severity of each level: as the ergo verdicts)
+SCORES = {
+    "rula": ("action_level", (1, 2, 3, 4), "RULA action level", (0, 1, 2, 2)),
+    "reba": ("risk", REBA_RISKS, "REBA risk", (0, 0, 1, 2, 2)),
+    "owas": ("action_category", (1, 2, 3, 4), "OWAS action category", (0, 1, 2, 2)),
+}
+
+
+def time_at_levels(levels: list, order: tuple, frame_time: float, cycle_time: float) -> list[dict]:
+    """Per level of ``order``: frames, s, % of the motion, % of the cycle (``levels``: one per frame, None unrated)."""
+    n = len(levels)
+    out = []
+    for level in order:
+        count = sum(1 for v in levels if v == level)
+        seconds = count * frame_time
+        out.append(dict(level=level, frames=count, seconds=seconds, percent_of_motion=100.0 * count / n if n else 0.0,
+                        percent_of_cycle=100.0 * seconds / cycle_time))  # fmt: skip
+    return out
+
+
+class Sequence(Method):
+    name = "sequence"
+    title = "Time at each RULA / REBA / OWAS level"
+    source = "per-frame scores of solver.ergonomics (RULA, REBA, OWAS), summed over the motion's frames"
+
+    def evaluate(self, inputs: JobInputs) -> dict:
+        frames = inputs.ergo["frames"]
+        numbers = [f["frame"] for f in frames]
+        out: dict = {"per_frame": {}}
+        texts, severity, drivers = [], 0, []
+        for score, (key, order, what, severities) in SCORES.items():
+            levels = [(f.get(score) or {}).get(key) for f in frames]
+            table = time_at_levels(levels, order, inputs.frame_time, inputs.job.cycle_time)
+            rated = [i for i, v in enumerate(levels) if v in order]
+            if not rated:
+                out[score] = dict(levels=table, worst=None)
+                continue
+            worst = max((levels[i] for i in rated), key=order.index)
+            at_worst = [numbers[i] for i in rated if levels[i] == worst]
+            row = table[order.index(worst)]
+            out[score] = dict(levels=table, worst=worst, worst_frames=at_worst, unrated_frames=len(levels) - len(rated))
+            out["per_frame"][f"{score}_{key}"] = levels
+            texts.append(f"{what} {worst} for {row['seconds']:.1f} s ({row['percent_of_motion']:.0f} % of the motion)")
+            severity = max(severity, severities[order.index(worst)])
+            drivers.append(at_worst[0])
+        out["verdict"] = verdict("; ".join(texts) or "not rated", severity if texts else None, sorted(set(drivers)))
+        out["plot"] = dict(kind="levels")
+        return out
