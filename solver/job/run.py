@@ -27,7 +27,7 @@ def motion_of(job: Job, out_dir: Path) -> ResultFile:
     from ..motion.frames import solve_motion
 
     scenario = load_scenario(job.scenario)
-    writer = ResultWriter(out_dir / "motion.json", scenario.path, None)
+    writer = ResultWriter(out_dir / "motion.json", Path(scenario.path).resolve(), None)  # found from anywhere
     for frame, result in solve_motion(scenario):
         writer.add(frame, result)
     return read_result(writer.close())
