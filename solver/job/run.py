@@ -6,9 +6,9 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from ..errors import UsageError
 from ..ergonomics import ErgoOptions, evaluate
 from ..ergonomics.report import clean
+from ..errors import UsageError
 from ..io.files import open_output, write_json, write_text
 from ..io.result.read import ResultFile, read_result
 from .base import JobInputs
@@ -39,8 +39,9 @@ def evaluate_job(job: Job, motion: ResultFile) -> dict:
     if not motion.frames:
         raise UsageError(f"{job.path}: motion: the result has no frames")
     if len(motion.frames) / job.fps > job.cycle_time * (1 + 1e-9):
-        raise UsageError(f"{job.path}: work.cycle_time: expected at least the motion's {len(motion.frames)} frames "
-                         f"at {job.fps:g} fps ({len(motion.frames) / job.fps:.2f} s), got {job.cycle_time:g}")  # fmt: skip
+        n = len(motion.frames)
+        raise UsageError(f"{job.path}: work.cycle_time: expected at least the motion's {n} frames at {job.fps:g} "
+                         f"fps ({n / job.fps:.2f} s), got {job.cycle_time:g}")  # fmt: skip
     ergo = evaluate(motion, ErgoOptions(load_mass=job.load_mass))
     inputs = JobInputs(job, motion.frames, ergo)
     methods = {name: method.evaluate(inputs) for name, method in METHODS.items()}

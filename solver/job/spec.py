@@ -94,5 +94,7 @@ def read_job(path: str | Path) -> Job:
         shift=shift,
         lifts_per_cycle=work.integer("lifts_per_cycle", 1, 0, 1000, "a whole number of lifts per cycle"),
         load_mass=load.number("mass", None, 0.0, 1000.0, "kg"),
-        hands=HANDS[load.choice("hands", HANDS, "which hands hold the load")] if "hands" in load.data else HANDS["both"],
+        hands=HANDS[load.choice("hands", HANDS, "which hands hold the load")]
+        if "hands" in load.data
+        else HANDS["both"],
     )

@@ -10,7 +10,6 @@ from pathlib import Path
 from solver.cli.main import main
 
 
-
 def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tuple[dict, Path]) -> None:
     report, out = example
     assert sorted(p.name for p in out.iterdir()) == ["job.csv", "job.html", "job.json", "motion.json"]
@@ -25,7 +24,7 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     html = (out / "job.html").read_text()
     assert html.index("Verdicts") < html.index("LiFFT low-back") < html.index("<h2>The job")
     assert html.count("data:image/png;base64,") == 2
-    assert "<link" not in html and "<script" not in html and "src=\"http" not in html  # nothing fetched: offline
+    assert "<link" not in html and "<script" not in html and 'src="http' not in html  # nothing fetched: offline
     seq = data["methods"]["sequence"]
     assert sum(r["frames"] for r in seq["rula"]["levels"]) == 60
     assert abs(sum(r["seconds"] for r in seq["owas"]["levels"]) - 2.5) < 1e-9
