@@ -79,7 +79,7 @@ def _gltf(path: Path) -> str | None:
         if uri and not uri.startswith("data:"):
             side = path.parent / unquote(uri)
             if not side.is_file() or side.stat().st_size != buffer.get("byteLength"):
-                return f"its buffer {side.name} is missing or cut short"
+                return "its .bin (the buffer beside it) is missing or cut short"
     return None
 
 
@@ -132,11 +132,11 @@ def written_by_path(path: str | Path, added: str = "") -> Iterator[Path]:
         if work != target:  # the writer named it: onto the temporary file (its mode is the output's)
             os.chmod(work, os.stat(target).st_mode & 0o7777)
             os.replace(work, target)
-        if path.suffix.lower() == ".gltf" and out.temporary:
-            side.append(_bin_beside(path, target, work))
         wrong = problem(target, path.suffix.lower()) if out.temporary else None
         if wrong is not None:
             raise WriteError(f"{path}: cannot write ({wrong})")
+        if path.suffix.lower() == ".gltf" and out.temporary:
+            side.append(_bin_beside(path, target, work))
         for extra in side:
             extra.commit()
         out.commit()
