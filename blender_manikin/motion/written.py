@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import stat
 import struct
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -125,12 +126,19 @@ def written_by_path(path: str | Path, added: str = "") -> Iterator[Path]:
     side: list[OutputFile] = []  # a .gltf's .bin, put in place with it
     leftovers = {work, work.with_suffix(".bin")} - {target} if out.temporary else set()  # a failed writer's files
     try:
+        mode = None
+        if out.temporary:  # the writer makes the file: Blender's Save As would keep an existing one as NAME1
+            mode = stat.S_IMODE(os.stat(target).st_mode)  # the output's (the old file's) permissions
+            os.unlink(target)
         try:
             yield work
         except (OSError, RuntimeError) as exc:
             raise WriteError(f"{path}: cannot write ({reason(exc)})") from None
-        if work != target:  # the writer named it: onto the temporary file (its mode is the output's)
-            os.chmod(work, os.stat(target).st_mode & 0o7777)
+        if not work.is_file():
+            raise WriteError(f"{path}: cannot write (nothing was written)")
+        if mode is not None:
+            os.chmod(work, mode)
+        if work != target:  # the writer named it: onto the temporary file's name
             os.replace(work, target)
         wrong = problem(target, path.suffix.lower()) if out.temporary else None
         if wrong is not None:
@@ -158,7 +166,7 @@ def _bin_beside(path: Path, target: Path, work: Path) -> OutputFile:
     out = OutputFile(path.with_suffix(".bin"), binary=True)
     out.stream.close()
     if written.is_file() and out.temporary is not None:
-        os.chmod(written, os.stat(out.temporary).st_mode & 0o7777)  # the .bin's mode, as the output's
+        os.chmod(written, stat.S_IMODE(os.stat(out.temporary).st_mode))  # the old .bin's permissions
         os.replace(written, out.temporary)
         text = target.read_text(encoding="utf-8")
         old, new = json.dumps(quote(written.name)), json.dumps(quote(path.with_suffix(".bin").name))

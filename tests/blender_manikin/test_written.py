@@ -91,8 +91,11 @@ def test_a_file_cut_short_is_refused_and_a_whole_one_replaces_the_old(tmp_path: 
 
 
 def test_an_empty_file_is_refused(tmp_path: Path) -> None:
-    with pytest.raises(ManikinError, match="the file is empty"), written_by_path(tmp_path / "m.fbx"):
-        pass  # the writer wrote nothing
+    with pytest.raises(ManikinError, match="the file is empty"), written_by_path(tmp_path / "m.fbx") as work:
+        work.write_bytes(b"")
+    with pytest.raises(ManikinError, match=r"m.fbx: cannot write \(nothing was written\)$"):
+        with written_by_path(tmp_path / "m.fbx"):
+            pass  # the writer wrote nothing
     assert only(tmp_path) == []
 
 
