@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 REASONS = {"tmpfs": "No space left on device", "rlimit": "File too large"}
-CUT_BLEND = "the BLEND file is cut short or malformed"  # written.py's check of a .blend
+CUT_BLEND = "the BLEND file is cut short or malformed"  # written.py's check: Blender wrote under RLIMIT_FSIZE
+# without an error (a .blend cut at the limit), which only the check catches
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +34,8 @@ def test_every_writer_on_a_full_disk_says_so_and_keeps_the_old_file(session: dic
     reason = REASONS[session["how"]]
     full = Path(session["work"]) / "full"
     for name, case in session["cases"].items():
-        assert case["error"] == f"{full / name}: cannot write ({reason})", (name, case)
+        why = (reason, CUT_BLEND) if name.endswith(".blend") else (reason,)  # Blender may not see a size limit
+        assert case["error"] in [f"{full / name}: cannot write ({w})" for w in why], (name, case)
         assert case["old"], name
     assert session["bin_old"]  # the .gltf's .bin too
 
