@@ -7,7 +7,8 @@ BVH, .glb, .gltf, the .blend, the key-pose picture; Export Motion, the UI's oper
 old file in ``<work>/full`` while the disk is full, and records the error, the old file and what else is in the
 folder. The disk: a tmpfs the test mounted at ``<work>/full`` is filled with a file; where none could be mounted,
 each writer runs under a file-size limit (RLIMIT_FSIZE) instead: the real writers fail either way, with "No space
-left on device" or "File too large". Then the filler goes and a .gltf replaces its old .gltf and .bin.
+left on device" or "File too large". Then the filler goes and a .gltf replaces its old .gltf and .bin. The bake
+also records what a frame's record keeps once it is handed on (issue 34: a long bake's memory).
 """
 
 from __future__ import annotations
@@ -86,7 +87,12 @@ if how == "rlimit":  # only the writers under the limit: Blender's own temporary
 t0 = time.perf_counter()
 arm = job.open_scene(job.Job(scenario=SNAKE))
 baker = bake.Baker(bpy.context.scene, arm, 1, 3)
+handed: list[int] = []  # each frame's residuals as the files get them
+baker.on_frame = lambda record, result: handed.append(len(record.residuals))
 baker.run()
+seen["residuals_handed_on"] = handed
+seen["residuals_kept"] = sum(len(r.residuals) for r in baker.records)  # after: none (a long bake's memory)
+seen["record_has_dict"] = hasattr(baker.records[0], "__dict__")
 baker.write(thin=True)
 seen["seconds"]["bake"] = time.perf_counter() - t0
 
