@@ -57,14 +57,17 @@ def _tail(path: Path, size: int) -> bytes:
 
 
 def _bvh(path: Path) -> str | None:
-    """A BVH's motion rows counted against its ``Frames:`` line."""
-    data = path.read_bytes()
-    if not data.startswith(b"HIERARCHY"):
-        return "no BVH header"
-    head, _, rows = data.partition(b"Frame Time:")
-    frames = re.search(rb"Frames:\s*(\d+)", head)
-    count = rows.count(b"\n") - 1  # the Frame Time line's own end
-    if frames is None or count != int(frames.group(1)) or not data.endswith(b"\n"):
+    """A BVH's motion rows counted against its ``Frames:`` line (read in chunks: a long motion's BVH is large)."""
+    with open(path, "rb") as fh:
+        head = fh.read(1 << 20)  # the hierarchy and the motion's header lines
+        frames = re.search(rb"Frames:\s*(\d+)\s*\nFrame Time:[^\n]*\n", head)
+        if not head.startswith(b"HIERARCHY") or frames is None:
+            return "no BVH header" if not head.startswith(b"HIERARCHY") else "the BVH's motion is cut short"
+        fh.seek(frames.end())
+        rows, last = 0, b"\n"
+        while chunk := fh.read(1 << 20):
+            rows, last = rows + chunk.count(b"\n"), chunk[-1:]
+    if rows != int(frames.group(1)) or last != b"\n":
         return "the BVH's motion is cut short"
     return None
 
