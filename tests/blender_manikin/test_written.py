@@ -125,3 +125,24 @@ def test_a_gltf_whose_bin_is_cut_short_keeps_both_old_files(tmp_path: Path) -> N
             work.with_suffix(".bin").write_bytes(b"\x01\x02")
     assert path.read_text(encoding="utf-8") == "OLD" and (tmp_path / "m.bin").read_bytes() == b"OLD"
     assert only(tmp_path) == ["m.bin", "m.gltf"]
+
+
+def test_a_full_temporary_folder_under_the_report_is_one_line_naming_the_report(tmp_path: Path) -> None:
+    """The report keeps its frames in a temporary file of the system's folder until the end: that folder full is
+    one line naming the report (was an OSError naming no file)."""
+    from test_scores_follow_registry import FRAMES, MotionReport, Record, solver
+
+    scenario = solver.load_scenario(Path(__file__).resolve().parents[2] / "presets/scenarios/box_lift.toml")
+    result = solver.solve(scenario.problem_at(1), scenario.start, scenario.options)
+    report = MotionReport(result.problem.model, "male_50", tmp_path / "report.json", plots=False)
+
+    class Full:
+        def write(self, text: str) -> int:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    report._frames = Full()
+    with pytest.raises(ManikinError) as caught:
+        report.add(Record(FRAMES[0]), result)
+    assert str(caught.value) == (
+        f"{tmp_path / 'report.json'}: cannot write (its frames' temporary file: No space left on device)"
+    )
