@@ -15,6 +15,7 @@ imports nothing heavy (the Blender add-on loads it when it enables; ``batch.py``
 """
 
 import argparse
+import math
 
 
 class ManikinError(Exception):
@@ -52,3 +53,14 @@ def shown(value: object, width: int = SHOWN) -> str:
     """``repr(value)``, cut to ``width`` characters with "..." (an error line names the value, not a whole mesh)."""
     text = repr(value)
     return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def is_number(value: object) -> bool:
+    """A finite int or float, not a bool: what every reader takes as a number. An int too large for a float (a
+    400-digit ``position`` in a TOML file) is not one: ``math.isfinite`` would raise OverflowError on it."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # an int beyond +-1.8e308
+        return False

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import bpy
 
+from ..scene.help import draw_help
 from ..scene.schema import rig_of
 from . import control
 
@@ -13,6 +14,7 @@ class MANIKIN_PT_envelope(bpy.types.Panel):
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Manikin"
+    draw_header_preset = draw_help  # the help button (scene/help.py)
     bl_label = "Reach Envelope"
     bl_parent_id = "MANIKIN_PT_main"
     bl_order = 8  # after the population study (pose/panels.py lists the others' places)

@@ -13,6 +13,7 @@ import bpy
 from bpy.props import IntProperty
 
 from ..pose.panels import draw_verdict
+from ..scene.help import draw_help
 from ..scene.schema import baked_frame, rig_of
 
 LEVEL_SEVERITY = {"green": 0, "yellow": 1, "red": 2}  # a motion score's level (the NIOSH lifting index's band)
@@ -43,6 +44,7 @@ class MANIKIN_PT_motion_ergonomics(bpy.types.Panel):
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Manikin"
+    draw_header_preset = draw_help  # the help button (scene/help.py)
     bl_label = "Motion Ergonomics"
     bl_parent_id = "MANIKIN_PT_motion"
 

@@ -28,14 +28,16 @@ def target_empties(arm: bpy.types.Object) -> list[bpy.types.Object]:
 
 
 def key_target(ob: bpy.types.Object, arm: bpy.types.Object, keys: list[tuple[int, np.ndarray, np.ndarray]]) -> None:
-    """Key ``ob`` at each (frame, position, rotation 3x3) given in the armature's space."""
+    """Key ``ob`` at each (frame, position, rotation 3x3) given in the armature's space (its own space when it is
+    parented to the armature, as imported targets are: they move with the manikin)."""
     ob.rotation_mode = "QUATERNION"
+    space = Matrix.Identity(4) if ob.parent == arm else arm.matrix_world
     frames = np.array([k[0] for k in keys], dtype=float)
     locations, quats = [], []
     for _, position, rotation in keys:
         local = np.eye(4)
         local[:3, :3], local[:3, 3] = rotation, position
-        loc, quat, _ = (arm.matrix_world @ Matrix(local.tolist())).decompose()
+        loc, quat, _ = (space @ Matrix(local.tolist())).decompose()
         q = np.array(quat)
         if quats and float(q @ quats[-1]) < 0.0:  # the short way round between keys
             q = -q

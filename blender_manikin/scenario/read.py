@@ -123,7 +123,7 @@ def _apply(scene: bpy.types.Scene, arm: bpy.types.Object, sc: Scenario, warnings
     zero = sc.model.forward(sc.model.zero_pose())
     empties = []
     for t in problem.all_targets:
-        ob = targets.add_target(arm, t.tcp, t.lock, t.support, t.friction)
+        ob = targets.add_target(arm, t.tcp, t.lock, t.support, t.friction, follow=True)  # moves with the manikin
         empties.append(ob)
         rot = t.rotation if t.rotation is not None else zero.tcp_frame(sc.model.tcp(t.tcp))[0]
         ob.matrix_world = _world(arm, rot, t.position)

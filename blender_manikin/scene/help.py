@@ -16,6 +16,8 @@ PAGES = {  # panel class -> page (and section) under DOCS_URL
     "MANIKIN_PT_motion": "guide/blender.html#motions-in-blender-bake-batch-exports",
     "MANIKIN_PT_retarget": "RETARGET.html",
     "MANIKIN_PT_study": "tutorials/study.html#a-study-from-blender",
+    "MANIKIN_PT_motion_ergonomics": "tutorials/motion.html#4-the-same-in-blender",
+    "MANIKIN_PT_envelope": "tutorials/envelope.html#from-the-sidebar",
 }
 DEFAULT_PAGE = "guide/blender.html"  # a panel not in PAGES
 

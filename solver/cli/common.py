@@ -8,6 +8,7 @@ from ..io.output_paths import check_distinct, check_output
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
 EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a writer whose reader left
+EXIT_TERMINATED = 143  # 128 + SIGTERM: stopped by SIGTERM (kept what was done, as on Ctrl-C)
 
 
 def check_file_output(output: str | None, source: str | None) -> None:

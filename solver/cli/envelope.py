@@ -101,13 +101,24 @@ def _sweeps(runs: list, settings: EnvelopeSettings, directions: int, processes: 
         for k, (name, side) in enumerate(runs):
             yield _one(name, side, settings, lambda done, _total, before=k * n: progress.update(before + done))
         return
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    with ProcessPoolExecutor(min(processes, len(runs))) as pool:
+    from ..threads import end_with_parent
+
+    pool = ProcessPoolExecutor(min(processes, len(runs)), initializer=end_with_parent)
+    try:
         futures = [pool.submit(_one, name, side, settings) for name, side in runs]
         for k, future in enumerate(as_completed(futures), 1):
             progress.update(k * n)
             yield future.result()
+    except BaseException:  # Ctrl-C, SIGTERM, an error: the envelopes written are kept, the unfinished ones dropped
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in multiprocessing.active_children():
+            worker.terminate()
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _check(args: argparse.Namespace) -> tuple[list, EnvelopeSettings]:

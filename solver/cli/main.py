@@ -9,7 +9,8 @@ numpy nor scipy.
 
 Exit codes (:mod:`.common`): 0 every frame converged, 3 some frame did not (the JSON is still written), 2 bad input
 (one line on stderr naming the file, the key and what was expected), 130 interrupted (Ctrl-C; the frames solved so
-far are kept in the result file, which says where the run stopped), 141 the reader of the output left (``| head``).
+far are kept in the result file, which says where the run stopped), 143 stopped by SIGTERM (``timeout``, ``kill``,
+CI: handled as Ctrl-C, the same is kept), 141 the reader of the output left (``| head``).
 """
 
 from __future__ import annotations
@@ -19,8 +20,9 @@ import os
 import sys
 
 from ..errors import ArgumentParser, ManikinError
+from ..io.interrupts import sigterm_as_interrupt, stopped_by
 from . import envelope, ergo, family, presets, solve, study, urdf, validate
-from .common import EXIT_BAD_INPUT, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED
+from .common import EXIT_BAD_INPUT, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED
 
 COMMAND_MODULES = (solve, ergo, study, urdf, presets, family, envelope, validate)  # in the order --help lists them
 COMMANDS = tuple(module.__name__.rpartition(".")[2] for module in COMMAND_MODULES)  # the command names
@@ -38,8 +40,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run one command; its exit code (bad input: one line on stderr starting ``error:``, exit 2)."""
     try:
-        args = build_parser().parse_args(argv)
-        return args.run(args)
+        with sigterm_as_interrupt():  # SIGTERM takes Ctrl-C's path while the command runs (its handler back after)
+            args = build_parser().parse_args(argv)
+            code = args.run(args)
+        return EXIT_TERMINATED if code == EXIT_INTERRUPTED and stopped_by() == "SIGTERM" else code
     except ManikinError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -50,6 +54,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
+        if stopped_by() == "SIGTERM":
+            print("terminated (SIGTERM)", file=sys.stderr)
+            return EXIT_TERMINATED
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
 

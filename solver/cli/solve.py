@@ -1,15 +1,16 @@
 """``python -m solver solve SCENARIO.toml [-o RESULT.json|RESULT.jsonl|-] [--format json|compact] [-q]``: solve
 every frame of a scenario, write the result file as the frames are solved, and print a summary. Exit 3 when a
-frame did not converge; on Ctrl-C the frames solved so far are kept and the file says where the run stopped."""
+frame did not converge; on Ctrl-C (or SIGTERM) the frames solved so far are kept and the file says where the run
+stopped."""
 
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 from typing import TYPE_CHECKING
 
 from ..io.files import STDOUT
+from ..io.interrupts import ignore_stops, stopped_by
 from .common import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, check_file_output
 
 if TYPE_CHECKING:
@@ -86,14 +87,15 @@ def _print_motion(frames: list[int], failed: list[int], took: float) -> None:
 
 
 def _interrupted(frames: list[int], writer: ResultWriter | None) -> int:
-    """Ctrl-C in the frame loop: keep the solved frames (the file says where it stopped) and say so in one line."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the solved frames are being kept: a second Ctrl-C waits
+    """Ctrl-C or SIGTERM in the frame loop: keep the solved frames (the file says where it stopped) and say so in
+    one line."""
+    ignore_stops()  # the solved frames are being kept: a second Ctrl-C or SIGTERM waits
     solved = 0 if writer is None else writer.count
     at = frames[min(solved, len(frames) - 1)]
     if writer is None:
         print(f"interrupted at frame {at}; nothing kept (no -o RESULT given)", file=sys.stderr)
         return EXIT_INTERRUPTED
-    kept = writer.close(interrupted_at=at, reason="interrupted (Ctrl-C)")
+    kept = writer.close(interrupted_at=at, reason=f"interrupted ({stopped_by()})")
     where = f"in {kept}" if kept is not None else f"({writer.path} not written)"
     print(f"interrupted at frame {at}; kept {solved} solved frames {where}", file=sys.stderr)
     return EXIT_INTERRUPTED

@@ -9,6 +9,7 @@ import sys
 
 from ..errors import UsageError
 from ..io.files import STDOUT, write_text
+from ..io.interrupts import stopped_by
 from .common import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, check_count
 
 
@@ -42,7 +43,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the study (0 when every run converged, else 3; 130 on Ctrl-C), or write one row's scenario (0)."""
+    """Run the study (0 when every run converged, else 3; 130 on Ctrl-C or SIGTERM), or write one row's scenario (0)."""
     from ..study import run_study
 
     if args.scenario_of is not None:
@@ -58,7 +59,8 @@ def run(args: argparse.Namespace) -> int:
     if outcome.interrupted:
         kept = outcome.converged + outcome.not_converged + outcome.failed
         again = "(run the same command again to go on)"
-        print(f"interrupted; kept {kept} of {outcome.total} runs in {args.output} {again}", file=sys.stderr)
+        why = "" if stopped_by() == "Ctrl-C" else f" ({stopped_by()})"
+        print(f"interrupted{why}; kept {kept} of {outcome.total} runs in {args.output} {again}", file=sys.stderr)
         return EXIT_INTERRUPTED
     if not args.quiet:
         print(outcome.line())

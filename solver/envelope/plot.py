@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.files import open_output
 from .analysis import mesh, section
 from .sweep import Envelope
 
@@ -66,6 +67,9 @@ def plot_envelope(envelope: Envelope, path: str | Path, stats: dict | None = Non
                  f"at most {o['max_difference_m'] * 1e3:.0f} mm")  # fmt: skip
     fig.suptitle(head, fontsize=11)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    try:
+        with open_output(path, binary=True) as fh:  # a full disk: one line naming the file, no half a PNG
+            fig.savefig(fh, format="png", dpi=80)
+    finally:
+        plt.close(fig)
     return Path(path)

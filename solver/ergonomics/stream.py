@@ -125,9 +125,13 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
     missed: list[int] = []  # frames that did not converge, and those of them that broke priority 1
     held: list[int] = []
     json_out = OutputFile(output)
-    csv_out = OutputFile(csv_path)
     try:
-        out, table = json_out.stream, csv_out.stream
+        csv_out = OutputFile(csv_path)
+    except BaseException:
+        json_out.discard()
+        raise
+    try:
+        out, table = json_out, csv_out  # their write names the file on a full disk
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
         for f in stream:
@@ -150,7 +154,11 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         json_out.discard()
         csv_out.discard()
         raise
-    json_out.commit()
+    try:
+        json_out.commit()
+    except BaseException:  # a full disk: no temporary CSV left either
+        csv_out.discard()
+        raise
     csv_out.commit()
     written = [output, csv_path]
     if plots:

@@ -3,7 +3,8 @@
 Writing (:func:`open_output`): ``"-"`` is standard output; a path that exists and is not a regular file (a
 device such as ``/dev/null``, a FIFO, ``/dev/stdout``) is written in place and never replaced; anything else is
 written to a temporary file beside it that then replaces it, so a reader never sees half a file, and a failed
-write leaves the old file and no temporary file behind.
+write leaves the old file and no temporary file behind (one a killed run left is removed by the next run writing
+there: :mod:`.temporaries`).
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import json
 import os
 import stat
 import sys
-import tempfile
 import tomllib
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -20,6 +20,8 @@ from pathlib import Path
 from typing import IO, Any
 
 from ..errors import ManikinError
+from .parse_limits import check_depth, too_deep, too_many_digits
+from .temporaries import make_temporary
 
 STDOUT = "-"  # the output path that means standard output
 
@@ -30,29 +32,49 @@ def read_text(path: Path, error: type[ManikinError] = ManikinError) -> str:
         return Path(path).read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise error(f"{path}: file not found") from None
-    except IsADirectoryError:
-        raise error(f"{path}: is a directory, expected a file") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise error(f"{path}: cannot read ({_reason(exc)})") from None
+        raise read_error(path, exc, error) from None
+
+
+def read_error(path: Path | str, exc: OSError | UnicodeDecodeError, error: type[ManikinError]) -> ManikinError:
+    """The one line for an input that cannot be read: a folder (Windows says "permission denied" for one), text
+    that is not UTF-8 (where), or the system's reason."""
+    if isinstance(exc, IsADirectoryError) or (isinstance(exc, OSError) and os.path.isdir(path)):
+        return error(f"{path}: is a folder, expected a file")
+    if isinstance(exc, UnicodeDecodeError):
+        byte = exc.object[exc.start : exc.start + 1].hex()
+        return error(f"{path}: cannot read (not utf-8 text: byte 0x{byte}, {exc.reason}; save it as UTF-8)")
+    return error(f"{path}: cannot read ({_reason(exc)})")
 
 
 def read_toml(path: Path, error: type[ManikinError] = ManikinError) -> dict:
     """A TOML file's tables (the one TOML reader: scenarios and bodies); malformed TOML raises ``error``."""
     text = read_text(path, error)
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: malformed TOML ({exc})") from None
+    except ValueError:  # int() refused a number of more than 4,300 digits
+        raise too_many_digits(path, text, error) from None
+    except RecursionError:
+        raise too_deep(path, text, error) from None
+    check_depth(data, path, error)
+    return data
 
 
 def read_json(path: Path, error: type[ManikinError]) -> Any:
     """A JSON file's content; unreadable or malformed files raise ``error`` with one line naming the file."""
+    text = read_text(path, error)
     try:
-        return json.loads(read_text(path, error))
+        data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise error(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except ValueError:  # int() refused a number of more than 4,300 digits
+        raise too_many_digits(path, text, error) from None
     except RecursionError:
-        raise error(f"{path}: not JSON (nested too deeply)") from None
+        raise too_deep(path, text, error) from None
+    check_depth(data, path, error)
+    return data
 
 
 def writes_in_place(path: Path) -> bool:
@@ -95,7 +117,7 @@ class OutputFile:
             else:
                 self._target = Path(os.path.realpath(path))
                 self._target.parent.mkdir(parents=True, exist_ok=True)
-                fd, self._tmp = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=self._target.parent)
+                fd, self._tmp = make_temporary(self._target.parent)  # (and a killed run's there removed)
                 os.chmod(self._tmp, _mode_for(self._target))  # mkstemp's 0600 would make every output private
                 self.stream = os.fdopen(fd, mode, **text)
         except OSError as exc:
@@ -103,6 +125,13 @@ class OutputFile:
             in_the_way = isinstance(exc, FileExistsError | NotADirectoryError)  # mkdir met a file
             why = "a file is where its folder should be" if in_the_way else _reason(exc)
             raise ManikinError(f"{path}: cannot write ({why})") from None
+
+    def write(self, data: str | bytes) -> int:
+        """Write ``data`` to the stream; an OSError (a full disk) is one ManikinError line naming the file."""
+        try:
+            return self.stream.write(data)
+        except OSError as exc:
+            raise ManikinError(f"{self.path}: cannot write ({_reason(exc)})") from None
 
     def commit(self) -> None:
         """Finish the output: flush and close it, and rename a temporary file onto the path."""

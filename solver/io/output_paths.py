@@ -8,12 +8,12 @@ regular file (``/dev/null``, a FIFO) is accepted: :func:`solver.io.files.open_ou
 from __future__ import annotations
 
 import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from ..errors import UsageError
 from .files import STDOUT, writes_in_place
+from .temporaries import make_temporary
 
 NAME_MAX, PATH_MAX = 255, 4096  # bytes, Linux's limits where the file system does not say
 
@@ -82,7 +82,7 @@ def _check_folder(folder: Path, where: str) -> None:
     if not existing.is_dir():
         raise UsageError(f"{where}: {shown(existing)} is not a directory")
     try:  # a file made and removed there: the one test that holds for root, read-only mounts and /proc alike
-        fd, probe = tempfile.mkstemp(prefix=".manikin-", suffix=".tmp", dir=existing)
+        fd, probe = make_temporary(existing)
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:

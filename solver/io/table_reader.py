@@ -19,6 +19,7 @@ import numpy as np
 
 from ..body.spatial import quat_to_matrix
 from ..errors import ManikinError, shown
+from ..errors import is_number as finite_number
 from ..options import AXES
 
 _MISSING = object()
@@ -28,8 +29,8 @@ OPERATOR_RANGE = (1e-6, 1e3)  # an operator row's largest |entry|: its scale can
 
 
 def is_number(value: Any) -> bool:
-    """A finite int or float (not a bool)."""
-    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    """A finite int or float (not a bool, not an int too large for a float): :func:`solver.errors.is_number`."""
+    return finite_number(value)
 
 
 def span(low: float, high: float) -> str:

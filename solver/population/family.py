@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..body.humans.human import SEXES
-from ..errors import UsageError
+from ..errors import UsageError, is_number
 from .model import Population, coverage_radius, population
 
 COVERAGE_RANGE = (0.01, 0.9999)  # beyond 0.9999 the ellipse leaves the adult range (5 standard deviations)
@@ -43,7 +43,7 @@ class Member:
 def check_family_args(coverage: float, points: int, samples: int, seed: int) -> None:
     """A UsageError line for the first argument out of its range."""
     lo, hi = COVERAGE_RANGE
-    if not (isinstance(coverage, int | float) and math.isfinite(coverage) and lo <= coverage <= hi):
+    if not (is_number(coverage) and lo <= coverage <= hi):
         raise UsageError(f"--coverage must be a share in [{lo}, {hi}] (e.g. 0.95), got {coverage!r}")
     if not (points == 0 or 3 <= points <= MAX_POINTS):
         raise UsageError(f"--points must be 0 (no boundary) or in [3, {MAX_POINTS}], got {points}")

@@ -18,7 +18,7 @@ from multiprocessing import get_context
 from types import ModuleType
 
 from ..errors import UsageError
-from ..threads import single_threaded_blas
+from ..threads import end_with_parent, single_threaded_blas
 from .plan import Run
 from .runner import failed, head, run_chunk
 
@@ -55,8 +55,10 @@ def outcome(future, chunk: list[Run]) -> tuple[list[dict], bool]:
 
 def ignore_interrupts() -> None:
     """In a worker process: Ctrl-C is the parent's to handle (it keeps the rows done and stops the pool); a worker
-    that took it too would die mid-run with a traceback."""
+    that took it too would die mid-run with a traceback. And the worker ends when the parent dies
+    (:func:`~solver.threads.end_with_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    end_with_parent()
 
 
 def run_local(runs: list[Run], workers: int, size: int, on_rows: OnRows) -> None:

@@ -64,11 +64,17 @@ class Journal:
             raise UsageError(f"{folder}: cannot write the study's output folder ({exc.strerror or exc})") from None
 
     def add(self, rows: list[dict]) -> None:
-        self.stream.write("".join(json.dumps(row) + "\n" for row in rows))  # a NIOSH LI may be inf (Infinity)
-        self.stream.flush()
+        try:
+            self.stream.write("".join(json.dumps(row) + "\n" for row in rows))  # a NIOSH LI may be inf (Infinity)
+            self.stream.flush()
+        except OSError as exc:  # a full disk: the rows before stay, a cut line is ended by the next run
+            raise UsageError(f"{self.path}: cannot write ({exc.strerror or exc})") from None
 
     def close(self) -> None:
-        self.stream.close()
+        try:
+            self.stream.close()
+        except OSError as exc:
+            raise UsageError(f"{self.path}: cannot write ({exc.strerror or exc})") from None
 
 
 def _lock(stream: IO, folder: Path) -> None:
@@ -130,8 +136,10 @@ def column_array(values: list) -> np.ndarray:
 def write_npz(path: Path, columns: list[str], rows: list[dict]) -> None:
     arrays = {c: column_array([row.get(c) for row in rows]) for c in columns}
     arrays["__columns__"] = np.array(columns, dtype=str)
+    buffer = io.BytesIO()  # zipped in memory: a zip cut by a full disk would complain again when collected
+    np.savez_compressed(buffer, **arrays)
     with open_output(path, binary=True) as fh:
-        np.savez_compressed(fh, **arrays)
+        fh.write(buffer.getbuffer())
 
 
 def write_tables(folder: Path, columns: list[str], rows: list[dict]) -> list[Path]:

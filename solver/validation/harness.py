@@ -4,13 +4,13 @@ error per measure)."""
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ScenarioError
+from ..io.files import read_toml
 from ..presets import PRESETS_DIR
 from .bvh import Bvh, read_bvh
 from .keyframe import Subject, solve_key_frame, subject_body
@@ -46,7 +46,7 @@ def read_manifest(path: str | Path = MANIFEST) -> tuple[dict, dict[str, dict], l
     """The manifest's top table, its subjects by id and its key frames; a ScenarioError names a missing key."""
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text())
+        data = read_toml(path, ScenarioError)  # a folder, non-UTF-8, 5000 digits, deep nesting: one line
         subjects = {str(s["id"]): dict(s) for s in data["subjects"]}
         frames = [
             KeyFrame(k["name"], str(k["subject"]), int(k["frame"]), k["task"], k.get("style", ""),
@@ -55,7 +55,7 @@ def read_manifest(path: str | Path = MANIFEST) -> tuple[dict, dict[str, dict], l
                      tuple(k.get("heel_raised", ())))
             for k in data["keyframes"]
         ]  # fmt: skip
-    except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError, ValueError) as exc:
+    except (OSError, KeyError, TypeError, ValueError, OverflowError) as exc:  # OverflowError: int(inf)
         raise ScenarioError(f"{path}: not a readable validation manifest ({type(exc).__name__}: {exc})") from None
     for k in frames:
         if k.subject not in subjects:

@@ -186,6 +186,17 @@ seen["bvh"] = world_bones(bvh, frames)
 seen["gltf"] = world_bones(gltf, frames)
 seen["gltf_mesh"] = any(ob.type == "MESH" and ob.find_armature() == gltf for ob in bpy.data.objects)
 seen["finite"] = bool(np.isfinite(np.array(seen["thetas"])).all())
+
+# Moving the manikin carries its imported (keyed) targets: each stays where it was in the manikin's frame.
+scene.frame_set(15)
+local = {t: list(arm.matrix_world.inverted() @ bpy.data.objects[f"target.{t}"].matrix_world.translation)
+         for t in ("hand_l", "hand_r", "foot_l")}  # fmt: skip
+arm.location.x += 1.0
+arm.rotation_euler.z += 0.5
+scene.frame_set(16)
+scene.frame_set(15)
+seen["moved_local"] = [local, {t: list(arm.matrix_world.inverted() @ bpy.data.objects[f"target.{t}"].matrix_world
+                                       .translation) for t in local}]  # fmt: skip
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 print("bake session done")
 exit_process(0)  # bpy 4.2 would segfault at exit after the glTF export

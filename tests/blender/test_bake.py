@@ -59,6 +59,13 @@ def test_import_keys_the_hand_targets(session: dict) -> None:
     assert set(session["target_curves"]["target.foot_l"]) == set()  # the feet are not keyed
 
 
+def test_imported_targets_move_with_the_manikin(session: dict) -> None:
+    """Moving and turning the armature carries the scenario's targets, keyed or not (they are its children)."""
+    before, after = session["moved_local"]
+    for tcp, position in before.items():
+        np.testing.assert_allclose(after[tcp], position, atol=1e-5)
+
+
 def test_export_writes_the_keys_back(session: dict) -> None:
     assert session["export"] == ["FINISHED"]
     original, exported = load_scenario(MOTION), load_scenario(Path(session["work"]) / "exported_motion.toml")

@@ -9,12 +9,11 @@ Sources and estimates: see :mod:`.anthropometry`.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import numpy as np
 
-from ...errors import ModelError
+from ...errors import ModelError, is_number
 from ..builder import ModelBuilder
 from ..model import Model
 from . import anthropometry as A
@@ -109,7 +108,7 @@ def validate_human(sex: str, stature: float, mass: float) -> None:
     if sex not in SEXES:
         raise ModelError(f"sex must be 'male' or 'female', got {sex!r}")
     for key, value, (lo, hi), unit in (("stature", stature, STATURE_RANGE, "m"), ("mass", mass, MASS_RANGE, "kg")):
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        if not is_number(value):
             raise ModelError(f"{key} must be a finite number in [{lo}, {hi}] {unit}, got {value!r}")
         if not lo <= value <= hi:
             raise ModelError(f"{key} must be in [{lo}, {hi}] {unit}, got {value}")

@@ -24,10 +24,9 @@ fractions of body mass):
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
-from ...errors import ModelError
+from ...errors import ModelError, is_number
 from . import anthropometry as A
 
 # Allowed range of each measurement as a fraction of stature. Every subject of the ANSUR II public data (below)
@@ -60,7 +59,7 @@ def validate_measurements(measures: Mapping, stature: float) -> dict[str, float]
             raise ModelError(f"unknown measurement {key!r} (known: {', '.join(MEASUREMENTS)})")
         lo, hi = (f * stature for f in MEASUREMENTS[key])
         what = f"a number in [{lo:.3f}, {hi:.3f}] m ({MEASUREMENTS[key][0]}-{MEASUREMENTS[key][1]} x stature)"
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        if not is_number(value):
             raise ModelError(f"{key} must be {what}, got {value!r}")
         if not lo <= value <= hi:
             raise ModelError(f"{key} must be {what}, got {value}")

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ...errors import ModelError
+from ...errors import ModelError, is_number
 from ..builder import ModelBuilder
 from ..model import Model
 
@@ -29,8 +29,7 @@ def validate_snake(segments: int, segment_length: float, segment_mass: float) ->
         raise ModelError(f"segments must be an integer in [1, 100], got {segments!r}")
     for key, value, high, unit in (("segment_length", segment_length, MAX_LENGTH, "m"),
                                    ("segment_mass", segment_mass, MAX_MASS, "kg")):  # fmt: skip
-        number = not isinstance(value, bool) and isinstance(value, int | float) and math.isfinite(value)
-        if not number or not 0 < value <= high:
+        if not is_number(value) or not 0 < value <= high:
             raise ModelError(f"{key} must be a number in (0, {high:g}] {unit}, got {value!r}")
 
 

@@ -49,7 +49,7 @@ def frozen_array(shape: object, key: str, value: object, dims: tuple[int, ...]) 
     """A read-only float64 copy of ``value`` with the given dimensions (-1 = any), all finite."""
     try:
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int too large for a float
         raise ScenarioError(f"{label(shape)}: {key}: expected numbers, got {shown(value)}") from None
     if arr.ndim != len(dims) or any(d != -1 and d != n for d, n in zip(dims, arr.shape, strict=True)):
         want = "x".join("N" if d == -1 else str(d) for d in dims)
@@ -67,7 +67,7 @@ def positive(shape: object, key: str, value: object, allow_zero: bool = False) -
     """``value`` as a finite float > 0 (>= 0 with ``allow_zero``), m."""
     try:
         x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ScenarioError(f"{label(shape)}: {key}: expected a number, got {value!r}") from None
     if not np.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
         want = ">= 0" if allow_zero else "> 0"

@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import IO, Any
 
 from ...errors import ManikinError
+from ..files import read_error
+from ..parse_limits import check_depth, too_deep, too_many_digits
 from .document import COMPACT_FORMAT
 
 CHUNK = 1 << 20  # characters read at a time
@@ -47,6 +49,15 @@ class JsonScanner:
         line = self.lines + self.buffer.count("\n", 0, self.pos if pos is None else pos) + 1
         return self.error(f"{self.path}: not JSON ({message} at line {line})")
 
+    def _at_line(self, exc: ManikinError) -> ManikinError:
+        """``exc`` with its line counted from the start of the file, not of the buffer."""
+        text = str(exc)
+        head, sep, rest = text.partition(": line ")
+        number, sep2, tail = rest.partition(":")
+        if not (sep and sep2 and number.isdigit()):
+            return exc
+        return self.error(f"{head}: line {self.lines + int(number)}:{tail}")
+
     def peek(self) -> str:
         """The next character that is not white space ("" at the end of the file), not consumed."""
         while True:
@@ -75,6 +86,10 @@ class JsonScanner:
                 if cut and self._more():
                     continue
                 raise self.fail(exc.msg, exc.pos) from None
+            except ValueError:  # int() refused a number of more than 4,300 digits
+                raise self._at_line(too_many_digits(self.path, self.buffer, self.error, self.pos)) from None
+            except RecursionError:
+                raise self._at_line(too_deep(self.path, self.buffer, self.error, self.pos)) from None
             if end == len(self.buffer) and self._more():
                 continue  # a number may go on in the next chunk
             self.pos = end
@@ -123,6 +138,9 @@ def _compact_parts(stream: IO[str], path: Path, error: type[ManikinError]) -> It
             data = json.loads(line)
         except json.JSONDecodeError as exc:
             raise error(f"{path}: line {number}: not JSON ({exc.msg})") from None
+        except (ValueError, RecursionError) as exc:  # a number of more than 4,300 digits; nesting too deep
+            limit = too_many_digits if isinstance(exc, ValueError) else too_deep
+            raise error(str(limit(path, line, error)).replace(": line 1:", f": line {number}:", 1)) from None
         if not isinstance(data, dict):
             raise error(f"{path}: line {number}: expected a JSON object, got {type(data).__name__}")
         if number == 1:
@@ -137,7 +155,10 @@ def _compact_parts(stream: IO[str], path: Path, error: type[ManikinError]) -> It
 def is_compact(path: Path, error: type[ManikinError]) -> bool:
     """Whether ``path`` starts with the header line of the compact format."""
     with _open(path, error) as stream:
-        return bool(_COMPACT_START.match(stream.read(200)))
+        try:
+            return bool(_COMPACT_START.match(stream.read(200)))
+        except (OSError, UnicodeDecodeError) as exc:  # Latin-1 bytes, binary after a header
+            raise read_error(path, exc, error) from None
 
 
 def _open(path: Path, error: type[ManikinError]) -> IO[str]:
@@ -146,14 +167,17 @@ def _open(path: Path, error: type[ManikinError]) -> IO[str]:
     except FileNotFoundError:
         raise error(f"{path}: file not found") from None
     except OSError as exc:
-        raise error(f"{path}: cannot read ({exc})") from None
+        raise read_error(path, exc, error) from None
 
 
 def scan(path: Path, error: type[ManikinError]) -> Iterator[Part]:
-    """The parts of the result file ``path`` in file order (either format)."""
+    """The parts of the result file ``path`` in file order (either format), each value at most
+    :data:`~solver.io.parse_limits.MAX_DEPTH` levels deep."""
     compact = is_compact(path, error)
     with _open(path, error) as stream:
         try:
-            yield from (_compact_parts if compact else _json_parts)(stream, path, error)
+            for kind, name, value in (_compact_parts if compact else _json_parts)(stream, path, error):
+                check_depth(value, path, error, f"frames[{name}]" if kind == "frame" else str(name))
+                yield kind, name, value
         except (OSError, UnicodeDecodeError) as exc:
-            raise error(f"{path}: cannot read ({exc})") from None
+            raise read_error(path, exc, error) from None

@@ -11,10 +11,7 @@ ends with a valid file holding the frames solved so far and says so: ``"interrup
 from __future__ import annotations
 
 import json
-import signal
-import threading
-from collections.abc import Iterable, Iterator
-from contextlib import contextmanager
+from collections.abc import Iterable
 from pathlib import Path
 from types import TracebackType
 from typing import TYPE_CHECKING
@@ -22,6 +19,7 @@ from typing import TYPE_CHECKING
 from ...errors import ManikinError, UsageError
 from ...iteration.result import Result
 from ..files import OutputFile
+from ..interrupts import interrupts_held
 from .document import compact_frame_dict, compact_header
 from .frame_text import PoseText
 
@@ -34,46 +32,6 @@ COMPACT_SUFFIXES = (".jsonl", ".ndjson")
 def is_compact_path(path: str | Path) -> bool:
     """Whether a file of this name is written in the compact format by default (``.jsonl``)."""
     return Path(path).suffix.lower() in COMPACT_SUFFIXES
-
-
-class _Held:
-    """Ctrl-C held by :func:`interrupts_held`: how deep the blocks are nested and whether one came meanwhile."""
-
-    depth = 0
-    pending = False
-
-
-def _hold(signum: int, frame: object) -> None:
-    _Held.pending = True
-
-
-@contextmanager
-def interrupts_held() -> Iterator[None]:
-    """Ctrl-C (SIGINT) arriving inside the block raises KeyboardInterrupt when the block ends, not inside it.
-
-    A Python-level handler, not a signal mask: in a process with other threads (Blender's) the kernel hands the
-    signal to a thread that does not block it, and Python would still raise inside the block. Only Python's own
-    Ctrl-C handler is replaced (in the main thread); with any other (ignored, an application's) the block runs
-    as it is."""
-    outer = _Held.depth == 0
-    if outer and (
-        threading.current_thread() is not threading.main_thread()
-        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
-    ):
-        yield
-        return
-    if outer:
-        signal.signal(signal.SIGINT, _hold)
-    _Held.depth += 1
-    try:
-        yield
-    finally:
-        _Held.depth -= 1
-        if outer:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
-            pending, _Held.pending = _Held.pending, False
-    if outer and pending:  # (an exception from the block goes on instead)
-        raise KeyboardInterrupt
 
 
 class ResultWriter:

@@ -18,14 +18,13 @@ Presets live in ``presets/manikins/<name>.toml`` at the repository (extension) r
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from ...body.humans.human import build_human, validate_human
 from ...body.humans.measurements import MEASUREMENTS
 from ...body.humans.snake import build_snake, validate_snake
 from ...body.model import Model
-from ...errors import ModelError
+from ...errors import ModelError, is_number
 from ...presets import MANIKINS_DIR, PRESETS_DIR, list_presets
 from ..files import read_toml
 from ..table_reader import TableReader
@@ -69,11 +68,15 @@ def load_body(preset: str | None = None, file: str | Path | None = None) -> Mode
     if preset is not None:
         path = MANIKINS_DIR / f"{preset}.toml"
         if not isinstance(preset, str) or preset not in list_presets():
+            if isinstance(preset, str) and Path(preset).is_dir():
+                raise ModelError(f"{preset}: is a folder, expected a manikin preset name or a body file (TOML)")
             known = ", ".join(list_presets()) or "none"
             raise ModelError(f"unknown manikin preset {preset!r} (known: {known})")
         name = preset
     else:
         path = Path(file)
+        if path.is_dir():
+            raise ModelError(f"{path}: is a folder, expected a body file (TOML)")
         if not path.is_file():
             raise ModelError(f"body file not found: {path}")
         name = path.stem
@@ -104,7 +107,7 @@ def body_from_dict(data: dict, where: str = "body", name: str = "body") -> Model
         info["source"] = body["source"]
     if "percentile" in body:
         p = body["percentile"]
-        if isinstance(p, bool) or not isinstance(p, int | float) or not (math.isfinite(p) and 0 <= p <= 100):
+        if not is_number(p) or not 0 <= p <= 100:
             raise ModelError(f"{where}: [body] percentile must be a number in [0, 100], got {p!r}")
         info["percentile"] = p
     try:

@@ -70,7 +70,23 @@ SOLVE = [
     ("empty", ["{in}/empty.toml"], ["empty"]),
     ("not_utf8", ["{in}/not_utf8.toml"], ["cannot read", "utf-8"]),
     ("missing", ["{in}/missing.toml"], ["missing.toml", "not found"]),
-    ("a_folder", ["{in}"], ["is a directory"]),
+    ("a_folder", ["{in}"], ["is a folder, expected a file"]),
+    # numbers a float cannot hold, integers Python will not read, nesting its parsers cannot take (issue 34)
+    ("position_400_digits", ["{in}/position_400_digits.toml"], ["targets[1].position", "finite numbers", "111"]),
+    ("weight_400_digits", ["{in}/weight_400_digits.toml"], ["targets[1].weight", "[1e-06, 100]", "111"]),
+    ("frame_400_digits", ["{in}/frame_400_digits.toml"], ["frame", "whole frame number"]),
+    ("friction_400_digits", ["{in}/friction_400_digits.toml"], ["targets[0].friction", "[0, 10]"]),
+    ("max_iterations_400_digits", ["{in}/max_iterations_400_digits.toml"], ["solver.max_iterations", "[1, 100000]"]),
+    ("start_joint_400_digits", ["{in}/start_joint_400_digits.toml"], ["start.joints.seg1_rx", "rad"]),
+    ("motion_end_400_digits", ["{in}/motion_end_400_digits.toml"], ["motion.end", "whole frame number"]),
+    ("load_mass_400_digits", ["{in}/load_mass_400_digits.toml"], ["loads[0].mass", "kg"]),
+    ("obstacle_size_400_digits", ["{in}/obstacle_size_400_digits.toml"], ["obstacles[0].size", "finite numbers"]),
+    ("clearance_400_digits", ["{in}/clearance_400_digits.toml"], ["obstacles[0].clearance", "[0, 10]"]),
+    ("stature_400_digits", ["{in}/stature_400_digits.toml"], ["body_stature_400_digits.toml", "stature", "[0.5, 2.5]"]),
+    ("weight_5000_digits", ["{in}/weight_5000_digits.toml"], ["line 15: weight", "an integer of 5000 digits"]),
+    ("weight_2000_deep", ["{in}/weight_2000_deep.toml"], ["line 15: weight", "nested more than 32 levels"]),
+    ("operator_40_deep", ["{in}/operator_40_deep.toml"], ["targets[1].operator[...]", "nested more than 32"]),
+    ("tables_2000_deep", ["{in}/with_2000_deep_tables.toml"], ["line 15:", "nested more than 32 levels"]),
 ]
 SOLVE_OUTPUT = [
     ("onto_a_directory", ["{in}/ok_snake.toml", "-o", "{out}/adir"], ["-o", "adir", "is a directory"]),
@@ -114,6 +130,16 @@ ERGO = [
     ("frequency_nan", ["{in}/result_ok.json", "--frequency", "nan"], ["frequency"]),
     ("load_mass_negative", ["{in}/result_ok.json", "--load-mass", "-5"], ["load mass", "[0, 1000] kg"]),
     ("travel_infinite", ["{in}/result_ok.json", "--travel", "inf"], ["travel", "[0, 10] m"]),
+    ("frame_400_digits", ["{in}/result_frame_400_digits.json"], ["frames[0].frame", "whole frame number"]),
+    ("frame_5000_digits", ["{in}/result_frame_5000_digits.json"], ["line 1: frame", "integer of 5000 digits"]),
+    ("frame_2000_deep", ["{in}/result_frame_2000_deep.json"], ["line 1: frame", "nested more than 32 levels"]),
+    ("frame_40_deep", ["{in}/result_frame_40_deep.json"], ["frames[0].frame[...]", "nested more than 32 levels"]),
+    ("compact_5000_digits", ["{in}/result_compact_5000_digits.jsonl"], ["line 2: frame", "5000 digits"]),
+    ("compact_2000_deep", ["{in}/result_compact_2000_deep.jsonl"], ["line 2: frame", "nested more than 32"]),
+    ("latin1", ["{in}/result_latin1.json"], ["result_latin1.json", "not utf-8 text: byte 0xe9"]),
+    ("binary_after_header", ["{in}/result_binary_after_header.json"], ["not utf-8 text: byte 0x80"]),
+    ("bom_then_binary", ["{in}/result_bom_then_binary.json"], ["not utf-8 text: byte 0x80"]),
+    ("a_folder", ["{in}"], ["is a folder, expected a file"]),
 ]
 ERGO_OUTPUT = [
     ("onto_its_input", ["{in}/result_ok.json", "-o", "{in}/result_ok.json"], ["same file as the input"]),
@@ -137,6 +163,25 @@ URDF = [
     ("onto_its_input", ["--file", "{in}/body_ok.toml", "-o", "{in}/body_ok.toml"], ["same file as the input"]),
     ("name_300_characters", ["snake", "-o", "{out}/" + LONG], ["file name too long"]),
     ("dev_full", ["snake", "-o", "/dev/full"], ["/dev/full", "No space left on device"]),
+    ("stature_400_digits", ["--file", "{in}/body_stature_400_digits.toml"], ["stature", "[0.5, 2.5] m"]),
+    ("segments_5000_digits", ["--file", "{in}/body_5000_digits.toml"], ["line 4: segments", "5000 digits"]),
+    ("segments_2000_deep", ["--file", "{in}/body_2000_deep.toml"], ["line 4: segments", "nested more than 32"]),
+    ("a_folder", ["--file", "{in}"], ["is a folder, expected a body file"]),
+]
+STUDY = [
+    ("value_400_digits", ["{in}/study_value_400_digits.toml"], ["scenarios[0].parameters.raise.values", "finite"]),
+    ("value_5000_digits", ["{in}/study_value_5000_digits.toml"], ["line 12: values", "integer of 5000 digits"]),
+    ("values_2000_deep", ["{in}/study_values_2000_deep.toml"], ["line 12: values", "nested more than 32"]),
+    ("a_folder", ["{in}"], ["is a folder, expected a file"]),
+]
+VALIDATE = [  # --manifest: the validation's key frames
+    ("manifest_5000_digits", ["{in}/body_5000_digits.toml"], ["line 4: segments", "integer of 5000 digits"]),
+    ("manifest_2000_deep", ["{in}/body_2000_deep.toml"], ["line 4: segments", "nested more than 32 levels"]),
+    ("manifest_a_folder", ["{in}"], ["is a folder, expected a file"]),
+]
+ENVELOPE = [
+    ("stature_400_digits", ["{in}/body_stature_400_digits.toml"], ["stature", "[0.5, 2.5] m"]),
+    ("a_folder", ["{in}"], ["is a folder, expected a body file"]),
 ]
 KEEP = ["-o", "{out}/keep.json"]  # a pre-existing output each failing solve/ergo must leave alone
 CASES = (
@@ -146,6 +191,9 @@ CASES = (
     + [(f"ergo-{c}", ["ergo", "-q", *a, *KEEP], w) for c, a, w in ERGO]
     + [(f"ergo-{c}", ["ergo", "-q", *a], w) for c, a, w in ERGO_OUTPUT]
     + [(f"urdf-{c}", ["urdf", *a], w) for c, a, w in URDF]
+    + [(f"study-{c}", ["study", "-q", *a, "-o", "{out}/study"], w) for c, a, w in STUDY]
+    + [(f"envelope-{c}", ["envelope", "-q", *a, "-o", "{out}/envelope"], w) for c, a, w in ENVELOPE]
+    + [(f"validate-{c}", ["validate", "-q", "--manifest", *a, "--out", "{out}/v"], w) for c, a, w in VALIDATE]
 )
 
 
