@@ -23,7 +23,8 @@ def session(tmp_path_factory, run_session) -> dict:
     work = tmp_path_factory.mktemp("batch_faults")
     full = work / "full"
     full.mkdir()
-    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(full)], capture_output=True)
+    # 8 MB: room for Blender 4.2's uncompressed .blend once the filler is gone (the session fills all of it first)
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=8m", "tmpfs", str(full)], capture_output=True)
     try:
         return run_session(work, "batch_faults_session.py")
     finally:
