@@ -36,7 +36,7 @@ from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 from . import exports
 from .bake import Baker, FrameRecord
 from .frame_store import STORE_MAX
-from .quiet import quietly
+from .quiet import captured_output, quietly
 from .report import MotionReport, captions, choose_frames, summary_lines
 from .written import written_by_path
 
@@ -214,8 +214,8 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
 def save_blend(path: Path) -> Path:
     """Save a copy of the scene as ``path`` (a temporary file beside it, checked, then renamed: a full disk leaves
     the old file and says so in one line); its path."""
-    with written_by_path(path) as work:
-        quietly(bpy.ops.wm.save_as_mainfile, filepath=str(work), copy=True)
+    with written_by_path(path) as work, captured_output():  # Blender's lines kept out, its error is the reason
+        bpy.ops.wm.save_as_mainfile(filepath=str(work), copy=True)
     return path
 
 
