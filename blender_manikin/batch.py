@@ -11,10 +11,12 @@ plots PREFIX_loads.png, PREFIX_scores.png, PREFIX_back.png), --retarget RIG|ARMA
 shipped rig built beside the manikin: mpfb_default, game_engine, mixamo, cmu_mb, rigify; or onto an armature of the
 .blend; the exports then write it instead of the manikin), -q.
 
-Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input (one line
-on stderr), 130 Ctrl-C (the frames solved so far are keyed and kept in the result, the report and the .blend). Run
-as a script, this file loads the extension it belongs to from its own location (a checkout or an installed
-extension) under the package name ``manikin`` and registers it, unless Blender already has that copy enabled.
+Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input or a file
+that cannot be written (one line on stderr; each file is written beside its name, checked and renamed, so a full
+disk leaves the old file), 130 Ctrl-C (the frames solved so far are keyed and kept in the result, the report and
+the .blend). Run as a script, this file loads the extension it belongs to from its own location (a checkout or an
+installed extension) under the package name ``manikin`` and registers it, unless Blender already has that copy
+enabled.
 """
 
 from __future__ import annotations

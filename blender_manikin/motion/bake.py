@@ -47,9 +47,11 @@ class Ergonomics(Protocol):
     def motion(self) -> dict[str, dict]: ...
 
 
-@dataclass
+@dataclass(slots=True)
 class FrameRecord:
-    """How one frame went: solver time, and wall time including reading the scene."""
+    """How one frame went: solver time, and wall time including reading the scene. The residuals are there while
+    the frame is handed on (:meth:`Baker.step`: the sidebar's entry, ``on_frame``'s files) and dropped after it: a
+    long bake keeps a few numbers per frame (slots: no dict per record either)."""
 
     frame: int
     converged: bool
@@ -159,6 +161,7 @@ class Baker:
                     self.ergo.add(record, result)
                 if self.on_frame is not None:
                     self.on_frame(record, result)
+                record.residuals = {}  # in every output now; kept, they were most of a frame's memory (2 kB)
             if frame == self.original[0]:
                 self.shown = result
             self.last_x = result.x

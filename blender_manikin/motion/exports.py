@@ -11,6 +11,9 @@ frame f at f / fps too, but its FBX import adds an "Animation Offset" of 1 frame
 re-imports one frame late; the FBX is therefore written with the keys moved one frame earlier (frame f at
 (f - 1) / fps: Blender's frame 1 is the FBX time 0, where Unity and Unreal start a take). BVH stores no start frame:
 the importer's Start Frame puts the first frame (docs/guide/exports.md lists every importer's settings).
+
+Each file is written to a temporary file beside it, checked and renamed onto it (:mod:`.written`): a full disk or
+an exporter's error leaves the old file as it was, and says so in one line naming it.
 """
 
 from __future__ import annotations
@@ -26,9 +29,11 @@ import numpy as np
 from ...solver.errors import ManikinError
 from ..scene.compat import call_known, object_fcurves
 from ..scene.schema import CARRIED_KEY
+from .written import written_by_path
 
 FORMATS = {".fbx": "FBX", ".bvh": "BVH", ".glb": "glTF binary", ".gltf": "glTF (separate .bin)"}
 FBX_IMPORT_OFFSET = 1  # frames Blender's FBX import adds by default ("Animation Offset")
+GLTF = {".glb", ".gltf"}
 WITH_BOX = {".fbx", ".glb", ".gltf"}  # formats that hold more than one skeleton: the carried box goes along
 
 
@@ -113,7 +118,6 @@ def export(arm: bpy.types.Object, path: str | Path, frame_start: int, frame_end:
     shift = -FBX_IMPORT_OFFSET if suffix == ".fbx" else 0
     if frame_start + shift < 0:
         raise ManikinError(f"{path}: FBX needs the motion to start at frame {-shift} or later, not {frame_start}")
-    path.parent.mkdir(parents=True, exist_ok=True)
     context = bpy.context
     scene, view_layer = context.scene, context.view_layer
     selected, active = list(context.selected_objects), view_layer.objects.active
@@ -130,11 +134,12 @@ def export(arm: bpy.types.Object, path: str | Path, frame_start: int, frame_end:
         ob.select_set(True)
     view_layer.objects.active = arm
     scene.frame_start, scene.frame_end = frame_start + shift, frame_end + shift
-    try:
-        with _keys_moved([arm, *([box] if box is not None else [])], shift):
-            done = _WRITERS[suffix](path, frame_start + shift, frame_end + shift)
-    except RuntimeError as exc:  # an exporter's error report
-        raise ManikinError(f"{path}: export failed ({str(exc).strip()})") from None
+    added = suffix if suffix in GLTF else ""  # the glTF exporter puts its suffix on the temporary file's name
+    try:  # into a temporary file, checked, then renamed: a failure (a full disk) leaves the old file as it was
+        with written_by_path(path, added) as work, _keys_moved([arm, *([box] if box is not None else [])], shift):
+            done = _WRITERS[suffix](work, frame_start + shift, frame_end + shift)
+            if done != {"FINISHED"} or not work.is_file():
+                raise ManikinError(f"{path}: the {FORMATS[suffix]} exporter wrote nothing")
     finally:
         scene.frame_start, scene.frame_end = saved_range[:2]
         scene.frame_set(saved_range[2])
@@ -145,6 +150,4 @@ def export(arm: bpy.types.Object, path: str | Path, frame_start: int, frame_end:
         view_layer.objects.active = active
         for ob in unselectable:
             ob.hide_select = True
-    if done != {"FINISHED"} or not path.is_file():
-        raise ManikinError(f"{path}: the {FORMATS[suffix]} exporter wrote nothing")
     return path

@@ -36,8 +36,9 @@ from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 from . import exports
 from .bake import Baker, FrameRecord
 from .frame_store import STORE_MAX
-from .quiet import quietly
+from .quiet import captured_output, quietly
 from .report import MotionReport, captions, choose_frames, summary_lines
+from .written import written_by_path
 
 EXIT_OK, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 3, 130
 
@@ -187,10 +188,7 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
     elif report is not None:
         report.discard()
     if job.out is not None:
-        path = job.out.resolve()
-        path.parent.mkdir(parents=True, exist_ok=True)
-        quietly(bpy.ops.wm.save_as_mainfile, filepath=str(path), copy=True)
-        wrote(path)
+        wrote(save_blend(job.out.resolve()))
     if stopped is not None:
         return written
     for path in job.exports:
@@ -211,6 +209,14 @@ def write_outputs(job: Job, arm: bpy.types.Object, baker: Baker, sinks: Sinks, s
         _say(job, f"rendering frames {', '.join(map(str, frames))} (Cycles, CPU) ...")
         wrote(quietly(render_key_poses, arm, frames, job.picture, captions(report.summary()), title))
     return written
+
+
+def save_blend(path: Path) -> Path:
+    """Save a copy of the scene as ``path`` (a temporary file beside it, checked, then renamed: a full disk leaves
+    the old file and says so in one line); its path."""
+    with written_by_path(path) as work, captured_output():  # Blender's lines kept out, its error is the reason
+        bpy.ops.wm.save_as_mainfile(filepath=str(work), copy=True)
+    return path
 
 
 def _title(job: Job, arm: bpy.types.Object) -> str:

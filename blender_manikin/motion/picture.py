@@ -32,6 +32,7 @@ from ..scene.schema import (
     members,
     tcp_empty,
 )
+from .written import written_by_path
 
 VIEW = Vector((-1.5, -0.55, 0.45)).normalized()  # from the body towards the camera: right side, a bit to the front
 BOX_DEPTH, BOX_HEIGHT = 0.32, 0.24  # m, the drawn box (its width is the distance between the palms)
@@ -293,7 +294,6 @@ def render_key_poses(
         stage.remove()
         scene.frame_set(current)
     output = Path(output).resolve()
-    output.parent.mkdir(parents=True, exist_ok=True)
     lines = max((c.count("\n") + 1 for c in (captions or {}).values()), default=0)
     width, height = size
     tile_in = 2.8  # inches per tile
@@ -313,5 +313,6 @@ def render_key_poses(
     fig.subplots_adjust(left=0.005, right=0.995, wspace=0.03, top=1 - (0.42 + extra) / fig_h, bottom=bottom)
     if heading:
         fig.suptitle(heading, fontsize=11, y=1 - 0.05 / fig_h, va="top")
-    fig.savefig(output)
+    with written_by_path(output) as work:  # a temporary file, checked, then renamed: a full disk keeps the old one
+        fig.savefig(work, format="png")
     return output

@@ -78,14 +78,15 @@ def tail(text: str, known: str = "") -> str:
 def quietly(call: Callable[..., T], *args, **kwargs) -> T:
     """``call(*args, **kwargs)`` with its console output captured; what it returns. An error it raises (a
     ManikinError, an operator's RuntimeError) is raised again once the output is restored, its one-line message
-    ending in the tail of what Blender said that the message does not already say."""
+    ending in the tail of what Blender said that the message does not already say (unless the error is
+    ``complete``: a file that could not be written, where Blender's output would only repeat a traceback)."""
     with captured_output() as out:
         try:
             return call(*args, **kwargs)
         except BaseException as exc:  # raised again below, once the descriptors are back
             failed = exc
     said = tail(out.text, str(failed))
-    if said and isinstance(failed, Exception):  # not for Ctrl-C or an exit
+    if said and isinstance(failed, Exception) and not getattr(failed, "complete", False):  # not Ctrl-C, an exit
         if len(failed.args) == 1 and isinstance(failed.args[0], str):
             failed.args = (f"{failed.args[0].strip()} (Blender: {said})",)
         else:  # a message built from several arguments (OSError): shown with its traceback, if any

@@ -27,6 +27,7 @@ from ...solver.ergonomics.registry import frame_scores, motion_scores
 from ...solver.ergonomics.report import clean, frame_parts, sources
 from ...solver.ergonomics.report_text import LoadsText, dumps_filled
 from ...solver.ergonomics.stream import PlotSeries
+from ...solver.errors import ManikinError
 from ...solver.io.files import open_output
 from ...solver.io.result.frame import Frame, frame_of_result
 from ...solver.io.result.frame_text import SLOT
@@ -98,7 +99,11 @@ class MotionReport:
         values = tuple(ergo[s.name].get(s.value) for s in self.valued)
         self.shown.append((record.frame, record.converged, values, trunk, compression))
         if self._frames is not None:  # left open: the motion scores' entries come at the end
-            self._frames.write(self._text(record, ergo, loads)[:-2] + "\n")
+            try:
+                self._frames.write(self._text(record, ergo, loads)[:-2] + "\n")
+            except OSError as exc:  # the system's temporary folder is full: one line naming the report
+                why = f"its frames' temporary file: {exc.strerror or exc}"
+                raise ManikinError(f"{self.path}: cannot write ({why})") from None
 
     def _text(self, record: FrameRecord, ergo: dict, loads: JointLoads) -> str:
         """The frame's JSON: the record, then the ergonomics (the joint loads written from their arrays)."""

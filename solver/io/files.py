@@ -157,6 +157,12 @@ class OutputFile:
                 os.unlink(self._tmp)
             self._tmp = None
 
+    @property
+    def temporary(self) -> Path | None:
+        """The temporary file being written, for a writer that opens it by its name (then :meth:`commit`); None
+        when the output is written in place (a device, standard output)."""
+        return None if self._tmp is None else Path(self._tmp)
+
 
 @contextmanager
 def open_output(path: str | Path, binary: bool = False) -> Iterator[IO]:

@@ -102,9 +102,16 @@ seen["keys_after"] = {ob.name: key_range(ob) for ob in (arm, box)}
 IMPORTS = {
     "fbx": lambda: bpy.ops.import_scene.fbx(filepath=str(WORK / "motion.fbx")),  # Blender's defaults
     "glb": lambda: bpy.ops.import_scene.gltf(filepath=str(WORK / "motion.glb")),  # Blender's defaults
-    "bvh": lambda: bpy.ops.import_anim.bvh(filepath=str(WORK / "motion.bvh"), axis_forward="Y", axis_up="Z",
-                                           frame_start=START, use_fps_scale=False, update_scene_fps=False,
-                                           update_scene_duration=False, rotate_mode="NATIVE"),  # fmt: skip
+    "bvh": lambda: bpy.ops.import_anim.bvh(
+        filepath=str(WORK / "motion.bvh"),
+        axis_forward="Y",
+        axis_up="Z",
+        frame_start=START,
+        use_fps_scale=False,
+        update_scene_fps=False,
+        update_scene_duration=False,
+        rotate_mode="NATIVE",
+    ),  # fmt: skip
 }
 t = time.perf_counter()
 for fmt, call in IMPORTS.items():

@@ -210,7 +210,9 @@ def registered() -> dict:
         menus=[
             f.__module__
             for menu in (
-                bpy.types.VIEW3D_MT_add, bpy.types.VIEW3D_MT_object, bpy.types.TOPBAR_MT_file_import,
+                bpy.types.VIEW3D_MT_add,
+                bpy.types.VIEW3D_MT_object,
+                bpy.types.TOPBAR_MT_file_import,
                 bpy.types.TOPBAR_MT_file_export,
             )  # fmt: skip
             for f in menu._dyn_ui_initialize()

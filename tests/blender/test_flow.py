@@ -21,8 +21,10 @@ def session(tmp_path_factory, run_session) -> dict:
 def registry_modules() -> set[str]:
     """The solver's modules that importing the obstacle kinds' and standard comfort terms' registries loads (here,
     apart from Blender): collision shapes and comfort terms, NumPy only."""
-    code = ("import json, sys, solver.collision.kinds, solver.comfort.standard\n"
-            "print(json.dumps([m for m in sys.modules if m.startswith(('solver', 'scipy', 'matplotlib'))]))")
+    code = (
+        "import json, sys, solver.collision.kinds, solver.comfort.standard\n"
+        "print(json.dumps([m for m in sys.modules if m.startswith(('solver', 'scipy', 'matplotlib'))]))"
+    )
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stderr
     return set(json.loads(done.stdout))
