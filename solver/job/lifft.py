@@ -2,14 +2,20 @@
 an easy-to-use risk assessment tool for cumulative low back loading: The Lifting Fatigue Failure Tool (LiFFT)",
 Applied Ergonomics 63:142-150): a daily dose of low-back loading by fatigue-failure theory.
 
-Each lift's peak load moment PLM (N*m) = the load's weight (N) x the largest horizontal distance (m) from the low
-back to the load during the lift. Damage per lift and the probability of a high-risk job (12+ low-back injuries per
-200,000 h worked, Marras et al. 1993) in the form Zelik, Nurse, Schall, Sesek, Marino & Gallagher 2022 (Applied
-Ergonomics 99:103619, eq. 1-2) print for LiFFT::
+Each lift's peak load moment PLM = the load's weight x the largest horizontal distance from the low back to the load
+during the lift. The paper prints cycles to failure = 902,416 x exp(-0.162 x %US) (its eq. 1, %US the compression
+as % of an average spine's ultimate strength, about 6 kN) and the inverse as damage per lift, but neither the
+PLM -> %US regression nor the risk curve's coefficients. Those are taken from the authors' own calculator, the Excel
+"LiFFT v1.4.0" (06/05/2018), whose formulas are, with the moment M in ft*lb (lever arm in inch / 12 x load in lb)::
 
-    damage per lift  = 1 / (1,902,416 x exp(-(0.038 x PLM + 0.32)))
+    damage per lift  = 10^(-5.81636221052493 + 0.0222878437409416 x M)
     CD               = sum over tasks of lifts per day x damage per lift   (Palmgren-Miner)
-    P(high-risk job) = exp(Y) / (1 + exp(Y)),  Y = 1.72 + 1.03 x log10(CD)
+    P(high-risk job) = exp(Y) / (1 + exp(Y)),  Y = 1.7229 + 1.0239 x log10(CD)
+
+(a high-risk job: 12+ low-back injuries per 200,000 h worked, Marras et al. 1993). In N*m this is
+exp(0.03785 x PLM) / 655,182, i.e. 1 / (902,416 x exp(-(0.038 x PLM + 0.32))) to the printed digits; Zelik et al.
+2022 (Applied Ergonomics 99:103619, eq. 1) as quoted by two code repositories read 1,902,416 there, a damage 2.1x
+lower that reproduces neither the paper's nor the calculator's worked example (see tests/solver/job/test_lifft.py).
 
 Here the motion is one task: its lift's PLM is the largest over the frames of the load's weight x the horizontal
 distance from the lumbosacral joint (L5/S1, the body's ``l5_rx``) to the hands holding the load (their midpoint
@@ -25,16 +31,16 @@ import numpy as np
 from ..io.result.frame import Frame
 from .base import JobInputs, Method, verdict
 
-SCALE = 1_902_416.0  # damage-per-lift equation's constant (Zelik et al. 2022 eq. 1)
-MOMENT_COEFFICIENT = 0.038  # 1/(N*m)
-OFFSET = 0.32
-BETA0, BETA1 = 1.72, 1.03  # logistic model of a high-risk job on log10(CD) (Zelik et al. 2022 eq. 2)
+FT_LB = 1.3558179483314004  # N*m per ft*lb (0.3048 m x 4.4482216152605 N): the calculator works in ft*lb
+LOG10_SCALE = -5.81636221052493  # log10 damage per lift at no moment (LiFFT v1.4.0 workbook, damage cells)
+LOG10_PER_FT_LB = 0.0222878437409416  # log10 damage per lift per ft*lb of peak load moment (same cells)
+BETA0, BETA1 = 1.7229, 1.0239  # logistic model of a high-risk job on log10(CD) (LiFFT v1.4.0 workbook, N35)
 SPINE = "l5_rx"  # the lumbosacral (L5/S1) joint the horizontal distance is measured from
 
 
 def damage_per_lift(plm: float) -> float:
     """LiFFT damage of one lift with peak load moment ``plm`` (N*m); dimensionless."""
-    return 1.0 / (SCALE * math.exp(-(MOMENT_COEFFICIENT * plm + OFFSET)))
+    return 10.0 ** (LOG10_SCALE + LOG10_PER_FT_LB * plm / FT_LB)
 
 
 def cumulative_damage(tasks: list[tuple[float, float]]) -> float:
@@ -61,8 +67,8 @@ class Lifft(Method):
     name = "lifft"
     title = "LiFFT low-back cumulative damage"
     source = (
-        "Gallagher, Sesek, Schall & Huangfu 2017, Applied Ergonomics 63:142-150 (LiFFT); equations as printed by "
-        "Zelik et al. 2022, Applied Ergonomics 99:103619, eq. 1-2"
+        "Gallagher, Sesek, Schall & Huangfu 2017, Applied Ergonomics 63:142-150 (LiFFT); damage and risk equations "
+        "from the authors' calculator, LiFFT v1.4.0 (Excel, 06/05/2018)"
     )
 
     def evaluate(self, inputs: JobInputs) -> dict:
