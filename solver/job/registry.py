@@ -6,6 +6,7 @@ from __future__ import annotations
 from .base import Method
 from .lifft import Lifft
 from .sequence import Sequence
+from .shoulder_tool import ShoulderTool
 
 METHODS: dict[str, Method] = {}
 
@@ -20,3 +21,4 @@ def register(method: Method) -> Method:
 
 register(Lifft())
 register(Sequence())
+register(ShoulderTool())

@@ -14,7 +14,7 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     report, out = example
     assert sorted(p.name for p in out.iterdir()) == ["job.csv", "job.html", "job.json", "motion.json"]
     data = json.loads((out / "job.json").read_text())
-    assert list(data["verdicts"]) == ["lifft", "sequence"]
+    assert list(data["verdicts"]) == ["lifft", "sequence", "shoulder_tool"]
     lifft = data["methods"]["lifft"]
     assert lifft["lifts_per_shift"] == 800 and 0 < lifft["probability_high_risk"] < 1
     assert lifft["peak_load_moment_Nm"] == max(lifft["per_frame"]["lifft_load_moment_Nm"])
