@@ -35,9 +35,23 @@ def verdict(text: str, severity: int, frames: list[int] | None = None) -> dict:
     return dict(text=text, severity=severity, frames=frames or [])
 
 
+# entries of a method's result that are not numbers for its detail table
+RESERVED = ("verdict", "per_frame", "plot", "levers")
+
+
+def lever(frame: int, origin, end, length: float, label: str) -> dict:
+    """A lever arm a method rates, for the driving frame's picture: from ``origin`` to ``end`` (world m) at frame
+    number ``frame``, ``length`` m the horizontal distance the method uses."""
+    return dict(frame=frame, origin=[float(v) for v in origin], end=[float(v) for v in end], length_m=length,
+                label=label)  # fmt: skip
+
+
 class Method:
     """One job method. ``evaluate`` returns a JSON-safe dict with at least ``verdict`` (:func:`verdict`); an entry
-    ``per_frame`` (column name -> one value per frame) goes into the CSV, ``plot`` (optional) into the HTML."""
+    ``per_frame`` (column name -> one value per frame) goes into the CSV; into the HTML go :meth:`detail`'s tables,
+    ``plot`` (optional: ``kind`` "line" with ``y`` per-frame columns, ``label``, ``title`` and ``marks`` (frame
+    indices to dot), or "levels" with ``order`` (column -> its levels in order)), and a picture of each verdict frame
+    with the ``levers`` (:func:`lever`) of that frame."""
 
     name = ""
     title = ""
@@ -45,3 +59,8 @@ class Method:
 
     def evaluate(self, inputs: JobInputs) -> dict:
         raise NotImplementedError
+
+    def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
+        """The HTML's tables of ``result``, each (heading, header, rows); by default one of its single numbers."""
+        rows = [[k, v] for k, v in result.items() if k not in RESERVED and not isinstance(v, dict | list)]
+        return [(self.title, ["quantity", "value"], rows)] if rows else []

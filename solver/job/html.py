@@ -1,11 +1,16 @@
-"""The job's one-file HTML report, readable offline: inline CSS, plots as inline base64 PNG (matplotlib, Agg). The
-verdict of each method on top, then the detail: the inputs, each method's numbers, the plots, the sources."""
+"""The job's one-file HTML report, readable offline: inline CSS, plots and pictures as inline base64 PNG
+(matplotlib, Agg). The verdict of each method on top, then the job's inputs and, per method, its detail tables
+(:meth:`.base.Method.detail`), its plot (its result's ``plot``) and a picture of each frame driving its verdict
+with its lever arms (:mod:`.picture`); then the sources. Nothing here names a method: a new one needs no change."""
 
 from __future__ import annotations
 
 import base64
 import io
 from html import escape
+
+from ..io.result.frame import Frame
+from .registry import METHODS
 
 COLOURS = {0: "#2e7d32", 1: "#f9a825", 2: "#c62828", None: "#546e7a"}
 CSS = """body{font-family:sans-serif;margin:2em;max-width:60em;color:#222}
@@ -24,42 +29,63 @@ def _fmt(v) -> str:
     return f"{v:.3g}" if isinstance(v, float) else str(v)
 
 
-def _png(figure) -> str:
+def _img(png: bytes, alt: str) -> str:
+    return f'<img alt="{escape(alt)}" src="data:image/png;base64,{base64.b64encode(png).decode()}">'
+
+
+def _png(figure) -> bytes:
     buf = io.BytesIO()
     figure.savefig(buf, format="png", dpi=90, bbox_inches="tight")
-    return f'<img alt="plot" src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
+    return buf.getvalue()
 
 
-def plots(report: dict) -> list[str]:
-    """The plots as <img> tags: the LiFFT load moment over time, the score levels over time."""
+def plot(report: dict, result: dict) -> str:
+    """A method's plot over the motion's time as an <img> tag ("" without one): ``line`` (its per-frame columns,
+    the ``marks`` dotted) or ``levels`` (each per-frame column as steps, named levels by their ``order``)."""
+    spec, columns = result.get("plot"), result.get("per_frame", {})
+    if not spec or not columns:
+        return ""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     times = report["times_s"]
-    out = []
-    lifft = report["methods"].get("lifft", {})
-    if "per_frame" in lifft:
-        fig, ax = plt.subplots(figsize=(7, 2.6))
-        moment = lifft["per_frame"]["lifft_load_moment_Nm"]
-        ax.plot(times, moment)
-        ax.plot([times[lifft["plot"]["mark"]]], [lifft["peak_load_moment_Nm"]], "o", color="#c62828")
-        ax.set(xlabel="time in the motion (s)", ylabel="N*m", title="load moment about L5/S1 (LiFFT)")
-        out.append(_png(fig))
-        plt.close(fig)
-    seq = report["methods"].get("sequence", {}).get("per_frame", {})
-    if seq:
-        fig, ax = plt.subplots(figsize=(7, 2.6))
-        for name, values in seq.items():
-            order = {"reba_risk": ["negligible", "low", "medium", "high", "very high"]}.get(name)
-            y = [None if v is None else (order.index(v) + 1 if order else v) for v in values]
-            ax.step(times, [float("nan") if v is None else v for v in y], where="post", label=name)
-        ax.set(xlabel="time in the motion (s)", ylabel="level (1 = lowest)", title="score levels over the motion")
+    fig, ax = plt.subplots(figsize=(7, 2.6))
+    if spec["kind"] == "line":
+        for name in spec["y"]:
+            ax.plot(times, columns[name], label=name)
+        for name, i in zip(spec["y"], spec.get("marks", []), strict=False):
+            ax.plot([times[i]], [columns[name][i]], "o", color="#c62828")
+        ylabel = spec.get("label", "")
+    else:
+        for name, values in columns.items():
+            order = spec.get("order", {}).get(name)
+            y = [float("nan") if v is None else (order.index(v) + 1 if order else v) for v in values]
+            ax.step(times, y, where="post", label=name)
+        ylabel = "level (1 = lowest)"
+    ax.set(xlabel="time in the motion (s)", ylabel=ylabel, title=spec.get("title", ""))
+    if len(columns) > 1 or spec["kind"] != "line":
         ax.legend(fontsize=7)
-        out.append(_png(fig))
+    try:
+        return _img(_png(fig), spec.get("title", "plot"))
+    finally:
         plt.close(fig)
-    return out
+
+
+def pictures(title: str, result: dict, frames: dict[int, Frame]) -> str:
+    """A side and front view of each frame driving the method's verdict, with its lever arms at that frame."""
+    from .picture import frame_png
+
+    out = []
+    for number in result["verdict"]["frames"]:
+        if number in frames:
+            levers = [v for v in result.get("levers", []) if v["frame"] == number]
+            names = "; ".join(f"{v['label']} {v['length_m']:.2f} m" for v in levers)
+            caption = f"{title}: frame {number}" + (f" ({names})" if names else "")
+            out.append(f"<figure>{_img(frame_png(frames[number], caption, levers), caption)}"
+                       f"<figcaption><small>{escape(caption)}</small></figcaption></figure>")  # fmt: skip
+    return "".join(out)
 
 
 def _verdicts(report: dict) -> str:
@@ -71,30 +97,24 @@ def _verdicts(report: dict) -> str:
     return "".join(cards)
 
 
-def _details(report: dict) -> str:
+def _details(report: dict, frames: dict[int, Frame]) -> str:
     parts = ["<h2>The job</h2>", _table(["input", "value"], [[k, v] for k, v in report["job"].items()])]
-    lifft = report["methods"].get("lifft", {})
-    keys = [k for k in lifft if k not in ("verdict", "per_frame", "plot")]
-    if keys:
-        parts += ["<h2>LiFFT</h2>", _table(["quantity", "value"], [[k, lifft[k]] for k in keys])]
-    seq = report["methods"].get("sequence", {})
-    for score in ("rula", "reba", "owas"):
-        if seq.get(score):
-            rows = [[r["level"], r["frames"], r["seconds"], r["percent_of_motion"], r["percent_of_cycle"]]
-                    for r in seq[score]["levels"]]  # fmt: skip
-            parts += [f"<h3>{score.upper()}: time at each level (worst frames: "
-                      f"{', '.join(map(str, seq[score].get('worst_frames', [])[:10]))})</h3>",
-                      _table(["level", "frames", "s", "% of motion", "% of cycle"], rows)]  # fmt: skip
+    for name, result in report["methods"].items():
+        method = METHODS[name]
+        parts.append(f'<h2 id="{escape(name)}">{escape(method.title)}</h2>')
+        parts += [f"<h3>{escape(head)}</h3>{_table(header, rows)}" for head, header, rows in method.detail(result)]
+        parts += [plot(report, result), pictures(method.title, result, frames)]
     return "".join(parts)
 
 
-def html_report(report: dict) -> str:
-    """The whole HTML page."""
+def html_report(report: dict, frames: list[Frame] | None = None) -> str:
+    """The whole HTML page; with the motion's ``frames``, the pictures of the driving frames."""
     title = escape(f"Job: {report['job']['name']}")
+    by_number = {f.number: f for f in frames or []}
     sources = "".join(f"<li><b>{escape(k)}</b>: {escape(v)}</li>" for k, v in report["sources"].items())
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{CSS}</style></head><body>"
             f"<h1>{title}</h1><p>{len(report['frames'])} frames, {report['motion_time_s']:.2f} s of motion per "
             f"{report['job']['cycle_time_s']:g} s cycle; {report['job']['repetitions_per_shift']} cycles per "
             f"{report['job']['shift_h']:g} h shift. Motion: {escape(report['motion_file'])}</p>"
-            f"<h2>Verdicts</h2>{_verdicts(report)}{_details(report)}<h2>Plots</h2>{''.join(plots(report))}"
+            f"<h2>Verdicts</h2>{_verdicts(report)}{_details(report, by_number)}"
             f"<h2>Sources</h2><ul>{sources}</ul></body></html>\n")  # fmt: skip

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from ..io.result.frame import Frame
-from .base import JobInputs, Method, verdict
+from .base import JobInputs, Method, lever, verdict
 
 FT_LB = 1.3558179483314004  # N*m per ft*lb (0.3048 m x 4.4482216152605 N): the calculator works in ft*lb
 LOG10_SCALE = -5.81636221052493  # log10 damage per lift at no moment (LiFFT v1.4.0 workbook, damage cells)
@@ -84,7 +84,8 @@ class Lifft(Method):
         per_lift = damage_per_lift(plm)
         cd = cumulative_damage([(plm, job.lifts)])
         p = probability(cd)
-        number = inputs.frames[peak].number
+        number, at = inputs.frames[peak].number, inputs.frames[peak]
+        hands = np.mean([at.tcp_position[h] for h in job.hands], axis=0)
         text = f"P(high-risk job) {100 * p:.0f} % (CD {cd:.3g}, PLM {plm:.0f} N*m at frame {number}, {job.lifts} lifts)"
         if p >= 0.5:
             text += ": more likely than not a high-risk job"
@@ -93,5 +94,7 @@ class Lifft(Method):
             peak_load_moment_Nm=plm, peak_frame=number, horizontal_distance_m=distance[peak], load_weight_N=weight,
             lifts_per_shift=job.lifts, damage_per_lift=per_lift, cumulative_damage=cd, probability_high_risk=p,
             per_frame={"lifft_horizontal_distance_m": distance, "lifft_load_moment_Nm": moment},
-            plot=dict(kind="line", y="lifft_load_moment_Nm", label="load moment about L5/S1 (N*m)", mark=peak),
+            plot=dict(kind="line", y=["lifft_load_moment_Nm"], label="N*m", marks=[peak],
+                      title="load moment about L5/S1 (LiFFT)"),
+            levers=[lever(number, at.pos(SPINE), hands, distance[peak], "L5/S1 to the hands")],
         )  # fmt: skip

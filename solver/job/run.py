@@ -75,9 +75,10 @@ def run_job(job_path: str | Path, out_dir: str | Path) -> dict:
     job = read_job(job_path)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    report = evaluate_job(job, motion_of(job, out_dir))
+    motion = motion_of(job, out_dir)
+    report = evaluate_job(job, motion)
     written = [write_json(out_dir / OUTPUTS[0], report, allow_nan=False), write_csv(report, out_dir / OUTPUTS[1]),
-               write_text(out_dir / OUTPUTS[2], html_report(report))]  # fmt: skip
+               write_text(out_dir / OUTPUTS[2], html_report(report, motion.frames))]  # fmt: skip
     return report | {"written": [str(p) for p in written]}
 
 

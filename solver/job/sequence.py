@@ -54,5 +54,17 @@ class Sequence(Method):
             severity = max(severity, severities[order.index(worst)])
             drivers.append(at_worst[0])
         out["verdict"] = verdict("; ".join(texts) or "not rated", severity if texts else None, sorted(set(drivers)))
-        out["plot"] = dict(kind="levels")
+        out["plot"] = dict(kind="levels", order={"reba_risk": list(REBA_RISKS)}, title="score levels over the motion")
         return out
+
+    def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
+        """Per score: the time at each of its levels."""
+        tables = []
+        for score in SCORES:
+            if result.get(score):
+                rows = [[r["level"], r["frames"], r["seconds"], r["percent_of_motion"], r["percent_of_cycle"]]
+                        for r in result[score]["levels"]]  # fmt: skip
+                worst = ", ".join(map(str, result[score].get("worst_frames", [])[:10]))
+                tables.append((f"{score.upper()}: time at each level (worst frames: {worst})",
+                               ["level", "frames", "s", "% of motion", "% of cycle"], rows))  # fmt: skip
+        return tables

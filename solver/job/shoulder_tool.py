@@ -23,12 +23,14 @@ import math
 import numpy as np
 
 from .base import JobInputs, Method, verdict
+from .base import lever as _lever  # "lever" names the lever arms below
 
 INCH = 0.0254  # m
 FT_LB = 1.3558179483314004  # N*m per ft*lb
 STRENGTH = 681.0 * INCH * 4.4482216152605  # N*m: 681 in*lb, the calculator's shoulder strength
 S_N = (101.25, 14.83)  # S = a - b log10(N), S in % of ultimate strength (eq. 1, Schechtman & Bader 1997)
 BETA0, BETA1 = 0.864, 0.928  # clinic visit (first-time office visit) on log10(CD): the calculator's cell P35
+SIDE = {"r": "right", "l": "left"}
 ARM = {"r": ("shoulder_r_flexion", "hand_r"), "l": ("shoulder_l_flexion", "hand_l")}  # shoulder joint, hand TCP
 
 
@@ -78,28 +80,43 @@ class ShoulderTool(Method):
             reason = "not rated: the manikin has no shoulder joint or hand of the hands holding the load"
             return dict(verdict=verdict(reason, None))
         load = job.load_mass * float(np.linalg.norm(first.gravity)) / len(job.hands)  # N per hand
-        per_frame, sides_out = {}, {}
+        per_frame, sides_out, marks, levers = {}, {}, [], []
         for s in sides:
             joint, hand = ARM[s]
             lever = [_horizontal(f, joint, hand) for f in inputs.frames]
             moment = [shoulder_moment(load, d) if load > 0 else 0.0 for d in lever]
             peak = int(np.argmax(moment))
             cd = job.lifts * damage_per_cycle(moment[peak]) if load > 0 else 0.0  # no load: no task (calculator)
-            sides_out[s] = dict(peak_moment_Nm=moment[peak], lever_arm_m=lever[peak],
-                                peak_frame=inputs.frames[peak].number, damage_per_cycle=damage_per_cycle(moment[peak]),
-                                cumulative_damage=cd)  # fmt: skip
+            at = inputs.frames[peak]
+            sides_out[s] = dict(peak_moment_Nm=moment[peak], lever_arm_m=lever[peak], load_N=load,
+                                peak_frame=at.number, damage_per_cycle=damage_per_cycle(moment[peak]),
+                                cumulative_damage=cd, probability_clinic_visit=probability(cd))  # fmt: skip
             per_frame[f"shoulder_tool_moment_{s}_Nm"] = moment
+            marks.append(peak)
+            levers.append(_lever(at.number, at.pos(joint), at.tcp_position[hand], lever[peak], f"{SIDE[s]} shoulder"))
         worst = max(sides_out, key=lambda s: sides_out[s]["cumulative_damage"])
         w = sides_out[worst]
         p = probability(w["cumulative_damage"])
-        side = {"r": "right", "l": "left"}[worst]
+        side = SIDE[worst]
         text = (f"P(shoulder clinic visit) {100 * p:.0f} % (CD {w['cumulative_damage']:.3g}, {side} shoulder, "
                 f"{w['peak_moment_Nm']:.0f} N*m at frame {w['peak_frame']}, {job.lifts} lifts)")  # fmt: skip
         return dict(
             verdict=verdict(text, level(p), [w["peak_frame"]]), shoulders=sides_out, worst_shoulder=side,
             load_per_hand_N=load, lifts_per_shift=job.lifts, cumulative_damage=w["cumulative_damage"],
-            probability_clinic_visit=p, per_frame=per_frame,
+            probability_clinic_visit=p, per_frame=per_frame, levers=levers,
+            plot=dict(kind="line", y=list(per_frame), label="N*m", marks=marks,
+                      title="moment about each shoulder (The Shoulder Tool)"),
         )  # fmt: skip
+
+    def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
+        """Per shoulder: its lever arm, load share, moment, damage per cycle, CD and P; then the job's numbers."""
+        header = ["shoulder", "lever arm (m)", "load share (N)", "peak moment (N*m)", "at frame", "damage per cycle",
+                  "CD", "P(clinic visit)"]  # fmt: skip
+        rows = [[SIDE[s], r["lever_arm_m"], r["load_N"], r["peak_moment_Nm"], r["peak_frame"], r["damage_per_cycle"],
+                 r["cumulative_damage"], f"{100 * r['probability_clinic_visit']:.1f} %"]
+                for s, r in result.get("shoulders", {}).items()]  # fmt: skip
+        tables = [(f"{self.title}: per shoulder", header, rows)] if rows else []
+        return tables + super().detail(result)
 
 
 def _horizontal(frame, joint: str, hand: str) -> float:

@@ -6,8 +6,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import numpy as np
-
+from ..sketch import draw_points, draw_segments
 from .skeleton import BONES
 
 GAP = 0.9  # m between the measured skeleton and the predicted one in each panel
@@ -16,12 +15,8 @@ COLOURS = {"measured": "#222222", "predicted": "#c06a1a"}
 
 def _draw(ax, points: dict, shift: float, colour: str) -> None:
     """One skeleton in side view: forward (-y) to the right, shifted by ``shift`` (m)."""
-    for a, b in BONES:
-        pa, pb = np.array(points[a]), np.array(points[b])
-        ax.plot([-pa[1] + shift, -pb[1] + shift], [pa[2], pb[2]], "-", color=colour, linewidth=1.6)
-    for name in ("wrist_r", "wrist_l"):
-        p = points[name]
-        ax.plot([-p[1] + shift], [p[2]], "o", color=colour, markersize=3)
+    draw_segments(ax, [(points[a], points[b]) for a, b in BONES], "side", colour, shift)
+    draw_points(ax, [points[n] for n in ("wrist_r", "wrist_l")], "side", colour, shift)
 
 
 def draw(report: dict, path: str | Path) -> Path:
