@@ -58,7 +58,7 @@ def frame_png(frame: Frame, title: str, levers: list[dict]) -> bytes:
             draw_segments(ax, [flat], view, LEVER, linewidth=2.0)
             draw_segments(ax, [drop], view, LEVER, linestyle=":", linewidth=1.2)
             draw_points(ax, [lever["origin"], lever["end"]], view, LEVER, size=4.0)
-            (x, y), = project([middle], view)
+            x, y = project([middle], view)[0]
             ax.annotate(f"{lever['length_m']:.2f} m", (x, y), textcoords="offset points", xytext=(0, 4),
                         ha="center", fontsize=7, color=LEVER)  # fmt: skip
         ax.set_aspect("equal", adjustable="datalim")

@@ -23,7 +23,8 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     assert len(rows) == 60 and rows[0]["rula_action_level"] in "1234"
     html = (out / "job.html").read_text()
     assert html.index("Verdicts") < html.index("LiFFT low-back") < html.index("<h2>The job")
-    assert html.count("data:image/png;base64,") == 2
+    pictures = sum(len(v["frames"]) for v in data["verdicts"].values())
+    assert html.count("data:image/png;base64,") == 3 + pictures  # a plot per method, a picture per driving frame
     assert "<link" not in html and "<script" not in html and 'src="http' not in html  # nothing fetched: offline
     seq = data["methods"]["sequence"]
     assert sum(r["frames"] for r in seq["rula"]["levels"]) == 60
