@@ -106,7 +106,7 @@ def _by_name(values: dict[str, float]) -> ComfortWeights:
 DEFAULT_COMFORT = ComfortWeights()
 # The behaviour model fitted against motion capture (docs/explanation/mocap-validation.md): a positive ``trunk``
 # weight prices the trunk's lean and switches the range term to its posture tables (legs bend, elbows rest bent).
-# Off by default: it doubles the random benchmark's iterations with the elbow's neutral value (docs/TUNING.md).
+# Off by default: with it on four motion tests fail (the between-frames sweep's floor check, docs/TUNING.md).
 BEHAVIOUR_TRUNK = 5.0
 BEHAVIOUR = DEFAULT_COMFORT.replace(trunk=BEHAVIOUR_TRUNK)
 

@@ -9,9 +9,9 @@ from helpers import finite_difference
 
 from solver import Problem, ProblemSpec, Target
 from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT, Comfort, JointRange, TrunkTilt
-from solver.comfort.joint_range import POSTURE_NEUTRAL, POSTURE_SCALE, posture_neutral, posture_scale
+from solver.comfort.joint_range import POSTURE_NEUTRAL, POSTURE_SCALE, POSTURE_SPAN, posture_neutral, posture_scale
 from solver.io.scenario.bodies import load_body
-from solver.problem.starts import crouched_pose, low_reach
+from solver.problem.starts import crouched_pose, low_reach, rested_pose
 
 
 @pytest.fixture(scope="module")
@@ -128,3 +128,29 @@ def test_the_elbow_is_neutral_bent_in_the_range_term(male50) -> None:
     theta[elbow] = POSTURE_NEUTRAL["elbow_flexion"]
     assert straight > 0.5 and term.per_joint(theta, False)[0][elbow] == pytest.approx(0.0, abs=1e-12)
     np.testing.assert_allclose(posture_neutral(male50, {}), male50.neutral)
+
+
+def test_a_straight_elbow_is_off_the_range_walls_in_the_behaviour_model(male50) -> None:
+    """The elbow's neutral value moved to 60 deg keeps its tan^2 span below it at POSTURE_SPAN of the full range:
+    a straight elbow (every start pose's) costs about 13, not the wall's hundreds (x2.35 the random benchmark's
+    iterations, docs/TUNING.md); bent past 60 deg the span is the thesis's (up to the upper limit)."""
+    term = JointRange(male50, posture=True)
+    elbow = male50.joint_index("elbow_r_flexion")
+    full = male50.upper[elbow] - male50.lower[elbow]
+    assert term.span_down[elbow] == pytest.approx(POSTURE_SPAN * full)
+    assert term.span_up[elbow] == pytest.approx(male50.upper[elbow] - POSTURE_NEUTRAL["elbow_flexion"])
+    value, _, curvature = term.per_joint(male50.zero_pose())
+    assert 5.0 < value[elbow] < 20.0 and curvature[elbow] < 1e4  # at the wall: about 640 and 9e5
+    knee = male50.joint_index("knee_r_flexion")  # a joint with the model's neutral value keeps its limit as wall
+    assert term.span_down[knee] == pytest.approx(max(male50.neutral[knee] - male50.lower[knee], 1e-9))
+
+
+def test_the_behaviour_model_starts_other_solves_with_rested_elbows(male50) -> None:
+    """Problem.start with the behaviour model on and no low target: the zero pose with the elbows at their neutral
+    60 deg (rested_pose); the standard comfort keeps the zero pose, a low target the crouch."""
+    elbow, knee = male50.joint_index("elbow_l_flexion"), male50.joint_index("knee_l_flexion")
+    high = _problem(male50, 1.1, weights=BEHAVIOUR).start()
+    assert high[elbow] == pytest.approx(POSTURE_NEUTRAL["elbow_flexion"]) and high[knee] == 0.0
+    np.testing.assert_allclose(rested_pose(male50)[[elbow, knee]], high[[elbow, knee]])
+    assert _problem(male50, 1.1).start()[elbow] == 0.0
+    assert np.degrees(_problem(male50, 0.4, weights=BEHAVIOUR).start()[knee]) == pytest.approx(100.0)
