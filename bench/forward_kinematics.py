@@ -80,7 +80,9 @@ def run(rounds: int = 400) -> str:
         assert np.allclose(ref[:, :3, :3], kin.rotation, atol=1e-12) and np.allclose(ref[:, :3, 3], kin.position)
         assert np.allclose(joint_by_joint(model, order, theta), ref, atol=1e-12)
     balance, groups = rt.CONFIGS["physics + reduction"]
-    problem = rt.trial_problem(model, rt.draw_targets(model, rt.workspace_box(model), rt.LEVELS[3], 7000), balance, groups)
+    problem = rt.trial_problem(
+        model, rt.draw_targets(model, rt.workspace_box(model), rt.LEVELS[3], 7000), balance, groups
+    )
     x = problem.state(problem.start()).x  # [joints, forces] of the start
     cases: dict[str, Callable[[np.ndarray], object]] = {
         "Model.forward (chains, pointer jumping)": model.forward,
