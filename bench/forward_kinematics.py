@@ -12,7 +12,6 @@ The two references give the same frames as ``Model.forward`` (checked here to 1e
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 from collections.abc import Callable
@@ -22,6 +21,7 @@ import numpy as np
 from solver.body.model import Model, _parents_first
 from solver.body.spatial import skew
 
+from . import one_core
 from . import random_targets as rt
 
 
@@ -107,5 +107,5 @@ def run(rounds: int = 400) -> str:
 
 
 if __name__ == "__main__":
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    one_core("bench.forward_kinematics")  # one core, one BLAS thread
     print(run(int(sys.argv[1]) if len(sys.argv) > 1 else 400))
