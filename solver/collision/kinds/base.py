@@ -75,14 +75,6 @@ def positive(shape: object, key: str, value: object, allow_zero: bool = False) -
     return x
 
 
-def check_segment(shape: object) -> None:
-    """Check and freeze the fields of a shape along a segment (capsule, cylinder): ends ``a``, ``b`` and ``radius``,
-    m."""
-    object.__setattr__(shape, "a", frozen_array(shape, "a", shape.a, (3,)))  # type: ignore[attr-defined]
-    object.__setattr__(shape, "b", frozen_array(shape, "b", shape.b, (3,)))  # type: ignore[attr-defined]
-    object.__setattr__(shape, "radius", positive(shape, "radius", shape.radius))  # type: ignore[attr-defined]
-
-
 def placement(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
     """The 4x4 matrix of an object at ``position`` (m) turned by ``rotation``."""
     matrix = np.eye(4)
@@ -189,3 +181,23 @@ def obstacle_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, obstacl
     if not isinstance(obstacle, Obstacle):
         raise TypeError(f"not an obstacle: {type(obstacle).__name__}")
     return obstacle.distance(p0, p1, radii, margin, memory)
+
+
+@dataclass(frozen=True, eq=False)
+class AlongSegment(Obstacle):
+    """A kind along the segment ``a``-``b`` (3,) m with a ``radius`` m > 0 (capsule, cylinder): the fields, their
+    scenario keys and checks, and what Blender makes of an object's bounds (along its local z)."""
+
+    a: np.ndarray
+    b: np.ndarray
+    radius: float
+
+    keys = {"a": POINT, "b": POINT, "radius": LENGTH}
+    description = "Along the object's local z: as long as the bounds, as wide as their largest x/y"
+    smooth = True
+
+    def __post_init__(self) -> None:
+        self._check_common()
+        object.__setattr__(self, "a", frozen_array(self, "a", self.a, (3,)))
+        object.__setattr__(self, "b", frozen_array(self, "b", self.b, (3,)))
+        object.__setattr__(self, "radius", positive(self, "radius", self.radius))

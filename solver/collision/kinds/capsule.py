@@ -10,25 +10,14 @@ from ..closest import dot
 from ..distance import as_batch, closest_on_axes
 from ..generate import axis_frame, capsule_mesh
 from ..proximity import Proximity
-from .base import LENGTH, POINT, RINGS, SEGMENTS, Obstacle, Segments, check_segment, placement
+from .base import RINGS, SEGMENTS, AlongSegment, Segments, placement
 
 
 @dataclass(frozen=True, eq=False)
-class Capsule(Obstacle):
+class Capsule(AlongSegment):
     """The segment ``a``-``b`` (3,) m swept by a ball of ``radius`` m > 0 (a == b gives a sphere)."""
 
-    a: np.ndarray
-    b: np.ndarray
-    radius: float
-
     kind = "capsule"
-    keys = {"a": POINT, "b": POINT, "radius": LENGTH}
-    description = "Along the object's local z: as long as the bounds, as wide as their largest x/y"
-    smooth = True
-
-    def __post_init__(self) -> None:
-        self._check_common()
-        check_segment(self)
 
     def distance(self, p0, p1, radii, margin=np.inf, memory=None) -> Proximity:
         return capsule_distance(p0, p1, radii, self)

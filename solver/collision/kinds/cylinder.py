@@ -25,7 +25,7 @@ from ..closest import dot, perpendicular, unit
 from ..distance import as_batch
 from ..generate import axis_frame
 from ..proximity import Proximity, near_only
-from .base import LENGTH, POINT, SEGMENTS, Obstacle, Segments, check_segment, label, placement
+from .base import SEGMENTS, AlongSegment, Segments, label, placement
 
 GRID = np.linspace(0.0, 1.0, 33)  # points of the axis measured at once, then around the least of them again
 ROUNDS = 12  # each shrinks the interval 16-fold: 16^-12 < 1e-14
@@ -33,21 +33,13 @@ RIM = 32  # segments of the polygon around each rim (carried box rows)
 
 
 @dataclass(frozen=True, eq=False)
-class Cylinder(Obstacle):
+class Cylinder(AlongSegment):
     """The disc of ``radius`` m > 0 swept from ``a`` to ``b`` (3,) m (the middles of its flat ends, a != b)."""
 
-    a: np.ndarray
-    b: np.ndarray
-    radius: float
-
     kind = "cylinder"
-    keys = {"a": POINT, "b": POINT, "radius": LENGTH}
-    description = "Along the object's local z: as long as the bounds, as wide as their largest x/y"
-    smooth = True
 
     def __post_init__(self) -> None:
-        self._check_common()
-        check_segment(self)
+        super().__post_init__()
         if not np.linalg.norm(self.b - self.a) > 1e-9:
             raise ScenarioError(f"{label(self)}: b: expected an end apart from a (m), got {self.b.tolist()}")
         object.__setattr__(self, "length", float(np.linalg.norm(self.b - self.a)))  # m
