@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -21,56 +20,30 @@ import bpy
 from ...solver.errors import UsageError
 from ...solver.presets import MANIKINS_DIR
 from ..scene.schema import FILE_KEY, PRESET_KEY
+from ..scene.watch import Watch, base_folder
 
 if TYPE_CHECKING:
     from .job import EnvelopeJob, EnvelopeRequest
 
-POLL_S = 0.5  # s between two looks at the progress
-_job: EnvelopeJob | None = None
-_where = ("", "")  # (scene, armature) names the running envelope imports into
+
+def _ended(scene: bpy.types.Scene | None, job: EnvelopeJob) -> None:
+    """The envelope ended: import it (if done) onto the manikin it was started for; the status says how it went."""
+    arm = scene.manikin_envelope.source if scene is not None else None  # a pointer: a renamed manikin still gets it
+    status = job.line()
+    if job.state == "done":
+        status = import_result(job.request, job.output, arm, status)
+    if scene is not None:
+        scene.manikin_envelope.status = status
+
+
+WATCH = Watch(_ended)
+poll_job = WATCH.timer  # the timer (:mod:`..scene.watch`)
+is_running, stop_job = WATCH.running, WATCH.stop
 
 
 def current_job() -> EnvelopeJob | None:
     """The envelope started last in this session (running or ended), or None."""
-    return _job
-
-
-def is_running() -> bool:
-    """Whether an envelope is being computed or stopped."""
-    return _job is not None and _job.state in ("running", "cancelling")
-
-
-def stop_job() -> None:
-    """Cancel a running envelope and stop watching it (add-on disabled)."""
-    global _job
-    if bpy.app.timers.is_registered(poll_job):
-        bpy.app.timers.unregister(poll_job)
-    if _job is not None and _job.state == "running":
-        _job.cancel()
-    _job = None
-
-
-def _redraw() -> None:
-    for window in bpy.context.window_manager.windows:  # none in background mode
-        for area in window.screen.areas:
-            if area.type == "VIEW_3D":
-                area.tag_redraw()
-
-
-def poll_job() -> float | None:
-    """Timer: read the progress; when the envelope has ended, import it (if done), set the status and stop (None)."""
-    if _job is None:
-        return None
-    running = _job.poll()
-    if not running:
-        scene = bpy.data.scenes.get(_where[0])
-        status = _job.line()
-        if _job.state == "done":
-            status = import_result(_job.request, _job.output, bpy.data.objects.get(_where[1]), status)
-        if scene is not None:
-            scene.manikin_envelope.status = status
-    _redraw()
-    return POLL_S if running else None
+    return WATCH.job
 
 
 def import_result(request: EnvelopeRequest, output: Path, arm: bpy.types.Object | None, status: str) -> str:
@@ -115,33 +88,22 @@ def request_of(settings, arm: bpy.types.Object) -> tuple[EnvelopeRequest, str]:
     return request, hashlib.sha256(key.encode("utf-8")).hexdigest()[:8]
 
 
-def base_folder(settings) -> Path:
-    """Where envelopes go: the output setting, else manikin_envelopes beside the .blend, else in the temp folder."""
-    if settings.folder.strip():
-        return Path(bpy.path.abspath(settings.folder))
-    if bpy.data.filepath:
-        return Path(bpy.data.filepath).parent / "manikin_envelopes"
-    return Path(tempfile.gettempdir()) / "manikin_envelopes"
-
-
 def start_envelope(scene: bpy.types.Scene, arm: bpy.types.Object) -> tuple[EnvelopeJob | None, Path]:
     """Compute ``arm``'s envelope with ``scene``'s envelope settings in the background and watch it with
     :func:`poll_job`: (the job, its folder). A finished folder of the same body and settings is imported at once
     instead: (None, that folder), the status says so. UsageError or OSError (one line) for bad input."""
-    global _job, _where
     from ...solver.envelope.directions import direction_sphere
     from .job import EnvelopeJob, finished, free_folder
 
     settings = scene.manikin_envelope
     request, digest = request_of(settings, arm)
-    base = base_folder(settings) / bpy.path.clean_name(f"{arm.name}_{request.hand}_{request.feet}_{digest}")
+    name = bpy.path.clean_name(f"{arm.name}_{request.hand}_{request.feet}_{digest}")
+    base = base_folder(settings.folder, "manikin_envelopes") / name
     if finished(request, base):
         settings.status = import_result(request, base, arm, "Computed before with these settings")
         return None, base
     directions = len(direction_sphere(request.frequency, request.hemisphere).directions)
     job = EnvelopeJob(request, free_folder(base), directions)
-    _job, _where = job, (scene.name, arm.name)
-    settings.status = ""
-    if not bpy.app.timers.is_registered(poll_job):
-        bpy.app.timers.register(poll_job, first_interval=POLL_S, persistent=True)
+    settings.status, settings.source = "", arm
+    WATCH.start(job, scene)
     return job, job.output

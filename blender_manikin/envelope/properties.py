@@ -5,7 +5,7 @@ only bpy."""
 from __future__ import annotations
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 HANDS = (
     ("right", "Right hand", "The right hand's envelope (TCP hand_r), about the right shoulder"),
@@ -47,6 +47,7 @@ class MANIKIN_PG_envelope(bpy.types.PropertyGroup):
         description="Where envelopes go (empty: manikin_envelopes beside the .blend, or in the temporary folder)",
     )  # fmt: skip
     status: StringProperty(name="Status", description="How the last envelope ended")
+    source: PointerProperty(type=bpy.types.Object, name="Manikin", description="The manikin the envelope is for")
 
 
 classes = (MANIKIN_PG_envelope,)

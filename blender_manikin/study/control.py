@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 import re
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -22,56 +21,30 @@ import bpy
 
 from ...solver.errors import UsageError
 from ..scene.schema import is_manikin
+from ..scene.watch import Watch, base_folder
 from .properties import FAMILIES, FOLDER
 
 if TYPE_CHECKING:
     from ...solver import Result
     from .job import StudyJob
 
-POLL_S = 0.5  # s between two looks at the journal
-_job: StudyJob | None = None
-_scene_name = ""  # the scene whose table the running study fills
+
+
+def _ended(scene: bpy.types.Scene | None, job: StudyJob) -> None:
+    """The study ended: fill its scene's table with the rows, in the study's order, and say how it ended."""
+    if scene is not None:
+        fill_table(scene.manikin_study, job.ordered_rows())
+        scene.manikin_study.status = job.line()
+
+
+WATCH = Watch(_ended)
+poll_job = WATCH.timer  # the timer (:mod:`..scene.watch`)
+is_running, stop_job = WATCH.running, WATCH.stop
 
 
 def current_job() -> StudyJob | None:
     """The study started last in this session (running or ended), or None."""
-    return _job
-
-
-def is_running() -> bool:
-    """Whether a study is running or stopping."""
-    return _job is not None and _job.state in ("running", "cancelling")
-
-
-def stop_job() -> None:
-    """Cancel a running study and stop watching it (add-on disabled); its journal keeps the finished rows."""
-    global _job
-    if bpy.app.timers.is_registered(poll_job):
-        bpy.app.timers.unregister(poll_job)
-    if _job is not None and _job.state == "running":
-        _job.cancel()
-    _job = None
-
-
-def _redraw() -> None:
-    for window in bpy.context.window_manager.windows:  # none in background mode
-        for area in window.screen.areas:
-            if area.type == "VIEW_3D":
-                area.tag_redraw()
-
-
-def poll_job() -> float | None:
-    """Timer: read the rows finished so far; when the study has ended, fill the table and stop (None)."""
-    if _job is None:
-        return None
-    running = _job.poll()
-    if not running:
-        scene = bpy.data.scenes.get(_scene_name)
-        if scene is not None:
-            fill_table(scene.manikin_study, _job.ordered_rows())
-            scene.manikin_study.status = _job.line()
-    _redraw()
-    return POLL_S if running else None
+    return WATCH.job
 
 
 def fill_table(settings, rows: list[dict]) -> None:
@@ -141,20 +114,14 @@ def study_folder(settings, arm: bpy.types.Object, family: Path, inputs: list) ->
     .blend (or in the temp folder): the same study again goes on in its folder, another gets its own."""
     from ...solver.study.spec import digest
 
-    if settings.folder.strip():
-        base = Path(bpy.path.abspath(settings.folder))
-    elif bpy.data.filepath:
-        base = Path(bpy.data.filepath).parent / "manikin_studies"
-    else:
-        base = Path(tempfile.gettempdir()) / "manikin_studies"
-    return base / bpy.path.clean_name(f"{arm.name}_{family.name}_{digest(inputs)[:8]}")
+    name = bpy.path.clean_name(f"{arm.name}_{family.name}_{digest(inputs)[:8]}")
+    return base_folder(settings.folder, "manikin_studies") / name
 
 
 def start_study(scene: bpy.types.Scene, arm: bpy.types.Object) -> tuple[StudyJob, Path]:
     """Start a study of ``arm``'s targets with ``scene``'s study settings and watch it with :func:`poll_job`; (the
     job, its folder). ManikinError or OSError (one line) for bad input, before anything runs (a target the study
     would move that is not there: before anything is written)."""
-    global _job, _scene_name
     from ...solver.io.files import write_text
     from ...solver.io.scenario.write import write_scenario_files
     from ...solver.study import load_study
@@ -173,11 +140,9 @@ def start_study(scene: bpy.types.Scene, arm: bpy.types.Object) -> tuple[StudyJob
     study = Path(write_text(folder / "study.toml", text))
     run_ids = [run.run_id for run in plan(load_study(study))]
     job = StudyJob(study, folder / "out", run_ids, settings.workers)
-    _job, _scene_name = job, scene.name
     settings.rows.clear()
     settings.status, settings.study_file, settings.source = "", str(study), arm
-    if not bpy.app.timers.is_registered(poll_job):
-        bpy.app.timers.register(poll_job, first_interval=POLL_S, persistent=True)
+    WATCH.start(job, scene)
     return job, folder
 
 

@@ -45,8 +45,7 @@ class MANIKIN_OT_study_cancel(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
-        job = control.current_job()
-        return job is not None and job.state == "running"
+        return control.WATCH.cancellable()
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         job = control.current_job()

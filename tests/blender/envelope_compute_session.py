@@ -103,8 +103,11 @@ settings.frequency, settings.hemisphere, settings.tolerance, settings.load_kg = 
 settings.folder = str(WORK / "envelopes")
 seen["idle_panel"] = draw()
 seen["start"] = compute()
+arm.name = "male_50 renamed"  # while it runs: the envelope still lands on this manikin (a pointer, not its name)
 seen["running_panel"] = draw()
 seen["run"] = drive()
+seen["onto_renamed"] = [ob.parent == arm for ob in bpy.data.objects if "manikin_envelope" in ob]
+arm.name = "male_50"
 seen["status"] = settings.status
 seen["done_panel"] = draw()
 seen["objects"] = envelopes()

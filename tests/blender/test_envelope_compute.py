@@ -45,6 +45,10 @@ def test_it_was_computed_with_the_panel_s_options(session: dict) -> None:
     assert info["manikin"] == "male_50" and info["hand"] == "right"
 
 
+def test_a_manikin_renamed_while_it_runs_still_gets_its_envelope(session: dict) -> None:
+    assert session["onto_renamed"] and all(session["onto_renamed"])
+
+
 def test_the_result_is_imported_onto_the_manikin(session: dict) -> None:
     out = Path(session["run"]["output"])
     objects = session["objects"]
