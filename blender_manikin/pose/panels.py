@@ -12,7 +12,17 @@ import bpy
 from ...solver.options import AXES
 from ..scene.help import draw_help
 from ..scene.registries import comfort_settings
-from ..scene.schema import ERROR_KEY, FILE_KEY, PRESET_KEY, frame_result, last_result, members, orphan_hint, rig_of
+from ..scene.schema import (
+    ERROR_KEY,
+    FILE_KEY,
+    PRESET_KEY,
+    frame_result,
+    is_obstacle,
+    last_result,
+    members,
+    orphan_hint,
+    rig_of,
+)
 
 _UNITS = {
     ".position": ("mm", 1e3),
@@ -187,7 +197,7 @@ class MANIKIN_PT_obstacle(_SidebarPanel):
         layout.use_property_split = True
         layout.prop(s, "enabled")
         col = layout.column()
-        col.active = s.enabled or any(c.name == "Obstacles" for c in context.active_object.users_collection)
+        col.active = is_obstacle(context.active_object)  # ticked, or in a scene's obstacle collection
         col.prop(s, "clearance")
         col.prop(s, "shape")
         layout.label(text='(or put it in a collection named "Obstacles")')
