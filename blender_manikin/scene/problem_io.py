@@ -177,8 +177,9 @@ def _carried(arm: bpy.types.Object, model: Model) -> Carried | None:
     return spec if all(tcp in model.tcps for tcp in spec.tcps) else None
 
 
-def summarize(result: Result) -> dict:
-    """What the sidebar and the overlay show, armature space, JSON-ready: ``closest`` the clearance pairs within
+def summarize(result: Result, scores: bool = True) -> dict:
+    """What the sidebar and the overlay show, armature space, JSON-ready; ``scores``: with the ergonomics scores
+    (:func:`ergonomics`; ~2 ms; a live drag leaves them out: ``pending`` is then True). ``closest`` the clearance pairs within
     their margin (as in the result file, plus ``below``: under the clearance by more than the solver's tolerance,
     and ``body``: a pair of two body parts) and ``capsules`` the body's collision capsules (start, end, radius; m)
     in this pose."""
@@ -210,7 +211,7 @@ def summarize(result: Result) -> dict:
         loads=[dict(tcp=ld.tcp.name, force=[float(v) for v in ld.force]) for ld in problem.loads],
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
         joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
-        **ergonomics(result),
+        **(ergonomics(result) if scores else dict(pending=True)),
         closest=[
             dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE), body=c.other in parts)
             for c in result.closest
