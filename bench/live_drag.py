@@ -34,7 +34,8 @@ def _addon() -> tuple:
     folder = tempfile.mkdtemp(prefix="manikin-bench-")
     (Path(folder) / "manikin").symlink_to(ROOT)
     sys.path.insert(0, folder)
-    return importlib.import_module("manikin.solver"), importlib.import_module("manikin.blender_manikin.scene.problem_io")
+    io = importlib.import_module("manikin.blender_manikin.scene.problem_io")
+    return importlib.import_module("manikin.solver"), io
 
 
 def cases(pkg, repeats: int) -> tuple[list, object]:
@@ -81,8 +82,8 @@ def run(repeats: int) -> str:
         "",
         f"What Blender's Live mode does after a 5 cm drag: the {SCENARIO} scenario (floor and self-collision on, the",
         "default comfort) solved once; then, per drag, every hand target moved 5 cm in a random direction and the",
-        f"pose re-solved warm with Live's options ({LIVE_ITERATIONS} iterations at most, no restarts), then the summary",
-        "the Result panel shows. The scene's read and write (a few ms in Blender) are not included.",
+        f"pose re-solved warm with Live's options ({LIVE_ITERATIONS} iterations at most, no restarts), then the",
+        "summary the Result panel shows. The scene's read and write (a few ms in Blender) are not included.",
         f"Median iterations {np.median(iters):.0f}; converged {good}/{len(drags)}.",
         "",
         "| part | median ms | p95 ms |",
