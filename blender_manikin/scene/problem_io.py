@@ -181,8 +181,8 @@ def summarize(result: Result, scores: bool = True) -> dict:
     """What the sidebar and the overlay show, armature space, JSON-ready; ``scores``: with the ergonomics scores
     (:func:`ergonomics`, ~1 ms; a live drag leaves them out: ``pending`` is then True). ``closest``: the clearance
     pairs within their margin (as in the result file, plus ``below``: under the clearance by more than the solver's
-    tolerance, and ``body``: a pair of two body parts) and ``capsules`` the body's collision capsules (start, end, radius; m)
-    in this pose."""
+    tolerance, and ``body``: a pair of two body parts) and ``capsules`` the body's collision capsules (start, end,
+    radius; m) in this pose."""
     state = result.state
     problem = result.problem
     model = problem.model
