@@ -9,10 +9,15 @@ further depsgraph updates; two things keep that from looping: a re-entrancy guar
 manikin's last solved inputs (target frames, loop offsets, forces, obstacles, settings) - a re-solve happens only
 when the inputs differ, which a pose write never causes (loop and load empties ride on the TCPs, but their offsets
 stay the same; the body and the carried box are no scene obstacles: the box's rows follow the hands).
+
+While dragging, a live solve writes its result without the ergonomics scores (RULA, REBA, OWAS, ...: about a fifth of
+a live re-solve's time, docs/BENCHMARKS.md "Live drag"); the Result panel says they follow, and a second timer adds
+them once no live solve has happened for ``SETTLE`` (the drag has ended), from the last result kept here.
 """
 
 from __future__ import annotations
 
+import time
 from typing import TYPE_CHECKING
 
 import bpy
@@ -22,15 +27,19 @@ from ...solver.errors import ManikinError
 from ..scene.schema import ERROR_KEY, is_manikin, is_obstacle, rig_of
 
 if TYPE_CHECKING:
+    from ...solver.iteration.result import Result
     from ..scene.problem_io import Inputs  # imports the solver: only for the type checker
 
 classes: tuple[type, ...] = ()  # nothing registered as a class: a depsgraph handler and a timer
 
 INTERVAL = 1.0 / 30.0  # s, at most one solve per manikin per interval
+SETTLE = 0.3  # s without a live solve after which a drag counts as ended and the scores are added
 
 _busy = False  # re-entrancy guard: True while the timer solves and writes
 _pending: set[str] = set()  # names of manikin armatures with moved empties
 _last_inputs: dict[str, Inputs] = {}  # armature name -> the inputs last solved
+_unscored: dict[str, Result] = {}  # armature name -> its last live result, written without the scores
+_last_solve = 0.0  # time.monotonic() of the last live solve
 
 
 def _live_rig(obj: bpy.types.Object) -> bpy.types.Object | None:
@@ -94,10 +103,43 @@ def _solve(arm: bpy.types.Object) -> None:
         if sp.inputs.same_as(_last_inputs.get(arm.name)):
             return
         _last_inputs[arm.name] = sp.inputs
-        problem_io.write_result(arm, solve(sp.problem, sp.x0, sp.options))
+        result = solve(sp.problem, sp.x0, sp.options)
+        problem_io.write_result(arm, result, scores=False)  # the scores follow when the drag ends
+        _defer_scores(arm.name, result)
     except ManikinError as exc:
         if arm.get(ERROR_KEY) != str(exc):  # shown in the sidebar; written once, not on every update
             arm[ERROR_KEY] = str(exc)
+
+
+def _defer_scores(name: str, result: Result) -> None:
+    """Keep ``result`` for :func:`score_settled` and (re)arm its timer."""
+    global _last_solve
+    _unscored[name] = result
+    _last_solve = time.monotonic()
+    if not bpy.app.timers.is_registered(score_settled):
+        bpy.app.timers.register(score_settled, first_interval=SETTLE)
+
+
+def score_settled(force: bool = False) -> float | None:
+    """Timer: once no live solve has happened for ``SETTLE`` (or ``force``), add the ergonomics scores to every
+    result written without them; until then, wait the rest of ``SETTLE``."""
+    global _busy
+    wait = SETTLE - (time.monotonic() - _last_solve)
+    if wait > 0.0 and not force:
+        return wait
+    from ..scene import problem_io
+
+    results = dict(_unscored)
+    _unscored.clear()
+    _busy = True  # the result property's write triggers an update: nothing to re-solve
+    try:
+        for name, result in results.items():
+            arm = bpy.data.objects.get(name)
+            if arm is not None and is_manikin(arm):
+                problem_io.write_scores(arm, result)
+    finally:
+        _busy = False
+    return None
 
 
 def register() -> None:
@@ -108,7 +150,9 @@ def register() -> None:
 def unregister() -> None:
     while on_depsgraph_update in bpy.app.handlers.depsgraph_update_post:
         bpy.app.handlers.depsgraph_update_post.remove(on_depsgraph_update)
-    if bpy.app.timers.is_registered(solve_pending):
-        bpy.app.timers.unregister(solve_pending)
+    for timer in (solve_pending, score_settled):
+        if bpy.app.timers.is_registered(timer):
+            bpy.app.timers.unregister(timer)
     _pending.clear()
     _last_inputs.clear()
+    _unscored.clear()

@@ -261,6 +261,8 @@ class MANIKIN_PT_result(_SidebarPanel):
         # the solver maximises comfort = -(the weighted sum of the parts) <= 0: shown as discomfort >= 0, 0 the best
         layout.label(text=f"Discomfort {-data['comfort']:.3f} (0 = best; parts before weights: {parts})")
         words = data.get("scores")
+        if data.get("pending"):  # a live drag's result: the scores are added when the drag ends (pose/live.py)
+            layout.label(text="Ergonomics: when the drag ends", icon="TIME")
         if isinstance(words, list) and words:  # the scores' words (an older version stored a dict)
             box = layout.box()
             box.label(text="Ergonomics (this pose)")

@@ -177,11 +177,12 @@ def _carried(arm: bpy.types.Object, model: Model) -> Carried | None:
     return spec if all(tcp in model.tcps for tcp in spec.tcps) else None
 
 
-def summarize(result: Result) -> dict:
-    """What the sidebar and the overlay show, armature space, JSON-ready: ``closest`` the clearance pairs within
-    their margin (as in the result file, plus ``below``: under the clearance by more than the solver's tolerance,
-    and ``body``: a pair of two body parts) and ``capsules`` the body's collision capsules (start, end, radius; m)
-    in this pose."""
+def summarize(result: Result, scores: bool = True) -> dict:
+    """What the sidebar and the overlay show, armature space, JSON-ready; ``scores``: with the ergonomics scores
+    (:func:`ergonomics`, ~1 ms; a live drag leaves them out: ``pending`` is then True). ``closest``: the clearance
+    pairs within their margin (as in the result file, plus ``below``: under the clearance by more than the solver's
+    tolerance, and ``body``: a pair of two body parts) and ``capsules`` the body's collision capsules (start, end,
+    radius; m) in this pose."""
     state = result.state
     problem = result.problem
     model = problem.model
@@ -210,7 +211,7 @@ def summarize(result: Result) -> dict:
         loads=[dict(tcp=ld.tcp.name, force=[float(v) for v in ld.force]) for ld in problem.loads],
         joint_loads=[(model.joint_names[j], float(tau[j]), float(percent[j])) for j in top if rank[j] >= 0],
         joint_percent={model.joint_names[j]: float(percent[j]) for j in range(model.n) if rank[j] >= 0},
-        **ergonomics(result),
+        **(ergonomics(result) if scores else dict(pending=True)),
         closest=[
             dict(c.to_dict(), below=bool(c.distance < c.clearance - TOLERANCE), body=c.other in parts)
             for c in result.closest
@@ -242,13 +243,24 @@ def ergonomics(result: Result) -> dict:
     return dict(scores=[v["text"] for v in rated], verdicts=rated)
 
 
-def write_result(arm: bpy.types.Object, result: Result) -> None:
+def write_result(arm: bpy.types.Object, result: Result, scores: bool = True) -> None:
     """Pose the armature with the result (its carried box between the hands) and keep its summary for the sidebar
-    and the overlay."""
+    and the overlay (``scores``: with the ergonomics scores; a live drag adds them later, :func:`write_scores`)."""
     write_pose(arm, result.x)
     follow_solve(arm, result.x)
-    summary = summarize(result)
+    summary = summarize(result, scores)
     color_bones_by_load(arm, summary["joint_percent"])
     arm[RESULT_KEY] = json.dumps(summary)
     if ERROR_KEY in arm:
         del arm[ERROR_KEY]
+
+
+def write_scores(arm: bpy.types.Object, result: Result) -> None:
+    """Add ``result``'s ergonomics scores to the summary written without them (a live drag's), if it is still the one
+    shown (a later Solve Pose wrote its own)."""
+    text = arm.get(RESULT_KEY)
+    summary = json.loads(text) if isinstance(text, str) else None
+    if summary is None or not summary.pop("pending", False):
+        return
+    summary.update(ergonomics(result))
+    arm[RESULT_KEY] = json.dumps(summary)

@@ -128,6 +128,29 @@ live.solve_pending()
 seen["edited"] = state(arm)
 settle()
 
+# The ergonomics scores: a live solve leaves them out and arms the settle timer; the timer (called here, as background
+# mode never fires timers) adds this pose's scores, the same as Solve Pose's; a Solve Pose result is left alone.
+shown = json.loads(arm["manikin_result"])
+seen["live_result"] = dict(pending=shown.get("pending"), scores=shown.get("scores"),
+                           armed=bpy.app.timers.is_registered(live.score_settled))  # fmt: skip
+seen["settle_waits"] = live.score_settled() is not None  # called right after a solve: the drag may go on
+live.score_settled(force=True)
+scored = json.loads(arm["manikin_result"])
+seen["scored"] = dict(pending=scored.get("pending"), scores=scored.get("scores"), verdicts=scored.get("verdicts"))
+live.score_settled(force=True)  # nothing left: a no-op
+seen["scored_twice_same"] = arm["manikin_result"] == json.dumps(scored)
+if bpy.app.timers.is_registered(live.score_settled):
+    bpy.app.timers.unregister(live.score_settled)
+arm.manikin.live = False
+view_layer.objects.active = arm
+seen["solve_again"] = sorted(bpy.ops.manikin.solve_pose())  # the same pose solved by the button: its scores
+seen["solved_scores"] = json.loads(arm["manikin_result"]).get("scores")
+arm.manikin.live = True
+settle()  # a live solve (switching Live on asks for one) and its pose write
+settle()  # the write seen: the same inputs, nothing solved
+if bpy.app.timers.is_registered(live.score_settled):
+    bpy.app.timers.unregister(live.score_settled)
+
 # The unmarked cube moved into the forearm: nothing armed, nothing solved.
 stamp = arm["manikin_result"]
 vase.location = middle

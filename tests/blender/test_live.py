@@ -85,6 +85,18 @@ def test_live_resolves_when_an_obstacle_mesh_is_edited(session: dict, model) -> 
     _check_box(session, session["edited"], model)
 
 
+def test_live_defers_the_scores_until_the_drag_ends(session: dict) -> None:
+    """A live solve writes its result without the ergonomics scores (pending, the settle timer armed); once the drag
+    has ended they are added, the scores of the same pose as Solve Pose gives (issue 37)."""
+    assert session["live_result"] == dict(pending=True, scores=None, armed=True)
+    assert session["settle_waits"]
+    scored = session["scored"]
+    assert scored["pending"] is None and scored["scores"] and len(scored["verdicts"]) == len(scored["scores"])
+    assert session["scored_twice_same"]
+    assert session["solve_again"] == ["FINISHED"]
+    assert [s.split()[0] for s in session["solved_scores"]] == [s.split()[0] for s in scored["scores"]]
+
+
 def test_live_ignores_an_unmarked_object(session: dict) -> None:
     assert not session["armed_on_unmarked"] and session["unmarked_unsolved"]
 
