@@ -4,6 +4,7 @@ of the lines is the order of the report's sections and verdicts."""
 from __future__ import annotations
 
 from .base import Method
+from .capable import PercentCapable
 from .lifft import Lifft
 from .sequence import Sequence
 from .shoulder_tool import ShoulderTool
@@ -22,3 +23,4 @@ def register(method: Method) -> Method:
 register(Lifft())
 register(Sequence())
 register(ShoulderTool())
+register(PercentCapable())
