@@ -25,7 +25,7 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     assert html.index("Verdicts") < html.index("LiFFT low-back") < html.index("<h2>The job")
     pictures = sum(len(v["frames"]) for v in data["verdicts"].values())
     plots = sum(1 for r in data["methods"].values() if r.get("plot"))
-    assert plots == 4 and html.count("data:image/png;base64,") == plots + pictures  # a plot per method, a picture per frame
+    assert plots == 4 and html.count("data:image/png;base64,") == plots + pictures  # plots, pictures
     assert "<link" not in html and "<script" not in html and 'src="http' not in html  # nothing fetched: offline
     seq = data["methods"]["sequence"]
     assert sum(r["frames"] for r in seq["rula"]["levels"]) == 60
