@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from .base import Method
 from .capable import PercentCapable
+from .eaws import Eaws
 from .lifft import Lifft
 from .sequence import Sequence
 from .shoulder_tool import ShoulderTool
@@ -24,3 +25,4 @@ register(Lifft())
 register(Sequence())
 register(ShoulderTool())
 register(PercentCapable())
+register(Eaws())
