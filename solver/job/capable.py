@@ -9,8 +9,9 @@ positive), m g H the body's weight x stature; the table gives the mean and SD of
 sex. Here the strength of a sex is normal with that mean curve and an SD of SD(c1) x m g H x cos(c2 (theta - c3)) (the
 SDs of c2 and c3 are not used), for Manikin's reference body of that sex (1.740 m, 72.7 kg; 1.610 m, 62.2 kg:
 presets/manikins, 50th-percentile British stature, mass BMI 24 x stature^2), so % capable = Phi((mean - required) /
-SD). Anderson's table covers the hip, knee and ankle only; the elbow, shoulder and torso (L5/S1) are not rated: no
-published mean and SD of their strength could be read (docs/guide/job.md, "% capable").
+SD). A joint pushed into a limit of its range (a knee locked straight) leaves that moment to the limit, not the
+muscles: it counts as 0 N*m there. Anderson's table covers the hip, knee and ankle only; the elbow, shoulder and
+torso (L5/S1) are not rated: no published mean and SD of their strength could be read (docs/guide/job.md).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ BODY = {"men": (72.7, 1.740), "women": (62.2, 1.610)}  # kg, m: Manikin's refere
 # joint of the model -> (Anderson's joint, side); positive joint value = flexion (dorsiflexion at the ankle)
 JOINTS = {f"{j}_{s}_{axis}": (j, s) for j, axis in (("hip", "flexion"), ("knee", "flexion"),
                                                     ("ankle", "dorsiflexion")) for s in "rl"}  # fmt: skip
+LIMIT_TOLERANCE = math.radians(0.5)  # rad: a joint this close to a limit of its range sits at it
 NOT_RATED = ("elbow", "shoulder", "torso (L5/S1)")
 
 
@@ -65,6 +67,15 @@ def joint_capable(tau: float, angle: float, joint: str) -> dict[str, float]:
     return {sex: capable(abs(need), *strength(joint, direction, sex, angle)) for sex in SEXES}
 
 
+def at_limit(frame, name: str, tau: float) -> bool:
+    """True when joint ``name`` sits at a limit of its range (within LIMIT_TOLERANCE) and the external moment
+    ``tau`` N*m pushes it further into that limit."""
+    i = frame.index[name]
+    lower, upper = frame.joint_range[i]
+    value = frame.joint_value[i]
+    return bool((tau < 0 and value <= lower + LIMIT_TOLERANCE) or (tau > 0 and value >= upper - LIMIT_TOLERANCE))
+
+
 class PercentCapable(Method):
     name = "capable"
     title = "% capable: share of men and women strong enough"
@@ -88,6 +99,8 @@ class PercentCapable(Method):
             worst = {s: (101.0, "") for s in SEXES}
             for name in rated:
                 tau = (loads.get(name) or {}).get("axis_moment")
+                if tau is not None and at_limit(frame, name, tau):
+                    tau = 0.0  # pushed into its limit (a knee locked straight): the limit holds it, not the muscles
                 pct = joint_capable(tau, frame.value(name), JOINTS[name][0]) if tau is not None else None
                 for s in SEXES:
                     per_frame[f"capable_{name.rsplit('_', 1)[0]}_{s}_pct"].append(pct[s] if pct else None)

@@ -80,3 +80,21 @@ def test_a_one_frame_motion_is_rated(tmp_path: Path, short_result, write_job) ->
     report = run_job(write_job(tmp_path, short_result([30]), cycle_time=1.0, repetitions=0), tmp_path / "out")
     result = report["methods"]["capable"]
     assert result["minimum_men_frame"] == 30 and result["minimum_men_pct"] == result["per_frame"]["capable_men_pct"][0]
+
+
+def test_a_joint_pushed_into_its_limit_leaves_the_moment_to_the_limit() -> None:
+    """A knee locked straight (at its 0 rad limit) under a hyperextending moment (tau < 0) needs no muscle; the same
+    moment off the limit, or the opposite moment at it, does."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from solver.job.capable import at_limit
+
+    def knee(value: float) -> SimpleNamespace:
+        return SimpleNamespace(index={"knee_r_flexion": 0}, joint_range=np.array([[0.0, 2.44]]),
+                               joint_value=np.array([value]))  # fmt: skip
+
+    assert at_limit(knee(0.0), "knee_r_flexion", -90.0)
+    assert not at_limit(knee(0.1), "knee_r_flexion", -90.0) and not at_limit(knee(0.0), "knee_r_flexion", 90.0)
+    assert at_limit(knee(2.44), "knee_r_flexion", 5.0)
