@@ -4,6 +4,8 @@ of the lines is the order of the report's sections and verdicts."""
 from __future__ import annotations
 
 from .base import Method
+from .capable import PercentCapable
+from .eaws import Eaws
 from .lifft import Lifft
 from .sequence import Sequence
 from .shoulder_tool import ShoulderTool
@@ -22,3 +24,5 @@ def register(method: Method) -> Method:
 register(Lifft())
 register(Sequence())
 register(ShoulderTool())
+register(PercentCapable())
+register(Eaws())

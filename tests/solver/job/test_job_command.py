@@ -14,7 +14,7 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     report, out = example
     assert sorted(p.name for p in out.iterdir()) == ["job.csv", "job.html", "job.json", "motion.json"]
     data = json.loads((out / "job.json").read_text())
-    assert list(data["verdicts"]) == ["lifft", "sequence", "shoulder_tool"]
+    assert list(data["verdicts"]) == ["lifft", "sequence", "shoulder_tool", "capable", "eaws"]
     lifft = data["methods"]["lifft"]
     assert lifft["lifts_per_shift"] == 800 and 0 < lifft["probability_high_risk"] < 1
     assert lifft["peak_load_moment_Nm"] == max(lifft["per_frame"]["lifft_load_moment_Nm"])
@@ -24,7 +24,8 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     html = (out / "job.html").read_text()
     assert html.index("Verdicts") < html.index("LiFFT low-back") < html.index("<h2>The job")
     pictures = sum(len(v["frames"]) for v in data["verdicts"].values())
-    assert html.count("data:image/png;base64,") == 3 + pictures  # a plot per method, a picture per driving frame
+    plots = sum(1 for r in data["methods"].values() if r.get("plot"))
+    assert plots == 5 and html.count("data:image/png;base64,") == plots + pictures  # plots, pictures
     assert "<link" not in html and "<script" not in html and 'src="http' not in html  # nothing fetched: offline
     seq = data["methods"]["sequence"]
     assert sum(r["frames"] for r in seq["rula"]["levels"]) == 60

@@ -1,0 +1,88 @@
+"""EAWS (Ergonomic Assessment Work-Sheet; Schaub, Caragnano, Britzke & Bruder 2013, "The European Assembly
+Worksheet", Theoretical Issues in Ergonomics Science 14(6):616-639; the form v1.3.x): INPUTS ONLY, not a score.
+
+What was read, in a stored copy of the form "Ergonomic Assessment Worksheet v1.3.6" (English): the overall result,
+Whole Body = Postures + Forces + Loads + Extra (the higher of it and the Upper Limbs score rules), and its traffic
+light: 0-25 points green (low risk), > 25-50 yellow (possible risk), > 50 red (high risk). The point tables of
+sections 1 (postures), 2 (action forces), 3 (manual load handling) and 4 (upper limbs) were NOT read first-hand, so
+no points are given here. What the motion can give the analyst is measured instead: the seconds per minute of the
+work cycle spent in each trunk-flexion band and with the arms raised (section 1's inputs), and the load and its
+handlings per shift (section 3's inputs). docs/guide/job.md ("EAWS") says what is missing.
+"""
+
+from __future__ import annotations
+
+from .base import JobInputs, Method, verdict
+
+# (key, label, test on a frame's posture report); degrees. Bands as the form's section 1 rows are commonly named
+# (upright / bent forward 20-60 deg / strongly bent > 60 deg; elbows at or above shoulder level; hands above head);
+# the rows' exact definitions and points are in the form and its manual, not read here.
+BANDS = (
+    ("trunk_under_20", "trunk flexion < 20 deg", lambda p, _: p["trunk_flexion"] < 20.0),
+    ("trunk_20_60", "trunk flexion 20-60 deg", lambda p, _: 20.0 <= p["trunk_flexion"] <= 60.0),
+    ("trunk_over_60", "trunk flexion > 60 deg", lambda p, _: p["trunk_flexion"] > 60.0),
+    ("elbow_at_or_above_shoulder", "an upper arm raised 90 deg or more",
+     lambda p, s: max(p[k]["upper_arm_elevation"] for k in s) >= 90.0),
+    ("hand_above_shoulder", "a hand above its shoulder", lambda p, s: any(p[k]["hand_above_shoulder"] for k in s)),
+)  # fmt: skip
+LIGHTS = ((25.0, "green", 0), (50.0, "yellow", 1), (float("inf"), "red", 2))
+
+
+def traffic_light(points: float) -> tuple[str, int]:
+    """The form's traffic light of a total of ``points``: green 0-25, yellow > 25-50, red > 50; (colour, severity)."""
+    for limit, colour, severity in LIGHTS:
+        if points <= limit:
+            return colour, severity
+    raise AssertionError("unreachable")  # the last limit is infinite
+
+
+def band_times(postures: list[dict | None], frame_time: float, cycle_time: float) -> dict[str, dict]:
+    """Per band: frames, s in the motion and s per minute of the cycle (the form counts per minute)."""
+    out = {}
+    for key, label, test in BANDS:
+        count = 0
+        for p in postures:
+            sides = [s for s in ("l", "r") if p and isinstance(p.get(s), dict)]
+            if p and "trunk_flexion" in p and sides and test(p, sides):
+                count += 1
+        seconds = count * frame_time
+        out[key] = dict(label=label, frames=count, seconds=seconds, s_per_min=60.0 * seconds / cycle_time)
+    return out
+
+
+class Eaws(Method):
+    name = "eaws"
+    title = "EAWS inputs (not scored)"
+    source = (
+        "Schaub, Caragnano, Britzke & Bruder 2013, Theor Issues Ergon Sci 14(6):616-639; the form Ergonomic "
+        "Assessment Worksheet v1.3.6 (stored copy): total and traffic light only; point tables not read, not applied"
+    )
+
+    def evaluate(self, inputs: JobInputs) -> dict:
+        postures = [f.get("posture") for f in inputs.ergo["frames"]]
+        if not any(p and "trunk_flexion" in p for p in postures):
+            return dict(verdict=verdict("not rated: the manikin's posture cannot be measured", None))
+        bands = band_times(postures, inputs.frame_time, inputs.job.cycle_time)
+        numbers = [f.number for f in inputs.frames]
+        per_frame = {"eaws_trunk_flexion_deg": [p.get("trunk_flexion") if p else None for p in postures]}
+        flexion = [p.get("trunk_flexion", -1e9) if p else -1e9 for p in postures]
+        bent = [max(range(len(flexion)), key=flexion.__getitem__)]  # the most bent frame drives the inputs
+        job = inputs.job
+        times = "; ".join(f"{b['label']} {b['s_per_min']:.1f} s/min" for b in bands.values() if b["frames"])
+        text = (
+            f"not scored (the form's point tables were not read first-hand); per minute of the "
+            f"{job.cycle_time:g} s cycle: {times}; load {job.load_mass:g} kg, {job.lifts} handlings per shift"
+        )
+        return dict(
+            verdict=verdict(text, None, [numbers[bent[0]]]), scored=False, bands=bands,
+            load_kg=job.load_mass, handlings_per_shift=job.lifts, per_frame=per_frame,
+            plot=dict(kind="line", y=list(per_frame), label="deg", marks=bent,
+                      title="trunk flexion (EAWS section 1 bands: 20 and 60 deg)"),
+        )  # fmt: skip
+
+    def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
+        """The time in each posture band; then the single numbers."""
+        rows = [[b["label"], b["frames"], b["seconds"], b["s_per_min"]] for b in result.get("bands", {}).values()]
+        tables = [("EAWS section 1 inputs: time in each posture band", ["band", "frames", "s", "s per min of cycle"],
+                   rows)] if rows else []  # fmt: skip
+        return tables + super().detail(result)

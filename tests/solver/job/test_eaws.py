@@ -1,0 +1,49 @@
+"""EAWS inputs: the form's traffic light (Ergonomic Assessment Worksheet v1.3.6, stored copy: "0-25 Points Green",
+">25-50 Points Yellow", ">50 Points Red") at its edges, and the posture bands' times from the motion's frames. No
+points: the form's point tables were not read first-hand (docs/guide/job.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from solver.job.eaws import band_times, traffic_light
+
+
+def test_the_forms_traffic_light_at_its_edges() -> None:
+    assert [traffic_light(p) for p in (0.0, 25.0)] == [("green", 0)] * 2
+    assert [traffic_light(p) for p in (25.5, 50.0)] == [("yellow", 1)] * 2
+    assert traffic_light(50.5) == ("red", 2)
+
+
+def _posture(trunk: float, arm: float = 10.0, above: bool = False) -> dict:
+    side = {"upper_arm_elevation": arm, "hand_above_shoulder": above}
+    return {"trunk_flexion": trunk, "l": side, "r": dict(side)}
+
+
+def test_band_edges_and_seconds_per_minute() -> None:
+    """20 and 60 deg belong to the 20-60 band; 1 frame of 1 s in a 30 s cycle is 2 s per minute."""
+    frames = [_posture(19.9), _posture(20.0), _posture(60.0), _posture(60.1), _posture(0.0, 90.0, True), None]
+    bands = band_times(frames, 1.0, 30.0)
+    assert [bands[k]["frames"] for k in ("trunk_under_20", "trunk_20_60", "trunk_over_60")] == [2, 2, 1]
+    assert bands["elbow_at_or_above_shoulder"]["frames"] == bands["hand_above_shoulder"]["frames"] == 1
+    assert bands["trunk_over_60"]["s_per_min"] == pytest.approx(2.0)
+
+
+def test_the_example_job_gives_inputs_and_no_score(example: tuple[dict, Path]) -> None:
+    report, out = example
+    eaws = report["methods"]["eaws"]
+    assert eaws["scored"] is False and eaws["verdict"]["severity"] is None
+    assert sum(eaws["bands"][k]["frames"] for k in ("trunk_under_20", "trunk_20_60", "trunk_over_60")) == 60
+    assert eaws["handlings_per_shift"] == 800 and eaws["load_kg"] == 10.0
+    assert "not scored" in eaws["verdict"]["text"] and "EAWS section 1 inputs" in (out / "job.html").read_text()
+
+
+def test_zero_repetitions_and_one_frame(tmp_path: Path, short_result, write_job) -> None:
+    from solver.job import run_job
+
+    report = run_job(write_job(tmp_path, short_result([1]), cycle_time=1.0, repetitions=0), tmp_path / "out")
+    eaws = report["methods"]["eaws"]
+    assert eaws["handlings_per_shift"] == 0
+    assert sum(b["frames"] for k, b in eaws["bands"].items() if k.startswith("trunk")) == 1
