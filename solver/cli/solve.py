@@ -1,8 +1,8 @@
 """``python -m solver solve SCENARIO.toml [-o RESULT.json|RESULT.jsonl|-] [--format json|compact] [--feet planted|step]
 [-q]``: solve every frame of a scenario (the feet planted unless ``--feet step`` or [stance] feet = "step" lets them
 step, :mod:`solver.stance`), write the result file as the frames are solved, and print a summary (each step taken).
-Exit 3 when a frame did not converge; on Ctrl-C (or SIGTERM) the frames solved so far are kept and the file says where the run
-stopped."""
+Exit 3 when a frame did not converge; on Ctrl-C (or SIGTERM) the frames solved so far are kept and the file says
+where the run stopped."""
 
 from __future__ import annotations
 

@@ -61,7 +61,7 @@ def stepping(problem: Problem) -> Problem:
 
 
 def _rotation(problem: Problem, target: Target, zero) -> np.ndarray:
-    """A foot target's rotation (3x3, world): its own, else the TCP's zero-pose orientation (as the problem holds it)."""
+    """A foot target's rotation (3x3, world): its own, else the TCP's zero-pose orientation (as the problem has it)."""
     if target.rotation is not None:
         return np.asarray(target.rotation, dtype=float)
     return zero.tcp_frame(problem.model.tcp(target.tcp))[0]
