@@ -1,14 +1,14 @@
 """The step cost: a comfort term that lets a foot step only as far as the step helps.
 
-cost = sum over the feet of (d / L)^2 + (1 - cos turn) / (1 - cos TURN_REF), d the foot centre's horizontal distance
-(m) from where it stood, L the comfortable step (COMFORT_FRACTION x stature) and turn the foot's rotation about z.
-Why: a person reaching for something takes a step when leaning or stretching would be worse, and then no longer a
-step than the reach needs; the cost is minimised in the constraints' null space with the other comfort terms, so a
-target met from the planted stance keeps the feet where they stand unless a step makes the whole pose (joints, loads, step) more comfortable, and a target out of planted reach gets the
-shortest step that, with the rest of the pose, meets it. Squared, like the other terms, so its gradient is zero at
-the start (a planted pose is not pushed off) and a step of L costs 1, about one joint at the edge of its comfortable
-range; a turn of TURN_REF costs 1 too (about (turn / TURN_REF)^2): without it the feet swung to the 45 deg bound
-whenever a turn eased a hip a little.
+cost = sum over the feet of (d / L)^2 + (1 - cos turn) / (1 - cos TURN_REF), d the foot centre's horizontal distance (m)
+from where it stood, L the comfortable step (COMFORT_FRACTION x stature) and turn the foot's rotation about z. Why: a
+person reaching for something takes a step when leaning or stretching would be worse, and then no longer a step than the
+reach needs; the cost is minimised in the constraints' null space with the other comfort terms, so a target met from the
+planted stance keeps the feet where they stand unless a step makes the whole pose (joints, loads, step) more
+comfortable, and a target out of planted reach gets the shortest step that, with the rest of the pose, meets it.
+Squared, like the other terms, so its gradient is zero at the start (a planted pose is not pushed off) and a step of L
+costs 1, about one joint at the edge of its comfortable range; a turn of TURN_REF costs 1 too (about (turn /
+TURN_REF)^2): without it the feet swung to the 45 deg bound whenever a turn eased a hip a little.
 """
 
 from __future__ import annotations
