@@ -180,7 +180,8 @@ class MANIKIN_OT_solve_pose(_RigOperator):
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         data = last_result(arm) or {}
-        said = moved_text(data.get("moved", {})) + data.get("notes", [])  # slid feet and hints, with units
+        said = data.get("step_lines", []) + moved_text(data.get("moved", {})) + data.get("notes", [])  # steps, slid
+        # feet and hints, with units
         tail = "".join(f"; {line}" for line in said)
         if result.converged:
             self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms){tail}")

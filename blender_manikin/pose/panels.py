@@ -240,7 +240,7 @@ class MANIKIN_PT_result(_SidebarPanel):
         )
         from ..scene.supports import moved_text  # light (NumPy), but kept out of enabling like the scene code
 
-        for line in moved_text(data.get("moved", {})):
+        for line in data.get("step_lines", []) + moved_text(data.get("moved", {})):
             layout.label(text=line, icon="TRACKING_FORWARDS")
         for line in data.get("notes", []):
             layout.label(text=line, icon="ERROR")

@@ -143,6 +143,9 @@ FEET = (
      "six axes, so the feet stay where they are and a reach too far ends short"),
     ("SLIDE", "May slide", "Every support may slide and turn on its plane (its x, y and rz are freed, whatever its "
      "locks); how far each slid is reported"),
+    ("STEP", "May step", "The feet may step as a person would: each within a step (0.4 x stature) of its target, not "
+     "crossed, turned at most 45 deg, in balance and clear of obstacles, only as far as the step helps; each step's "
+     "length, direction and turn is reported"),
 )  # fmt: skip
 
 

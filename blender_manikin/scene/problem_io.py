@@ -24,12 +24,13 @@ from ...solver.ergonomics import ErgoOptions
 from ...solver.ergonomics.loads import percent_of_strength
 from ...solver.ergonomics.registry import verdicts
 from ...solver.iteration.result import shortfall_text
+from ...solver.stance import FEET, bounds_of, stepping, steps_of
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
 from .obstacles import scene_obstacles
 from .registries import comfort_weights
 from .schema import ERROR_KEY, RESULT_KEY, members
-from .supports import floor_notes, moved_supports, pushed_notes, solved_lock
+from .supports import STEP, floor_notes, moved_supports, pushed_notes, solved_lock
 
 if TYPE_CHECKING:
     from ...solver.body.model import Model
@@ -155,11 +156,12 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
         # all but the targets' poses; obstacles by identity (unchanged shapes made from bounds are the same objects)
         setup = (id(model), repr(labels), np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
                  tuple(id(o) for o in obstacles))  # fmt: skip
-        if reuse is not None and reuse.setup == setup:
+        if reuse is not None and reuse.setup == setup and settings.feet != STEP:  # stepping: from the feet's targets
             problem = reuse.problem.with_targets(targets)
         else:
             problem = Problem(model, targets, loops, loads, settings.balance, weights, groups, floor=settings.floor,
                               obstacles=obstacles, self_collision=settings.self_collision, carried=carried)  # fmt: skip
+            problem = stepping(problem) if settings.feet == STEP else problem
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
     inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
@@ -192,6 +194,8 @@ def summarize(result: Result, scores: bool = True) -> dict:
     top = np.argsort(-rank, kind="stable")[:TOP_LOADS]
     corners = problem.contacts.corner_points(state.kin) if problem.contacts.n_vars else np.zeros((0, 3))
     parts = set(capsules_of(model).names)  # a pair with another body part (self-collision) is marked ``body``
+    steps = steps_of(problem, state)
+    stepped = set(FEET) if bounds_of(problem) is not None else set()
     return dict(
         converged=bool(result.converged),
         iterations=int(result.iterations),
@@ -217,7 +221,10 @@ def summarize(result: Result, scores: bool = True) -> dict:
             for c in result.closest
         ],  # fmt: skip
         capsules=capsules(problem.model, state),
-        moved=moved_supports(result),  # {tcp: {"mm", "deg"}}: supports that ended away from their targets
+        moved={k: v for k, v in moved_supports(result).items() if k not in stepped},  # {tcp: {"mm", "deg"}}: supports
+        # that ended away from their targets (a stepping foot's step is reported as a step instead)
+        steps=[s.as_dict() for s in steps],  # May step: each foot's step (length m, direction and turn deg)
+        step_lines=[s.text() for s in steps],  # "foot_r stepped 0.41 m, 8 deg left of forward, turned 3 deg"
         notes=floor_notes(result) + pushed_notes(result),  # hints: a support off the floor, pushed by an obstacle
     )
 

@@ -3,7 +3,10 @@ in a solve, and the hints for a support that is off the floor or pushed off its 
 
 Feet "Planted" (the default) solves each support with its own locks, and a support the add-on makes locks all six
 axes, so the feet stay where they are; "May slide" frees every support's x, y and rz (it slides and turns on its
-plane; its z, rx, ry locks stay as set). Either way a support that ended away from its target is reported.
+plane; its z, rx, ry locks stay as set), without bounds: any support, a hand on a rail as well as a foot. "May step"
+frees the feet alone, as a person steps (:mod:`solver.stance`: each within a step of its target, not crossed, turned
+at most 45 deg, a step cost so it steps only as far as that helps) and reports each step (length, direction, turn)
+instead of a slide. Either way a support that ended away from its target is reported.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from ...solver.options import AXES
 if TYPE_CHECKING:
     from ...solver import Result
 
-PLANTED, SLIDE = "PLANTED", "SLIDE"
+PLANTED, SLIDE, STEP = "PLANTED", "SLIDE", "STEP"
 SLIDE_FREE = ("x", "y", "rz")  # what "May slide" frees on every support: along and about its plane
 MOVED_MM, MOVED_DEG = 1.0, 1.0  # below these a support counts as where its target is (the solver's tolerances)
 OFF_FLOOR_MM = 5.0  # a support target farther than this from the floor plane z = 0 is noted

@@ -1,7 +1,8 @@
-"""``python -m solver solve SCENARIO.toml [-o RESULT.json|RESULT.jsonl|-] [--format json|compact] [-q]``: solve
-every frame of a scenario, write the result file as the frames are solved, and print a summary. Exit 3 when a
-frame did not converge; on Ctrl-C (or SIGTERM) the frames solved so far are kept and the file says where the run
-stopped."""
+"""``python -m solver solve SCENARIO.toml [-o RESULT.json|RESULT.jsonl|-] [--format json|compact] [--feet planted|step]
+[-q]``: solve every frame of a scenario (the feet planted unless ``--feet step`` or [stance] feet = "step" lets them
+step, :mod:`solver.stance`), write the result file as the frames are solved, and print a summary (each step taken).
+Exit 3 when a frame did not converge; on Ctrl-C (or SIGTERM) the frames solved so far are kept and the file says
+where the run stopped."""
 
 from __future__ import annotations
 
@@ -28,6 +29,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="result format (default: compact for a .jsonl file, else json); compact: the model once, then per frame "
         "joint values, contacts and loads (for long motions)",
     )
+    p.add_argument(
+        "--feet",
+        choices=["planted", "step"],
+        help="planted (the default, or the scenario's [stance] feet): can the worker do this from here; step: the feet "
+        "may step (each within a step of where it stood, in balance, clear of obstacles), each step reported",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary and no progress")
     p.set_defaults(run=run)
 
@@ -41,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     from ..progress import Progress
 
     quiet = args.quiet or args.output == STDOUT  # standard output carries the result: no summary there
-    scenario = load_scenario(args.scenario)
+    scenario = load_scenario(args.scenario, feet=args.feet)
     frames = scenario.frames
     compact = None if args.format is None else args.format == "compact"
     writer = ResultWriter(args.output, scenario.path, compact) if args.output else None

@@ -3,7 +3,7 @@ not.
 
 A point is *reached* when a solve meets every constraint there: the hand on the point (position; and the orientation
 when it is fixed), both feet on their start places (all six axes: planted; or, stepping, flat on the floor within
-the stance bounds of :mod:`.stance`), the floor and the body's own clearances,
+the stance bounds of :mod:`solver.stance.limits`), the floor and the body's own clearances,
 and, with balance, the static balance of the whole body with its contact forces inside the friction cones and the
 soles (priority 1 in :mod:`solver.problem.priorities`) under the hand-held load. The reach along a ray is found by
 a bracket-and-bisect search on the radius, each test a converged solve warm-started from the last reached pose, and
@@ -27,12 +27,12 @@ from ..iteration import TUNING, attempt
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from ..problem.specs import ExternalLoad, ProblemSpec, Target
-from .stance import StanceBounds, stance_limits
+from ..stance.limits import StanceBounds, stance_limits
 
 SIDES = {"right": "r", "left": "l"}
 FEET = ("foot_l", "foot_r")
 # what each feet mode locks of a sole: planted, all six axes; stepping, flat on the floor (z, roll, pitch) while it
-# slides and turns about z within the bounds of :mod:`.stance`
+# slides and turns about z within the bounds of :mod:`solver.stance.limits`
 FEET_MODES = {"planted": AXES, "step": ("z", "rx", "ry")}
 # A reach test needs no comfort (the farthest point, not the nicest pose): pure least squares from a warm start meets
 # a reachable point in 3-10 iterations; the budget bounds what an unreachable one costs before it is called so.
@@ -95,7 +95,7 @@ def reach_setup(
     hand), its orientation fixed to ``rotation`` (3x3, world) or free, with or without balance; the centre of
     pressure kept inside each sole scaled by ``sole_scale`` about its centre (1: the whole sole, the static limit;
     less keeps a margin of stability); ``feet`` "planted" (all six axes held) or "step" (each sole flat on the
-    floor, free to slide and turn within the bounds of :mod:`.stance`)."""
+    floor, free to slide and turn within the bounds of :mod:`solver.stance.limits`)."""
     if side not in SIDES:
         raise UsageError(f"--hand: expected right or left, got {side!r}")
     if not (np.isfinite(load_kg) and 0.0 <= load_kg <= MAX_LOAD):

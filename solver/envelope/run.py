@@ -55,8 +55,8 @@ def reach_row(
 ) -> dict:
     """How far ``manikin`` (a preset name or body TOML path) reaches with its ``hand`` ("right"/"left") along
     ``direction`` (3 numbers, world: z up, the manikin faces -y) from its shoulder, the ``feet`` "planted" or free
-    to "step" (:mod:`.stance`), holding ``load_kg``, in balance or not, the hand's orientation free or fixed to
-    ``rotation`` (w, x, y, z), the centre of pressure in the soles scaled by ``sole_scale`` (1: whole soles).
+    to "step" (:mod:`solver.stance.limits`), holding ``load_kg``, in balance or not, the hand's orientation free or
+    fixed to ``rotation`` (w, x, y, z), the centre of pressure in the soles scaled by ``sole_scale`` (1: whole soles).
     Stepping searches the planted reach first and goes on from its pose (so it never reaches less).
 
     The row: the inputs, ``reach_m`` (0 when not reached), ``reached``, ``planted_reach_m`` (the same with planted

@@ -19,6 +19,7 @@ from ..iteration import solve
 from ..iteration.result import Result
 from ..options import DEFAULT_LIMITS, DEFAULT_OPTIONS, MotionLimits, SolverOptions
 from ..problem.problem import Problem
+from ..stance.report import annotate, frame_moves
 from .between_frames import MotionSweep
 
 if TYPE_CHECKING:
@@ -81,6 +82,9 @@ def solve_frames(
             steps = lambda: variable_steps(problem, step)  # noqa: E731, B023 (called at once, if at all)
             problems = previous[1], full, problem
             result = sweep.guard((previous[0], frame), problems, previous[2], result, options, steps)
+        annotate(result)  # the steps taken, or that planted feet kept a target out of reach
+        if previous is not None:  # a stepping foot that moved since the last frame slid there: say so
+            result.notes.extend(frame_moves(full, previous[1].state_of_x(previous[2]), result.state))
         x = result.x
         previous = (frame, full, result.x)
         yield frame, result

@@ -88,6 +88,22 @@ log: list = []
 draw_panels(panels.classes[1:], log)
 seen["far_slide"]["panel"] = log
 
+# Feet = May step: the same reach, stepping within a step of each foot's target; each step reported (not a slide).
+bpy.ops.manikin.reset_pose()
+arm.manikin.feet = "STEP"
+t_step = time.perf_counter()
+hand.location.y += 2.5 - 1.4  # 1.4 m ahead: beyond planted reach, within a step
+view_layer.update()
+seen["far_step"] = solve()
+seen["far_step"]["steps"] = result()["steps"]
+seen["far_step"]["step_lines"] = result()["step_lines"]
+log = []
+draw_panels(panels.classes[1:], log)
+seen["far_step"]["panel"] = log
+hand.location.y -= 2.5 - 1.4
+view_layer.update()
+seen["far_step"]["seconds_all"] = time.perf_counter() - t_step
+
 # Live honours the setting too: planted again, live on, the far target re-solved by the (stand-in) timer.
 bpy.ops.manikin.reset_pose()
 arm.manikin.feet = "PLANTED"

@@ -35,6 +35,17 @@ def test_may_slide_converges_and_says_how_far_each_foot_slid(session: dict) -> N
     assert any(line.startswith("foot_r slid ") for line in slide["panel"])  # the Result panel says it too
 
 
+def test_may_step_meets_the_reach_with_steps_reported_not_slides(session: dict) -> None:
+    step = session["far_step"]
+    assert step["done"] == ["FINISHED"] and step["converged"], step
+    assert step["moved"] == {} and step["steps"]  # a step, not a slide
+    for s in step["steps"]:  # within a step (0.4 x 1.75 m), ahead, turned within 45 deg
+        assert 0.05 < s["length"] <= 0.701 and abs(s["direction_deg"]) < 45.0 and abs(s["turn_deg"]) <= 45.2
+    assert all(" stepped " in line and " m, " in line for line in step["step_lines"])
+    assert all(line in step["panel"] for line in step["step_lines"])  # the Result panel says it too
+    assert step["seconds_all"] < 10.0
+
+
 def test_live_mode_honours_the_feet_setting(session: dict) -> None:
     assert not session["live_planted"]["converged"] and session["live_planted"]["moved"] == {}
     assert session["live_slide"]["converged"] and sorted(session["live_slide"]["moved"]) == ["foot_l", "foot_r"]

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from ...collision.carried import CLEARANCE
 from ...iteration.result import Result
+from ...stance.report import step_dicts
 from ..values import finite_or_none, floats, quaternion
 from .frame import Frame, frame_of_result
 from .model_json import model_to_dict
@@ -32,7 +33,7 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
     stop, iterations, time_s, unmet, notes, targets (world frames), residuals, comfort, comfort_terms, com, and the
     closest pairs within the clearance rows' margin (:meth:`~solver.constraints.clearance.Closeness.to_dict`: pair,
     part, other, distance, clearance, point, other_point; nearest first); with a carried box, ``carried``
-    (:func:`carried_entry`)."""
+    (:func:`carried_entry`); ``feet`` ("planted" or "step") and, stepping, ``steps`` (:mod:`solver.stance.report`)."""
     targets = {
         name: dict(position=floats(pos), rotation=quaternion(rot))
         for name, (rot, pos) in result.problem.target_frames(state).items()
@@ -56,6 +57,10 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
     )
     if result.problem.carried_constraint is not None:
         status["carried"] = carried_entry(result.problem.carried_constraint, state)
+    steps = step_dicts(result)  # stepping feet: each step's foot, length (m), direction and turn (deg), start, end
+    status["feet"] = "planted" if steps is None else "step"
+    if steps is not None:
+        status["steps"] = steps
     return status
 
 

@@ -19,6 +19,7 @@ from ...problem.problem import Problem
 from ...problem.scenario import Scenario
 from ...problem.specs import MAX_DISTANCE, MAX_FORCE, PRIORITIES, ExternalLoad, Loop, ProblemSpec, Target
 from ...problem.tracks import Key, Track, targets_at
+from ...stance.step_problem import FEET_MODES, PLANTED, STEP, stepping
 from ..files import read_text
 from ..files import read_toml as read_toml_file
 from ..table_reader import TableReader
@@ -26,7 +27,7 @@ from .bodies import load_body
 from .obstacles import read_obstacles
 
 SECTIONS = {"manikin", "solver", "comfort", "start", "targets", "loads", "loops", "frame", "motion", "name",
-            "description", "floor", "self_collision", "obstacles", "carried"}  # fmt: skip
+            "description", "floor", "self_collision", "obstacles", "carried", "stance"}  # fmt: skip
 TARGET_KEYS = {"tcp", "position", "rotation", "lock", "operator", "weight", "support", "friction", "sole", "enabled",
                "priority", "name", "keys"}  # fmt: skip
 FRAME = "a whole frame number"
@@ -44,9 +45,10 @@ def read_toml(path: Path) -> TableReader:
     return TableReader(path, data, error=ScenarioError)
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file into a ready-to-solve :class:`Scenario`."""
-    return _scenario(read_toml(Path(path)))
+def load_scenario(path: str | Path, feet: str | None = None) -> Scenario:
+    """Read and validate a scenario file into a ready-to-solve :class:`Scenario`; ``feet`` ("planted" or "step")
+    overrides its [stance] feet."""
+    return _scenario(read_toml(Path(path)), feet=feet)
 
 
 def scenario_from_dict(data: dict, path: str | Path, model: Model | None = None) -> Scenario:
@@ -56,7 +58,7 @@ def scenario_from_dict(data: dict, path: str | Path, model: Model | None = None)
     return _scenario(TableReader(Path(path), data, error=ScenarioError), model)
 
 
-def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
+def _scenario(root: TableReader, model: Model | None = None, feet: str | None = None) -> Scenario:
     """Validate the scenario tables of ``root`` into a ready-to-solve :class:`Scenario`."""
     path = Path(root.path)
     root.known(SECTIONS)
@@ -76,10 +78,12 @@ def _scenario(root: TableReader, model: Model | None = None) -> Scenario:
     obstacles = read_obstacles(root.table_list("obstacles"), path.parent)
     carried = _read_carried(root, model)
     floor, self_collision = _enabled(root, "floor"), _enabled(root, "self_collision")
+    feet = feet or _read_feet(root)
     try:
         spec = ProblemSpec(targets_at(targets, tracks, frames[0]), loops, loads, balance, weights, reduction,
                            floor=floor, obstacles=obstacles, self_collision=self_collision, carried=carried)
         problem = Problem(model, spec)
+        problem = stepping(problem) if feet == STEP else problem
     except ManikinError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
     start = _read_start(root.table("start"), model, problem)
@@ -218,6 +222,13 @@ def _read_carried(root: TableReader, model: Model) -> Carried | None:
     if tcps[0] == tcps[1]:
         raise t.fail("tcps", "two different TCPs", tcps)
     return Carried(size, (tcps[0], tcps[1]), t.string("name", "carried box"))
+
+
+def _read_feet(root: TableReader) -> str:
+    """[stance] feet = "planted" (the default: can the worker do this from here?) or "step" (:mod:`solver.stance`)."""
+    t = root.table("stance")
+    t.known({"feet"})
+    return t.choice("feet", FEET_MODES, "one of") if "feet" in t.data else PLANTED
 
 
 def _priority(t: TableReader) -> int | None:

@@ -10,7 +10,7 @@ import pytest
 from solver import load_preset, solve
 from solver.envelope import direction_sphere, reach_row, search_ray, sweep_envelope
 from solver.envelope.reach import reach_setup
-from solver.envelope.stance import ROWS, StanceBounds, stance_limits
+from solver.stance.limits import ROWS, StanceBounds, stance_limits
 
 G = 9.81
 FEET = ("foot_l", "foot_r")

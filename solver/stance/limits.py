@@ -9,10 +9,10 @@ z) and these one-sided rows (priority 1, with balance) bound where it goes, each
   one, measured across the right sole (its x axis), and the same seen from the left sole;
 * each foot turned at most ``yaw`` rad about z from its start.
 
-The numbers are documented assumptions (docs/tutorials/envelope.md, "Stepping"): ``step`` = STEP_FRACTION x stature, a
-comfortable walking step (adults' step at free walking speed is roughly 0.6-0.8 m), not a maximal lunge; ``width``
-the sole's own width (the model's sole, 0.055 x stature by Drillis & Contini via Winter 2009), so the soles neither
-cross nor overlap side by side; ``yaw`` YAW_MAX_DEG, a pivot on the spot. Units: m, rad.
+The numbers are documented assumptions (docs/tutorials/envelope.md and the user guide, "Stepping"): ``step`` =
+STEP_FRACTION x stature, a comfortable walking step (adults' step at free walking speed is roughly 0.6-0.8 m), not a
+maximal lunge; ``width`` the sole's own width (the model's sole, 0.055 x stature by Drillis & Contini via Winter
+2009), so the soles neither cross nor overlap side by side; ``yaw`` YAW_MAX_DEG, a pivot on the spot. Units: m, rad.
 """
 
 from __future__ import annotations
