@@ -14,10 +14,11 @@ from ..io.scenario.read import read_toml, scenario_from_dict
 from ..iteration.result import Result
 from ..motion.frames import solve_frames
 from ..problem.scenario import Scenario
+from .handlers import plan
 from .objects import WorkObject
 from .posing import Poser
 from .schema import Operate, read_objects, read_operate, read_operations
-from .timeline import Plan, plan
+from .timeline import Plan
 
 OWN = ("objects", "operations", "operate")  # the tables this package reads; the rest is a scenario's
 FEET = [{"tcp": "foot_r", "position": [-0.083, 0.0, 0.0], "lock": ["x", "y", "z", "rx", "ry"], "support": True},

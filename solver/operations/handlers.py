@@ -1,10 +1,11 @@
-"""The operations but ``get`` (:mod:`.timeline`): place, reach, hold, look, step, wait, each -> its segments."""
+"""The operations but ``get`` (:mod:`.timeline`): place, reach, hold, look, step, wait, each -> its segments; and
+:func:`plan`, every operation of a scenario in turn."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..collision import Box
+from ..collision import Box, Obstacle
 from . import timing
 from .objects import WorkObject, origin_of
 from .schema import Operation, OperationError
@@ -14,6 +15,7 @@ from .timeline import (
     LIFT,
     SET_GAP,
     Now,
+    Plan,
     Segment,
     check_reach,
     get,
@@ -129,6 +131,7 @@ def look(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segmen
     before = now.gaze if now.gaze is not None else eyes + np.array([0.0, -1.0, -0.3])
     travel = float(np.linalg.norm(op.at - before))
     now.gaze = np.asarray(op.at, dtype=float)
+    now.gaze_until = 1
     return [segment(now, op.label, timing.eye_time(travel, float(np.linalg.norm(op.at - eyes))))]
 
 
@@ -153,3 +156,26 @@ def wait(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segmen
 
 
 HANDLERS = {"get": get, "place": place, "reach": reach, "hold": hold, "look": look, "step": step, "wait": wait}
+
+
+def plan(operations: list[Operation], objects: dict[str, WorkObject], hands: dict, feet: dict,
+         obstacles: list[Obstacle]) -> Plan:  # fmt: skip
+    """The segments of ``operations`` from the hands' (tcp -> (position, rotation)) and feet's (tcp -> position)
+    start; ``obstacles``: the scenario's."""
+    now = Now({h: (p, r, ("x", "y", "z"), 2) for h, (p, r) in hands.items()}, dict(feet), objects)
+    segments: list[Segment] = []
+    spans = []
+    for op in operations:
+        before, start = len(segments), now.t
+        segments.extend(HANDLERS[op.do](op, now, objects, obstacles))
+        now.gaze_until -= 1
+        if now.gaze_until < 0:  # a look holds the gaze through the operation after it, then the eyes are free
+            now.gaze = None
+        made = segments[before:]
+        if op.duration is not None and made:  # the operation's own duration: its segments scaled to it
+            scale = op.duration / max(now.t - start, 1e-9)
+            for s in made:
+                s.t0, s.t1 = start + (s.t0 - start) * scale, start + (s.t1 - start) * scale
+            now.t = start + op.duration
+        spans.append((op.label, start, now.t))
+    return Plan(segments, objects, spans)

@@ -18,6 +18,7 @@ PALM_GAP = 0.027  # m: palm outside the face, so the hand's capsule (r 3.3 cm, a
 GRIP_HEIGHT = 0.0  # m above the object's centre where proposed side grasps are (its middle: the box stays level)
 AUTO_BOTH_MASS = 3.0  # kg: heavier objects are taken with both hands when the operation says no hand
 AUTO_BOTH_WIDTH = 0.30  # m: so are objects wider than this
+WIDEST_GRIP = 0.6  # m: a box wider than this across x (and deeper than wide) is gripped on its front and back
 HAND_LOCK = ("x", "y", "z", "rx", "ry")  # the palm free to turn about its normal, as the box-lift preset
 # a hand TCP's zero-pose axes (male_50): palm normal (TCP z) towards the body's middle
 SIDE_R = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # hand_r: palm normal along +x
@@ -89,11 +90,11 @@ def world_hand(origin: np.ndarray, rotation: np.ndarray, hand: HandFrame) -> tup
 
 
 def propose_grasps(obj: WorkObject, hands: tuple[str, ...] = ("hand_r", "hand_l")) -> dict[str, Grasp]:
-    """Grasps made from the geometry: both hands on opposite side faces (across the object's narrower horizontal
-    side, so the arms are not spread wide), and each hand alone on its side face; for an upright cylinder the
-    hands are on either side of the axis at mid height. Each palm :data:`PALM_GAP` m outside the face."""
+    """Grasps made from the geometry: both hands on opposite side faces (its left and right faces, x, unless it
+    is wider than :data:`WIDEST_GRIP` and deeper than wide: then front and back), and each hand alone on its face.
+    Each palm :data:`PALM_GAP` m outside the face, at mid height."""
     half = obj.size / 2.0
-    across = 0 if half[0] <= half[1] else 1  # grip across the narrower horizontal extent
+    across = 0 if obj.size[0] <= WIDEST_GRIP or half[0] <= half[1] else 1  # left and right faces, unless too wide
     out = {}
     frames = {}
     for tcp, sign, base in (("hand_r", -1.0, SIDE_R), ("hand_l", 1.0, SIDE_L)):
@@ -114,11 +115,13 @@ def grasp_for(obj: WorkObject, name: str | None, hands: str) -> Grasp | None:
     """The grasp ``name``, else the first with the hands ``hands`` ("both", "right", "left", "auto"); None: none."""
     if name is not None:
         return obj.grasps.get(name)
-    if hands == "auto":  # two hands for a heavy or wide object, as a person would
+    fallback = None
+    if hands == "auto":  # two hands for a heavy or wide object, as a person would (else whatever grasp it has)
+        fallback = next(iter(obj.grasps.values()), None)
         hands = "both" if obj.mass > AUTO_BOTH_MASS or float(np.max(obj.size[:2])) > AUTO_BOTH_WIDTH else "right"
     wanted = {"both": 2, "right": ("hand_r",), "left": ("hand_l",)}.get(hands)
     for grasp in obj.grasps.values():
         tcps = tuple(grasp.hands)
         if wanted is None or wanted == len(tcps) or wanted == tcps:
             return grasp
-    return None
+    return fallback

@@ -76,28 +76,8 @@ class Now:
         self.holding: tuple[str, tuple[str, ...], dict] | None = None  # object, hands, their frames
         self.origins = {name: origin_of(o.shape) for name, o in objects.items()}
         self.t = 0.0
-
-
-def plan(operations: list[Operation], objects: dict[str, WorkObject], hands: dict, feet: dict,
-         obstacles: list[Obstacle]) -> Plan:  # fmt: skip
-    """The segments of ``operations`` from the hands' (tcp -> (position, rotation)) and feet's (tcp -> position)
-    start; ``obstacles``: the scenario's."""
-    from .handlers import HANDLERS  # the handlers build on this module's segments
-
-    now = Now({h: (p, r, ("x", "y", "z"), 2) for h, (p, r) in hands.items()}, dict(feet), objects)
-    segments: list[Segment] = []
-    spans = []
-    for op in operations:
-        before, start = len(segments), now.t
-        segments.extend(HANDLERS[op.do](op, now, objects, obstacles))
-        made = segments[before:]
-        if op.duration is not None and made:  # the operation's own duration: its segments scaled to it
-            scale = op.duration / max(now.t - start, 1e-9)
-            for s in made:
-                s.t0, s.t1 = start + (s.t0 - start) * scale, start + (s.t1 - start) * scale
-            now.t = start + op.duration
-        spans.append((op.label, start, now.t))
-    return Plan(segments, objects, spans)
+        self.taking: str | None = None  # the object a get reaches for
+        self.gaze_until = 0  # operations the gaze is still held for
 
 
 def segment(now: Now, label: str, duration: float, moves: dict | None = None, feet: dict | None = None) -> Segment:
@@ -121,7 +101,8 @@ def segment(now: Now, label: str, duration: float, moves: dict | None = None, fe
         carried = (name, tcps)
         obj_rotation = frames["rotation"]
         now.origins[name] = now.hands[tcps[0]][0] - obj_rotation @ frames[tcps[0]].position
-    resting = {n: o for n, o in now.origins.items() if carried is None or n != carried[0]}
+    # the object being taken is no obstacle while the hands close on it (they grip it, 1 cm off its faces)
+    resting = {n: o for n, o in now.origins.items() if n != now.taking and (carried is None or n != carried[0])}
     out = Segment(label, now.t, now.t + duration, hands, steps, now.gaze, carried, dict(resting))
     now.t += duration
     return out
@@ -186,6 +167,7 @@ def get(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment
         moves[tcp] = (points, at[tcp][1], grasp.hands[tcp].lock, priority)
         low = min(p[2], now.hands[tcp][0][2]) < timing.BEND_HEIGHT
         longest = max(longest, timing.reach_time(length(points), case) + (timing.BEND_TMU * timing.TMU if low else 0))
+    now.taking = obj.name
     out = [segment(now, op.label, longest, moves)]
     grip = timing.JUMBLED_GRASP_TMU if case == "C" else timing.GRASP_TMU
     closing = {tcp: ([before[tcp], p], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
@@ -196,6 +178,7 @@ def get(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment
     lifting = {tcp: ([p, p + up], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
     out.append(segment(now, op.label, timing.move_time(LIFT, "B", obj.mass), lifting))
     out.append(to_carry(op, now, obj, others))
+    now.taking = None
     return out
 
 
