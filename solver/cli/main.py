@@ -21,10 +21,11 @@ import sys
 
 from ..errors import ArgumentParser, ManikinError
 from ..io.interrupts import sigterm_as_interrupt, stopped_by
-from . import envelope, ergo, family, job, presets, solve, study, urdf, validate
+from . import envelope, ergo, family, job, operate, presets, solve, study, urdf, validate
 from .common import EXIT_BAD_INPUT, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED
 
-COMMAND_MODULES = (solve, ergo, job, study, urdf, presets, family, envelope, validate)  # in the order --help lists them
+# in the order --help lists them
+COMMAND_MODULES = (solve, operate, ergo, job, study, urdf, presets, family, envelope, validate)
 COMMANDS = tuple(module.__name__.rpartition(".")[2] for module in COMMAND_MODULES)  # the command names
 
 

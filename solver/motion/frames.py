@@ -39,6 +39,14 @@ def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
     return per_joint.min(axis=0)
 
 
+def as_x(problem: Problem, x: np.ndarray) -> np.ndarray:
+    """``x`` as ``problem``'s full x: itself, or (another set of supports, e.g. a foot lifted for a step) its joints
+    with the forces shared evenly again."""
+    if len(x) == problem.n_x:
+        return x
+    return problem.to_x(problem.start(x[: problem.model.n]))
+
+
 def bounded(problem: Problem, previous_x: np.ndarray, limits: MotionLimits) -> Problem:
     """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``."""
     step = variable_steps(problem, limits)
@@ -65,6 +73,9 @@ def solve_frames(
     previous: tuple[int, Problem, np.ndarray] | None = None  # the previous frame, its problem and solution
     for frame in frames:
         full = problem_at(frame)
+        x = as_x(full, x)
+        if previous is not None and len(previous[2]) != full.n_x:  # the supports changed: forces shared again
+            previous = (previous[0], previous[1], as_x(full, previous[2]))
         problem = full if (limits is None or previous is None) else bounded(full, previous[2], limits)
         result = solve(problem, x, options)
         if not result.converged and problem is not full:

@@ -1,0 +1,213 @@
+"""Operations -> timed segments: where each hand, foot, the gaze and every object are over time. Units: m, s.
+
+Each operation becomes a few segments (a get: reach to 6 cm before the grasp, approach and grasp, lift; a place:
+carry over the way, set down, release and withdraw; a step: one segment per pace), each with an MTM-1 duration
+(:mod:`.timing`; an operation's ``duration`` scales its segments to it). Within a segment every moving point
+follows its way with the minimum-jerk share of the segment's time. A bad operation raises one OperationError line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..collision import Obstacle
+from . import timing
+from .objects import WorkObject, grasp_for, moved, origin_of, world_hand
+from .schema import Operation, OperationError
+from .ways import length, way
+
+APPROACH = 0.06  # m: a hand comes to a grasp from this far back along its palm normal
+LIFT = 0.08  # m: an object is lifted this much off where it rests (and set down from this much above)
+SET_GAP = 0.002  # m: a placed object is released this far above its support
+REACH = 0.95  # m: a target farther than this (horizontally) from the feet's middle is beyond a planted reach
+HIGHEST = 2.1  # m: nor higher than this
+CARRY = np.array([0.0, -0.38, 1.0])  # m from the feet's middle: where a held object is carried (before the belly)
+
+
+@dataclass(frozen=True)
+class HandPath:
+    """A hand's way in a segment: polyline ``points``, rotations from ``start`` to ``end``, its lock and priority."""
+
+    points: list
+    start: np.ndarray
+    end: np.ndarray
+    lock: tuple[str, ...]
+    priority: int
+
+
+@dataclass
+class Segment:
+    """``t0``..``t1`` s of operation ``label``: the hands' ways, the feet (from, to), the gaze, the object held
+    (``carried``) and where the resting objects are."""
+
+    label: str
+    t0: float
+    t1: float
+    hands: dict[str, HandPath]
+    feet: dict[str, tuple[np.ndarray, np.ndarray]]
+    gaze: np.ndarray | None
+    carried: tuple[str, tuple[str, ...]] | None  # (object, the hand TCPs holding it)
+    resting: dict[str, np.ndarray] = field(default_factory=dict)  # object -> origin (3,) m
+
+
+@dataclass
+class Plan:
+    """The segments, the objects and the operations' time spans (label, start s, end s)."""
+
+    segments: list[Segment]
+    objects: dict[str, WorkObject]
+    spans: list[tuple[str, float, float]]
+
+    @property
+    def duration(self) -> float:
+        return self.segments[-1].t1 if self.segments else 0.0
+
+
+class Now:
+    """Where everything is between segments while the plan is built."""
+
+    def __init__(self, hands: dict, feet: dict, objects: dict[str, WorkObject]) -> None:
+        self.hands = hands  # tcp -> (position, rotation, lock, priority, held: bool)
+        self.free = set(hands)  # hands with no target (the solver places them)
+        self.feet = feet
+        self.gaze: np.ndarray | None = None
+        self.holding: tuple[str, tuple[str, ...], dict] | None = None  # object, hands, their frames
+        self.origins = {name: origin_of(o.shape) for name, o in objects.items()}
+        self.t = 0.0
+        self.taking: str | None = None  # the object a get reaches for
+        self.gaze_until = 0  # operations the gaze is still held for
+
+
+def segment(now: Now, label: str, duration: float, moves: dict | None = None, feet: dict | None = None) -> Segment:
+    """A segment of ``duration`` s from now: ``moves`` tcp -> (points, end rotation, lock, priority) for the hands
+    that move (the other targeted hands stay), ``feet`` tcp -> end position for a foot that steps."""
+    moves, feet = moves or {}, feet or {}
+    hands = {}
+    for tcp, (p, r, lock, priority) in now.hands.items():
+        if tcp in moves:
+            points, end, lock, priority = moves[tcp]
+            hands[tcp] = HandPath(points, r, end, lock, priority)
+            now.hands[tcp] = (points[-1], end, lock, priority)
+            now.free.discard(tcp)
+        elif tcp not in now.free:
+            hands[tcp] = HandPath([p, p], r, r, lock, priority)
+    steps = {tcp: (p, feet.get(tcp, p)) for tcp, p in now.feet.items()}
+    now.feet.update(feet)
+    carried = None
+    if now.holding is not None:
+        name, tcps, frames = now.holding
+        carried = (name, tcps)
+        obj_rotation = frames["rotation"]
+        now.origins[name] = now.hands[tcps[0]][0] - obj_rotation @ frames[tcps[0]].position
+    # the object being taken is no obstacle while the hands close on it (they grip it, 1 cm off its faces)
+    resting = {n: o for n, o in now.origins.items() if n != now.taking and (carried is None or n != carried[0])}
+    out = Segment(label, now.t, now.t + duration, hands, steps, now.gaze, carried, dict(resting))
+    now.t += duration
+    return out
+
+
+def op_priority(op: Operation, default: int) -> int:
+    return op.priority if op.priority is not None else default
+
+
+def obstacles_for(now: Now, objects: dict[str, WorkObject], obstacles: list[Obstacle], but: str | None) -> list:
+    """The scenario's obstacles and every resting object (at its place now) but ``but``."""
+    out = list(obstacles)
+    for name, obj in objects.items():
+        if name != but and (now.holding is None or now.holding[0] != name):
+            out.append(moved(obj.shape, now.origins[name] - origin_of(obj.shape)))
+    return out
+
+
+def check_reach(op: Operation, now: Now, point: np.ndarray, what: str) -> None:
+    """One line when ``point`` is beyond a planted reach from the feet now."""
+    middle = sum(now.feet.values()) / len(now.feet)
+    far = float(np.hypot(*(point[:2] - middle[:2])))
+    shown = "[" + ", ".join(f"{v:.2f}" for v in point) + "]"
+    if far > REACH:
+        raise OperationError(f"{op.label}: {what} at {shown} m is {far:.2f} m from the feet's middle, beyond a "
+                             f"planted reach of {REACH:g} m (unreachable: add a step before it)")  # fmt: skip
+    if point[2] > HIGHEST:
+        raise OperationError(f"{op.label}: {what} at {shown} m is higher than {HIGHEST:g} m (unreachable)")
+
+
+def check_inside(op: Operation, hands: dict, others: list[Obstacle], what: str) -> None:
+    """One line when a hand's palm at its grasp is inside an obstacle."""
+    for tcp, (p, r) in hands.items():
+        axis = p - 0.017 * r[:, 2]  # the hand capsule's axis is behind the palm
+        for ob in others:
+            if float(np.min(ob.distance(p[None], axis[None], np.array([0.02])).distance)) < 0.0:
+                raise OperationError(f"{op.label}: {what}: {tcp} would be inside {ob.name}")
+
+
+def get(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment]:
+    """Reach to 6 cm before the grasp, approach and grasp, lift the object :data:`LIFT` m."""
+    obj = named_object(op, objects)
+    if now.holding is not None:
+        raise OperationError(f"{op.label}: the hands hold {now.holding[0]} already (place it first)")
+    grasp = grasp_for(obj, op.grasp, op.hands)
+    if grasp is None:
+        known = ", ".join(obj.grasps) or "none"
+        raise OperationError(f"{op.label}: {obj.name} has no grasp {op.grasp or 'for hands = ' + op.hands!r} "
+                             f"(its grasps: {known})")  # fmt: skip
+    origin, rotation = now.origins[obj.name], obj.rotation
+    at = {tcp: world_hand(origin, rotation, frame) for tcp, frame in grasp.hands.items()}
+    others = obstacles_for(now, objects, obstacles, obj.name)
+    check_inside(op, at, others, f"grasp {grasp.name!r} of {obj.name}")
+    for tcp, (p, _) in at.items():
+        check_reach(op, now, p, f"the {tcp} grasp of {obj.name}")
+    case = op.case or "B"
+    priority = op_priority(op, 1)
+    before = {tcp: p - APPROACH * r[:, 2] for tcp, (p, r) in at.items()}
+    moves, longest = {}, 0.0
+    for tcp, p in before.items():
+        points = way_or_fail(op, now.hands[tcp][0], p, None, others)
+        moves[tcp] = (points, at[tcp][1], grasp.hands[tcp].lock, priority)
+        low = min(p[2], now.hands[tcp][0][2]) < timing.BEND_HEIGHT
+        longest = max(longest, timing.reach_time(length(points), case) + (timing.BEND_TMU * timing.TMU if low else 0))
+    now.taking = obj.name
+    out = [segment(now, op.label, longest, moves)]
+    grip = timing.JUMBLED_GRASP_TMU if case == "C" else timing.GRASP_TMU
+    closing = {tcp: ([before[tcp], p], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
+    out.append(segment(now, op.label, timing.reach_time(APPROACH, "A") + grip * timing.TMU, closing))
+    frames = dict(grasp.hands, rotation=rotation)
+    now.holding = (obj.name, tuple(grasp.hands), frames)
+    up = np.array([0.0, 0.0, LIFT])
+    lifting = {tcp: ([p, p + up], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
+    out.append(segment(now, op.label, timing.move_time(LIFT, "B", obj.mass), lifting))
+    out.append(to_carry(op, now, obj, others))
+    now.taking = None
+    return out
+
+
+def to_carry(op: Operation, now: Now, obj: WorkObject, others: list) -> Segment:
+    """The held object brought to :data:`CARRY` in front of the feet's middle (the body faces -y), so that a walk
+    carries it there (MTM-1 move B with its weight)."""
+    name, tcps, frames = now.holding
+    origin = now.origins[name]
+    middle = sum(now.feet.values()) / len(now.feet)
+    goal = middle + CARRY
+    path = way_or_fail(op, origin, goal, obj.size / 2.0, others)
+    moves = {tcp: ([p + now.hands[tcp][0] - origin for p in path], now.hands[tcp][1], frames[tcp].lock,
+                   now.hands[tcp][3]) for tcp in tcps}  # fmt: skip
+    return segment(now, op.label, timing.move_time(length(path), "B", obj.mass), moves)
+
+
+def named_object(op: Operation, objects: dict) -> WorkObject:
+    if op.object not in objects:
+        known = ", ".join(objects) or "none"
+        raise OperationError(f"{op.label}: no object named {op.object!r} (objects: {known})")
+    return objects[op.object]
+
+
+def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, half, obstacles: list) -> list:
+    points = way(start, goal, half, obstacles)
+    if isinstance(points, str):
+        raise OperationError(f"{op.label}: no way from [{xyz(start)}] to [{xyz(goal)}] m: {points}")
+    return points
+
+
+def xyz(p: np.ndarray) -> str:
+    return ", ".join(f"{v:.2f}" for v in p)
