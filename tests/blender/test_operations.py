@@ -1,0 +1,96 @@
+"""Operations from the sidebar (tests/blender/operations_session.py in a subprocess, the built zip installed): a
+marked box with proposed grasp empties, the list built with Add Operation, bad lists refused in one line naming
+the operation, Generate Motion in the background keying the manikin, the box (following the solved hands while
+held) and the Motion Ergonomics panel's frames; a cancelled run keys nothing. The keyed box is checked here
+against the result file the run wrote."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from solver.io.result.read import read_result
+
+CM = 0.01
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory, run_session) -> dict:
+    return run_session(tmp_path_factory.mktemp("operations"), "operations_session.py")
+
+
+def test_propose_grasps_makes_two_empties_on_the_side_faces(session: dict) -> None:
+    assert session["propose_unmarked"]  # a mesh not marked is refused (poll)
+    assert session["propose"] == ["FINISHED"]
+    grasps = session["grasps"]
+    assert sorted(grasps) == ["grasp_l", "grasp_r"]
+    (xr, yr, zr), (xl, yl, zl) = grasps["grasp_r"][0], grasps["grasp_l"][0]
+    # palms 2.7 cm outside the side faces (x = -/+0.15 m), at the box's middle height and depth
+    assert xr == pytest.approx(-0.177, abs=0.002) and xl == pytest.approx(0.177, abs=0.002)
+    assert yr == pytest.approx(-0.45, abs=1e-4) and zr == pytest.approx(0.9, abs=1e-4) and zl == pytest.approx(0.9)
+    assert np.array(grasps["grasp_r"][1])[:, 2] == pytest.approx([1.0, 0.0, 0.0], abs=1e-6)  # palm normal inwards
+    assert any("grasp_l, grasp_r" in line for line in session["object_panel"])
+
+
+def test_add_operation_defaults(session: dict) -> None:
+    # a Get of the active object (hands auto, default priority, its MTM-1 time), then a Place of the same object
+    assert session["defaults"] == [["GET", "box", "AUTO", "DEFAULT", False], ["PLACE", "box", "AUTO", "DEFAULT", False]]
+    assert session["moved_up"] == ["WAIT", "GET"] and session["order"] == ["GET", "WAIT"]
+    assert any("1. | " in row or row.startswith("1.") for row in session["list_panel"])
+
+
+def test_bad_operations_are_one_line_naming_the_operation(session: dict) -> None:
+    assert "operation 2 (place box): choose its target" in session["place_without_target"]
+    far = session["place_far"].strip()
+    assert "operation 2 (place box)" in far and "beyond a planted reach" in far and "\n" not in far
+    assert "operations.toml" not in far  # the temporary scenario's path is not the user's business
+    assert not session["running_after_errors"]
+
+
+def test_generate_runs_in_the_background_and_keys_the_manikin(session: dict) -> None:
+    assert session["generate"] == ["FINISHED"] and session["armed"]
+    assert session["generate_s"] < 10.0  # plans here, solves elsewhere
+    assert any("Generating" in line for line in session["running_panel"])
+    assert session["run"]["state"] == "done"
+    assert session["status"].startswith("Keyed frames 1-") and "cycle time" in session["status"]
+    assert "box keyed too" in session["status"]
+    summary = session["summary"]
+    assert "operation 1 (get box)" in summary and "operation 2 (wait)" in summary and "cycle time" in summary
+    result = read_result(session["result_file"])
+    frames = [f.number for f in result.frames]
+    assert frames[0] == 1 and session["frame_end"] == frames[-1]
+    assert session["arm_curves"] > 50
+    assert session["arm_key_frames"] == [float(f) for f in frames]
+    assert any(line.startswith("Keyed frames") for line in session["done_panel"])
+
+
+def test_the_box_follows_the_solved_hands_while_held(session: dict) -> None:
+    assert session["box_curves"] == ["location[0]", "location[1]", "location[2]"]
+    result = read_result(session["result_file"])
+    box = {int(k): np.array(v) for k, v in session["box_at"].items()}
+    start = box[1]
+    assert start == pytest.approx([0.0, -0.45, 0.9], abs=1e-6)
+    last = result.frames[-1].number
+    assert box[last][2] > start[2] + 0.05  # lifted (and brought before the belly)
+    hands = {f.number: (f.tcp_position["hand_r"] + f.tcp_position["hand_l"]) / 2 for f in result.frames}
+    offsets = [box[n] - hands[n] for n in hands if np.linalg.norm(box[n] - start) > 1e-6]
+    assert len(offsets) >= 3
+    assert np.ptp(np.array(offsets), axis=0) == pytest.approx([0, 0, 0], abs=1e-6)  # rigidly with the hands
+
+
+def test_the_motion_ergonomics_panel_reads_the_generated_motion(session: dict) -> None:
+    result = read_result(session["result_file"])
+    assert session["stored_frames"] == [f.number for f in result.frames]
+    panel = " ".join(session["ergo_panel"])
+    assert "REBA" in panel or "RULA" in panel
+
+
+def test_a_cancelled_run_keys_nothing(session: dict) -> None:
+    assert session["second"] == ["FINISHED"] and session["cancel"] == ["FINISHED"]
+    assert session["cancelled"]["state"] == "cancelled"
+    assert session["cancel_status"].startswith("Cancelled") and "nothing keyed" in session["cancel_status"]
+    assert session["keys_kept"]
+
+
+def test_the_session_is_short(session: dict) -> None:
+    assert session["session_s"] < 60.0
