@@ -22,7 +22,8 @@ class MANIKIN_UL_operations(bpy.types.UIList):
         row = layout.row(align=True)
         row.label(text=f"{index + 1}.")
         row.prop(item, "do", text="")
-        what = [ob.name for ob in (item.object, item.target) if ob is not None]
+        used = (item.object if item.do in NEEDS_OBJECT else None, item.target if item.do in NEEDS_TARGET else None)
+        what = [ob.name for ob in used if ob is not None]
         row.label(text=item.name or " > ".join(what) or "-")
         if item.use_duration:
             row.label(text=f"{item.duration:g} s")
