@@ -3,7 +3,7 @@
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/operations_session.py <zip> <out.json> <work dir>
 
 installs the extension zip; a manikin and a 5 kg box (a cube scaled to 0.3 x 0.2 x 0.2 m) before it at 0.9 m,
-marked as an object; Propose Grasps; the list built with Add Operation (Get box, then a Wait of 0.4 s); bad lists
+marked as an object; Propose Grasps; the list built with Add Operation (Get box, Place it on an empty 25 cm to the side, Wait 0.4 s); bad lists
 refused in one line (a Place without a target, a Place far out of reach); Generate Motion at 8 frames/s, the
 background run driven by calling the timer function (background mode never fires ``bpy.app.timers``), then what
 was keyed (the armature's and the box's curves, the box's place per frame), the panel, the Motion Ergonomics panel;
@@ -128,10 +128,17 @@ settings.items[1].target = far
 bpy.context.view_layer.update()
 seen["place_far"] = error_of(lambda: bpy.ops.manikin.operations_generate())
 seen["running_after_errors"] = control.is_running()
-# The Place becomes a Wait of 0.4 s; moved up and down again (the order stays Get, Wait).
-item = settings.items[1]
-item.do, item.use_duration, item.duration = "WAIT", True, 0.4
+# The Place to an empty 25 cm to the right of where the box is, then a Wait of 0.4 s added after it (Add with the
+# manikin active: a Wait); the Wait moved up and down again (the order stays Get, Place, Wait).
+spot = bpy.data.objects.new("spot", None)
+scene.collection.objects.link(spot)
+spot.location = (-0.25, -0.45, 0.95)
+settings.items[1].target = spot
 settings.index = 1
+bpy.ops.manikin.operation_add()
+item = settings.items[2]
+seen["added_after_place"] = [item.do, item.object is None, settings.index]
+item.use_duration, item.duration = True, 0.4
 bpy.ops.manikin.operation_move(direction="UP")
 seen["moved_up"] = [i.do for i in settings.items]
 bpy.ops.manikin.operation_move(direction="DOWN")

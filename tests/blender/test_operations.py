@@ -35,8 +35,10 @@ def test_propose_grasps_makes_two_empties_on_the_side_faces(session: dict) -> No
 def test_add_operation_defaults(session: dict) -> None:
     # a Get of the active object (hands auto, default priority, its MTM-1 time), then a Place of the same object
     assert session["defaults"] == [["GET", "box", "AUTO", "DEFAULT", False], ["PLACE", "box", "AUTO", "DEFAULT", False]]
-    assert session["moved_up"] == ["WAIT", "GET"] and session["order"] == ["GET", "WAIT"]
-    assert "1. | box" in session["list_panel"] and "2. | - | 0.4 s" in session["list_panel"]  # a wait names nothing
+    assert session["added_after_place"] == ["WAIT", True, 2]  # after a Place, with no marked object active
+    assert session["moved_up"] == ["GET", "WAIT", "PLACE"] and session["order"] == ["GET", "PLACE", "WAIT"]
+    listed = session["list_panel"]
+    assert "1. | box" in listed and "2. | box > spot" in listed and "3. | - | 0.4 s" in listed  # a wait names nothing
 
 
 def test_bad_operations_are_one_line_naming_the_operation(session: dict) -> None:
@@ -55,7 +57,8 @@ def test_generate_runs_in_the_background_and_keys_the_manikin(session: dict) -> 
     assert session["status"].startswith("Keyed frames 1-") and "cycle time" in session["status"]
     assert "box keyed too" in session["status"]
     summary = session["summary"]
-    assert "operation 1 (get box)" in summary and "operation 2 (wait)" in summary and "cycle time" in summary
+    assert "operation 1 (get box)" in summary and "operation 2 (place box)" in summary and "cycle time" in summary
+    assert "operation 3 (wait)" in summary
     result = read_result(session["result_file"])
     frames = [f.number for f in result.frames]
     assert frames[0] == 1 and session["frame_end"] == frames[-1]
@@ -64,18 +67,22 @@ def test_generate_runs_in_the_background_and_keys_the_manikin(session: dict) -> 
     assert any(line.startswith("Keyed frames") for line in session["done_panel"])
 
 
-def test_the_box_follows_the_solved_hands_while_held(session: dict) -> None:
+def test_the_box_follows_the_solved_hands_while_held_and_rests_where_placed(session: dict) -> None:
     assert session["box_curves"] == ["location[0]", "location[1]", "location[2]"]
     result = read_result(session["result_file"])
     box = {int(k): np.array(v) for k, v in session["box_at"].items()}
-    start = box[1]
+    first, last = result.frames[0].number, result.frames[-1].number
+    start, end = box[first], box[last]
     assert start == pytest.approx([0.0, -0.45, 0.9], abs=1e-6)
-    last = result.frames[-1].number
-    assert box[last][2] > start[2] + 0.05  # lifted (and brought before the belly)
+    assert end == pytest.approx([-0.25, -0.45, 0.95], abs=1e-3)  # its middle on the place's empty
     hands = {f.number: (f.tcp_position["hand_r"] + f.tcp_position["hand_l"]) / 2 for f in result.frames}
-    offsets = [box[n] - hands[n] for n in hands if np.linalg.norm(box[n] - start) > 1e-6]
-    assert len(offsets) >= 3
-    assert np.ptp(np.array(offsets), axis=0) == pytest.approx([0, 0, 0], abs=1e-6)  # rigidly with the hands
+    held = [n for n in hands if min(np.linalg.norm(box[n] - start), np.linalg.norm(box[n] - end)) > 1e-6]
+    assert len(held) >= 5 and max(box[n][2] for n in held) > start[2] + 0.05  # lifted and carried
+    offsets = np.array([box[n] - hands[n] for n in held])
+    assert np.ptp(offsets, axis=0) == pytest.approx([0, 0, 0], abs=1e-6)  # rigidly with the solved hands
+    assert np.linalg.norm(offsets[0]) < 1 * CM  # where they closed on it
+    steps = [np.linalg.norm(box[n + 1] - box[n]) for n in range(first, last)]
+    assert max(steps) < 10 * CM  # no jump at the grasp or the release (8 frames/s)
 
 
 def test_the_motion_ergonomics_panel_reads_the_generated_motion(session: dict) -> None:
