@@ -11,8 +11,6 @@ at mid height) as such empties, for the user to move.
 
 from __future__ import annotations
 
-import re
-
 import bpy
 import numpy as np
 from mathutils import Matrix
@@ -20,9 +18,8 @@ from mathutils import Matrix
 from ...solver.body.spatial import matrix_to_quat
 from ...solver.collision.placed import shape_from_bounds
 from ...solver.io.scenario.obstacles import obstacle_table
-from .properties import is_work_object
+from .properties import GRASP, is_work_object
 
-GRASP = re.compile(r"^grasp(?:_(?P<name>.+?))?_(?P<hand>[lr])(?:\.\d{3})?$")
 TCPS = {"r": "hand_r", "l": "hand_l"}
 HAND_LOCK = ["x", "y", "z", "rx", "ry"]  # the palm free to turn about its normal (solver.operations.objects)
 EMPTY_SIZE = 0.06  # m: the grasp empties' arrows

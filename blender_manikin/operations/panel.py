@@ -9,8 +9,7 @@ import bpy
 from ..scene.help import draw_help
 from ..scene.schema import rig_of
 from . import control
-from .objects import GRASP
-from .properties import HAS_HANDS, NEEDS_OBJECT, NEEDS_TARGET, is_work_object
+from .properties import GRASP, HAS_HANDS, NEEDS_OBJECT, NEEDS_TARGET, is_work_object
 
 SHOWN_ROWS = 5
 

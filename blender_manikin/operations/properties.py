@@ -5,6 +5,8 @@ only). Imports only bpy."""
 
 from __future__ import annotations
 
+import re
+
 import bpy
 from bpy.props import (
     BoolProperty,
@@ -38,6 +40,7 @@ PRIORITIES = (
     ("1", "Must hold", "Priority 1: the solve must meet it"),
     ("2", "As close as possible", "Priority 2: met as closely as the rest allows"),
 )
+GRASP = re.compile(r"^grasp(?:_(?P<name>.+?))?_(?P<hand>[lr])(?:\.\d{3})?$")  # a grasp empty (objects.py)
 NEEDS_OBJECT = {"GET", "PLACE"}
 NEEDS_TARGET = {"PLACE", "REACH", "HOLD", "LOOK", "STEP", "WALK"}
 HAS_HANDS = {"GET", "REACH", "HOLD"}

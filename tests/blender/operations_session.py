@@ -3,11 +3,11 @@
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/operations_session.py <zip> <out.json> <work dir>
 
 installs the extension zip; a manikin and a 5 kg box (a cube scaled to 0.3 x 0.2 x 0.2 m) before it at 0.9 m,
-marked as an object; Propose Grasps; the list built with Add Operation (Get box, Place it on an empty 25 cm to the side, Wait 0.4 s); bad lists
-refused in one line (a Place without a target, a Place far out of reach); Generate Motion at 8 frames/s, the
-background run driven by calling the timer function (background mode never fires ``bpy.app.timers``), then what
-was keyed (the armature's and the box's curves, the box's place per frame), the panel, the Motion Ergonomics panel;
-a second run cancelled at once (nothing keyed). Writes what it saw to JSON.
+marked as an object; Propose Grasps; the list built with Add Operation (Get box, Place it on an empty 25 cm to
+the side, Wait 0.4 s); bad lists refused in one line (a Place without a target, a Place far out of reach);
+Generate Motion at 8 frames/s, the background run driven by calling the timer function (background mode never
+fires ``bpy.app.timers``), then what was keyed (the armature's and the box's curves, the box's place per frame),
+the panel, the Motion Ergonomics panel; a second run cancelled at once (nothing keyed). Writes what it saw to JSON.
 """
 
 from __future__ import annotations
@@ -67,7 +67,6 @@ def template_list(self, list_type: str, list_id: str, data, prop: str, active_da
 
 session_tools.Layout.operator = operator
 session_tools.Layout.template_list = template_list
-session_tools.Layout.separator = lambda self, **kw: None
 
 
 def drawn(panel_class) -> list[str]:

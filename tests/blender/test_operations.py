@@ -27,7 +27,8 @@ def test_propose_grasps_makes_two_empties_on_the_side_faces(session: dict) -> No
     (xr, yr, zr), (xl, yl, zl) = grasps["grasp_r"][0], grasps["grasp_l"][0]
     # palms 2.7 cm outside the side faces (x = -/+0.15 m), at the box's middle height and depth
     assert xr == pytest.approx(-0.177, abs=0.002) and xl == pytest.approx(0.177, abs=0.002)
-    assert yr == pytest.approx(-0.45, abs=1e-4) and zr == pytest.approx(0.9, abs=1e-4) and zl == pytest.approx(0.9)
+    assert yr == pytest.approx(-0.45, abs=1e-4) and yl == pytest.approx(-0.45, abs=1e-4)
+    assert zr == pytest.approx(0.9, abs=1e-4) and zl == pytest.approx(0.9, abs=1e-4)
     assert np.array(grasps["grasp_r"][1])[:, 2] == pytest.approx([1.0, 0.0, 0.0], abs=1e-6)  # palm normal inwards
     assert any("grasp_l, grasp_r" in line for line in session["object_panel"])
 
