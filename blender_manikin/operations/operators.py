@@ -4,10 +4,14 @@ report(), one line naming the operation."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import bpy
-from bpy.props import EnumProperty
+from bpy.props import EnumProperty, StringProperty
+from bpy_extras.io_utils import ImportHelper
 
 from ...solver.errors import ManikinError
+from ..scene.schema import rig_of
 from . import control
 from .properties import is_work_object
 
@@ -161,8 +165,46 @@ class MANIKIN_OT_operations_cancel(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (MANIKIN_OT_propose_grasps, MANIKIN_OT_operation_add, MANIKIN_OT_operation_remove,
-           MANIKIN_OT_operation_move, MANIKIN_OT_operations_generate, MANIKIN_OT_operations_cancel)  # fmt: skip
+class MANIKIN_OT_import_operations(bpy.types.Operator, ImportHelper):
+    """Load a scenario with [[objects]] and [[operations]] (presets/operations/): the manikin, its supports and
+    obstacles, the objects with their grasps and the operation list with its target empties"""
+
+    bl_idname = "manikin.import_operations"
+    bl_label = "Import Operations"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".toml"
+    filter_glob: StringProperty(default="*.toml", options={"HIDDEN"})
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return context.mode == "OBJECT" and not control.is_running()
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        from .importing import import_operations
+
+        try:
+            arm, objects, operations, warnings = import_operations(context, self.filepath,
+                                                                   rig_of(context.active_object))  # fmt: skip
+        except (ManikinError, OSError) as exc:
+            self.report({"ERROR"}, " ".join(str(exc).split()))
+            return {"CANCELLED"}
+        for warning in warnings:
+            self.report({"WARNING"}, warning)
+        self.report({"INFO"}, f"Imported {Path(self.filepath).name} onto {arm.name}: {len(objects)} objects, "
+                              f"{len(operations)} operations")  # fmt: skip
+        return {"FINISHED"}
+
+
+def draw_import_menu(self: bpy.types.Menu, context: bpy.types.Context) -> None:
+    self.layout.operator("manikin.import_operations", text="Manikin Operations (.toml)")
+
+
+MENUS = (("TOPBAR_MT_file_import", draw_import_menu),)
+
+classes = (MANIKIN_OT_propose_grasps, MANIKIN_OT_import_operations, MANIKIN_OT_operation_add,
+           MANIKIN_OT_operation_remove, MANIKIN_OT_operation_move, MANIKIN_OT_operations_generate,
+           MANIKIN_OT_operations_cancel)  # fmt: skip
 
 
 def unregister() -> None:

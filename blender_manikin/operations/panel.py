@@ -64,6 +64,7 @@ class MANIKIN_PT_operations(bpy.types.Panel):
         side.operator("manikin.operation_move", icon="TRIA_DOWN", text="").direction = "DOWN"
         if 0 <= s.index < len(s.items):
             draw_item(layout.column(), s.items[s.index])
+        layout.operator("manikin.import_operations", icon="IMPORT", text="Import Operations...")
         col = layout.column()
         col.use_property_split = True
         col.prop(s, "fps")

@@ -178,6 +178,29 @@ seen["cancel"] = sorted(bpy.ops.manikin.operations_cancel())
 seen["cancelled"] = drive()
 seen["cancel_status"] = settings.status
 seen["keys_kept"] = before == [list(k.co) for k in keyframes.object_fcurves(arm)[0].keyframe_points]
+# Import Operations: the pallet preset with the box's grasps given (the docs' "sides"): the manikin, obstacles,
+# the box marked with its grasp empties, the list with its target empties; written back as the same tables.
+scenario_module = importlib.import_module(module + ".blender_manikin.operations.scenario")
+text = (ROOT / "presets" / "operations" / "pallet_to_shelf.toml").read_text(encoding="utf-8")
+grasps = """mass = 8.0
+[[objects.grasps]]
+name = "sides"
+hand_r = { position = [-0.202, 0, 0], rotation = [0.7071068, 0, 0.7071068, 0], lock = ["x", "y", "z", "rx", "ry"] }
+hand_l = { position = [0.202, 0, 0], rotation = [0.7071068, 0, -0.7071068, 0], lock = ["x", "y", "z", "rx", "ry"] }
+"""
+(WORK / "pallet.toml").write_text(text.replace("mass = 8.0\n", grasps), encoding="utf-8")
+box.manikin_object.enabled = False  # the first box stays in the scene, no longer an object: the new one is box.001
+seen["import"] = sorted(bpy.ops.manikin.import_operations(filepath=str(WORK / "pallet.toml")))
+arm = bpy.context.active_object
+pallet_box = bpy.data.objects["box.001"]
+seen["imported"] = dict(
+    arm=arm.name, fps=settings.fps, marked=pallet_box.manikin_object.enabled, mass=pallet_box.manikin_object.mass,
+    children=sorted(c.name for c in pallet_box.children),
+    items=[[i.do, i.object.name if i.object else None, i.target.name if i.target else None] for i in settings.items],
+    obstacles=sorted(ob.name for ob in scene.objects if ob.manikin_obstacle.enabled),
+)  # fmt: skip
+seen["written_back"] = scenario_module.operations_scenario(scene, arm)
+seen["bad_import"] = error_of(lambda: bpy.ops.manikin.import_operations(filepath=str(WORK / "nowhere.toml")))
 seen["session_s"] = time.perf_counter() - T0
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")

@@ -6,8 +6,11 @@ against the result file the run wrote."""
 
 from __future__ import annotations
 
+import tomllib
+
 import numpy as np
 import pytest
+from environments import ROOT
 
 from solver.io.result.read import read_result
 
@@ -102,3 +105,32 @@ def test_a_cancelled_run_keys_nothing(session: dict) -> None:
 
 def test_the_session_is_short(session: dict) -> None:
     assert session["session_s"] < 60.0
+
+
+def test_import_operations_makes_the_objects_grasps_and_list_and_writes_them_back(session: dict) -> None:
+    assert session["import"] == ["FINISHED"]
+    got = session["imported"]
+    assert got["fps"] == 24 and got["marked"] and got["mass"] == pytest.approx(8.0)
+    assert got["children"] == ["grasp_sides_l", "grasp_sides_r"]
+    # the file's box is box.001 here (the scene has a box already): the list points at the imported one
+    assert got["items"] == [["LOOK", None, "op1.look"], ["GET", "box.001", None], ["STEP", None, "op3.step"],
+                            ["PLACE", "box.001", "shelf"]]  # fmt: skip
+    assert {"pallet", "bench", "shelf"} <= set(got["obstacles"]) and "box.001" not in got["obstacles"]
+    preset = tomllib.loads((ROOT / "presets" / "operations" / "pallet_to_shelf.toml").read_text(encoding="utf-8"))
+    back = session["written_back"]
+    assert [{k: v for k, v in op.items()} for op in back["operations"]] == [
+        {"do": "look", "at": pytest.approx([0.0, -0.45, 0.3], abs=1e-6)}, {"do": "get", "object": "box.001"},
+        {"do": "step", "to": pytest.approx([-1.5, 0.0], abs=1e-6)},
+        {"do": "place", "object": "box.001", "onto": "shelf"},
+    ]  # fmt: skip
+    (box,) = back["objects"]
+    source = preset["objects"][0]
+    assert box["center"] == pytest.approx(source["center"], abs=1e-6)
+    assert box["size"] == pytest.approx(source["size"], abs=1e-6) and box["mass"] == pytest.approx(8.0)
+    sides = {g["name"]: g for g in box["grasps"]}
+    assert list(sides)[0] == "sides" and set(sides) == {"sides", "sides right", "sides left"}  # the pair first
+    assert sides["sides"]["hand_r"]["position"] == pytest.approx([-0.202, 0, 0], abs=1e-6)
+    assert sides["sides"]["hand_l"]["rotation"] == pytest.approx([0.7071068, 0, -0.7071068, 0], abs=1e-6)
+    assert sorted(o["name"] for o in back["obstacles"]) == ["bench", "pallet", "shelf"]
+    assert back["operate"]["fps"] == 24
+    assert "nowhere.toml" in session["bad_import"]
