@@ -1,8 +1,9 @@
-"""Operations from the sidebar (tests/blender/operations_session.py in a subprocess, the built zip installed): a
-marked box with proposed grasp empties, the list built with Add Operation, bad lists refused in one line naming
-the operation, Generate Motion in the background keying the manikin, the box (following the solved hands while
-held) and the Motion Ergonomics panel's frames; a cancelled run keys nothing. The keyed box is checked here
-against the result file the run wrote."""
+"""Operations from the sidebar (tests/blender/operations_panel_session.py in a subprocess, the built zip
+installed): a marked box with proposed grasp empties, the list built with Add Operation, bad lists refused in one
+line naming the operation, Generate Motion in the background keying the manikin, the box (following the solved
+hands while held, resting where placed) and the Motion Ergonomics panel's frames; a cancelled run keys nothing;
+Import Operations of the pallet preset, written back as the same tables. The keyed box is checked here against
+the result file the run wrote."""
 
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ CM = 0.01
 
 @pytest.fixture(scope="module")
 def session(tmp_path_factory, run_session) -> dict:
-    return run_session(tmp_path_factory.mktemp("operations"), "operations_session.py")
+    return run_session(tmp_path_factory.mktemp("operations"), "operations_panel_session.py")
 
 
 def test_propose_grasps_makes_two_empties_on_the_side_faces(session: dict) -> None:

@@ -1,6 +1,6 @@
-"""Operations from the sidebar (issue 36), run by tests/blender/test_operations.py in a subprocess:
+"""Operations from the sidebar (issue 36), run by tests/blender/test_operations_panel.py in a subprocess:
 
-    BLENDER_USER_RESOURCES=<empty dir> python tests/blender/operations_session.py <zip> <out.json> <work dir>
+    BLENDER_USER_RESOURCES=<empty dir> python tests/blender/operations_panel_session.py <zip> <out.json> <work dir>
 
 installs the extension zip; a manikin and a 5 kg box (a cube scaled to 0.3 x 0.2 x 0.2 m) before it at 0.9 m,
 marked as an object; Propose Grasps; the list built with Add Operation (Get box, Place it on an empty 25 cm to
