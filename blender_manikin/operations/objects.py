@@ -21,7 +21,6 @@ from ...solver.io.scenario.obstacles import obstacle_table
 from .properties import GRASP, is_work_object
 
 TCPS = {"r": "hand_r", "l": "hand_l"}
-HAND_LOCK = ["x", "y", "z", "rx", "ry"]  # the palm free to turn about its normal (solver.operations.objects)
 EMPTY_SIZE = 0.06  # m: the grasp empties' arrows
 
 
@@ -58,8 +57,8 @@ def grasp_tables(ob: bpy.types.Object, box, to_local: np.ndarray) -> list[dict]:
         rb = np.asarray(box.rotation)
         position = rb.T @ (m[:3, 3] - np.asarray(box.center))
         rotation = rb.T @ _unscaled(m)
-        frame = dict(position=[float(v) for v in position], rotation=[float(v) for v in matrix_to_quat(rotation)],
-                     lock=list(HAND_LOCK))  # fmt: skip
+        # no lock: the schema's default, all six axes: the hand as the empty is
+        frame = dict(position=[float(v) for v in position], rotation=[float(v) for v in matrix_to_quat(rotation)])
         pairs.setdefault(found["name"] or "grasp", {})[TCPS[found["hand"]]] = frame
     both = [dict(name=name, **hands) for name, hands in pairs.items() if len(hands) == 2]
     single = [dict(name=f"{name} {'right' if tcp == 'hand_r' else 'left'}" if len(hands) == 2 else name,
