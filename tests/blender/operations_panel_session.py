@@ -4,7 +4,7 @@
 
 installs the extension zip; a manikin and a 5 kg box (a cube scaled to 0.3 x 0.2 x 0.2 m) before it at 0.9 m,
 marked as an object; Propose Grasps; the list built with Add Operation (Get box, Place it on an empty 25 cm to
-the side, Wait 0.4 s); bad lists refused in one line (a Place without a target, a Place far out of reach);
+the side, Wait 0.4 s); bad lists refused in one line (a Place without a target, a Place 2.6 m up);
 Generate Motion at 8 frames/s, the background run driven by calling the timer function (background mode never
 fires ``bpy.app.timers``), then what was keyed (the armature's and the box's curves, the box's place per frame),
 the panel, the Motion Ergonomics panel; a second run cancelled at once (nothing keyed). Writes what it saw to JSON.
@@ -122,7 +122,7 @@ bpy.context.view_layer.objects.active = arm
 seen["place_without_target"] = error_of(lambda: bpy.ops.manikin.operations_generate())
 far = bpy.data.objects.new("far", None)
 scene.collection.objects.link(far)
-far.location = (2.5, -0.5, 0.9)
+far.location = (0.2, -0.5, 2.6)  # above any reach (far away would be stepped to)
 settings.items[1].target = far
 bpy.context.view_layer.update()
 seen["place_far"] = error_of(lambda: bpy.ops.manikin.operations_generate())

@@ -49,7 +49,7 @@ def test_add_operation_defaults(session: dict) -> None:
 def test_bad_operations_are_one_line_naming_the_operation(session: dict) -> None:
     assert "operation 2 (place box): choose its target" in session["place_without_target"]
     far = session["place_far"].strip()
-    assert "operation 2 (place box)" in far and "beyond a planted reach" in far and "\n" not in far
+    assert far.startswith("Error: operation 2 (place box): ") and "unreachable" in far and "\n" not in far
     assert "operations.toml" not in far  # the temporary scenario's path is not the user's business
     assert not session["running_after_errors"]
 
