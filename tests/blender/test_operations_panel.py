@@ -13,9 +13,12 @@ import numpy as np
 import pytest
 from environments import ROOT
 
+from solver.collision import Box
 from solver.io.result.read import read_result
+from solver.operations.objects import WorkObject, propose_grasps
 
 CM = 0.01
+BOX_AT = [0.0, -0.45, 0.9]  # m: the session's box
 
 
 @pytest.fixture(scope="module")
@@ -23,17 +26,25 @@ def session(tmp_path_factory, run_session) -> dict:
     return run_session(tmp_path_factory.mktemp("operations"), "operations_panel_session.py")
 
 
-def test_propose_grasps_makes_two_empties_on_the_side_faces(session: dict) -> None:
+def proposed() -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """The solver's proposed two-handed grasp of the session's box (0.3 x 0.2 x 0.2 m at (0, -0.45, 0.9)): per hand
+    its world (position, rotation)."""
+    box = Box(name="box", center=np.array(BOX_AT), size=np.array([0.3, 0.2, 0.2]))
+    grasp = propose_grasps(WorkObject("box", box, 5.0))["both sides"]
+    return {tcp: (box.center + hand.position, hand.rotation) for tcp, hand in grasp.hands.items()}
+
+
+def test_propose_grasps_makes_the_solver_s_proposal_as_two_empties(session: dict) -> None:
     assert session["propose_unmarked"]  # a mesh not marked is refused (poll)
     assert session["propose"] == ["FINISHED"]
     grasps = session["grasps"]
     assert sorted(grasps) == ["grasp_l", "grasp_r"]
-    (xr, yr, zr), (xl, yl, zl) = grasps["grasp_r"][0], grasps["grasp_l"][0]
-    # palms 2.7 cm outside the side faces (x = -/+0.15 m), at the box's middle height and depth
-    assert xr == pytest.approx(-0.177, abs=0.002) and xl == pytest.approx(0.177, abs=0.002)
-    assert yr == pytest.approx(-0.45, abs=1e-4) and yl == pytest.approx(-0.45, abs=1e-4)
-    assert zr == pytest.approx(0.9, abs=1e-4) and zl == pytest.approx(0.9, abs=1e-4)
-    assert np.array(grasps["grasp_r"][1])[:, 2] == pytest.approx([1.0, 0.0, 0.0], abs=1e-6)  # palm normal inwards
+    for tcp, (position, rotation) in proposed().items():
+        empty = grasps[f"grasp_{tcp[-1]}"]
+        assert empty[0] == pytest.approx(position, abs=1e-5) and np.array(empty[1]) == pytest.approx(rotation, abs=1e-5)
+    # on the side faces (x = -/+0.15 m), the palm normal (the empty's z) pointing in
+    assert grasps["grasp_r"][0][0] < -0.15 < 0.15 < grasps["grasp_l"][0][0]
+    assert np.array(grasps["grasp_r"][1])[:, 2] == pytest.approx([1.0, 0.0, 0.0], abs=1e-6)
     assert any("grasp_l, grasp_r" in line for line in session["object_panel"])
 
 
@@ -78,14 +89,15 @@ def test_the_box_follows_the_solved_hands_while_held_and_rests_where_placed(sess
     box = {int(k): np.array(v) for k, v in session["box_at"].items()}
     first, last = result.frames[0].number, result.frames[-1].number
     start, end = box[first], box[last]
-    assert start == pytest.approx([0.0, -0.45, 0.9], abs=1e-6)
+    assert start == pytest.approx(BOX_AT, abs=1e-6)
     assert end == pytest.approx([-0.25, -0.45, 0.95], abs=1e-3)  # its middle on the place's empty
     hands = {f.number: (f.tcp_position["hand_r"] + f.tcp_position["hand_l"]) / 2 for f in result.frames}
     held = [n for n in hands if min(np.linalg.norm(box[n] - start), np.linalg.norm(box[n] - end)) > 1e-6]
     assert len(held) >= 5 and max(box[n][2] for n in held) > start[2] + 0.05  # lifted and carried
     offsets = np.array([box[n] - hands[n] for n in held])
     assert np.ptp(offsets, axis=0) == pytest.approx([0, 0, 0], abs=1e-6)  # rigidly with the solved hands
-    assert np.linalg.norm(offsets[0]) < 1 * CM  # where they closed on it
+    grip = np.mean([position for position, _ in proposed().values()], axis=0)
+    assert offsets[0] == pytest.approx(np.array(BOX_AT) - grip, abs=1 * CM)  # where they closed on it
     steps = [np.linalg.norm(box[n + 1] - box[n]) for n in range(first, last)]
     assert max(steps) < 10 * CM  # no jump at the grasp or the release (8 frames/s)
 
@@ -111,19 +123,22 @@ def test_the_session_is_short(session: dict) -> None:
 def test_import_operations_makes_the_objects_grasps_and_list_and_writes_them_back(session: dict) -> None:
     assert session["import"] == ["FINISHED"]
     got = session["imported"]
-    assert got["fps"] == 24 and got["marked"] and got["mass"] == pytest.approx(8.0)
+    preset = tomllib.loads((ROOT / "presets" / "operations" / "pallet_to_shelf.toml").read_text(encoding="utf-8"))
+    assert got["fps"] == preset["operate"]["fps"] and got["marked"] and got["mass"] == pytest.approx(8.0)
     assert got["children"] == ["grasp_sides_l", "grasp_sides_r"]
     # the file's box is box.001 here (the scene has a box already): the list points at the imported one
-    assert got["items"] == [["LOOK", None, "op1.look"], ["GET", "box.001", None], ["STEP", None, "op3.step"],
-                            ["PLACE", "box.001", "shelf"]]  # fmt: skip
+    named = {"box": "box.001"}
+    expected = [[op["do"].upper(), named.get(op.get("object")),
+                 op.get("onto") or (f"op{i + 1}.{op['do']}" if ("to" in op or "at" in op) else None)]
+                for i, op in enumerate(preset["operations"])]  # fmt: skip
+    assert got["items"] == expected
     assert {"pallet", "bench", "shelf"} <= set(got["obstacles"]) and "box.001" not in got["obstacles"]
-    preset = tomllib.loads((ROOT / "presets" / "operations" / "pallet_to_shelf.toml").read_text(encoding="utf-8"))
     back = session["written_back"]
-    assert [{k: v for k, v in op.items()} for op in back["operations"]] == [
-        {"do": "look", "at": pytest.approx([0.0, -0.45, 0.3], abs=1e-6)}, {"do": "get", "object": "box.001"},
-        {"do": "step", "to": pytest.approx([-1.5, 0.0], abs=1e-6)},
-        {"do": "place", "object": "box.001", "onto": "shelf"},
-    ]  # fmt: skip
+    assert len(back["operations"]) == len(preset["operations"])
+    for mine, theirs in zip(back["operations"], preset["operations"], strict=True):
+        assert mine.keys() == theirs.keys()
+        for key, value in theirs.items():
+            assert mine[key] == (pytest.approx(value, abs=1e-6) if isinstance(value, list) else named.get(value, value))
     (box,) = back["objects"]
     source = preset["objects"][0]
     assert box["center"] == pytest.approx(source["center"], abs=1e-6)
@@ -132,6 +147,6 @@ def test_import_operations_makes_the_objects_grasps_and_list_and_writes_them_bac
     assert list(sides)[0] == "sides" and set(sides) == {"sides", "sides right", "sides left"}  # the pair first
     assert sides["sides"]["hand_r"]["position"] == pytest.approx([-0.202, 0, 0], abs=1e-6)
     assert sides["sides"]["hand_l"]["rotation"] == pytest.approx([0.7071068, 0, -0.7071068, 0], abs=1e-6)
-    assert sorted(o["name"] for o in back["obstacles"]) == ["bench", "pallet", "shelf"]
-    assert back["operate"]["fps"] == 24
+    assert sorted(o["name"] for o in back["obstacles"]) == sorted(o["name"] for o in preset["obstacles"])
+    assert back["operate"]["fps"] == preset["operate"]["fps"]
     assert "nowhere.toml" in session["bad_import"]
