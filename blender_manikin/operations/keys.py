@@ -1,7 +1,7 @@
 """A generated motion's result file keyed in the scene (bpy): the manikin's joints (as Bake Motion keys them: one
 F-curve per bone channel, the sidebar's per-frame entries and score curves, so the Motion Ergonomics panel reads
 it), and each object of the operations where the plan has it: resting where it lies, held: following the solved
-hands (the offset it had from them when they closed on it), keeping its rotation (operations never turn objects).
+hands (the plan's offset from them at the grasp), keeping its rotation (operations never turn objects).
 """
 
 from __future__ import annotations
@@ -99,8 +99,8 @@ def key_result(scene: bpy.types.Scene, arm: bpy.types.Object, path: Path) -> Res
 
 def object_origins(plan, frames: list[Frame], fps: float, start: int, origins: dict[str, np.ndarray]) -> dict:
     """Per object (by name) its origin (frames, 3) in the armature's space: where the plan rests it, or held,
-    the solved holding hands' middle plus the offset it had from them at the first held frame. ``origins``: where
-    each object is at the start."""
+    the solved holding hands' middle plus the plan's offset from them (the object where it lay, from the hands' grasp
+    where their ways start in the first held segment). ``origins``: where each object is at the start."""
     out = {name: [] for name in origins}
     now = {name: np.asarray(o, dtype=float) for name, o in origins.items()}
     offsets: dict[str, np.ndarray] = {}
@@ -112,7 +112,10 @@ def object_origins(plan, frames: list[Frame], fps: float, start: int, origins: d
         for name in out:
             if held is not None and held[0] == name:
                 hands = np.mean([f.tcp_position[tcp] for tcp in held[1]], axis=0)
-                offsets.setdefault(name, now[name] - hands)  # as it lay when the hands closed on it
+                if name not in offsets:  # the plan's grasp: where the hands' ways start in the first held segment
+                    ways = [segment.hands[tcp].points[0] for tcp in held[1] if tcp in segment.hands]
+                    grip = np.mean(ways, axis=0) if len(ways) == len(held[1]) else hands
+                    offsets[name] = now[name] - np.asarray(grip, dtype=float)
                 now[name] = hands + offsets[name]
             else:
                 offsets.pop(name, None)
