@@ -98,8 +98,9 @@ def test_the_box_follows_the_solved_hands_while_held_and_rests_where_placed(sess
     assert np.ptp(offsets, axis=0) == pytest.approx([0, 0, 0], abs=1e-6)  # rigidly with the solved hands
     grip = np.mean([position for position, _ in proposed().values()], axis=0)
     assert offsets[0] == pytest.approx(np.array(BOX_AT) - grip, abs=1e-6)  # the plan's grasp
-    steps = [np.linalg.norm(box[n + 1] - box[n]) for n in range(first, last)]
-    assert max(steps) < 10 * CM  # no jump at the grasp or the release (8 frames/s)
+    # no jump at the grasp or the release: the box never moves more in a frame than the hands (2 cm allowed)
+    jumps = [np.linalg.norm(box[n + 1] - box[n]) - np.linalg.norm(hands[n + 1] - hands[n]) for n in range(first, last)]
+    assert max(jumps) < 2 * CM
 
 
 def test_the_motion_ergonomics_panel_reads_the_generated_motion(session: dict) -> None:
