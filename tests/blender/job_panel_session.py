@@ -3,7 +3,7 @@
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/job_panel_session.py <zip> <out.json> <work dir>
 
 installs the extension zip, imports the box-lift motion, presses Assess Job before any bake (its one line), bakes
-frames 1-12 through Bake Motion, draws the Job panel (the load from the bake), presses Assess Job (the defaults: a
+frames 1-8 through Bake Motion, draws the Job panel (the load from the bake), presses Assess Job (the defaults: a
 30 s cycle, 800 cycles in 8 h), reads the stored verdicts and the panel's rows, presses every Go to Frame button,
 tries a zero cycle time and a cycle shorter than the motion, sets the load by hand, writes the report through Write
 Report (and under a file, as if a folder), then bakes again (the verdicts marked out of date). Writes what it saw
@@ -84,7 +84,7 @@ seen["matplotlib"] = job_assess.has_matplotlib()
 
 scene.frame_set(1)
 t0 = time.perf_counter()
-seen["bake"] = sorted(bpy.ops.manikin.bake_motion("EXEC_DEFAULT", True, frame_start=1, frame_end=12))
+seen["bake"] = sorted(bpy.ops.manikin.bake_motion("EXEC_DEFAULT", True, frame_start=1, frame_end=8))
 seen["bake_s"] = time.perf_counter() - t0
 arm = bpy.data.objects[NAME]
 bpy.context.view_layer.objects.active = arm
@@ -106,7 +106,7 @@ for _, idname, props in list(buttons):
 s = arm.manikin_job
 s.cycle_time = 0.0
 seen["zero_cycle"] = error_of(lambda: bpy.ops.manikin.assess_job())
-s.cycle_time = 0.25  # shorter than the 12 frames at 24 fps (0.5 s)
+s.cycle_time = 0.25  # shorter than the 8 frames at 24 fps (0.33 s)
 seen["short_cycle"] = error_of(lambda: bpy.ops.manikin.assess_job())
 seen["stored_after_errors"] = json.loads(arm["manikin_job_verdicts"])  # the last good assessment stays
 s.cycle_time, s.load_source, s.load_mass, s.hands = 30.0, "SET", 20.0, "right"
@@ -123,7 +123,7 @@ seen["left_over"] = sorted(p.name for p in WORK.iterdir() if p.name.startswith("
 seen["file_as_folder"] = error_of(lambda: bpy.ops.manikin.write_job_report(filepath=str(report / "job.html")))
 
 scene.frame_set(1)
-seen["rebake"] = sorted(bpy.ops.manikin.bake_motion("EXEC_DEFAULT", True, frame_start=1, frame_end=6))
+seen["rebake"] = sorted(bpy.ops.manikin.bake_motion("EXEC_DEFAULT", True, frame_start=1, frame_end=3))
 bpy.context.view_layer.objects.active = bpy.data.objects[NAME]
 seen["panel_rebaked"] = drawn()
 seen["session_s"] = time.perf_counter() - T0
