@@ -6,8 +6,8 @@ installs the extension zip, imports the box-lift motion, presses Assess Job befo
 frames 1-8 through Bake Motion, draws the Job panel (the load from the bake), presses Assess Job (the defaults: a
 30 s cycle, 800 cycles in 8 h), reads the stored verdicts and the panel's rows, presses every Go to Frame button,
 tries a zero cycle time and a cycle shorter than the motion, sets the load by hand, writes the report through Write
-Report (and under a file, as if a folder), then bakes again (the verdicts marked out of date). Writes what it saw
-to JSON.
+Report (again with matplotlib blocked, and under a file, as if a folder), then bakes again (the verdicts marked out
+of date). Writes what it saw to JSON.
 """
 
 from __future__ import annotations
@@ -120,6 +120,11 @@ seen["write"] = sorted(bpy.ops.manikin.write_job_report(filepath=str(report)))
 seen["write_s"] = time.perf_counter() - t0
 seen["html"] = report.read_text(encoding="utf-8")
 seen["left_over"] = sorted(p.name for p in WORK.iterdir() if p.name.startswith("job") and p.name != "job.html")
+sys.modules["matplotlib"] = None  # as in a Blender whose Python has no matplotlib (an add-on built without wheels)
+seen["bare_has_matplotlib"] = job_assess.has_matplotlib()
+seen["write_bare"] = sorted(bpy.ops.manikin.write_job_report(filepath=str(WORK / "bare.html")))
+seen["html_bare"] = (WORK / "bare.html").read_text(encoding="utf-8")
+del sys.modules["matplotlib"]
 seen["file_as_folder"] = error_of(lambda: bpy.ops.manikin.write_job_report(filepath=str(report / "job.html")))
 
 scene.frame_set(1)

@@ -89,6 +89,10 @@ def test_write_report_writes_the_job_command_s_html(session: dict) -> None:
     else:
         assert "<img" not in html and "no matplotlib" in html
     assert session["left_over"] == []  # the temporary file was renamed, none left
+    bare = session["html_bare"]  # matplotlib blocked: the same verdicts and tables, no plots, and a line saying so
+    assert session["write_bare"] == ["FINISHED"] and not session["bare_has_matplotlib"]
+    assert "<img" not in bare and "no matplotlib" in bare
+    assert all(r["title"] in bare for r in session["stored_set"]["rows"])
     error = session["file_as_folder"].strip()  # a path under a file: one line, the report kept
     assert re.search(r"Write Report: .+job.html: cannot write \(.+\)$", error) and "\n" not in error
 
