@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import tempfile
 from dataclasses import dataclass, replace
+from html import escape
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -172,13 +173,18 @@ def has_matplotlib() -> bool:
 
 def html_of(report: dict, frames: list[Frame], plots: bool | None = None) -> str:
     """The job command's one-file HTML of ``report``; without matplotlib (``plots`` None: as found) no plots and no
-    pictures, and a line saying so."""
+    pictures, and a line saying so (as when drawing them fails: the verdicts and tables still go out)."""
     from ...solver.job.html import html_report
 
+    note = NO_PLOTS
     if plots is None:
         plots = has_matplotlib()
     if plots:
-        return html_report(report, frames)
+        try:
+            return html_report(report, frames)
+        except Exception as exc:  # noqa: BLE001 (a plotting library's failure must not cost the report)
+            note = f"The plots and pictures could not be drawn ({type(exc).__name__}: {exc}); they are left out."
     bare = report | {"methods": {k: {n: v for n, v in r.items() if n != "plot"} for k, r in report["methods"].items()}}
     text = html_report(bare, None)
-    return text.replace("<h2>Verdicts</h2>", f"<p><small>{NO_PLOTS}</small></p><h2>Verdicts</h2>", 1)
+    return text.replace("<h2>Verdicts</h2>", f"<p><small>{escape(note) if note is not NO_PLOTS else note}</small></p>"
+                        "<h2>Verdicts</h2>", 1)  # fmt: skip

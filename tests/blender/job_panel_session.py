@@ -120,11 +120,12 @@ seen["write"] = sorted(bpy.ops.manikin.write_job_report(filepath=str(report)))
 seen["write_s"] = time.perf_counter() - t0
 seen["html"] = report.read_text(encoding="utf-8")
 seen["left_over"] = sorted(p.name for p in WORK.iterdir() if p.name.startswith("job") and p.name != "job.html")
+kept = sys.modules.get("matplotlib")
 sys.modules["matplotlib"] = None  # as in a Blender whose Python has no matplotlib (an add-on built without wheels)
 seen["bare_has_matplotlib"] = job_assess.has_matplotlib()
 seen["write_bare"] = sorted(bpy.ops.manikin.write_job_report(filepath=str(WORK / "bare.html")))
 seen["html_bare"] = (WORK / "bare.html").read_text(encoding="utf-8")
-del sys.modules["matplotlib"]
+sys.modules["matplotlib"] = kept
 seen["file_as_folder"] = error_of(lambda: bpy.ops.manikin.write_job_report(filepath=str(report / "job.html")))
 
 scene.frame_set(1)

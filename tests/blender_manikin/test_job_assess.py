@@ -110,3 +110,19 @@ def test_the_report_without_matplotlib_says_what_it_left_out(baked) -> None:
     assert "<img" not in text and "no matplotlib" in text
     assert all(v["title"] in text and v["text"] in text for v in report["verdicts"].values())
     assert text.startswith("<!DOCTYPE html>") and text.endswith("</html>\n")
+
+
+def test_a_plot_that_fails_leaves_the_report_without_plots(baked, monkeypatch) -> None:
+    entries, _, model = baked
+    report, frames = job_assess.assess(entries, model, job_assess.Work(**WORK), "box lift", 24.0, "Armature")
+    html = _module("solver.job.html")
+    drawn = html.plot
+
+    def broken(report: dict, result: dict) -> str:
+        if result.get("plot"):
+            raise RuntimeError("no <display>")
+        return drawn(report, result)
+
+    monkeypatch.setattr(html, "plot", broken)
+    text = job_assess.html_of(report, frames, plots=True)
+    assert "<img" not in text and "could not be drawn (RuntimeError: no &lt;display&gt;)" in text
