@@ -4,6 +4,7 @@ time two versions in one process, interleaved.
     python -m bench.same_iterates record OUT.npz            # before the change
     python -m bench.same_iterates compare OUT.npz           # after: same iterations, success and x?
     python -m bench.same_iterates speed OLD_ROOT             # OLD_ROOT/solver_old: a copy of the old package
+    python -m bench.same_iterates live OLD_ROOT [DRAGS]      # the same for bench.live_drag's re-solves
 """
 
 from __future__ import annotations
@@ -95,6 +96,32 @@ def speed(old_root: str, repeats: int = 2) -> str:
             f"total {new.sum() / old.sum():.3f}")  # fmt: skip
 
 
+def live(old_root: str, drags: int = 200) -> str:
+    """bench.live_drag's re-solves (the same drags for both) by ``solver_old`` and this tree, alternating order."""
+    from .live_drag import cases
+
+    sys.path.insert(0, old_root)
+    packages = {name: importlib.import_module(name) for name in ("solver_old", "solver")}
+    sides = {name: cases(pkg, drags)[0] for name, pkg in packages.items()}
+    times: dict[str, list[float]] = {name: [] for name in sides}
+    iterations = dict.fromkeys(sides, 0)
+    good = dict.fromkeys(sides, 0)
+    for i in range(drags):
+        for name in list(sides) if i % 2 == 0 else list(sides)[::-1]:
+            problem, start, options = sides[name][i]
+            t0 = time.perf_counter()
+            result = packages[name].solve(problem, start, options)
+            times[name].append(time.perf_counter() - t0)
+            iterations[name] += result.iterations
+            good[name] += bool(result.converged)
+    old, new = np.array(times["solver_old"]), np.array(times["solver"])
+    return (f"{drags} drags each, interleaved: before median {np.median(old) * 1e3:.2f} ms, p95 "
+            f"{np.percentile(old, 95) * 1e3:.2f} ms, {iterations['solver_old'] / drags:.2f} iterations, converged "
+            f"{good['solver_old']}; after median {np.median(new) * 1e3:.2f} ms, p95 {np.percentile(new, 95) * 1e3:.2f} "
+            f"ms, {iterations['solver'] / drags:.2f} iterations, converged {good['solver']}; per-drag ratio "
+            f"after/before: median {np.median(new / old):.3f}")  # fmt: skip
+
+
 def main(argv: list[str]) -> None:
     # NumPy is loaded already (bench/__init__), so setting the variable here would be ignored: start again with one
     # BLAS thread. A record and a compare with different thread counts differ by rounding (measured: 1 of 648
@@ -104,6 +131,8 @@ def main(argv: list[str]) -> None:
     if command == "record":
         np.savez(arg, **iterates())
         print(f"recorded {arg}")
+    elif command == "live":
+        print(live(arg, *map(int, argv[2:3])))
     else:
         print(compare(arg) if command == "compare" else speed(arg))
 

@@ -26,6 +26,7 @@ from .inequality import Inequality
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 WATCH = 0.01  # m: a met row this close to its clearance gives the step its Jacobian (held if the step goes past)
 HOLD = 0.5e-3  # m: the watch band of the body's own pairs (an arm hangs against the trunk: docs/TUNING.md)
+SAFE = 1e-9  # m: what a movement bound keeps in hand against rounding
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
 
 
@@ -81,6 +82,13 @@ class ClearanceRows(Inequality):
     _others: list[str]  # per row, what it keeps clear of: an obstacle or another body part
     _pairs: list[str]  # per row, "part vs other" without the capsule end
     _last: tuple[bytes, tuple] | None = None  # the joint values last measured and what they gave
+    # rows whose distance is exact at any range (a half-space, the body's own pairs) can be bounded from how far their
+    # capsules moved since the last exact query: per row its capsule and the other's (None: the other stands still)
+    _row_capsule: np.ndarray | None = None
+    _row_other: np.ndarray | None = None
+    _source: BodyCapsules | None = None  # the capsules whose world ends a state shares (the body's own)
+    _subset: np.ndarray | None = None  # which of ``_source`` are ``capsules`` (None: all)
+    _reference: tuple | None = None  # ((start, end) world ends (k, 3), distance - floor per row): last exact query
 
     @property
     def rows(self) -> int:
@@ -104,7 +112,41 @@ class ClearanceRows(Inequality):
                 cached = self._distances(state)
                 self._last = (key, cached)
             state.cache[self] = cached
+            if self._row_capsule is not None:
+                self._reference = (self._ends(state), cached[0] - self.floor)
         return cached
+
+    def _ends(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """World ends (m) of ``capsules`` at ``state``, computed once per state for all clearances of the same body
+        capsules (the floor's and the body's own)."""
+        source = self._source if self._source is not None else self.capsules
+        key = ("capsule ends", id(source))
+        ends = state.cache.get(key)
+        if ends is None:
+            ends = state.cache[key] = source.world(state.kin)
+        return ends if self._subset is None else (ends[0][self._subset], ends[1][self._subset])
+
+    def _clear_by(self, state: State, band: float) -> bool:
+        """True when no row can be within ``band`` (m) of its floor at ``state``, known without a query: a row's
+        distance changes by at most how far its capsules' ends moved since the last exact query (a capsule's points
+        are blends of its ends, so none moves farther; docs/TUNING.md). False whenever not sure (the state measured
+        already, no reference, NaN)."""
+        reference = self._reference
+        if reference is None or self in state.cache:
+            return False
+        (start, end), slack = reference
+        p0, p1 = self._ends(state)
+        d0, d1 = p0 - start, p1 - end
+        move = np.sqrt(np.maximum(np.einsum("ij,ij->i", d0, d0), np.einsum("ij,ij->i", d1, d1)))
+        bound = slack - move[self._row_capsule]
+        if self._row_other is not None:
+            bound -= move[self._row_other]
+        return bool(bound.min(initial=np.inf) > band + SAFE)
+
+    def error(self, state: State) -> np.ndarray:
+        if self._clear_by(state, 0.0):
+            return np.zeros(self.rows)
+        return super().error(state)
 
     @abstractmethod
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -126,6 +168,8 @@ class ClearanceRows(Inequality):
         return out
 
     def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        if self._clear_by(state, self.watch):
+            return np.zeros(0, dtype=np.intp), np.zeros((0, self.n_x))
         rows = np.flatnonzero(self.value(state) - self.floor < self.watch)
         return rows, self._jacobian_of(state, rows)
 
@@ -147,6 +191,8 @@ class ClearanceRows(Inequality):
 
     def closest(self, state: State) -> list[Closeness]:
         """The rows within the margin of their clearance, nearest first."""
+        if self._clear_by(state, self.margin):
+            return []
         distance, points, normals, capsule = self._evaluate(state)
         near = np.flatnonzero(distance - self.floor < self.margin)
         out = []
@@ -173,8 +219,10 @@ class Clearance(ClearanceRows):
     ) -> None:
         self.name = name
         keep = np.array([name not in exclude for name in capsules.names], dtype=bool)
+        source = capsules
         capsules = BodyCapsules(tuple(n for n, k in zip(capsules.names, keep, strict=True) if k), capsules.link[keep],
                                 capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
+        self._source, self._subset = source, np.flatnonzero(keep)
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         # nothing nearer than its reach (m) is left out of an obstacle's query
@@ -198,12 +246,25 @@ class Clearance(ClearanceRows):
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
+        if all(isinstance(ob, HalfSpace) for ob in self.obstacles):  # exact at any range: rows can be bounded
+            index = np.arange(k)
+            self._row_capsule = np.concatenate([np.tile(index, 2 if ob.end_rows else 1) for ob in self.obstacles]
+                                               or [np.zeros(0, dtype=int)])  # fmt: skip
+        self._plane = None  # one half-space (the floor): measured inline, as halfspace_distance does, in 3 calls
+        if len(self.obstacles) == 1 and isinstance(self.obstacles[0], HalfSpace):
+            self._plane = self.obstacles[0]
+            self._plane_radius = np.concatenate([capsules.radius, capsules.radius])
+            self._plane_normal = np.broadcast_to(self._plane.normal, (2 * k, 3))  # read-only, shared by every state
 
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps = self.capsules
         if not self.obstacles:
             return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
-        p0, p1 = caps.world(state.kin)
+        p0, p1 = self._ends(state)
+        if self._plane is not None:  # a row per capsule end, starts first; the end is its own witness
+            ends = np.concatenate([p0, p1])
+            h = (ends - self._plane.point) @ self._plane.normal - self._plane_radius
+            return np.where(np.isfinite(h), h, self._reach[0] + 1.0), ends, self._plane_normal, self._row_capsule
         index = np.arange(len(caps))
         got = [None] * len(self.obstacles)
         for end_rows, rows, reach, group in self._groups:

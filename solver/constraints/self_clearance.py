@@ -35,13 +35,14 @@ class SelfClearance(ClearanceRows):
         self._others = [names[j] for j in self.pairs.second]
         self._pairs = [f"{a} vs {b}" for a, b in zip(self._parts, self._others, strict=True)]
         self.floor = self.pairs.least.copy()
+        self._row_capsule, self._row_other = self.pairs.first, self.pairs.second  # exact at any range: bounded
 
     def _proximity(self, state: State) -> PairProximity:
         """Every pair's distance, witnesses and normal at ``state``, once per state."""
         key = (self, "pairs")
         got = state.cache.get(key)
         if got is None:
-            p0, p1 = self.capsules.world(state.kin)
+            p0, p1 = self._ends(state)
             got = state.cache[key] = capsule_pairs(p0, p1, self.capsules.radius, self.pairs.first, self.pairs.second)
         return got
 
