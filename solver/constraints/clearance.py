@@ -131,17 +131,25 @@ class ClearanceRows(Inequality):
         distance changes by at most how far its capsules' ends moved since the last exact query (a capsule's points
         are blends of its ends, so none moves farther; docs/TUNING.md). False whenever not sure (the state measured
         already, no reference, NaN)."""
-        reference = self._reference
-        if reference is None or self in state.cache:
+        if self._reference is None or self in state.cache:
             return False
-        (start, end), slack = reference
+        key = (self, "bound")
+        least = state.cache.get(key)
+        if least is None:
+            least = state.cache[key] = self._least_bound(state)
+        return bool(least > band + SAFE)
+
+    def _least_bound(self, state: State) -> float:
+        """The least distance - floor any row can have at ``state`` (m), from the last exact query's and the most
+        its capsules' ends have moved since (NaN if unknown)."""
+        (start, end), slack = self._reference
         p0, p1 = self._ends(state)
         d0, d1 = p0 - start, p1 - end
         move = np.sqrt(np.maximum(np.einsum("ij,ij->i", d0, d0), np.einsum("ij,ij->i", d1, d1)))
         bound = slack - move[self._row_capsule]
         if self._row_other is not None:
             bound -= move[self._row_other]
-        return bool(bound.min(initial=np.inf) > band + SAFE)
+        return float(bound.min(initial=np.inf))
 
     def error(self, state: State) -> np.ndarray:
         if self._clear_by(state, 0.0):
