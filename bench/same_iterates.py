@@ -5,6 +5,7 @@ time two versions in one process, interleaved.
     python -m bench.same_iterates compare OUT.npz           # after: same iterations, success and x?
     python -m bench.same_iterates speed OLD_ROOT             # OLD_ROOT/solver_old: a copy of the old package
     python -m bench.same_iterates live OLD_ROOT [DRAGS]      # the same for bench.live_drag's re-solves
+    python -m bench.same_iterates scenarios OLD_ROOT [REPEATS]  # ... and for the shipped scenarios, cold
 """
 
 from __future__ import annotations
@@ -12,12 +13,14 @@ from __future__ import annotations
 import importlib
 import sys
 import time
+from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 
 from . import one_core
 
+PRESETS = Path(__file__).resolve().parents[1] / "presets"
 SEEDS = (24, 12)  # trials per level: the four benchmark settings, then comfort off
 
 
@@ -96,17 +99,16 @@ def speed(old_root: str, repeats: int = 2) -> str:
             f"total {new.sum() / old.sum():.3f}")  # fmt: skip
 
 
-def live(old_root: str, drags: int = 200) -> str:
-    """bench.live_drag's re-solves (the same drags for both) by ``solver_old`` and this tree, alternating order."""
-    from .live_drag import cases
-
+def _interleaved(old_root: str, make_cases, label: str) -> str:
+    """Solve time of ``solver_old`` (under ``old_root``) and this tree on the cases ``make_cases(package)`` gives
+    (the same for both: a list of (problem, start, options)), alternating order; iterations and successes too."""
     sys.path.insert(0, old_root)
     packages = {name: importlib.import_module(name) for name in ("solver_old", "solver")}
-    sides = {name: cases(pkg, drags)[0] for name, pkg in packages.items()}
+    sides = {name: make_cases(pkg) for name, pkg in packages.items()}
     times: dict[str, list[float]] = {name: [] for name in sides}
-    iterations = dict.fromkeys(sides, 0)
-    good = dict.fromkeys(sides, 0)
-    for i in range(drags):
+    iterations, good = dict.fromkeys(sides, 0), dict.fromkeys(sides, 0)
+    count = len(sides["solver"])
+    for i in range(count):
         for name in list(sides) if i % 2 == 0 else list(sides)[::-1]:
             problem, start, options = sides[name][i]
             t0 = time.perf_counter()
@@ -114,12 +116,33 @@ def live(old_root: str, drags: int = 200) -> str:
             times[name].append(time.perf_counter() - t0)
             iterations[name] += result.iterations
             good[name] += bool(result.converged)
-    old, new = np.array(times["solver_old"]), np.array(times["solver"])
-    return (f"{drags} drags each, interleaved: before median {np.median(old) * 1e3:.2f} ms, p95 "
-            f"{np.percentile(old, 95) * 1e3:.2f} ms, {iterations['solver_old'] / drags:.2f} iterations, converged "
-            f"{good['solver_old']}; after median {np.median(new) * 1e3:.2f} ms, p95 {np.percentile(new, 95) * 1e3:.2f} "
-            f"ms, {iterations['solver'] / drags:.2f} iterations, converged {good['solver']}; per-drag ratio "
-            f"after/before: median {np.median(new / old):.3f}")  # fmt: skip
+
+    def side(name: str) -> str:
+        ms = np.array(times[name]) * 1e3
+        return (f"median {np.median(ms):.2f} ms, p95 {np.percentile(ms, 95):.2f} ms, {iterations[name] / count:.2f} "
+                f"iterations, converged {good[name]}")  # fmt: skip
+
+    ratio = np.array(times["solver"]) / np.array(times["solver_old"])
+    return (f"{count} {label} each, interleaved: before {side('solver_old')}; after {side('solver')}; per-solve ratio "
+            f"after/before: median {np.median(ratio):.3f}")  # fmt: skip
+
+
+def live(old_root: str, drags: int = 200) -> str:
+    """bench.live_drag's re-solves (the same drags for both)."""
+    from .live_drag import cases
+
+    return _interleaved(old_root, lambda pkg: cases(pkg, drags)[0], "drags")
+
+
+def scenarios(old_root: str, repeats: int = 10) -> str:
+    """bench.scenarios' shipped single-pose scenarios, cold from their start poses, ``repeats`` times each."""
+    from .scenarios import SCENARIOS
+
+    def make(pkg) -> list:
+        loaded = [pkg.load_scenario(PRESETS / "scenarios" / f"{name}.toml") for name in SCENARIOS]
+        return [(sc.problem, sc.start, sc.options) for sc in loaded] * repeats
+
+    return _interleaved(old_root, make, f"cold solves of {', '.join(SCENARIOS)}")
 
 
 def main(argv: list[str]) -> None:
@@ -131,8 +154,8 @@ def main(argv: list[str]) -> None:
     if command == "record":
         np.savez(arg, **iterates())
         print(f"recorded {arg}")
-    elif command == "live":
-        print(live(arg, *map(int, argv[2:3])))
+    elif command in ("live", "scenarios"):
+        print((live if command == "live" else scenarios)(arg, *map(int, argv[2:3])))
     else:
         print(compare(arg) if command == "compare" else speed(arg))
 
