@@ -6,6 +6,7 @@ time two versions in one process, interleaved.
     python -m bench.same_iterates speed OLD_ROOT             # OLD_ROOT/solver_old: a copy of the old package
     python -m bench.same_iterates live OLD_ROOT [DRAGS]      # the same for bench.live_drag's re-solves
     python -m bench.same_iterates scenarios OLD_ROOT [REPEATS]  # ... and for the shipped scenarios, cold
+    python -m bench.same_iterates tuning FIELD VALUE [COUNT] # an algorithmic knob of Tuning, side by side
 """
 
 from __future__ import annotations
@@ -145,6 +146,54 @@ def scenarios(old_root: str, repeats: int = 10) -> str:
     return _interleaved(old_root, make, f"cold solves of {', '.join(SCENARIOS)}")
 
 
+def tuning(field: str, value: str, count: int = 100) -> str:
+    """This tree with ``TUNING`` (A) and with its ``field`` set to ``value`` (B, a Python literal), interleaved: live
+    drags, random-benchmark trials (physics + reduction, comfort on, ``count // 10`` seeds per level) and the cold
+    scenarios; per side the median time, iterations, successes and mean comfort, and in how many B's comfort beat
+    A's. An algorithmic change alters the iterates on purpose: this is its side-by-side record."""
+    import ast
+    from dataclasses import replace
+
+    import solver
+    from solver.iteration import TUNING
+
+    from .live_drag import cases
+    from .scenarios import SCENARIOS
+
+    sides = {"A": TUNING, "B": replace(TUNING, **{field: ast.literal_eval(value)})}
+    rt = importlib.import_module("bench.random_targets")
+    model = rt.load_body(preset=rt.PRESET)
+    balance, groups = rt.CONFIGS["physics + reduction"]
+    box = rt.workspace_box(model)
+    loaded = [solver.load_scenario(PRESETS / "scenarios" / f"{name}.toml") for name in SCENARIOS]
+    suites = {
+        "live drags": cases(solver, count)[0],
+        "random trials": [(rt.trial_problem(model, rt.draw_targets(model, box, rt.LEVELS[level], 7000 + seed),
+                                            balance, groups), None, solver.SolverOptions())
+                          for level in range(len(rt.LEVELS)) for seed in range(max(count // 10, 1))],
+        "cold scenarios": [(sc.problem, sc.start, sc.options) for sc in loaded] * max(count // 20, 1),
+    }  # fmt: skip
+    lines = [f"A: TUNING; B: {field} = {value}"]
+    for label, items in suites.items():
+        got = {k: ([], [], [], []) for k in sides}  # times, iterations, converged, comfort
+        for i, (problem, start, options) in enumerate(items):
+            for k in list(sides) if i % 2 == 0 else list(sides)[::-1]:
+                t0 = time.perf_counter()
+                result = solver.solve(problem, start, options, sides[k])
+                for store, v in zip(got[k], (time.perf_counter() - t0, result.iterations, result.converged,
+                                             result.comfort), strict=True):  # fmt: skip
+                    store.append(v)
+        for k in sides:
+            t, it, ok, comfort = got[k]
+            lines.append(f"{label} {k}: median {np.median(t) * 1e3:.2f} ms, iterations {sum(it)}, converged "
+                         f"{sum(ok)}/{len(items)}, mean comfort {np.mean(comfort):.4f}")  # fmt: skip
+        diff = np.array(got["B"][3]) - np.array(got["A"][3])
+        ratio = np.median(np.array(got["B"][0]) / np.array(got["A"][0]))
+        lines.append(f"{label}: B/A time median {ratio:.3f}; comfort B higher in {int((diff > 1e-9).sum())}, lower "
+                     f"in {int((diff < -1e-9).sum())}")  # fmt: skip
+    return "\n".join(lines)
+
+
 def main(argv: list[str]) -> None:
     # NumPy is loaded already (bench/__init__), so setting the variable here would be ignored: start again with one
     # BLAS thread. A record and a compare with different thread counts differ by rounding (measured: 1 of 648
@@ -154,6 +203,8 @@ def main(argv: list[str]) -> None:
     if command == "record":
         np.savez(arg, **iterates())
         print(f"recorded {arg}")
+    elif command == "tuning":
+        print(tuning(arg, argv[2], *map(int, argv[3:4])))
     elif command in ("live", "scenarios"):
         print((live if command == "live" else scenarios)(arg, *map(int, argv[2:3])))
     else:
