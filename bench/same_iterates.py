@@ -4,7 +4,7 @@ time two versions in one process, interleaved.
     python -m bench.same_iterates record OUT.npz            # before the change
     python -m bench.same_iterates compare OUT.npz           # after: same iterations, success and x?
     python -m bench.same_iterates speed OLD_ROOT             # OLD_ROOT/solver_old: a copy of the old package
-    python -m bench.same_iterates live OLD_ROOT [DRAGS]      # the same for bench.live_drag's re-solves
+    python -m bench.same_iterates live OLD_ROOT [DRAGS [TRUNK]]  # the same for bench.live_drag's re-solves
     python -m bench.same_iterates scenarios OLD_ROOT [REPEATS]  # ... and for the shipped scenarios, cold
     python -m bench.same_iterates tuning FIELD VALUE [COUNT] # an algorithmic knob of Tuning, side by side
 """
@@ -128,11 +128,12 @@ def _interleaved(old_root: str, make_cases, label: str) -> str:
             f"after/before: median {np.median(ratio):.3f}")  # fmt: skip
 
 
-def live(old_root: str, drags: int = 200) -> str:
-    """bench.live_drag's re-solves (the same drags for both)."""
+def live(old_root: str, drags: int = 200, trunk: float | None = None) -> str:
+    """bench.live_drag's re-solves (the same drags for both; ``trunk``: the comfort's trunk weight instead)."""
     from .live_drag import cases
 
-    return _interleaved(old_root, lambda pkg: cases(pkg, drags)[0], "drags")
+    label = "drags" if trunk is None else f"drags (trunk = {trunk:g})"
+    return _interleaved(old_root, lambda pkg: cases(pkg, drags, trunk)[0], label)
 
 
 def scenarios(old_root: str, repeats: int = 10) -> str:
@@ -205,8 +206,10 @@ def main(argv: list[str]) -> None:
         print(f"recorded {arg}")
     elif command == "tuning":
         print(tuning(arg, argv[2], *map(int, argv[3:4])))
-    elif command in ("live", "scenarios"):
-        print((live if command == "live" else scenarios)(arg, *map(int, argv[2:3])))
+    elif command == "live":
+        print(live(arg, *map(int, argv[2:3]), *map(float, argv[3:4])))
+    elif command == "scenarios":
+        print(scenarios(arg, *map(int, argv[2:3])))
     else:
         print(compare(arg) if command == "compare" else speed(arg))
 
