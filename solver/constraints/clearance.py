@@ -82,8 +82,9 @@ class ClearanceRows(Inequality):
     _others: list[str]  # per row, what it keeps clear of: an obstacle or another body part
     _pairs: list[str]  # per row, "part vs other" without the capsule end
     _last: tuple[bytes, tuple] | None = None  # the joint values last measured and what they gave
-    # rows whose distance is exact at any range (a half-space, the body's own pairs) can be bounded from how far their
-    # capsules moved since the last exact query: per row its capsule and the other's (None: the other stands still)
+    # rows whose distance is exact at any range and costly to measure (the body's own pairs) are bounded from how far
+    # their capsules moved since the last exact query: per row its capsule and the other's (None: it stands still)
+    _bounded = False
     _row_capsule: np.ndarray | None = None
     _row_other: np.ndarray | None = None
     _source: BodyCapsules | None = None  # the capsules whose world ends a state shares (the body's own)
@@ -112,7 +113,7 @@ class ClearanceRows(Inequality):
                 cached = self._distances(state)
                 self._last = (key, cached)
             state.cache[self] = cached
-            if self._row_capsule is not None:
+            if self._bounded:
                 self._reference = (self._ends(state), cached[0] - self.floor)
         return cached
 
@@ -254,13 +255,10 @@ class Clearance(ClearanceRows):
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
-        if all(isinstance(ob, HalfSpace) for ob in self.obstacles):  # exact at any range: rows can be bounded
-            index = np.arange(k)
-            self._row_capsule = np.concatenate([np.tile(index, 2 if ob.end_rows else 1) for ob in self.obstacles]
-                                               or [np.zeros(0, dtype=int)])  # fmt: skip
         self._plane = None  # one half-space (the floor): measured inline, as halfspace_distance does, in 3 calls
         if len(self.obstacles) == 1 and isinstance(self.obstacles[0], HalfSpace):
             self._plane = self.obstacles[0]
+            self._row_capsule = np.tile(np.arange(k), 2)
             self._plane_radius = np.concatenate([capsules.radius, capsules.radius])
             self._plane_normal = np.broadcast_to(self._plane.normal, (2 * k, 3))  # read-only, shared by every state
 

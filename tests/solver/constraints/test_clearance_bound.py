@@ -1,6 +1,7 @@
-"""Issue 37: the floor's and the body's own clearance rows skip their distance query when the capsules' movement since
-the last exact query proves every row clear; what the iteration sees (errors, Jacobian rows, the closest pairs) is
-the same as a fresh, exact query's, and the query is really skipped."""
+"""Issue 37: the body's own clearance rows skip their distance query when the capsules' movement since the last exact
+query proves every row clear; what the iteration sees (errors, Jacobian rows, the closest pairs) is the same as a
+fresh, exact query's, and the query is really skipped. The floor (measured inline, shared capsule ends) is checked
+against a fresh query too."""
 
 from __future__ import annotations
 
