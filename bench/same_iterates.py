@@ -108,6 +108,7 @@ def _interleaved(old_root: str, make_cases, label: str) -> str:
     sides = {name: make_cases(pkg) for name, pkg in packages.items()}
     times: dict[str, list[float]] = {name: [] for name in sides}
     iterations, good = dict.fromkeys(sides, 0), dict.fromkeys(sides, 0)
+    ends: dict[str, list[np.ndarray]] = {name: [] for name in sides}  # the poses reached: the same iterates?
     count = len(sides["solver"])
     for i in range(count):
         for name in list(sides) if i % 2 == 0 else list(sides)[::-1]:
@@ -117,6 +118,7 @@ def _interleaved(old_root: str, make_cases, label: str) -> str:
             times[name].append(time.perf_counter() - t0)
             iterations[name] += result.iterations
             good[name] += bool(result.converged)
+            ends[name].append(result.x)
 
     def side(name: str) -> str:
         ms = np.array(times[name]) * 1e3
@@ -124,8 +126,9 @@ def _interleaved(old_root: str, make_cases, label: str) -> str:
                 f"iterations, converged {good[name]}")  # fmt: skip
 
     ratio = np.array(times["solver"]) / np.array(times["solver_old"])
+    dx = max((float(np.max(np.abs(a - b), initial=0.0)) for a, b in zip(*ends.values(), strict=True)), default=0.0)
     return (f"{count} {label} each, interleaved: before {side('solver_old')}; after {side('solver')}; per-solve ratio "
-            f"after/before: median {np.median(ratio):.3f}")  # fmt: skip
+            f"after/before: median {np.median(ratio):.3f}; max |dx| of the poses reached {dx:.3g}")  # fmt: skip
 
 
 def live(old_root: str, drags: int = 200, trunk: float | None = None) -> str:
