@@ -5,6 +5,10 @@ The Jacobian of a row is n . (velocity of the witness on the first capsule - vel
 second), n the unit normal from the second to the first: the distance's gradient is n at one witness and -n at
 the other (the witnesses' own sliding drops out, as for obstacles). Joints that carry both parts move them
 rigidly together and cancel.
+
+A new state is not measured while the capsules' movement since the last exact query proves every pair clear of its
+watch band (:meth:`~.clearance.ClearanceRows._clear_by`): the error, the Jacobian rows and the near pairs the
+iteration asks for are then known without a query, and the same as a query's (docs/TUNING.md).
 """
 
 from __future__ import annotations
