@@ -7,7 +7,7 @@ the other (the witnesses' own sliding drops out, as for obstacles). Joints that 
 rigidly together and cancel.
 
 A new state is not measured while the capsules' movement since the last exact query proves every pair clear of its
-watch band (:meth:`~.clearance.ClearanceRows._clear_by`): the error, the Jacobian rows and the near pairs the
+watch band (``ClearanceRows._clear_by``): the error, the Jacobian rows and the near pairs the
 iteration asks for are then known without a query, and the same as a query's (docs/TUNING.md).
 """
 
