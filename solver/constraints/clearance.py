@@ -128,10 +128,9 @@ class ClearanceRows(Inequality):
         return ends if self._subset is None else (ends[0][self._subset], ends[1][self._subset])
 
     def _clear_by(self, state: State, band: float) -> bool:
-        """True when no row can be within ``band`` (m) of its floor at ``state``, known without a query: a row's
-        distance changes by at most how far its capsules' ends moved since the last exact query (a capsule's points
-        are blends of its ends, so none moves farther; docs/TUNING.md). False whenever not sure (the state measured
-        already, no reference, NaN)."""
+        """True when no row can be within ``band`` (m) of its floor at ``state``, known without a query from how its
+        capsules' ends moved since the last exact query (:meth:`_least_bound`, docs/TUNING.md). False whenever not
+        sure (the state measured already, no reference, NaN)."""
         if self._reference is None or self in state.cache:
             return False
         key = (self, "bound")
@@ -141,16 +140,21 @@ class ClearanceRows(Inequality):
         return bool(least > band + SAFE)
 
     def _least_bound(self, state: State) -> float:
-        """The least distance - floor any row can have at ``state`` (m), from the last exact query's and the most
-        its capsules' ends have moved since (NaN if unknown)."""
+        """The least distance - floor any row can have at ``state`` (m; NaN if unknown): the last exact query's, less
+        the most the gap between the row's two capsules can have changed since. A point at s on a capsule moved by
+        the blend (1 - s) d0 + s d1 of its ends' moves, so the change of a gap, (blend on one) - (blend on the other),
+        is affine in the two parameters and largest in norm at a pair of ends: 4 differences per pair (a part and
+        the trunk moving together change nothing), 2 ends against a still obstacle."""
         (start, end), slack = self._reference
         p0, p1 = self._ends(state)
-        d0, d1 = p0 - start, p1 - end
-        move = np.sqrt(np.maximum(np.einsum("ij,ij->i", d0, d0), np.einsum("ij,ij->i", d1, d1)))
-        bound = slack - move[self._row_capsule]
-        if self._row_other is not None:
-            bound -= move[self._row_other]
-        return float(bound.min(initial=np.inf))
+        moved = np.stack([p0 - start, p1 - end], axis=1)  # (capsules, 2 ends, 3)
+        mine = moved[self._row_capsule]
+        if self._row_other is None:
+            change = np.einsum("rej,rej->re", mine, mine)
+        else:
+            rel = mine[:, :, None, :] - moved[self._row_other][:, None, :, :]  # (rows, 2, 2, 3)
+            change = np.einsum("rabj,rabj->rab", rel, rel).reshape(len(mine), 4)
+        return float(np.min(slack - np.sqrt(change.max(axis=1)), initial=np.inf))
 
     def error(self, state: State) -> np.ndarray:
         if self._clear_by(state, 0.0):
