@@ -28,6 +28,7 @@ from .timeline import (
 )
 from .ways import length
 
+SHIFT_SHARE = 1.0 / 3.0  # of a pace's W-P time: the weight shift before the foot lifts (the rest: its swing)
 SIDE = 0.10  # m: with both hands to one point, each is this far to its side of it
 HAND_LOCK = ("x", "y", "z")  # a reach or hold target: the hand's position (its orientation when one is given)
 ROTATION_LOCK = ("x", "y", "z", "rx", "ry", "rz")
@@ -136,18 +137,30 @@ def look(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segmen
 
 
 def step(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment]:
-    """Walk to the stance ``op.to`` (the feet's middle), a pace at a time; the held object and targeted hands go
-    along with the body (half a pace each pace)."""
+    """Walk to the stance ``op.to`` (the feet's middle), a pace at a time, as a person steps with a load: before a
+    foot lifts the weight is shifted over the other (the held object and targeted hands go over it, both feet on
+    the floor), then the foot swings; at the end the body comes back over the feet's middle."""
     goal = stance_for(now.feet, op.to)
     out = []
-    for foot, start, end in paces(dict(now.feet), goal):
-        shift = (end - start) / 2.0  # the body's middle moves half the foot's travel
-        moves = {tcp: ([p, p + shift], r, lock, pr) for tcp, (p, r, lock, pr) in now.hands.items()
-                 if tcp not in now.free}  # fmt: skip
-        out.append(segment(now, op.label, timing.walk_time(1), moves, {foot: end}))
-    if not out:
+    over = sum(now.feet.values()) / len(now.feet)  # the point the body is over (the hands go along)
+    for foot, _start, end in paces(dict(now.feet), goal):
+        stance = next(p for t, p in now.feet.items() if t != foot)
+        out.append(_shift(now, op.label, over, stance, timing.walk_time(1) * SHIFT_SHARE))
+        over = stance
+        out.append(segment(now, op.label, timing.walk_time(1) * (1.0 - SHIFT_SHARE), None, {foot: end}))
+    if out:
+        out.append(_shift(now, op.label, over, sum(now.feet.values()) / len(now.feet),
+                          timing.walk_time(1) * SHIFT_SHARE))  # fmt: skip
+    else:
         out.append(segment(now, op.label, timing.MIN_DURATION))
     return out
+
+
+def _shift(now: Now, label: str, before: np.ndarray, after: np.ndarray, duration: float) -> Segment:
+    """A weight shift (both feet down): the targeted hands moved by ``after`` - ``before`` along the floor."""
+    shift = np.array([after[0] - before[0], after[1] - before[1], 0.0])
+    moves = {tcp: ([p, p + shift], r, lock, pr) for tcp, (p, r, lock, pr) in now.hands.items() if tcp not in now.free}
+    return segment(now, label, duration, moves)
 
 
 def wait(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment]:
