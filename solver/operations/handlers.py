@@ -17,6 +17,7 @@ from .timeline import (
     Now,
     Plan,
     Segment,
+    carried_box,
     check_reach,
     get,
     named_object,
@@ -46,7 +47,7 @@ def place(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segme
     _check_fits(op, obj, goal, others)
     origin = now.origins[obj.name]
     above = goal + np.array([0.0, 0.0, LIFT])
-    path = way_or_fail(op, origin, above, obj.size / 2.0, others)
+    path = way_or_fail(op, origin, above, carried_box(obj), others)
     priority = op_priority(op, 1)
     shift = {tcp: now.hands[tcp][0] - origin for tcp in tcps}
     carry = {tcp: ([p + shift[tcp] for p in path], now.hands[tcp][1], frames[tcp].lock, priority) for tcp in tcps}

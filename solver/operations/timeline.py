@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..collision import Obstacle
+from ..planning import CarriedBox
 from . import timing
 from .objects import WorkObject, grasp_for, moved, origin_of, world_hand
 from .schema import Operation, OperationError
@@ -189,7 +190,7 @@ def to_carry(op: Operation, now: Now, obj: WorkObject, others: list) -> Segment:
     origin = now.origins[name]
     middle = sum(now.feet.values()) / len(now.feet)
     goal = middle + CARRY
-    path = way_or_fail(op, origin, goal, obj.size / 2.0, others)
+    path = way_or_fail(op, origin, goal, carried_box(obj), others)
     moves = {tcp: ([p + now.hands[tcp][0] - origin for p in path], now.hands[tcp][1], frames[tcp].lock,
                    now.hands[tcp][3]) for tcp in tcps}  # fmt: skip
     return segment(now, op.label, timing.move_time(length(path), "B", obj.mass), moves)
@@ -202,8 +203,8 @@ def named_object(op: Operation, objects: dict) -> WorkObject:
     return objects[op.object]
 
 
-def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, half, obstacles: list) -> list:
-    points = way(start, goal, half, obstacles)
+def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, carried, obstacles: list) -> list:
+    points = way(start, goal, carried, obstacles)
     if isinstance(points, str):
         raise OperationError(f"{op.label}: no way from [{xyz(start)}] to [{xyz(goal)}] m: {points}")
     return points
@@ -211,3 +212,8 @@ def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, half, obstac
 
 def xyz(p: np.ndarray) -> str:
     return ", ".join(f"{v:.2f}" for v in p)
+
+
+def carried_box(obj: WorkObject) -> CarriedBox:
+    """``obj`` as the planner's carried box (its edges along its axes; it does not turn on the way)."""
+    return CarriedBox(np.asarray(obj.size, dtype=float), obj.rotation, name=obj.name)
