@@ -98,7 +98,8 @@ hand_r = { position = [-0.177, 0.0, 0.0], rotation = [0.7071068, 0.0, 0.7071068,
 BAD = {
     "unknown object": ('[[operations]]\ndo = "get"\nobject = "crate"\n',
                        "operations[0] (get crate): no object named 'crate'"),
-    "unreachable place": (GET_PLACE.replace("[0.25, -0.45, 0.871]", "[2.5, -0.45, 0.871]"),
+    # a place 2.5 m away is stepped to now (test_far_place_steps_first); 2.5 m up is out of anyone's reach
+    "unreachable place": (GET_PLACE.replace("[0.25, -0.45, 0.871]", "[0.25, -0.45, 2.5]"),
                           "operations[1] (place box): the place for box"),
     "grasp inside an obstacle": (GET_PLACE, "operations[0] (get box): grasp 'both sides' of box: hand_r would be "
                                             "inside post"),
@@ -142,3 +143,21 @@ def assert_clean(frames: list[dict]) -> None:
         assert max(shortfall, default=0.0) < 1e-3, (f["frame"], f["residuals"])
         crossed = [s for s in [*f["unmet"], *f["broken"], *f["notes"]] if "between frames" in s]
         assert not crossed, (f["frame"], crossed)
+
+
+def test_far_place_steps_first(tmp_path):
+    """A place beyond a comfortable planted reach: the manikin walks up and the stance finder takes the last step
+    (noted in the summary), then places; every frame clean."""
+    far = GET_PLACE.replace("[0.25, -0.45, 0.871]", "[-1.6, -0.45, 0.871]")
+    extra = ('[[obstacles]]\nname = "far table"\nkind = "box"\ncenter = [-1.6, -0.55, 0.73]\n'
+             "size = [0.8, 0.5, 0.04]\n")
+    path = write(tmp_path, far, fps=12, extra=extra + "[motion]\nmax_joint_change = 0.6\nmax_root_shift = 0.15\n")
+    out = tmp_path / "out"
+    code = main(["operate", str(path), "-o", str(out), "-q"])
+    summary = (out / "summary.txt").read_text()
+    assert code == 0, summary
+    assert "operations[1] (place box): stepped first to a stance found for it" in summary
+    result = json.loads((out / "result.json").read_text())["frames"]
+    assert_clean(result)
+    feet = np.array([f["tcps"]["foot_r"]["position"] for f in result])
+    assert feet[-1][0] < -1.0  # it walked there
