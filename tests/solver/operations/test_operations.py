@@ -161,3 +161,17 @@ def test_far_place_steps_first(tmp_path):
     assert_clean(result)
     feet = np.array([f["tcps"]["foot_r"]["position"] for f in result])
     assert feet[-1][0] < -1.0  # it walked there
+
+
+PRESETS = Path(__file__).resolve().parents[3] / "presets" / "operations"
+
+
+def test_bin_to_fixture_preset_end_to_end(tmp_path):
+    """The one-handed preset (a part from a bin into a fixture, four operations) from its file alone: every frame
+    converged, nothing penetrates or sweeps through anything (the other presets: bench/operations.py)."""
+    out = tmp_path / "out"
+    code = main(["operate", str(PRESETS / "bin_to_fixture.toml"), "-o", str(out), "-q"])
+    summary = (out / "summary.txt").read_text()
+    assert code == 0, summary
+    assert "operations[3] (place part)" in summary and "4 operations" in summary
+    assert_clean(json.loads((out / "result.json").read_text())["frames"])
