@@ -53,11 +53,11 @@ def place(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segme
     priority = op_priority(op, 1)
     shift = {tcp: now.hands[tcp][0] - origin for tcp in tcps}
     carry = {tcp: ([p + shift[tcp] for p in path], now.hands[tcp][1], frames[tcp].lock, priority) for tcp in tcps}
-    out.append(segment(now, op.label, timing.move_time(length(path), "B", obj.mass), carry))
+    out.append(segment(now, op.label, timing.move_time(length(path), "B", obj.mass, len(tcps)), carry))
     case = op.case or ("C" if op.onto in objects else "B")  # onto a part's mating frame: an exact place
     down = {tcp: ([above + shift[tcp], goal + shift[tcp]], now.hands[tcp][1], frames[tcp].lock, priority)
             for tcp in tcps}  # fmt: skip
-    out.append(segment(now, op.label, timing.move_time(LIFT, case, obj.mass), down))
+    out.append(segment(now, op.label, timing.move_time(LIFT, case, obj.mass, len(tcps)), down))
     now.holding = None
     now.origins[obj.name] = goal
     back = {tcp: ([now.hands[tcp][0], now.hands[tcp][0] - APPROACH * now.hands[tcp][1][:, 2]], now.hands[tcp][1],

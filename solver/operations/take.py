@@ -62,7 +62,7 @@ def get(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment
     now.holding = (obj.name, tuple(grasp.hands), frames)
     up = np.array([0.0, 0.0, LIFT])
     lifting = {tcp: ([p, p + up], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
-    out.append(segment(now, op.label, timing.move_time(LIFT, "B", obj.mass), lifting))
+    out.append(segment(now, op.label, timing.move_time(LIFT, "B", obj.mass, len(at)), lifting))
     out.append(to_carry(op, now, obj, others))
     now.taking = None
     return out
@@ -78,4 +78,4 @@ def to_carry(op: Operation, now: Now, obj: WorkObject, others: list) -> Segment:
     path = way_or_fail(op, origin, goal, carried_box(obj), others)
     moves = {tcp: ([p + now.hands[tcp][0] - origin for p in path], now.hands[tcp][1], frames[tcp].lock,
                    now.hands[tcp][3]) for tcp in tcps}  # fmt: skip
-    return segment(now, op.label, timing.move_time(length(path), "B", obj.mass), moves)
+    return segment(now, op.label, timing.move_time(length(path), "B", obj.mass, len(tcps)), moves)

@@ -13,7 +13,7 @@ from .timeline import Now, Segment, segment
 
 BACK_STEP, BACK_MOST = 0.05, 0.5  # m: a found stance moved back this much at a time so the held object is clear
 HELD_ROOM = 0.03  # m: ... by this much
-SHIFT_SHARE = 1.0 / 3.0  # of a pace's W-P time: the weight shift before the foot lifts (the rest: its swing)
+SHIFT_SHARE = 1.0 / 3.0  # of a pace's time: the weight shift before the foot lifts (the rest: its swing)
 
 
 def walk(now: Now, label: str, goal: dict[str, np.ndarray]) -> list[Segment]:
@@ -23,7 +23,8 @@ def walk(now: Now, label: str, goal: dict[str, np.ndarray]) -> list[Segment]:
     out = []
     over = sum(now.feet.values()) / len(now.feet)  # the point the body is over (the hands go along)
     pace = timing.walk_time(1)
-    for foot, _start, end in paces(dict(now.feet), goal):
+    for foot, start, end in paces(dict(now.feet), goal):
+        pace = pace_time(end - start)
         stance = next(p for t, p in now.feet.items() if t != foot)
         out.append(shift(now, label, over, stance, pace * SHIFT_SHARE))
         over = stance
@@ -31,6 +32,14 @@ def walk(now: Now, label: str, goal: dict[str, np.ndarray]) -> list[Segment]:
     if out:
         out.append(shift(now, label, over, sum(now.feet.values()) / len(now.feet), pace * SHIFT_SHARE))
     return out
+
+
+def pace_time(travel: np.ndarray) -> float:
+    """A foot's pace of ``travel`` (3,) m, in s: mostly sideways (across the facing, -y) half an MTM-1 side step
+    SS-C2 of that length (the lead and the lagging foot each take half), else a W-P pace."""
+    if abs(float(travel[0])) > abs(float(travel[1])):
+        return timing.side_step_time(float(np.hypot(travel[0], travel[1]))) / 2.0
+    return timing.walk_time(1)
 
 
 def shift(now: Now, label: str, before: np.ndarray, after: np.ndarray, duration: float) -> Segment:

@@ -70,6 +70,16 @@ def test_mtm1_durations():
     assert timing.walk_time(2) == pytest.approx(2 * 15 * 0.036)
 
 
+def test_mtm1_weight_per_hand_and_side_step():
+    """Checked against transcriptions of the MTM-1 card (docs/guide/operations.md, "Timing"): the weight allowance
+    is per hand, and a sideways step is the card's side step SS-C2, not a walking pace."""
+    # 20 kg in two hands: 10 kg (22 lb) per hand, the 22.5 lb row (x 1.22 + 7.4 TMU), not the 47.5 lb row
+    assert timing.move_time(20 * timing.INCH, "B", 20.0, hands=2) == pytest.approx((18.2 * 1.22 + 7.4) * 0.036)
+    assert timing.move_time(20 * timing.INCH, "B", 20.0) == pytest.approx((18.2 * 1.50 + 16.0) * 0.036)
+    assert timing.side_step_time(0.30) == pytest.approx(34.1 * 0.036)  # SS-C2, 30 cm
+    assert timing.side_step_time(0.40) == pytest.approx((34.1 + 0.4 * 10) * 0.036)  # 0.4 TMU per cm beyond
+
+
 def test_grasps_proposed_and_said(tmp_path):
     job = load_operations(write(tmp_path, GET_PLACE))
     box = job.objects["box"]
