@@ -26,6 +26,7 @@ MODULES = (  # relative to this package, in registration order
     "pose.manikins",
     "pose.panels", "motion.panel", "motion.ergonomics_panel", "retarget.panel", "study.panel", "envelope.panel",
     "pose.live", "pose.overlay",
+    "motion.job_panel",
 )  # fmt: skip
 
 
