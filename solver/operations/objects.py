@@ -15,7 +15,7 @@ import numpy as np
 from ..collision import Box, Obstacle
 
 PALM_GAP = 0.027  # m: palm outside the face, so the hand's capsule (r 3.3 cm, axis 1.7 cm behind the palm) stays ~1 cm
-GRIP_HEIGHT = 0.0  # m above the object's centre where proposed side grasps are (its middle: the box stays level)
+GRIP_HEIGHT = 0.25  # of its height above the object's centre: where proposed side grasps are (its upper half)
 AUTO_BOTH_MASS = 3.0  # kg: heavier objects are taken with both hands when the operation says no hand
 AUTO_BOTH_WIDTH = 0.30  # m: so are objects wider than this
 WIDEST_GRIP = 0.6  # m: a box wider than this across x (and deeper than wide) is gripped on its front and back
@@ -103,7 +103,7 @@ def propose_grasps(obj: WorkObject, hands: tuple[str, ...] = ("hand_r", "hand_l"
     for tcp, sign, base in (("hand_r", -1.0, SIDE_R), ("hand_l", 1.0, SIDE_L)):
         position = np.zeros(3)
         position[across] = sign * (half[across] + PALM_GAP)
-        position[2] = GRIP_HEIGHT
+        position[2] = GRIP_HEIGHT * obj.size[2]
         turn = np.eye(3) if across == 0 else np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
         frames[tcp] = HandFrame(position, turn @ base, PROPOSED_LOCK)  # across y: the side frames turned 90 deg about z
     both = tuple(h for h in ("hand_r", "hand_l") if h in hands)

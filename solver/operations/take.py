@@ -53,7 +53,7 @@ def get(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment
         moves[tcp] = (points, at[tcp][1], grasp.hands[tcp].lock, priority)
         low = min(p[2], now.hands[tcp][0][2]) < timing.BEND_HEIGHT
         longest = max(longest, timing.reach_time(length(points), case) + (timing.BEND_TMU * timing.TMU if low else 0))
-    now.taking = obj.name
+    now.taking = (obj.name, len(grasp.hands))
     out.append(segment(now, op.label, longest, moves))
     grip = timing.JUMBLED_GRASP_TMU if case == "C" else timing.GRASP_TMU
     closing = {tcp: ([before[tcp], p], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}

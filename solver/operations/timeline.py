@@ -50,6 +50,7 @@ class Segment:
     gaze: np.ndarray | None
     carried: tuple[str, tuple[str, ...]] | None  # (object, the hand TCPs holding it)
     resting: dict[str, np.ndarray] = field(default_factory=dict)  # object -> origin (3,) m
+    taking: tuple[str, int] | None = None  # the resting object the hands close on, and how many hands (posing)
 
 
 @dataclass
@@ -78,7 +79,7 @@ class Now:
         self.objects = objects
         self.origins = {name: origin_of(o.shape) for name, o in objects.items()}
         self.t = 0.0
-        self.taking: str | None = None  # the object a get reaches for
+        self.taking: tuple[str, int] | None = None  # the object a get reaches for, with how many hands
         self.gaze_until = 0  # operations the gaze is still held for
         self.finder = None  # the stance finder (feet, hands, mass, obstacles) -> (feet, line); None: no stepping
         self.notes: list[str] = []  # what the plan assumed or did on its own (a step to a found stance)
@@ -106,8 +107,8 @@ def segment(now: Now, label: str, duration: float, moves: dict | None = None, fe
         obj_rotation = frames["rotation"]
         now.origins[name] = now.hands[tcps[0]][0] - obj_rotation @ frames[tcps[0]].position
     # the object being taken is no obstacle while the hands close on it (they grip it, 1 cm off its faces)
-    resting = {n: o for n, o in now.origins.items() if n != now.taking and (carried is None or n != carried[0])}
-    out = Segment(label, now.t, now.t + duration, hands, steps, now.gaze, carried, dict(resting))
+    resting = {n: o for n, o in now.origins.items() if carried is None or n != carried[0]}
+    out = Segment(label, now.t, now.t + duration, hands, steps, now.gaze, carried, dict(resting), now.taking)
     now.t += duration
     return out
 
