@@ -80,6 +80,20 @@ def test_mtm1_weight_per_hand_and_side_step():
     assert timing.side_step_time(0.40) == pytest.approx((34.1 + 0.4 * 10) * 0.036)  # 0.4 TMU per cm beyond
 
 
+def test_box_both_hands_close_on_stays_an_obstacle(tmp_path):
+    """While both hands close on the box it is an obstacle narrowed 3 cm on each side face (room for the palms;
+    left out, the trunk bent by the behaviour model leaned into it), not left out."""
+    from solver.operations.posing import Poser
+
+    job = load_operations(write(tmp_path, GET_PLACE))
+    poser = Poser(job.scenario.problem, job.plan)
+    closing = next(s for s in job.plan.segments if s.taking is not None)
+    problem = poser.problem_at(0.5 * (closing.t0 + closing.t1))
+    boxes = [ob for ob in problem.obstacles if ob.name == "box"]
+    assert len(boxes) == 1
+    assert np.asarray(boxes[0].size) == pytest.approx([0.30 - 0.06, 0.22 - 0.06, 0.24])
+
+
 def test_grasps_proposed_and_said(tmp_path):
     job = load_operations(write(tmp_path, GET_PLACE))
     box = job.objects["box"]
