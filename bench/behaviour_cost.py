@@ -15,7 +15,7 @@ import numpy as np
 
 import solver.comfort.joint_range as joint_range
 import solver.problem.problem as problem_module
-from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT
+from solver.comfort import BEHAVIOUR, STANDARD
 from solver.io.scenario.bodies import load_body
 from solver.iteration import solve
 from solver.problem.problem import Problem
@@ -51,7 +51,7 @@ def main(argv: list[str] | None = None) -> None:
                 for config in ("physics + reduction", "physics, no reduction"):
                     targets = draw_targets(model, box, level, seed)
                     base = trial_problem(model, targets, *CONFIGS[config])
-                    for name, weights in (("off", DEFAULT_COMFORT), ("on", BEHAVIOUR)):
+                    for name, weights in (("off", STANDARD), ("on", BEHAVIOUR)):
                         problem = Problem(model, base.spec.replace(comfort_weights=weights, comfort=None))
                         t0 = time.perf_counter()
                         r = solve(problem)

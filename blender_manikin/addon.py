@@ -28,6 +28,7 @@ MODULES = (  # relative to this package, in registration order
     "pose.panels", "motion.panel", "motion.ergonomics_panel", "retarget.panel", "study.panel", "envelope.panel",
     "operations.panel",
     "pose.live", "pose.overlay",
+    "motion.job_panel",
 )  # fmt: skip
 
 

@@ -17,7 +17,7 @@ from .base import ComfortTerm
 from .contact_spread import ContactSpread
 from .joint_load import JointLoad
 from .joint_range import JointRange
-from .standard import BEHAVIOUR, DEFAULT_COMFORT, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
+from .standard import BEHAVIOUR, DEFAULT_COMFORT, STANDARD, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
 from .trunk_tilt import TrunkTilt
 
 
@@ -75,5 +75,5 @@ class Comfort:
         return self.derivatives(state)[0]
 
 
-__all__ = ["BEHAVIOUR", "DEFAULT_COMFORT", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights",
+__all__ = ["BEHAVIOUR", "DEFAULT_COMFORT", "STANDARD", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights",
            "ContactSpread", "JointLoad", "JointRange", "StandardTerm", "TrunkTilt"]

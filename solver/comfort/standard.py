@@ -38,7 +38,7 @@ def register(term: type[ComfortTerm], weight: float) -> None:
 register(JointRange, 1.0)
 register(JointLoad, 1.0)
 register(ContactSpread, 0.01)
-register(TrunkTilt, 0.0)  # off by default; 5 (BEHAVIOUR_TRUNK) is the behaviour model (docs/TUNING.md)
+register(TrunkTilt, 5.0)  # the behaviour model, on by default (BEHAVIOUR_TRUNK); 0 is the standard model
 
 
 class ComfortWeights(Mapping):
@@ -106,9 +106,10 @@ def _by_name(values: dict[str, float]) -> ComfortWeights:
 DEFAULT_COMFORT = ComfortWeights()
 # The behaviour model fitted against motion capture (docs/explanation/mocap-validation.md): a positive ``trunk``
 # weight prices the trunk's lean and switches the range term to its posture tables (legs bend, elbows rest bent).
-# Off by default: with it on four motion tests fail (the between-frames sweep's floor check, docs/TUNING.md).
+# On by default (the default weights are BEHAVIOUR); ``trunk = 0`` gives the standard model (STANDARD).
 BEHAVIOUR_TRUNK = 5.0
 BEHAVIOUR = DEFAULT_COMFORT.replace(trunk=BEHAVIOUR_TRUNK)
+STANDARD = DEFAULT_COMFORT.replace(trunk=0.0)  # the standard comfort of the thesis: the behaviour model off
 
 
 def behaviour_on(weights: Mapping[str, float]) -> bool:

@@ -6,8 +6,8 @@ and the load on the low back grows with the trunk's lean. The joint-range term a
 about as costly as the knee, hip and ankle flexion of a squat, so it stooped every low lift; people keep the trunk
 more upright and bend the knees (docs/explanation/mocap-validation.md: the weight is fitted there on the training
 subjects). The tilted axis is the thorax's up axis (the link the top thoracic joint moves); a model without that
-joint (the snake) has no trunk and costs 0. Its weight is 0 by default; a positive weight is the switch of the whole
-behaviour model (:func:`.standard.behaviour_on`).
+joint (the snake) has no trunk and costs 0. Its weight is 5 by default; a positive weight is the switch of the whole
+behaviour model (:func:`.standard.behaviour_on`), 0 gives the standard model.
 """
 
 from __future__ import annotations

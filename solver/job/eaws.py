@@ -8,6 +8,11 @@ sections 1 (postures), 2 (action forces), 3 (manual load handling) and 4 (upper 
 no points are given here. What the motion can give the analyst is measured instead: the seconds per minute of the
 work cycle spent in each trunk-flexion band and with the arms raised (section 1's inputs), and the load and its
 handlings per shift (section 3's inputs). docs/guide/job.md ("EAWS") says what is missing.
+
+Section 1 rates static postures, those held at least 4 s (two independent descriptions of the form agree: Haufe
+Arbeitsschutz Office, "EAWS Modul 1: Körperhaltungen", and the ema software's user manual, "Ergonomie-Zwischenwerte";
+shorter postures are rated with the cycle's main posture, rows 1-2 when standing). So each band also gives the time in
+holds of at least 4 s (STATIC_HOLD); shorter stays in a band are counted in its total only.
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ BANDS = (
     ("hand_above_shoulder", "a hand above its shoulder", lambda p, s: any(p[k]["hand_above_shoulder"] for k in s)),
 )  # fmt: skip
 LIGHTS = ((25.0, "green", 0), (50.0, "yellow", 1), (float("inf"), "red", 2))
+STATIC_HOLD = 4.0  # s: section 1 rates a posture held at least this long (module 1: "mindestens 4s")
 
 
 def traffic_light(points: float) -> tuple[str, int]:
@@ -37,17 +43,36 @@ def traffic_light(points: float) -> tuple[str, int]:
 
 
 def band_times(postures: list[dict | None], frame_time: float, cycle_time: float) -> dict[str, dict]:
-    """Per band: frames, s in the motion and s per minute of the cycle (the form counts per minute)."""
+    """Per band: frames, s in the motion and s per minute of the cycle (the form counts per minute); and the same
+    for the frames in holds of at least STATIC_HOLD s (a run of consecutive frames in the band, n x frame_time s)."""
     out = {}
     for key, label, test in BANDS:
-        count = 0
-        for p in postures:
-            sides = [s for s in ("l", "r") if p and isinstance(p.get(s), dict)]
-            if p and "trunk_flexion" in p and sides and test(p, sides):
-                count += 1
-        seconds = count * frame_time
-        out[key] = dict(label=label, frames=count, seconds=seconds, s_per_min=60.0 * seconds / cycle_time)
+        inside = [_in_band(p, test) for p in postures]
+        count = sum(inside)
+        static = sum(run for run in _runs(inside) if run * frame_time >= STATIC_HOLD - 1e-9)
+        seconds, static_seconds = count * frame_time, static * frame_time
+        out[key] = dict(label=label, frames=count, seconds=seconds, s_per_min=60.0 * seconds / cycle_time,
+                        static_frames=static, static_seconds=static_seconds,
+                        static_s_per_min=60.0 * static_seconds / cycle_time)  # fmt: skip
     return out
+
+
+def _in_band(p: dict | None, test) -> bool:
+    """True when posture report ``p`` (None: not measured) lies in the band ``test`` describes."""
+    sides = [s for s in ("l", "r") if p and isinstance(p.get(s), dict)]
+    return bool(p and "trunk_flexion" in p and sides and test(p, sides))
+
+
+def _runs(inside: list[bool]) -> list[int]:
+    """Lengths of the runs of consecutive True values."""
+    runs, n = [], 0
+    for flag in inside + [False]:
+        if flag:
+            n += 1
+        elif n:
+            runs.append(n)
+            n = 0
+    return runs
 
 
 class Eaws(Method):
@@ -55,7 +80,8 @@ class Eaws(Method):
     title = "EAWS inputs (not scored)"
     source = (
         "Schaub, Caragnano, Britzke & Bruder 2013, Theor Issues Ergon Sci 14(6):616-639; the form Ergonomic "
-        "Assessment Worksheet v1.3.6 (stored copy): total and traffic light only; point tables not read, not applied"
+        "Assessment Worksheet v1.3.6 (stored copy): total and traffic light only; point tables not read, not applied; "
+        "static = held >= 4 s (Haufe, EAWS Modul 1; ema user manual)"
     )
 
     def evaluate(self, inputs: JobInputs) -> dict:
@@ -68,7 +94,8 @@ class Eaws(Method):
         flexion = [p.get("trunk_flexion", -1e9) if p else -1e9 for p in postures]
         bent = [max(range(len(flexion)), key=flexion.__getitem__)]  # the most bent frame drives the inputs
         job = inputs.job
-        times = "; ".join(f"{b['label']} {b['s_per_min']:.1f} s/min" for b in bands.values() if b["frames"])
+        times = "; ".join(f"{b['label']} {b['s_per_min']:.1f} s/min ({b['static_s_per_min']:.1f} in holds >= 4 s)"
+                          for b in bands.values() if b["frames"])  # fmt: skip
         text = (
             f"not scored (the form's point tables were not read first-hand); per minute of the "
             f"{job.cycle_time:g} s cycle: {times}; load {job.load_mass:g} kg, {job.lifts} handlings per shift"
@@ -82,7 +109,8 @@ class Eaws(Method):
 
     def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
         """The time in each posture band; then the single numbers."""
-        rows = [[b["label"], b["frames"], b["seconds"], b["s_per_min"]] for b in result.get("bands", {}).values()]
-        tables = [("EAWS section 1 inputs: time in each posture band", ["band", "frames", "s", "s per min of cycle"],
-                   rows)] if rows else []  # fmt: skip
+        rows = [[b["label"], b["frames"], b["seconds"], b["s_per_min"], b["static_seconds"], b["static_s_per_min"]]
+                for b in result.get("bands", {}).values()]  # fmt: skip
+        head = ["band", "frames", "s", "s per min of cycle", "s in holds >= 4 s", "of which per min"]
+        tables = [("EAWS section 1 inputs: time in each posture band", head, rows)] if rows else []
         return tables + super().detail(result)

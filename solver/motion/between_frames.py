@@ -1,7 +1,8 @@
 """A motion's frames kept from passing through things between them: the swept check of
 :mod:`solver.collision.sweep` on the way from each solved frame to the next, against the floor and every obstacle
 the frame's clearance rows keep (the same pairs: a support's foot is not checked against the floor it stands on),
-and between the body's own parts that its self-collision rows keep apart.
+and between the body's own parts that its self-collision rows keep apart. A support planted in both frames (the same
+TCP held at the same place) has its whole limb left out of the floor pairs (:func:`planted_parts`).
 
 A frame whose way from its predecessor crosses something is solved again from the previous frame in N sub-steps
 (N: how far the crossing capsules moved on the first try over their radius, 2..``MAX_SUBSTEPS``): the targets move
@@ -25,7 +26,7 @@ from ..collision.body import capsules_of
 from ..collision.carried import carried_frame
 from ..collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
 from ..constraints.carried_obstacles import CarriedObstacles, box_corners
-from ..constraints.clearance import Clearance
+from ..constraints.clearance import FLOOR, Clearance
 from ..iteration import solve
 from ..iteration.result import Result
 from ..options import SolverOptions
@@ -35,6 +36,7 @@ from ..problem.specs import Target
 MARGIN = 0.05  # m: the least margin of a mesh query (farther rows count as this far)
 MAX_SUBSTEPS = 64  # sub-steps of a re-solved frame at most
 BOX_STEP = 0.02  # m: a carried box's corners move about this far at most between the samples of its way
+PLANTED = 1e-4  # m: a support held within this of its place in the frame before stays planted
 SHARE = 2.0  # a sub-step may change each joint by this many times its share of the per-frame bound
 
 
@@ -55,13 +57,14 @@ class MotionSweep:
         self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
         self.substeps = 0  # sub-step solves so far
 
-    def body(self, problem: Problem) -> SweptBody | None:
-        """The capsules and obstacles that ``problem``'s clearance rows keep apart, or None when there are none."""
+    def body(self, problem: Problem, planted: tuple[str, ...] = ()) -> SweptBody | None:
+        """The capsules and obstacles that ``problem``'s clearance rows keep apart, or None when there are none;
+        the capsules named in ``planted`` (:func:`planted_parts`) not against the floor."""
         rows = [c for c in problem.constraints if isinstance(c, Clearance) and c.obstacles]
         own = problem.self_constraint.pairs if problem.self_constraint is not None else None
         if not rows and own is None:
             return None
-        key = (tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows), id(own))
+        key = (tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows), id(own), planted)
         body = self._bodies.get(key)
         if body is None:
             if len(self._bodies) >= self.KEPT:  # a scene read afresh every frame (Blender) brings new obstacles
@@ -74,6 +77,8 @@ class MotionSweep:
                 kept = [names.index(name) for name in c.capsules.names]
                 for o in c.obstacles:
                     pairs[kept, column[id(o)]] = True
+            for o in (o for o in obstacles if o is FLOOR):
+                pairs[[names.index(name) for name in planted], column[id(o)]] = False
             body = self._bodies[key] = SweptBody(problem.model, obstacles, pairs, own=own)
         return body
 
@@ -127,7 +132,7 @@ class MotionSweep:
         frame re-solved in sub-steps, and reported if that still crosses. ``problems``: the previous frame's, this
         frame's and this frame's within the per-frame bound (the one solved); ``steps()``: the per-frame bound per
         solver variable (rad or m), asked for only when the frame is re-solved."""
-        body = self.body(problems[1])
+        body = self.body(problems[1], planted_parts(problems[0], problems[1]))
         if body is None:
             return result
         n = problems[1].model.n
@@ -224,6 +229,40 @@ class MotionSweep:
         result = Result.from_state(problem, problem.state_of_x(x), iterations, seconds)
         result.stop = last.stop
         return result, done, count
+
+
+def planted_parts(before: Problem, after: Problem) -> tuple[str, ...]:
+    """The capsules of every limb whose support ``before`` and ``after`` both hold at the same place (position
+    within ``PLANTED`` m, the same orientation): the support's link, what hangs from it and the links up to where the
+    limb branches off (a foot's: the foot, shank and thigh).
+
+    Why they are not checked against the floor between two frames: the way is a line in joint values, root included,
+    on which a bending planted leg's foot leaves its place and its shank dips through the floor midway; the body does
+    not move so: the foot stays put and the limb stays above the floor it stands on, as it is in both frames."""
+    model = after.model
+    held = {t.tcp: t for t in before.all_targets if t.support and t.enabled}
+    links: set[int] = set()
+    children = np.bincount(model.parent[1:], minlength=model.n)
+    for t in after.all_targets:
+        was = held.get(t.tcp)
+        if not (t.support and t.enabled and was is not None and _same_place(was, t)):
+            continue
+        link = model.tcp(t.tcp).link
+        links.update(np.flatnonzero(model.descendant[link]))  # the link and what hangs from it (toes)
+        while model.parent[link] >= 0 and children[model.parent[link]] == 1:
+            link = model.parent[link]
+            links.add(link)
+    caps = capsules_of(model)
+    return tuple(name for name, link in zip(caps.names, caps.link, strict=True) if link in links)
+
+
+def _same_place(a: Target, b: Target) -> bool:
+    """Whether targets ``a`` and ``b`` hold their TCP at the same place and orientation."""
+    if np.linalg.norm(np.asarray(a.position, dtype=float) - np.asarray(b.position, dtype=float)) > PLANTED:
+        return False
+    if a.rotation is None or b.rotation is None:
+        return a.rotation is None and b.rotation is None
+    return bool(np.allclose(a.rotation, b.rotation, atol=1e-6))
 
 
 def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | None:

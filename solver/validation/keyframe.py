@@ -12,7 +12,7 @@ import numpy as np
 from ..body.humans.human import build_human
 from ..body.humans.measurements import MEASUREMENTS
 from ..body.model import Model, Tcp
-from ..comfort import BEHAVIOUR, DEFAULT_COMFORT
+from ..comfort import BEHAVIOUR, STANDARD
 from ..iteration import solve
 from ..options import SolverOptions
 from ..problem.problem import Problem
@@ -87,7 +87,7 @@ def key_frame_problem(model: Model, measured: Skeleton, hands: tuple[str, ...], 
     targets = foot_targets(model, measured)
     for side in hands:
         targets.append(Target(f"wrist_{side}", measured[f"wrist_{side}"].copy(), lock=("x", "y", "z")))
-    weights = BEHAVIOUR if behaviour else DEFAULT_COMFORT
+    weights = BEHAVIOUR if behaviour else STANDARD
     return Problem(model, ProblemSpec(targets=tuple(targets), balance=True, comfort_weights=weights))
 
 

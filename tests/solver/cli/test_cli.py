@@ -346,11 +346,13 @@ def test_unreachable_target_exits_3_and_writes_json(tmp_path):
 def test_hand_target_below_the_floor_exits_3_with_the_body_standing(tmp_path):
     """Issue 20: a hand target 1 m below the floor once "converged" with the manikin upside down, its head at
     z = -0.53 m. With the floor (on by default) the solve exits 3 with the hand short, the feet and balance held,
-    the pelvis and head well above the floor and no body part in it (recomputed from the result JSON alone)."""
+    the pelvis and head well above the floor and no body part in it (recomputed from the result JSON alone). The
+    standard model (trunk 0), which stoops: the behaviour model squats as low as it goes (pelvis at 0.22 m)."""
     from collision_check import result_problems
 
     scenario = tmp_path / "below.toml"
-    scenario.write_text(FEET + HAND.replace("[-0.2, -0.3, 1.2]", "[-0.2, -0.4, -1.0]"), encoding="utf-8")
+    scenario.write_text(FEET + HAND.replace("[-0.2, -0.3, 1.2]", "[-0.2, -0.4, -1.0]") + "\n[comfort]\ntrunk = 0.0\n",
+                        encoding="utf-8")  # fmt: skip
     out = tmp_path / "below.json"
     proc = run_cli("solve", str(scenario), "-o", str(out))
     assert proc.returncode == 3, f"exit {proc.returncode}\n{proc.stdout}\n{proc.stderr}"

@@ -8,7 +8,7 @@ import pytest
 from helpers import finite_difference
 
 from solver import Problem, ProblemSpec, Target
-from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT, Comfort, JointRange, TrunkTilt
+from solver.comfort import BEHAVIOUR, DEFAULT_COMFORT, STANDARD, Comfort, JointRange, TrunkTilt
 from solver.comfort.joint_range import POSTURE_NEUTRAL, POSTURE_SCALE, POSTURE_SPAN, posture_neutral, posture_scale
 from solver.io.scenario.bodies import load_body
 from solver.problem.starts import crouched_pose, low_reach, rested_pose
@@ -62,13 +62,15 @@ def test_a_model_without_a_thorax_has_no_trunk_cost() -> None:
     assert term.chain.size == 0
 
 
-def test_the_behaviour_model_is_off_by_default_and_switched_on_by_a_trunk_weight(male50) -> None:
-    """Default comfort: the trunk term weighs 0 and the range term is the thesis's (no scales, the model's neutral
-    values); a positive trunk weight (BEHAVIOUR) turns both on."""
-    off = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0).comfort.terms)
+def test_the_behaviour_model_is_on_by_default_and_a_zero_trunk_weight_switches_it_off(male50) -> None:
+    """Default comfort: the behaviour model (BEHAVIOUR: trunk 5, the range term's posture tables); a trunk weight
+    of 0 (STANDARD) gives the thesis's standard model: no trunk term, the range term without scales, the model's
+    neutral values."""
+    assert DEFAULT_COMFORT == BEHAVIOUR and STANDARD == BEHAVIOUR.replace(trunk=0.0)
+    off = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0, weights=STANDARD).comfort.terms)
     assert off["trunk"][0] == 0.0 and not off["range"][1].posture
     np.testing.assert_array_equal(off["range"][1].neutral, male50.neutral)
-    on = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0, weights=BEHAVIOUR).comfort.terms)
+    on = dict((term.name, (weight, term)) for weight, term in _problem(male50, 1.0).comfort.terms)
     assert on["trunk"][0] == 5.0 and on["range"][1].posture
     knee = male50.joint_index("knee_r_flexion")
     assert on["range"][1].joint_weight[knee] == pytest.approx(0.1 * off["range"][1].joint_weight[knee])
@@ -101,7 +103,7 @@ def test_the_behaviour_model_starts_a_low_reach_from_a_crouch(male50) -> None:
     given[male50.joint_index("elbow_r_flexion")] = 0.3
     assert low.start(given)[knee] == 0.0
     assert _problem(male50, 1.1, weights=BEHAVIOUR).start()[knee] == 0.0
-    assert _problem(male50, 0.4).start()[knee] == 0.0
+    assert _problem(male50, 0.4, weights=STANDARD).start()[knee] == 0.0
     assert crouched_pose(load_body(preset="snake")) is None
 
 
@@ -113,7 +115,7 @@ def test_a_low_pick_bends_the_knees_with_the_behaviour_model(male50) -> None:
     knee = male50.joint_index("knee_r_flexion")
     behaviour = solve(_problem(male50, 0.35, weights=BEHAVIOUR))
     assert behaviour.converged and np.degrees(behaviour.theta[knee]) > 45.0
-    standard = solve(_problem(male50, 0.35))
+    standard = solve(_problem(male50, 0.35, weights=STANDARD))
     assert standard.converged and np.degrees(standard.theta[knee]) < 10.0
 
 
@@ -152,5 +154,5 @@ def test_the_behaviour_model_starts_other_solves_with_rested_elbows(male50) -> N
     high = _problem(male50, 1.1, weights=BEHAVIOUR).start()
     assert high[elbow] == pytest.approx(POSTURE_NEUTRAL["elbow_flexion"]) and high[knee] == 0.0
     np.testing.assert_allclose(rested_pose(male50)[[elbow, knee]], high[[elbow, knee]])
-    assert _problem(male50, 1.1).start()[elbow] == 0.0
+    assert _problem(male50, 1.1, weights=STANDARD).start()[elbow] == 0.0
     assert np.degrees(_problem(male50, 0.4, weights=BEHAVIOUR).start()[knee]) == pytest.approx(100.0)

@@ -18,18 +18,18 @@ from solver.io.scenario.write import dumps_scenario
 
 def test_the_standard_terms_and_their_defaults() -> None:
     assert {name: term.weight for name, term in STANDARD_TERMS.items()} == {"range": 1.0, "load": 1.0, "contact": 0.01,
-                                                                          "trunk": 0.0}
+                                                                          "trunk": 5.0}
     assert all(term.factory.name == name for name, term in STANDARD_TERMS.items())  # the results' keys
 
 
 def test_weights_by_name_in_order_and_as_a_mapping() -> None:
     w = ComfortWeights(1.0, 0.5)
     assert (w.range, w.load, w.contact) == (1.0, 0.5, 0.01) and w == ComfortWeights(load=0.5)
-    assert dict(w) == {"range": 1.0, "load": 0.5, "contact": 0.01, "trunk": 0.0} and w["contact"] == 0.01
+    assert dict(w) == {"range": 1.0, "load": 0.5, "contact": 0.01, "trunk": 5.0} and w["contact"] == 0.01
     assert hash(w) == hash(ComfortWeights(load=0.5)) and w != DEFAULT_COMFORT
     assert w.replace(contact=0.2) == ComfortWeights(1.0, 0.5, 0.2) and w.contact == 0.01
     assert pickle.loads(pickle.dumps(w)) == w
-    assert repr(w) == "ComfortWeights(range=1.0, load=0.5, contact=0.01, trunk=0.0)"
+    assert repr(w) == "ComfortWeights(range=1.0, load=0.5, contact=0.01, trunk=5.0)"
     with pytest.raises(AttributeError):
         w.range = 2.0
     for args, named in (((1, 2, 3, 4, 5), {}), ((), {"elbow": 1.0}), ((1,), {"range": 2})):

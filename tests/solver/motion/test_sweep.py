@@ -16,10 +16,12 @@ from solver.collision.body import capsules_of
 from solver.collision.generate import box_mesh
 from solver.collision.self_pairs import self_pairs
 from solver.collision.sweep import TOLERANCE, SweptBody, path_weights_of
+from solver.comfort import BEHAVIOUR
 from solver.io.scenario.bodies import load_body
 from solver.io.toml_write import dumps_toml
-from solver.motion.between_frames import MotionSweep
+from solver.motion.between_frames import MotionSweep, planted_parts
 from solver.motion.frames import solve_frames
+from solver.problem.problem import Problem, ProblemSpec, Target
 
 PLATE_MOTION = """
 name = "hand through a plate"
@@ -199,19 +201,30 @@ def test_the_target_held_behind_the_plate_stays_blocked(tmp_path):
     assert all("hand_r" in r.unmet and not r.converged for _, r in results[2:])  # short of the target, not through
 
 
-def test_a_motion_with_nothing_near_does_no_sub_sampling(tmp_path):
-    """The box lift spread over 200 frames, with a cabinet 1 m behind the manikin: lower bounds from the last
-    queried pose certify most frames without a query, and no way is ever sub-sampled or re-solved."""
+def lift_with_a_cabinet_behind(tmp_path: Path, trunk: float) -> tuple[list, MotionSweep]:
+    """The box lift spread over 200 frames, a cabinet 1 m behind the manikin, comfort ``trunk`` weight: the frames
+    and the sweep that checked them."""
     data = long_motion(200)
     data["obstacles"] = [dict(name="cabinet", kind="box", center=[0.0, 1.0, 0.8], size=[1.0, 0.4, 1.6])]
-    path = tmp_path / "lift.toml"
+    data["comfort"] = {"trunk": trunk}
+    path = tmp_path / f"lift_{trunk}.toml"
     path.write_text(dumps_toml(data), encoding="utf-8")
     sc = load_scenario(path)
     sweep = MotionSweep()
-    results = list(solve_frames(sc.problem_at, sc.frames, sc.start, sc.options, sc.limits, sweep=sweep))
+    return list(solve_frames(sc.problem_at, sc.frames, sc.start, sc.options, sc.limits, sweep=sweep)), sweep
+
+
+def test_a_motion_with_nothing_near_does_no_sub_sampling(tmp_path):
+    """The standard model (trunk 0) stoops over the shelf with the arms clear of the body: lower bounds from the
+    last queried pose certify most frames without a query, and no way is ever sub-sampled or re-solved. The
+    behaviour model (the default) squats with the forearms near the thighs, so some ways are sampled there; still
+    every frame converges and none is re-solved."""
+    results, sweep = lift_with_a_cabinet_behind(tmp_path, 0.0)
     assert all(r.converged for _, r in results)
     assert sweep.samples == 0 and sweep.substeps == 0
     assert sweep.queries < len(results) / 2
+    results, sweep = lift_with_a_cabinet_behind(tmp_path, BEHAVIOUR.trunk)
+    assert all(r.converged for _, r in results) and sweep.substeps == 0
 
 
 @pytest.mark.parametrize("seed", [0, *(pytest.param(s, marks=pytest.mark.slow) for s in range(1, 3))])  # ~2 s each
@@ -245,3 +258,45 @@ def test_swept_check_of_the_body_itself_agrees_with_brute_force_sampling(male50,
             assert (caps.names[own.first[m]], caps.names[own.second[m]]) in found, (m, worst[m])
             deep += 1
     assert deep > 0  # the cases do cross
+
+
+def squat_between(model, right_foot_y: float = 0.0) -> tuple[Problem, Problem]:
+    """Two frames with the behaviour model (trunk 5): the hands at 0.25 m in front of the feet (solved from the
+    crouched start: a squat), then standing with them at 1.0 m; the left foot planted in both, the right foot at
+    ``right_foot_y`` m in the second."""
+    def at(height: float, y_r: float) -> Problem:
+        feet = [Target(f"foot_{s}", np.array([x, y, 0.0]), lock=("z", "rx", "ry"), support=True)
+                for s, x, y in (("r", -0.083, y_r), ("l", 0.083, 0.0))]  # fmt: skip
+        hands = [Target(f"hand_{s}", np.array([x, -0.35, height]), lock=("x", "y", "z")) for s, x in
+                 (("r", -0.2), ("l", 0.2))]  # fmt: skip
+        return Problem(model, ProblemSpec(feet + hands, comfort_weights=BEHAVIOUR))
+
+    return at(0.25, 0.0), at(1.0, right_foot_y)
+
+
+def test_a_squatting_planted_legs_way_is_not_flagged_through_the_floor(male50):
+    """Both feet planted, rising from a squat: on the joint-linear way a straightening leg's shank dips through the
+    floor (the foot leaves its place midway), which the body does not do; the planted legs are left out of the floor
+    check, and the frame is clear."""
+    before, after = squat_between(male50)
+    frames = {1: before, 2: after}
+    results = dict(solve_frames(frames.get, [1, 2], before.start(None), limits=None,
+                                sweep=MotionSweep(resolve=False)))  # fmt: skip
+    assert results[1].converged
+    assert min(results[1].theta[male50.joint_index(f"knee_{s}_flexion")] for s in "rl") > np.radians(45)  # it squats
+    assert results[2].converged, results[2].unmet
+    assert not any("floor" in u for u in results[2].unmet)
+
+
+def test_a_leg_whose_foot_moves_is_still_checked_against_the_floor(male50):
+    """The right foot steps 20 cm between the frames: its leg keeps its floor pairs; the planted left leg does not."""
+    sweep = MotionSweep()
+    moved = squat_between(male50, right_foot_y=-0.2)
+    assert planted_parts(*moved) == ("thigh_l", "shank_l", "foot_l")
+    assert set(planted_parts(*squat_between(male50))) == {"thigh_r", "shank_r", "foot_r", "thigh_l", "shank_l",
+                                                          "foot_l"}  # fmt: skip
+    body = sweep.body(moved[1], planted_parts(*moved))
+    floor = [i for i, o in enumerate(body.obstacles) if o.name == "floor"][0]
+    caps = capsules_of(male50).names
+    assert all(body.pairs[caps.index(p), floor] for p in ("thigh_r", "shank_r", "pelvis", "hand_r"))
+    assert not any(body.pairs[caps.index(p), floor] for p in ("thigh_l", "shank_l", "foot_l", "foot_r"))

@@ -142,7 +142,8 @@ def test_a_bad_study_file_is_one_scenario_error_naming_the_key(tmp_path, change,
 def test_a_scenario_can_be_given_the_box_its_hands_hold(tmp_path):
     """``with`` puts tables into the scenario's data: with the box between the handles raised to 0.9 m, the smallest
     manikin lifts it in front of her (a finite NIOSH lifting index); without it her feet slide past the handles and
-    she holds them behind her back (asymmetry 180 deg: the NIOSH multipliers reach zero, the index infinity)."""
+    she holds them behind her back (asymmetry 180 deg: the NIOSH multipliers reach zero, the index infinity) with
+    the standard model (trunk 0); the behaviour model (the default) holds them in front without the box too."""
     box = 'with = { carried = { name = "box", size = [0.35, 0.26, 0.24], tcps = ["hand_r", "hand_l"] } }'
     text = STUDY.replace("values = [0.0, 0.3]", "values = [0.45]").replace('name = "lift"', f'name = "lift"\n{box}')
     text = text.replace('manikins = ["female_5", "male_95"]', 'manikins = ["female_5"]')
@@ -150,8 +151,11 @@ def test_a_scenario_can_be_given_the_box_its_hands_hold(tmp_path):
     assert lift.scenario.data["carried"]["size"] == [0.35, 0.26, 0.24]
     held = run_one(lift)
     assert held["status"] == "converged" and 0.0 < held["niosh_li"] < 1.0
-    behind = run_one(plan(load_study(write(tmp_path, text.replace(box, ""), "bare.toml")))[0])
+    standard = 'with = { comfort = { trunk = 0.0 } }'
+    behind = run_one(plan(load_study(write(tmp_path, text.replace(box, standard), "bare.toml")))[0])
     assert behind["niosh_li"] == np.inf
+    bare = run_one(plan(load_study(write(tmp_path, text.replace(box, ""), "bare_default.toml")))[0])
+    assert bare["status"] == "converged" and 0.0 < bare["niosh_li"] < 1.0
 
 
 def test_a_family_folder_gives_each_body_file_and_skips_its_index(tmp_path):
