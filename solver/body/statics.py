@@ -36,7 +36,6 @@ def _outer_rows(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 _SYM_I, _SYM_J = np.array([0, 1, 2, 0, 0, 1]), np.array([0, 1, 2, 1, 2, 2])
 _SYM_SCALE = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0]) ** 0.5
-_J_AND_SQUARES = np.array([0, 3])  # of the 9 columns [u . v terms, s(u) . s(v) terms]: where each sum starts
 
 
 def _with_squares(u: np.ndarray) -> np.ndarray:
@@ -227,7 +226,7 @@ class Statics:
         below = factor * a_rows
         from_descendants = layout.model.tree_sums.ancestors(below) - below
         both = from_ancestors * a_rows + from_descendants * g_rows
-        lin_theta, sq_theta = np.add.reduceat(both, _J_AND_SQUARES, axis=1).T  # columns 0..2 and 3..8 summed
+        lin_theta, sq_theta = both[:, :3].sum(axis=1), both[:, 3:].sum(axis=1)
         rows = layout.supporting  # the forces move only the loads of joints between the root and the supports
         d_w = self._axis_load_force_jacobian(rows, layout.supporting_edge_acts)
         lin_w, sq_w = coef[rows] @ d_w, weight[rows] @ (d_w * d_w)
