@@ -62,6 +62,8 @@ def counting(count: Counter):
         elif outcome.alpha < 1.0 or outcome.with_comfort != first:
             count["cut back"] += 1
             count["evaluations in cut-backs"] += spent - 1  # the accepted trial itself is no waste
+            count["cut back near" if self.near else "cut back far"] += 1
+            count["comfort dropped"] += outcome.with_comfort != first
         return outcome
 
     def counted_attempt(*args, **kwargs):
@@ -93,8 +95,8 @@ def run(repeats: int = 10) -> str:
                 per[name].append((time.perf_counter() - t0, result.iterations, bool(result.converged), Counter(count)))
     lines = [
         "| scenario | median ms | p95 ms | <= 50 ms | iterations | converged | evaluations | line searches cut back "
-        "/ found nothing | evaluations in cut-backs | attempts |",
-        "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|",
+        "/ found nothing | of those cut back: near / far / comfort dropped | evaluations in cut-backs | attempts |",
+        "|---|---:|---:|---|---:|---:|---:|---:|---|---:|---:|",
     ]
     for name in names:
         ms = np.array([t for t, *_ in per[name]]) * 1e3
@@ -109,6 +111,7 @@ def run(repeats: int = 10) -> str:
         lines.append(
             f"| {name} | {np.median(ms):.1f} | {np.percentile(ms, 95):.1f} | {met} | {iters:.0f} | {good}/{repeats} | "
             f"{mean('evaluations'):.1f} | {mean('cut back'):.1f} / {mean('found nothing'):.1f} | "
+            f"{mean('cut back near'):.1f} / {mean('cut back far'):.1f} / {mean('comfort dropped'):.1f} | "
             f"{mean('evaluations in cut-backs'):.1f} | {mean('attempts'):.1f} |"
         )
     return "\n".join(lines)

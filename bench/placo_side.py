@@ -39,6 +39,7 @@ def run(seeds: int = 20) -> str:
     balance, groups = rt.CONFIGS["physics + reduction"]
     times: dict[str, list[float]] = {s: [] for s in SIDES}
     good = dict.fromkeys(SIDES, 0)
+    steps: dict[str, list[int]] = {s: [] for s in SIDES}  # iterations (placo: QP steps)
     trial = 0
     for level in range(len(rt.LEVELS)):
         for seed in range(seeds):
@@ -50,6 +51,7 @@ def run(seeds: int = 20) -> str:
                     peer = placo_peer(rt.trial_problem(model, targets, True, ()))
                     times[side].append(peer.time_s)
                     good[side] += bool(peer.converged)
+                    steps[side].append(peer.iterations)
                     continue
                 problem = rt.trial_problem(model, targets, balance, groups)
                 options = SolverOptions(optimize_comfort=side == "ours, comfort on")
@@ -57,11 +59,15 @@ def run(seeds: int = 20) -> str:
                 result = solve(problem, options=options)
                 times[side].append(time.perf_counter() - t0)
                 good[side] += bool(result.converged)
+                steps[side].append(result.iterations)
     median = {s: float(np.median(times[s])) * 1e3 for s in SIDES}
-    lines = ["| | median ms | p95 ms | succeeded | placo / this (medians) |", "|---|---:|---:|---:|---:|"]
+    lines = ["| | median ms | p95 ms | succeeded | iterations (median, mean) | placo / this (medians) |",
+             "|---|---:|---:|---:|---:|---:|"]  # fmt: skip
     for s in SIDES:
         p95 = float(np.percentile(times[s], 95)) * 1e3
-        lines.append(f"| {s} | {median[s]:.1f} | {p95:.1f} | {good[s]}/{trial} | {median['placo'] / median[s]:.2f} |")
+        its = f"{np.median(steps[s]):.0f}, {np.mean(steps[s]):.1f}"
+        lines.append(f"| {s} | {median[s]:.1f} | {p95:.1f} | {good[s]}/{trial} | {its} | "
+                     f"{median['placo'] / median[s]:.2f} |")  # fmt: skip
     return "\n".join(lines)
 
 
