@@ -59,8 +59,10 @@ class Model:
     descendant: np.ndarray = field(init=False)  # (n, n) bool, [j, k]: k in the subtree of j (self included)
     tree_sums: TreeSums = field(init=False)  # O(n) sums over every link's subtree or ancestors
     _fk: _ForwardTables = field(init=False)
+    prismatic_links: np.ndarray = field(init=False)  # (p,) int, the links of the prismatic joints
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "prismatic_links", np.flatnonzero(self.prismatic))
         object.__setattr__(self, "descendant", descendants(self.parent))
         object.__setattr__(self, "tree_sums", TreeSums(self.parent))
         object.__setattr__(self, "_fk", _ForwardTables.build(self))
@@ -288,8 +290,14 @@ class Kinematics:
         """(n, 6) per joint, for a unit joint rate: velocity of the point at the world origin moving with the
         joint's link (m/s), then angular velocity (rad/s). A point q moves with spin x q + origin; the twist
         dotted with a wrench [force, moment about the world origin] is the joint's load about its axis."""
-        prismatic = self.model.prismatic[:, None]
-        return np.concatenate([np.where(prismatic, self.axis, self.origin_velocity), (~prismatic) * self.axis], 1)
+        out = np.empty((len(self.axis), 6))  # filled, then the few prismatic rows fixed: fewer calls than np.where
+        out[:, :3] = self.origin_velocity
+        out[:, 3:] = self.axis
+        prismatic = self.model.prismatic_links
+        if len(prismatic):
+            out[prismatic, :3] = self.axis[prismatic]
+            out[prismatic, 3:] = 0.0
+        return out
 
     @property
     def twist_basis(self) -> tuple[np.ndarray, np.ndarray]:

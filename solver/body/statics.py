@@ -75,6 +75,7 @@ class StaticsLayout:
         # [i, e]: contact edge variable e pushes on the subtree of joint i
         self.edge_acts = desc[:, contacts.corner_link[contacts.var_corner]]
         self.supporting = np.flatnonzero(self.edge_acts.any(axis=1))  # joints between the root and a support
+        self.supporting_edge_acts = self.edge_acts[self.supporting]
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
         self.has_prismatic = bool(model.prismatic.any())
 
@@ -161,7 +162,7 @@ class Statics:
                 - a * (trace - np.einsum("ni,ni->n", p, sf))[:, None]
             )
             if self.layout.has_prismatic:
-                prism = self.layout.model.prismatic
+                prism = self.layout.model.prismatic_links
                 w_rev[prism] = cross(a[prism], sf[prism])
             self._g = w_rev
         return self._g
@@ -195,11 +196,12 @@ class Statics:
         d_w[prism] = 0.0
         return d_theta, d_w
 
-    def _axis_load_force_jacobian(self, joints: np.ndarray | slice = slice(None)) -> np.ndarray:
-        """d axis_loads / d w (n, n_w) of ``joints`` (all by default), prismatic rows included."""
+    def _axis_load_force_jacobian(self, joints: np.ndarray | slice = slice(None), acts=None) -> np.ndarray:
+        """d axis_loads / d w (n, n_w) of ``joints`` (all by default), prismatic rows included; ``acts``: the
+        layout's ``edge_acts[joints]`` when the caller has it."""
         # a . (q x d) - (a x p) . d, with a x p = -(p x a), the joint's origin velocity
         kin, directions = self.kin, self.layout.contacts.var_direction
-        return self.layout.edge_acts[joints] * (
+        return (self.layout.edge_acts[joints] if acts is None else acts) * (
             kin.axis[joints] @ self.edge_moment_arms.T + kin.origin_velocity[joints] @ directions.T
         )
 
@@ -213,7 +215,8 @@ class Statics:
         layout = self.layout
         coef, weight = coef * layout.revolute, weight * layout.revolute
         # rows [a, s(a)], [g, s(g)]: on A, J_ij = g_i.a_j and J_ij^2 = s(g_i).s(a_j); on D, a and g swap
-        a_rows, g_rows = _with_squares(self.kin.axis), _with_squares(self.moment_derivatives())
+        n = len(coef)
+        a_rows, g_rows = np.split(_with_squares(np.concatenate([self.kin.axis, self.moment_derivatives()])), [n])
         factor = np.empty_like(a_rows)  # coef for the J columns, weight for the J^2 columns
         factor[:, :3], factor[:, 3:] = coef[:, None], weight[:, None]
         # A^T X sums X over each joint's subtree (times its revolute flag)
@@ -225,6 +228,6 @@ class Statics:
         both = from_ancestors * a_rows + from_descendants * g_rows
         lin_theta, sq_theta = both[:, :3].sum(axis=1), both[:, 3:].sum(axis=1)
         rows = layout.supporting  # the forces move only the loads of joints between the root and the supports
-        d_w = self._axis_load_force_jacobian(rows)
+        d_w = self._axis_load_force_jacobian(rows, layout.supporting_edge_acts)
         lin_w, sq_w = coef[rows] @ d_w, weight[rows] @ (d_w * d_w)
         return np.concatenate([lin_theta, lin_w]), np.concatenate([sq_theta, sq_w])
