@@ -103,8 +103,8 @@ def test_bake_keys_every_joint_and_leaves_keys_outside_the_range(session: dict, 
 
 
 def test_baked_keys_are_the_solver_joint_values(session: dict, model) -> None:
-    """An independent solve of the same frames (targets in the scene's order, the body kept out of the carried box)
-    gives the keyed joint values; one that leaves the carried box out does not."""
+    """An independent solve of the same frames (targets in the scene's order, the body kept out of the shelf, the
+    table and the carried box) gives the keyed joint values; one that leaves the carried box out does not."""
     sc = load_scenario(MOTION)
     loads = sorted(sc.problem.load_specs, key=lambda ld: ld.tcp)
     frames = list(range(2, 10))
@@ -113,7 +113,8 @@ def test_baked_keys_are_the_solver_joint_values(session: dict, model) -> None:
     def off(carried) -> float:
         def problem_at(frame: int) -> Problem:
             targets = sorted(sc.problem_at(frame).all_targets, key=lambda t: t.tcp)
-            return Problem(model, targets, [], loads, True, sc.problem.comfort.weights, carried=carried)
+            return Problem(model, targets, [], loads, True, sc.problem.comfort.weights, carried=carried,
+                           obstacles=sc.problem.spec.obstacles)
 
         solved = solve_frames(problem_at, frames, np.array(session["x_at_2"]), sc.options, sc.limits)
         return float(np.abs(keyed - np.array([r.theta for _, r in solved])).max())
