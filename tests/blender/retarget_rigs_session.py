@@ -112,6 +112,9 @@ text = MOTION.read_text(encoding="utf-8")
 for old, new in (("frame = 30", "frame = 8"), ("frame = 48", "frame = 13"), ("frame = 60", "frame = 16"),
                  ("end = 60", "end = 16")):  # fmt: skip
     text = text.replace(old, new)
+# The standard comfort's stoop: the retargeting premises (body-scaled hand goals reachable on every rig) were set on
+# it; the behaviour model's squat brings the hands closer to the feet than a Rigify meta-rig's shorter arms reach.
+text += "\n[comfort]\ntrunk = 0.0\n"
 short.write_text(text, encoding="utf-8")
 seen["import"] = sorted(bpy.ops.manikin.import_scenario(filepath=str(short)))
 manikin = bpy.context.active_object
