@@ -224,8 +224,7 @@ def test_hands_set_the_box_down_onto_a_spike_leave_it_on_the_tip(tmp_path):
     model = load_body(preset="male_50")
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     pyramid = spike([0.0, -0.24, 0.72], height=0.2, half=0.04)  # the box's bottom held at 0.68 m
-    problem = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[pyramid],
-                                         comfort_weights=STANDARD))  # fmt: skip
+    problem = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[pyramid]))
     result, frame = solved_pose(problem, tmp_path)
     assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
     placed, _, wrong = carried_obstacle(frame)
