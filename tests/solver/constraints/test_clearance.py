@@ -54,8 +54,8 @@ def test_clearance_jacobian_matches_finite_differences(male50):
 def test_the_floor_keeps_the_manikin_standing(male50):
     """A hand target 1 m below the floor: without the floor the solve 'converges' with the pelvis at the floor;
     with it (the default) the hand ends short, nothing goes more than 1 mm below z = 0 (recomputed from the
-    capsules), the feet and balance hold. The standard model (trunk 0): from the behaviour model's crouched start
-    the free solve stops 66 cm short of this target 1 m below the feet (docs/TUNING.md)."""
+    capsules), the feet and balance hold. The standard model (trunk 0): with the behaviour model the free solve
+    stops 66 cm short of this target 1 m below the feet, from its crouched and its rested start (docs/TUNING.md)."""
     free, _ = reach_below(male50, [])
     sunk = solve(free)
     pelvis = male50.forward(sunk.theta).tcp_frame(male50.tcp("pelvis"))[1][2]
