@@ -37,10 +37,10 @@ POSTURE_NEUTRAL: dict[str, float] = {"elbow_flexion": float(np.radians(60.0))}
 POSTURE_SPAN = 0.5
 # Per motion: the tan^2 span above the neutral value (rad) in the behaviour model, where shorter than the span up to
 # the joint's limit: the cost's wall comes before the limit, so bending further costs steeply more. The knee's at
-# 100 deg (limit 140): people lift in a semi-squat, knees 30-60 deg, and avoid the full squat (Burgess-Limerick &
+# 110 deg (limit 140): people lift in a semi-squat, knees 30-60 deg, and avoid the full squat (Burgess-Limerick &
 # Abernethy 1997; REBA adds to the legs' score from 60 deg of knee flexion, Hignett & McAtamney 2000), and the knee
-# extensors' moment grows with flexion (van Dieen et al. 1999). Costs x 0.3: 0.6 at 60 deg, 12 at 90 deg.
-POSTURE_SPAN_UP: dict[str, float] = {"knee_flexion": float(np.radians(100.0))}
+# extensors' moment grows with flexion (van Dieen et al. 1999). Costs x 0.3: 0.4 at 60 deg, 3.5 at 90, 15 at 100 deg.
+POSTURE_SPAN_UP: dict[str, float] = {"knee_flexion": float(np.radians(110.0))}
 
 
 def posture_scale(names: tuple[str, ...], table: dict[str, float] = POSTURE_SCALE, other: float = 1.0) -> np.ndarray:

@@ -351,7 +351,8 @@ def test_hand_target_below_the_floor_exits_3_with_the_body_standing(tmp_path):
     from collision_check import result_problems
 
     scenario = tmp_path / "below.toml"
-    scenario.write_text(FEET + HAND.replace("[-0.2, -0.3, 1.2]", "[-0.2, -0.4, -1.0]"), encoding="utf-8")
+    scenario.write_text(FEET + HAND.replace("[-0.2, -0.3, 1.2]", "[-0.2, -0.4, -1.0]") + "\n[comfort]\ntrunk = 0.0\n",
+                        encoding="utf-8")  # fmt: skip
     out = tmp_path / "below.json"
     proc = run_cli("solve", str(scenario), "-o", str(out))
     assert proc.returncode == 3, f"exit {proc.returncode}\n{proc.stdout}\n{proc.stderr}"
