@@ -38,14 +38,19 @@ def _addon() -> tuple:
     return importlib.import_module("manikin.solver"), io
 
 
-def cases(pkg, repeats: int) -> tuple[list, object]:
-    """``repeats`` (problem, start, options) drags of the box lift, and Live's options (``pkg``: the solver)."""
+def cases(pkg, repeats: int, trunk: float | None = None) -> tuple[list, object]:
+    """``repeats`` (problem, start, options) drags of the box lift, and Live's options (``pkg``: the solver);
+    ``trunk``: the comfort's trunk weight instead of the scenario's (5: the behaviour model)."""
     sc = pkg.load_scenario(ROOT / "presets" / "scenarios" / f"{SCENARIO}.toml")
-    assert sc.problem.floor and sc.problem.self_collision, "the live drag is measured with floor and self-collision"
-    base = pkg.solve(sc.problem, sc.start, sc.options)
+    problem = sc.problem
+    assert problem.floor and problem.self_collision, "the live drag is measured with floor and self-collision"
+    if trunk is not None:
+        weights = importlib.import_module(f"{pkg.__name__}.comfort").ComfortWeights(trunk=trunk)
+        problem = type(problem)(problem.model, problem.spec.replace(comfort_weights=weights))
+    base = pkg.solve(problem, sc.start, sc.options)
     live = replace(sc.options, max_iterations=LIVE_ITERATIONS, restarts=0)
     rng = np.random.default_rng(0)
-    return [(_moved(sc.problem, rng), base.x, live) for _ in range(repeats)], live
+    return [(_moved(problem, rng), base.x, live) for _ in range(repeats)], live
 
 
 def run(repeats: int) -> str:

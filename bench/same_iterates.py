@@ -4,6 +4,9 @@ time two versions in one process, interleaved.
     python -m bench.same_iterates record OUT.npz            # before the change
     python -m bench.same_iterates compare OUT.npz           # after: same iterations, success and x?
     python -m bench.same_iterates speed OLD_ROOT             # OLD_ROOT/solver_old: a copy of the old package
+    python -m bench.same_iterates live OLD_ROOT [DRAGS [TRUNK]]  # the same for bench.live_drag's re-solves
+    python -m bench.same_iterates scenarios OLD_ROOT [REPEATS]  # ... and for the shipped scenarios, cold
+    python -m bench.same_iterates tuning FIELD VALUE [COUNT] # an algorithmic knob of Tuning, side by side
 """
 
 from __future__ import annotations
@@ -11,12 +14,14 @@ from __future__ import annotations
 import importlib
 import sys
 import time
+from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 
 from . import one_core
 
+PRESETS = Path(__file__).resolve().parents[1] / "presets"
 SEEDS = (24, 12)  # trials per level: the four benchmark settings, then comfort off
 
 
@@ -95,6 +100,104 @@ def speed(old_root: str, repeats: int = 2) -> str:
             f"total {new.sum() / old.sum():.3f}")  # fmt: skip
 
 
+def _interleaved(old_root: str, make_cases, label: str) -> str:
+    """Solve time of ``solver_old`` (under ``old_root``) and this tree on the cases ``make_cases(package)`` gives
+    (the same for both: a list of (problem, start, options)), alternating order; iterations and successes too."""
+    sys.path.insert(0, old_root)
+    packages = {name: importlib.import_module(name) for name in ("solver_old", "solver")}
+    sides = {name: make_cases(pkg) for name, pkg in packages.items()}
+    times: dict[str, list[float]] = {name: [] for name in sides}
+    iterations, good = dict.fromkeys(sides, 0), dict.fromkeys(sides, 0)
+    ends: dict[str, list[np.ndarray]] = {name: [] for name in sides}  # the poses reached: the same iterates?
+    count = len(sides["solver"])
+    for i in range(count):
+        for name in list(sides) if i % 2 == 0 else list(sides)[::-1]:
+            problem, start, options = sides[name][i]
+            t0 = time.perf_counter()
+            result = packages[name].solve(problem, start, options)
+            times[name].append(time.perf_counter() - t0)
+            iterations[name] += result.iterations
+            good[name] += bool(result.converged)
+            ends[name].append(result.x)
+
+    def side(name: str) -> str:
+        ms = np.array(times[name]) * 1e3
+        return (f"median {np.median(ms):.2f} ms, p95 {np.percentile(ms, 95):.2f} ms, {iterations[name] / count:.2f} "
+                f"iterations, converged {good[name]}")  # fmt: skip
+
+    ratio = np.array(times["solver"]) / np.array(times["solver_old"])
+    dx = max((float(np.max(np.abs(a - b), initial=0.0)) for a, b in zip(*ends.values(), strict=True)), default=0.0)
+    return (f"{count} {label} each, interleaved: before {side('solver_old')}; after {side('solver')}; per-solve ratio "
+            f"after/before: median {np.median(ratio):.3f}; max |dx| of the poses reached {dx:.3g}")  # fmt: skip
+
+
+def live(old_root: str, drags: int = 200, trunk: float | None = None) -> str:
+    """bench.live_drag's re-solves (the same drags for both; ``trunk``: the comfort's trunk weight instead)."""
+    from .live_drag import cases
+
+    label = "drags" if trunk is None else f"drags (trunk = {trunk:g})"
+    return _interleaved(old_root, lambda pkg: cases(pkg, drags, trunk)[0], label)
+
+
+def scenarios(old_root: str, repeats: int = 10) -> str:
+    """bench.scenarios' shipped single-pose scenarios, cold from their start poses, ``repeats`` times each."""
+    from .scenarios import SCENARIOS
+
+    def make(pkg) -> list:
+        loaded = [pkg.load_scenario(PRESETS / "scenarios" / f"{name}.toml") for name in SCENARIOS]
+        return [(sc.problem, sc.start, sc.options) for sc in loaded] * repeats
+
+    return _interleaved(old_root, make, f"cold solves of {', '.join(SCENARIOS)}")
+
+
+def tuning(field: str, value: str, count: int = 100) -> str:
+    """This tree with ``TUNING`` (A) and with its ``field`` set to ``value`` (B, a Python literal), interleaved: live
+    drags, random-benchmark trials (physics + reduction, comfort on, ``count // 10`` seeds per level) and the cold
+    scenarios; per side the median time, iterations, successes and mean comfort, and in how many B's comfort beat
+    A's. An algorithmic change alters the iterates on purpose: this is its side-by-side record."""
+    import ast
+    from dataclasses import replace
+
+    import solver
+    from solver.iteration import TUNING
+
+    from .live_drag import cases
+    from .scenarios import SCENARIOS
+
+    sides = {"A": TUNING, "B": replace(TUNING, **{field: ast.literal_eval(value)})}
+    rt = importlib.import_module("bench.random_targets")
+    model = rt.load_body(preset=rt.PRESET)
+    balance, groups = rt.CONFIGS["physics + reduction"]
+    box = rt.workspace_box(model)
+    loaded = [solver.load_scenario(PRESETS / "scenarios" / f"{name}.toml") for name in SCENARIOS]
+    suites = {
+        "live drags": cases(solver, count)[0],
+        "random trials": [(rt.trial_problem(model, rt.draw_targets(model, box, rt.LEVELS[level], 7000 + seed),
+                                            balance, groups), None, solver.SolverOptions())
+                          for level in range(len(rt.LEVELS)) for seed in range(max(count // 10, 1))],
+        "cold scenarios": [(sc.problem, sc.start, sc.options) for sc in loaded] * max(count // 20, 1),
+    }  # fmt: skip
+    lines = [f"A: TUNING; B: {field} = {value}"]
+    for label, items in suites.items():
+        got = {k: ([], [], [], []) for k in sides}  # times, iterations, converged, comfort
+        for i, (problem, start, options) in enumerate(items):
+            for k in list(sides) if i % 2 == 0 else list(sides)[::-1]:
+                t0 = time.perf_counter()
+                result = solver.solve(problem, start, options, sides[k])
+                for store, v in zip(got[k], (time.perf_counter() - t0, result.iterations, result.converged,
+                                             result.comfort), strict=True):  # fmt: skip
+                    store.append(v)
+        for k in sides:
+            t, it, ok, comfort = got[k]
+            lines.append(f"{label} {k}: median {np.median(t) * 1e3:.2f} ms, iterations {sum(it)}, converged "
+                         f"{sum(ok)}/{len(items)}, mean comfort {np.mean(comfort):.4f}")  # fmt: skip
+        diff = np.array(got["B"][3]) - np.array(got["A"][3])
+        ratio = np.median(np.array(got["B"][0]) / np.array(got["A"][0]))
+        lines.append(f"{label}: B/A time median {ratio:.3f}; comfort B higher in {int((diff > 1e-9).sum())}, lower "
+                     f"in {int((diff < -1e-9).sum())}")  # fmt: skip
+    return "\n".join(lines)
+
+
 def main(argv: list[str]) -> None:
     # NumPy is loaded already (bench/__init__), so setting the variable here would be ignored: start again with one
     # BLAS thread. A record and a compare with different thread counts differ by rounding (measured: 1 of 648
@@ -104,6 +207,12 @@ def main(argv: list[str]) -> None:
     if command == "record":
         np.savez(arg, **iterates())
         print(f"recorded {arg}")
+    elif command == "tuning":
+        print(tuning(arg, argv[2], *map(int, argv[3:4])))
+    elif command == "live":
+        print(live(arg, *map(int, argv[2:3]), *map(float, argv[3:4])))
+    elif command == "scenarios":
+        print(scenarios(arg, *map(int, argv[2:3])))
     else:
         print(compare(arg) if command == "compare" else speed(arg))
 

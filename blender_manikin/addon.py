@@ -20,12 +20,15 @@ import bpy
 
 MODULES = (  # relative to this package, in registration order
     "pose.properties", "retarget.properties", "study.properties", "envelope.properties",
+    "operations.properties", "operations.operators",
     "pose.operators", "scenario.operators", "envelope.operators", "motion.operators", "retarget.operators",
     "motion.export_operator",
     "study.operators",
     "pose.manikins",
     "pose.panels", "motion.panel", "motion.ergonomics_panel", "retarget.panel", "study.panel", "envelope.panel",
+    "operations.panel",
     "pose.live", "pose.overlay",
+    "motion.job_panel",
 )  # fmt: skip
 
 

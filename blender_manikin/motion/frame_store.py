@@ -19,6 +19,7 @@ import numpy as np
 
 from ...solver.ergonomics.registry import RANKING, SCORES, frame_scores, motion_scores, verdicts
 from ...solver.iteration.result import shortfall_text
+from .job_assess import POSE_KEY, pose_part
 
 if TYPE_CHECKING:
     from ...solver import Model, Result
@@ -26,7 +27,7 @@ if TYPE_CHECKING:
 
 TOP_LOADS = 3  # most loaded joints kept per frame (the Result panel's list)
 WORST_SHOWN = 5  # worst frames listed in the panel
-STORE_MAX = 5000  # frames whose entries a bake stores on the armature (about 2 kB each); a longer bake stores none
+STORE_MAX = 5000  # frames whose entries a bake stores on the armature (about 3 kB each); a longer bake stores none
 GRAPH_PREFIX = "manikin_"  # a score's graph: the custom property "manikin_<score name>" on the armature's data
 
 
@@ -107,8 +108,9 @@ class FrameStore:
 
     def add(self, record: FrameRecord, result: Result, ergo: dict, percent: np.ndarray) -> None:
         """One baked frame: ``ergo`` its report frame (the scores' entries), ``percent`` its joints' percent of
-        strength."""
+        strength. The frame's pose goes in too: the Job panel rates the motion from it (:mod:`.job_assess`)."""
         entry = dict(frame=record.frame) | result_part(record, result, self.model, percent) | ergonomics_part(ergo)
+        entry[POSE_KEY] = pose_part(result)
         self.entries.append(entry)
 
     def texts(self) -> dict[str, str]:

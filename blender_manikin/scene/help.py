@@ -18,6 +18,8 @@ PAGES = {  # panel class -> page (and section) under DOCS_URL
     "MANIKIN_PT_study": "tutorials/study.html#a-study-from-blender",
     "MANIKIN_PT_motion_ergonomics": "tutorials/motion.html#4-the-same-in-blender",
     "MANIKIN_PT_envelope": "tutorials/envelope.html#from-the-sidebar",
+    "MANIKIN_PT_operations": "guide/operations.html#in-blender",
+    "MANIKIN_PT_job": "guide/job.html#in-blender",
 }
 DEFAULT_PAGE = "guide/blender.html"  # a panel not in PAGES
 

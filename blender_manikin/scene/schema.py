@@ -4,7 +4,8 @@ that find a manikin's parts (bpy only; no solver, so the UI can draw before anyt
 On the armature object: ``manikin_preset`` (preset name, or "" for a body file), ``manikin_body_file`` (path or
 ""), ``manikin_x`` (the last solution: joint values, then contact-edge weights), ``manikin_result`` (JSON summary
 of the last solve, for the sidebar and the overlay), ``manikin_bake`` (JSON: the last bake's range and the frames
-that did not converge), ``manikin_frames`` (the last bake's per-frame sidebar entries: motion/frame_store.py)
+that did not converge), ``manikin_frames`` (the last bake's per-frame sidebar entries: motion/frame_store.py),
+``manikin_job_verdicts`` (the Job panel's verdicts and the bake they rate; its settings: ``Object.manikin_job``)
 and, while live mode cannot solve, ``manikin_error``. On each TCP empty: ``manikin_tcp``
 (its TCP's name). On each body object (the skinned human, the capsules, the solids): ``manikin_display``. On an
 obstacle a scenario import made: ``manikin_imported`` (the scenario's file name; importing again replaces it). On
@@ -29,6 +30,7 @@ X_KEY = "manikin_x"
 RESULT_KEY = "manikin_result"
 BAKE_KEY = "manikin_bake"
 FRAMES_KEY = "manikin_frames"  # group of JSON texts: "head" and, per baked frame (its number), the sidebar's entry
+JOB_KEY = "manikin_job_verdicts"  # JSON: the Job panel's last Assess Job (motion/job_panel.py) and the bake it rated
 ERROR_KEY = "manikin_error"
 TCP_KEY = "manikin_tcp"
 IMPORTED_KEY = "manikin_imported"  # on an obstacle object a scenario import made: the scenario's file name

@@ -26,16 +26,20 @@ def run(args: argparse.Namespace) -> int:
     check_folder_name(args.output)
     from ..io.result.write import ResultWriter
     from ..operations.generate import load_operations, solve_operations, summary
+    from ..progress import Progress
 
     job = load_operations(args.scenario)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     converged: dict[int, bool] = {}
+    progress = Progress(len(job.frames), enabled=not args.quiet)  # on standard error (Blender's panel reads it)
     with ResultWriter(out / "result.json", job.scenario.path) as writer:
         for frame, result in solve_operations(job):
             writer.add(frame, result)
             converged[frame] = result.converged
+            progress.update(len(converged), len(converged) - sum(converged.values()))
+    progress.clear()
     lines = summary(job, converged, time.perf_counter() - started)
     (out / "summary.txt").write_text("\n".join(lines) + "\n", encoding="utf-8")
     if not args.quiet:

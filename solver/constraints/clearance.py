@@ -26,6 +26,7 @@ from .inequality import Inequality
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 WATCH = 0.01  # m: a met row this close to its clearance gives the step its Jacobian (held if the step goes past)
 HOLD = 0.5e-3  # m: the watch band of the body's own pairs (an arm hangs against the trunk: docs/TUNING.md)
+SAFE = 1e-9  # m: what a movement bound keeps in hand against rounding
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
 
 
@@ -81,6 +82,14 @@ class ClearanceRows(Inequality):
     _others: list[str]  # per row, what it keeps clear of: an obstacle or another body part
     _pairs: list[str]  # per row, "part vs other" without the capsule end
     _last: tuple[bytes, tuple] | None = None  # the joint values last measured and what they gave
+    # rows whose distance is exact at any range and costly to measure (the body's own pairs) are bounded from how far
+    # their capsules moved since the last exact query: per row its capsule and the other's (None: it stands still)
+    _bounded = False
+    _row_capsule: np.ndarray | None = None
+    _row_other: np.ndarray | None = None
+    _source: BodyCapsules | None = None  # the capsules whose world ends a state shares (the body's own)
+    _subset: np.ndarray | None = None  # which of ``_source`` are ``capsules`` (None: all)
+    _reference: tuple | None = None  # ((start, end) world ends (k, 3), distance - floor per row): last exact query
 
     @property
     def rows(self) -> int:
@@ -104,7 +113,53 @@ class ClearanceRows(Inequality):
                 cached = self._distances(state)
                 self._last = (key, cached)
             state.cache[self] = cached
+            if self._bounded:
+                self._reference = (self._ends(state), cached[0] - self.floor)
         return cached
+
+    def _ends(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """World ends (m) of ``capsules`` at ``state``, computed once per state for all clearances of the same body
+        capsules (the floor's and the body's own)."""
+        source = self._source if self._source is not None else self.capsules
+        key = ("capsule ends", id(source))
+        ends = state.cache.get(key)
+        if ends is None:
+            ends = state.cache[key] = source.world(state.kin)
+        return ends if self._subset is None else (ends[0][self._subset], ends[1][self._subset])
+
+    def _clear_by(self, state: State, band: float) -> bool:
+        """True when no row can be within ``band`` (m) of its floor at ``state``, known without a query from how its
+        capsules' ends moved since the last exact query (:meth:`_least_bound`, docs/TUNING.md). False whenever not
+        sure (the state measured already, no reference, NaN)."""
+        if self._reference is None or self in state.cache:
+            return False
+        key = (self, "bound")
+        least = state.cache.get(key)
+        if least is None:
+            least = state.cache[key] = self._least_bound(state)
+        return bool(least > band + SAFE)
+
+    def _least_bound(self, state: State) -> float:
+        """The least distance - floor any row can have at ``state`` (m; NaN if unknown): the last exact query's, less
+        the most the gap between the row's two capsules can have changed since. A point at s on a capsule moved by
+        the blend (1 - s) d0 + s d1 of its ends' moves, so the change of a gap, (blend on one) - (blend on the other),
+        is affine in the two parameters and largest in norm at a pair of ends: 4 differences per pair (a part and
+        the trunk moving together change nothing), 2 ends against a still obstacle."""
+        (start, end), slack = self._reference
+        p0, p1 = self._ends(state)
+        moved = np.stack([p0 - start, p1 - end], axis=1)  # (capsules, 2 ends, 3)
+        mine = moved[self._row_capsule]
+        if self._row_other is None:
+            change = np.einsum("rej,rej->re", mine, mine)
+        else:
+            rel = mine[:, :, None, :] - moved[self._row_other][:, None, :, :]  # (rows, 2, 2, 3)
+            change = np.einsum("rabj,rabj->rab", rel, rel).reshape(len(mine), 4)
+        return float(np.min(slack - np.sqrt(change.max(axis=1)), initial=np.inf))
+
+    def error(self, state: State) -> np.ndarray:
+        if self._clear_by(state, 0.0):
+            return np.zeros(self.rows)
+        return super().error(state)
 
     @abstractmethod
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -126,6 +181,8 @@ class ClearanceRows(Inequality):
         return out
 
     def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        if self._clear_by(state, self.watch):
+            return np.zeros(0, dtype=np.intp), np.zeros((0, self.n_x))
         rows = np.flatnonzero(self.value(state) - self.floor < self.watch)
         return rows, self._jacobian_of(state, rows)
 
@@ -147,6 +204,8 @@ class ClearanceRows(Inequality):
 
     def closest(self, state: State) -> list[Closeness]:
         """The rows within the margin of their clearance, nearest first."""
+        if self._clear_by(state, self.margin):
+            return []
         distance, points, normals, capsule = self._evaluate(state)
         near = np.flatnonzero(distance - self.floor < self.margin)
         out = []
@@ -173,8 +232,10 @@ class Clearance(ClearanceRows):
     ) -> None:
         self.name = name
         keep = np.array([name not in exclude for name in capsules.names], dtype=bool)
+        source = capsules
         capsules = BodyCapsules(tuple(n for n, k in zip(capsules.names, keep, strict=True) if k), capsules.link[keep],
                                 capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
+        self._source, self._subset = source, np.flatnonzero(keep)
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         # nothing nearer than its reach (m) is left out of an obstacle's query
@@ -198,12 +259,22 @@ class Clearance(ClearanceRows):
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
+        self._plane = None  # one half-space (the floor): measured inline, as halfspace_distance does, in 3 calls
+        if len(self.obstacles) == 1 and isinstance(self.obstacles[0], HalfSpace):
+            self._plane = self.obstacles[0]
+            self._row_capsule = np.tile(np.arange(k), 2)
+            self._plane_radius = np.concatenate([capsules.radius, capsules.radius])
+            self._plane_normal = np.broadcast_to(self._plane.normal, (2 * k, 3))  # read-only, shared by every state
 
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps = self.capsules
         if not self.obstacles:
             return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
-        p0, p1 = caps.world(state.kin)
+        p0, p1 = self._ends(state)
+        if self._plane is not None:  # a row per capsule end, starts first; the end is its own witness
+            ends = np.concatenate([p0, p1])
+            h = (ends - self._plane.point) @ self._plane.normal - self._plane_radius
+            return np.where(np.isfinite(h), h, self._reach[0] + 1.0), ends, self._plane_normal, self._row_capsule
         index = np.arange(len(caps))
         got = [None] * len(self.obstacles)
         for end_rows, rows, reach, group in self._groups:

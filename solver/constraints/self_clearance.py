@@ -5,6 +5,10 @@ The Jacobian of a row is n . (velocity of the witness on the first capsule - vel
 second), n the unit normal from the second to the first: the distance's gradient is n at one witness and -n at
 the other (the witnesses' own sliding drops out, as for obstacles). Joints that carry both parts move them
 rigidly together and cancel.
+
+A new state is not measured while the capsules' movement since the last exact query proves every pair clear of its
+watch band (``ClearanceRows._clear_by``): the error, the Jacobian rows and the near pairs the
+iteration asks for are then known without a query, and the same as a query's (docs/TUNING.md).
 """
 
 from __future__ import annotations
@@ -35,13 +39,15 @@ class SelfClearance(ClearanceRows):
         self._others = [names[j] for j in self.pairs.second]
         self._pairs = [f"{a} vs {b}" for a, b in zip(self._parts, self._others, strict=True)]
         self.floor = self.pairs.least.copy()
+        # exact at any range and ~40 array operations per query: bounded by the capsules' movement (docs/TUNING.md)
+        self._bounded, self._row_capsule, self._row_other = True, self.pairs.first, self.pairs.second
 
     def _proximity(self, state: State) -> PairProximity:
         """Every pair's distance, witnesses and normal at ``state``, once per state."""
         key = (self, "pairs")
         got = state.cache.get(key)
         if got is None:
-            p0, p1 = self.capsules.world(state.kin)
+            p0, p1 = self._ends(state)
             got = state.cache[key] = capsule_pairs(p0, p1, self.capsules.radius, self.pairs.first, self.pairs.second)
         return got
 

@@ -86,10 +86,10 @@ class LineSearch:
             if with_comfort and self.near and trial.worst > hopeless:
                 alpha *= 0.5  # too far off for a correction to bring it back: halve without trying one
                 continue
-            trial = self._corrected(trial, with_comfort, alpha)
-            if self._better(trial, with_comfort) and np.isfinite(trial.merit):
-                if np.isfinite(self.evaluate.cost(trial.state)):
-                    return trial, alpha
+            if not (with_comfort and self.near and not self.tuning.correct_accepted and self._accepts(trial, True)):
+                trial = self._corrected(trial, with_comfort, alpha)
+            if self._accepts(trial, with_comfort):
+                return trial, alpha
             if with_comfort or not np.isfinite(trial.merit):
                 alpha *= 0.5
             else:  # minimum of the quadratic through merit(0), its slope and merit(alpha), safeguarded
@@ -97,6 +97,12 @@ class LineSearch:
                 guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
                 alpha = float(np.clip(guess, 0.1 * alpha, 0.5 * alpha))
         return None, alpha
+
+    def _accepts(self, trial: Trial, with_comfort: bool) -> bool:
+        """The acceptance rule, on a finite trial with a finite cost."""
+        if not (self._better(trial, with_comfort) and np.isfinite(trial.merit)):
+            return False
+        return bool(np.isfinite(self.evaluate.cost(trial.state)))
 
     def _short_of_contact(self, trial: Trial, alpha: float, direction: np.ndarray) -> tuple[Trial, float]:
         """(trial, alpha), cut back to where the first obstacle row met at the start would reach its clearance, when

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..constraints.clearance import ClearanceRows
 from ..problem.priorities import hard_unmet, shortfalls
+from .trial import PARTS_KEY
 
 if TYPE_CHECKING:
     from ..body.state import State
@@ -45,7 +46,8 @@ class Result:
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
         unmet = problem.unmet(state)
-        parts = problem.comfort.parts(state)
+        kept = state.cache.get(PARTS_KEY)  # the last trial's, when it was evaluated with this comfort
+        parts = dict(kept[1]) if kept is not None and kept[0] is problem.comfort else problem.comfort.parts(state)
         residuals = problem.residuals(state)
         result = cls(
             problem=problem,

@@ -10,6 +10,7 @@ from ..body.state import State
 from ..problem.problem import Problem
 
 COST_KEY = "iteration cost"  # where f = -h of a state is kept in its cache
+PARTS_KEY = "comfort parts"  # where (the comfort, its parts) are kept: the result of a solve reuses them
 
 
 @dataclass(slots=True)
@@ -53,5 +54,6 @@ class Evaluator:
         if both is None:
             comfort = self.problem.comfort
             parts = comfort.parts(state)
+            state.cache[PARTS_KEY] = (comfort, parts)
             both = state.cache[COST_KEY] = (-comfort.total(parts), comfort.relative_size(parts))
         return both

@@ -30,6 +30,7 @@ class Tuning:
     comfort_slack: float = 10.0  # within this error a step is "near" and carries comfort
     least_contact_share: float = 0.05  # a step cut short of a new contact to less than this share is not cut
     hopeless: float = 5.0  # a near trial worse than this x comfort_slack is halved without a correction
+    correct_accepted: bool = True  # near: correct a comfort trial the merit accepts as it is (False: keep it)
     max_turn: float = 0.3  # rad: largest joint rotation of a step far from the constraints
     max_slide: float = 0.3  # m: the same for a prismatic joint
     max_rejected: int = 6  # steps rejected in a row before a phase gives up

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..ergonomics import ErgoOptions, evaluate
 from ..ergonomics.report import clean
@@ -14,6 +15,9 @@ from ..io.result.read import ResultFile, read_result
 from .base import JobInputs
 from .registry import METHODS
 from .spec import Job, read_job
+
+if TYPE_CHECKING:
+    from ..body.model import Model
 
 OUTPUTS = ("job.json", "job.csv", "job.html")
 
@@ -33,16 +37,17 @@ def motion_of(job: Job, out_dir: Path) -> ResultFile:
     return read_result(writer.close())
 
 
-def evaluate_job(job: Job, motion: ResultFile) -> dict:
+def evaluate_job(job: Job, motion: ResultFile, model: Model | None = None) -> dict:
     """The job report (JSON-safe): the job's inputs, each method's result (its ``verdict`` first) and the motion's
-    frame numbers and times."""
+    frame numbers and times. ``model``: the manikin that moved (default: the result's scenario's; Blender and the
+    study give their own body)."""
     if not motion.frames:
         raise UsageError(f"{job.path}: motion: the result has no frames")
     if len(motion.frames) / job.fps > job.cycle_time * (1 + 1e-9):
         n = len(motion.frames)
         raise UsageError(f"{job.path}: work.cycle_time: expected at least the motion's {n} frames at {job.fps:g} "
                          f"fps ({n / job.fps:.2f} s), got {job.cycle_time:g}")  # fmt: skip
-    ergo = evaluate(motion, ErgoOptions(load_mass=job.load_mass))
+    ergo = evaluate(motion, ErgoOptions(load_mass=job.load_mass), model)
     inputs = JobInputs(job, motion.frames, ergo)
     methods = {name: method.evaluate(inputs) for name, method in METHODS.items()}
     return clean(dict(

@@ -18,6 +18,7 @@ from .handlers import plan
 from .objects import WorkObject
 from .posing import Poser
 from .schema import Operate, read_objects, read_operate, read_operations
+from .stance import StanceFinder
 from .timeline import Plan
 
 OWN = ("objects", "operations", "operate")  # the tables this package reads; the rest is a scenario's
@@ -59,7 +60,9 @@ def load_operations(path: str | Path) -> Job:
         rotation, position = kin.tcp_frame(model.tcp(tcp))
         hands[tcp] = (np.asarray(position), np.asarray(rotation))
     feet = {t.tcp: np.asarray(t.position, dtype=float) for t in scenario.problem.all_targets if t.support}
-    timed = plan(operations, objects, hands, feet, list(scenario.problem.spec.obstacles))
+    obstacles = list(scenario.problem.spec.obstacles)
+    timed = plan(operations, objects, hands, feet, obstacles, StanceFinder(scenario.problem))
+    notes.extend(timed.notes)
     count = int(round(timed.duration * operate.fps)) + 1
     frames = list(range(operate.start, operate.start + count))
     return Job(scenario, timed, operate, frames, notes, objects)

@@ -9,7 +9,8 @@ from ..collision import Box, Obstacle
 from . import timing
 from .objects import WorkObject, origin_of
 from .schema import Operation, OperationError
-from .stance import paces, stance_for
+from .stance import stance_for
+from .take import get
 from .timeline import (
     APPROACH,
     LIFT,
@@ -17,8 +18,8 @@ from .timeline import (
     Now,
     Plan,
     Segment,
+    carried_box,
     check_reach,
-    get,
     named_object,
     obstacles_for,
     op_priority,  # fmt: skip
@@ -26,6 +27,7 @@ from .timeline import (
     way_or_fail,
     xyz,
 )
+from .walking import step_first, walk
 from .ways import length
 
 SIDE = 0.10  # m: with both hands to one point, each is this far to its side of it
@@ -40,20 +42,22 @@ def place(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segme
         raise OperationError(f"{op.label}: the hands do not hold {obj.name} (get it first)")
     _, tcps, frames = now.holding
     goal = op.to if op.to is not None else _onto(op, obj, now, objects, obstacles)
-    check_reach(op, now, goal, f"the place for {obj.name}")
     others = obstacles_for(now, objects, obstacles, obj.name)
-    _check_fits(op, obj, goal, others)
     origin = now.origins[obj.name]
+    out = step_first(op, now, {tcp: goal + now.hands[tcp][0] - origin for tcp in tcps}, obj.mass, others)
+    check_reach(op, now, goal, f"the place for {obj.name}")
+    _check_fits(op, obj, goal, others)
+    origin = now.origins[obj.name]  # after the steps
     above = goal + np.array([0.0, 0.0, LIFT])
-    path = way_or_fail(op, origin, above, obj.size / 2.0, others)
+    path = way_or_fail(op, origin, above, carried_box(obj), others)
     priority = op_priority(op, 1)
     shift = {tcp: now.hands[tcp][0] - origin for tcp in tcps}
     carry = {tcp: ([p + shift[tcp] for p in path], now.hands[tcp][1], frames[tcp].lock, priority) for tcp in tcps}
-    out = [segment(now, op.label, timing.move_time(length(path), "B", obj.mass), carry)]
+    out.append(segment(now, op.label, timing.move_time(length(path), "B", obj.mass, len(tcps)), carry))
     case = op.case or ("C" if op.onto in objects else "B")  # onto a part's mating frame: an exact place
     down = {tcp: ([above + shift[tcp], goal + shift[tcp]], now.hands[tcp][1], frames[tcp].lock, priority)
             for tcp in tcps}  # fmt: skip
-    out.append(segment(now, op.label, timing.move_time(LIFT, case, obj.mass), down))
+    out.append(segment(now, op.label, timing.move_time(LIFT, case, obj.mass, len(tcps)), down))
     now.holding = None
     now.origins[obj.name] = goal
     back = {tcp: ([now.hands[tcp][0], now.hands[tcp][0] - APPROACH * now.hands[tcp][1][:, 2]], now.hands[tcp][1],
@@ -104,15 +108,17 @@ def reach(op: Operation, now: Now, objects: dict, obstacles: list, hold: float =
     tcps = _hands_of(op)
     others = obstacles_for(now, objects, obstacles, None)
     lock = ROTATION_LOCK if op.rotation is not None else HAND_LOCK
+    goals = {tcp: op.to + (np.array([SIDE if tcp == "hand_l" else -SIDE, 0.0, 0.0]) if len(tcps) == 2 else 0.0)
+             for tcp in tcps}  # fmt: skip
+    out = step_first(op, now, goals, 0.0, others)
     moves, longest = {}, 0.0
-    for tcp in tcps:
-        goal = op.to + (np.array([SIDE if tcp == "hand_l" else -SIDE, 0.0, 0.0]) if len(tcps) == 2 else 0.0)
+    for tcp, goal in goals.items():
         check_reach(op, now, goal, f"the {tcp} target")
         points = way_or_fail(op, now.hands[tcp][0], goal, None, others)
         rotation = op.rotation if op.rotation is not None else now.hands[tcp][1]
         moves[tcp] = (points, rotation, lock, op_priority(op, 2))
         longest = max(longest, timing.reach_time(length(points), op.case or "B"))
-    out = [segment(now, op.label, longest, moves)]
+    out.append(segment(now, op.label, longest, moves))
     if hold > 0:
         out.append(segment(now, op.label, hold))
     return out
@@ -136,18 +142,8 @@ def look(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segmen
 
 
 def step(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment]:
-    """Walk to the stance ``op.to`` (the feet's middle), a pace at a time; the held object and targeted hands go
-    along with the body (half a pace each pace)."""
-    goal = stance_for(now.feet, op.to)
-    out = []
-    for foot, start, end in paces(dict(now.feet), goal):
-        shift = (end - start) / 2.0  # the body's middle moves half the foot's travel
-        moves = {tcp: ([p, p + shift], r, lock, pr) for tcp, (p, r, lock, pr) in now.hands.items()
-                 if tcp not in now.free}  # fmt: skip
-        out.append(segment(now, op.label, timing.walk_time(1), moves, {foot: end}))
-    if not out:
-        out.append(segment(now, op.label, timing.MIN_DURATION))
-    return out
+    """Walk to the stance ``op.to`` (the feet's middle), a pace at a time (:func:`.walking.walk`)."""
+    return walk(now, op.label, stance_for(now.feet, op.to)) or [segment(now, op.label, timing.MIN_DURATION)]
 
 
 def wait(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment]:
@@ -159,10 +155,12 @@ HANDLERS = {"get": get, "place": place, "reach": reach, "hold": hold, "look": lo
 
 
 def plan(operations: list[Operation], objects: dict[str, WorkObject], hands: dict, feet: dict,
-         obstacles: list[Obstacle]) -> Plan:  # fmt: skip
+         obstacles: list[Obstacle], finder=None) -> Plan:  # fmt: skip
     """The segments of ``operations`` from the hands' (tcp -> (position, rotation)) and feet's (tcp -> position)
-    start; ``obstacles``: the scenario's."""
+    start; ``obstacles``: the scenario's; ``finder``: the stance finder (:class:`.stance.StanceFinder`; None: an
+    operation beyond a comfortable reach does not step first)."""
     now = Now({h: (p, r, ("x", "y", "z"), 2) for h, (p, r) in hands.items()}, dict(feet), objects)
+    now.finder = finder
     segments: list[Segment] = []
     spans = []
     for op in operations:
@@ -178,4 +176,4 @@ def plan(operations: list[Operation], objects: dict[str, WorkObject], hands: dic
                 s.t0, s.t1 = start + (s.t0 - start) * scale, start + (s.t1 - start) * scale
             now.t = start + op.duration
         spans.append((op.label, start, now.t))
-    return Plan(segments, objects, spans)
+    return Plan(segments, objects, spans, now.notes)

@@ -15,14 +15,17 @@ import numpy as np
 from ..collision import Box, Obstacle
 
 PALM_GAP = 0.027  # m: palm outside the face, so the hand's capsule (r 3.3 cm, axis 1.7 cm behind the palm) stays ~1 cm
-GRIP_HEIGHT = 0.0  # m above the object's centre where proposed side grasps are (its middle: the box stays level)
+GRIP_HEIGHT = 0.25  # of its height above the object's centre: where proposed side grasps are (its upper half)
 AUTO_BOTH_MASS = 3.0  # kg: heavier objects are taken with both hands when the operation says no hand
 AUTO_BOTH_WIDTH = 0.30  # m: so are objects wider than this
 WIDEST_GRIP = 0.6  # m: a box wider than this across x (and deeper than wide) is gripped on its front and back
-HAND_LOCK = ("x", "y", "z", "rx", "ry")  # the palm free to turn about its normal, as the box-lift preset
-# a hand TCP's zero-pose axes (male_50): palm normal (TCP z) towards the body's middle
-SIDE_R = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # hand_r: palm normal along +x
-SIDE_L = np.array([[0.0, 0.0, -1.0], [0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]])  # hand_l: palm normal along -x
+HAND_LOCK = ("x", "y", "z", "rx", "ry")  # a given grasp's default: the palm free to turn about its normal
+PROPOSED_LOCK = ("x", "y", "z", "rx", "ry", "rz")  # a proposed side grasp holds the fingers' direction too (below)
+# a hand TCP's axes (male_50: TCP x along the fingers, z the palm normal) on a side face, palm normal towards the
+# body's middle and the fingers pointing forward (-y, away from the body): a hand with its fingers hanging down
+# reaches 9 cm below the grip and meets the table or pallet the object rests on (the first slice's 6/36 frames)
+SIDE_R = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])  # hand_r: palm normal along +x
+SIDE_L = np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # hand_l: palm normal along -x
 
 
 @dataclass(frozen=True)
@@ -100,9 +103,9 @@ def propose_grasps(obj: WorkObject, hands: tuple[str, ...] = ("hand_r", "hand_l"
     for tcp, sign, base in (("hand_r", -1.0, SIDE_R), ("hand_l", 1.0, SIDE_L)):
         position = np.zeros(3)
         position[across] = sign * (half[across] + PALM_GAP)
-        position[2] = GRIP_HEIGHT
+        position[2] = GRIP_HEIGHT * obj.size[2]
         turn = np.eye(3) if across == 0 else np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
-        frames[tcp] = HandFrame(position, turn @ base)  # across y: the side frames turned 90 deg about z
+        frames[tcp] = HandFrame(position, turn @ base, PROPOSED_LOCK)  # across y: the side frames turned 90 deg about z
     both = tuple(h for h in ("hand_r", "hand_l") if h in hands)
     if len(both) == 2:
         out["both sides"] = Grasp("both sides", {h: frames[h] for h in both}, proposed=True)

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..body.model import GRAVITY
 from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
+from ..collision import Box
 from ..collision.carried import Carried, carried_frame
 from ..problem.problem import Problem
 from ..problem.specs import ExternalLoad, Target
@@ -22,6 +23,7 @@ from .ways import polyline_at
 
 FOOT_LOCK = ("x", "y", "z", "rx", "ry")  # a foot free to turn about z, as the presets' supports
 GAZE_LOCK = ("rx", "rz")  # the eyes' view axis (their -y) aimed; free to roll about it and anywhere in space
+GRIP_ROOM = 0.03  # m: the object being gripped is this much narrower on each side face while the hands close on it
 EYE_HEIGHT = 1.55  # m above the feet: where the gaze is aimed from (the eyes' height standing, about)
 
 
@@ -46,7 +48,7 @@ class Poser:
     def problem_at(self, time: float) -> Problem:
         s, share = self.segment_at(time)
         targets = self._feet(s, share) + self._hands(s, share) + self._gaze(s) + self.kept
-        key = (tuple(t.tcp for t in targets if t.support), s.carried,
+        key = (tuple(t.tcp for t in targets if t.support), s.carried, s.taking,
                tuple((n, tuple(np.round(o, 4))) for n, o in sorted(s.resting.items())))  # fmt: skip
         problem = self._problems.get(key)
         if problem is None:
@@ -104,5 +106,16 @@ class Poser:
         return Carried(np.round(size, 6), (tcps[0], tcps[1]), name)
 
     def _resting(self, s: Segment) -> list:
-        objects = self.plan.objects
-        return [moved(objects[n].shape, o - origin_of(objects[n].shape)) for n, o in s.resting.items()]
+        """The resting objects where they are; a box both hands close on narrowed by :data:`GRIP_ROOM` m on each
+        side face (the palms grip 1 cm off its faces; the trunk, bent over it, keeps out of it); an object one hand
+        closes on, or not a box, left out."""
+        objects, out = self.plan.objects, []
+        for n, o in s.resting.items():
+            shape = moved(objects[n].shape, o - origin_of(objects[n].shape))
+            if s.taking is not None and n == s.taking[0]:
+                if not isinstance(shape, Box) or s.taking[1] < 2:
+                    continue  # a part taken in one hand is left out (the hand closes round it)
+                narrow = np.maximum(np.asarray(shape.size) - np.array([2 * GRIP_ROOM, 2 * GRIP_ROOM, 0.0]), 0.01)
+                shape = replace(shape, size=narrow)
+            out.append(shape)
+        return out

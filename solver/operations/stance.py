@@ -1,26 +1,99 @@
-"""Where the feet go for a ``step``: ONE call site for the stance finder, and the steps between two stances.
+"""Where the feet go: ONE call site for the stance finder (:func:`solver.stance.find_stance`), and the paces
+between two stances.
 
-Until ``solver.stance.find_stance`` (being built) lands, a step's stance is the one the operation gives (the
-middle between the feet, ``to = [x, y]``), the feet kept at their spacing and facing. The way there is a walk:
-paces of at most :data:`PACE` m, one foot at a time (the other the only support), each foot lifted
-:data:`LIFT` m at mid-swing on a minimum-jerk path, MTM-1 W-P (15 TMU) a pace.
+An operation whose hand targets are beyond a comfortable planted reach (:data:`COMFORT_REACH` m horizontally from
+the feet's middle) first steps to a stance found for them. The feet are walked up to the targets (their middle
+:data:`STANDOFF` m behind them, facing as before: the stance finder moves a foot at most a step per call and stops
+at the first stance that meets the targets, which for a far target is a stretched lean at the edge of reach), then
+the stance finder takes it from there: the hands' targets (and the held object's weight) as a problem whose feet
+may step, solved in balance and clear of the obstacles (and called again from the stance it found while it does
+not converge, :data:`CALLS` times at most). A ``step`` with
+``to`` goes where the user says (the feet kept at their spacing and facing).
+
+The way there is a step-to gait: paces of at most :data:`PACE` m, one foot at a time (the other the only support,
+the weight shifted over it first), each foot lifted :data:`LIFT` m at mid-swing, MTM-1 W-P (15 TMU) a pace.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
+from ..body.model import GRAVITY
+from ..problem.problem import Problem
+from ..problem.specs import ExternalLoad, Target
+from ..stance import find_stance, foot_targets
+
 PACE = 0.45  # m: the longest pace (a foot's travel)
 LIFT = 0.05  # m: a swinging foot's height at mid-swing
+COMFORT_REACH = 0.70  # m: hand targets farther than this from the feet's middle (horizontally) are stepped to
+STANDOFF = 0.65  # m: the feet's middle this far behind the hands' targets when walked up (then found)
+CALLS = 4  # find_stance calls at most (each moves a foot at most a step)
+HAND_LOCK = ("x", "y", "z")  # the stance is found for the hands' positions
 
 
 def stance_for(feet: dict[str, np.ndarray], to: np.ndarray) -> dict[str, np.ndarray]:
-    """The feet's positions (3,) m for a step to ``to`` (x, y of their middle): the call site for find_stance."""
+    """The feet's positions (3,) m for a ``step`` to ``to`` (x, y of their middle), kept at their spacing."""
     middle = sum(feet.values()) / len(feet)
     shift = np.array([to[0] - middle[0], to[1] - middle[1], 0.0])
     return {tcp: p + shift for tcp, p in feet.items()}
+
+
+def beyond_comfort(feet: dict[str, np.ndarray], points: list[np.ndarray]) -> bool:
+    """Whether any of ``points`` is farther than :data:`COMFORT_REACH` m from the feet's middle, horizontally."""
+    middle = sum(feet.values()) / len(feet)
+    return any(float(np.hypot(*(np.asarray(p)[:2] - middle[:2]))) > COMFORT_REACH for p in points)
+
+
+def walk_up(feet: dict[str, np.ndarray], hands: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The feet walked up to the hands' targets: their middle :data:`STANDOFF` m behind the targets' middle along
+    the facing (-y, as the zero pose and :data:`.timeline.CARRY`), at their spacing; the stance finder starts
+    there."""
+    middle = sum(feet.values()) / len(feet)
+    centre = sum(hands.values()) / len(hands)
+    to = np.array([centre[0], centre[1] + STANDOFF])
+    if float(np.hypot(*(to - middle[:2]))) < 1e-3:
+        return dict(feet)
+    return stance_for(feet, to)
+
+
+class StanceFinder:
+    """Stances for hand targets over a scenario's first-frame ``base`` problem (its feet, obstacles, comfort)."""
+
+    def __init__(self, base: Problem) -> None:
+        self.base = base
+
+    def __call__(self, feet: dict[str, np.ndarray], hands: dict[str, np.ndarray], mass: float,
+                 obstacles: list) -> tuple[dict[str, np.ndarray], str]:  # fmt: skip
+        """The feet (tcp -> (3,) m) for ``hands`` (tcp -> (3,) m) holding ``mass`` kg among ``obstacles``, and the
+        stance finder's line (its steps, or what is short)."""
+        walked = walk_up(feet, hands)
+        problem = self._problem(walked, hands, mass, obstacles)
+        model = self.base.model
+        x = model.zero_pose()  # the zero pose carried to the walked-up stance (the root's x, y)
+        x[np.flatnonzero(model.prismatic)[:2]] += (sum(walked.values()) - sum(feet.values()))[:2] / len(feet)
+        lines: list[str] = []
+        for _ in range(CALLS):
+            found = find_stance(problem, x)
+            lines.append(found.message)
+            problem, x = found.problem, found.result.x
+            if found.converged:
+                break
+        moved = {t.tcp: np.asarray(t.position, dtype=float) for t in foot_targets(problem).values()}
+        return {tcp: np.array([*moved[tcp][:2], feet[tcp][2]]) for tcp in feet}, lines[-1]
+
+    def _problem(self, feet: dict, hands: dict, mass: float, obstacles: list) -> Problem:
+        base = self.base
+        targets = [dataclasses.replace(t, position=np.asarray(feet[t.tcp], dtype=float)) for t in base.all_targets
+                   if t.support and t.tcp in feet]  # fmt: skip
+        targets += [
+            Target(tcp, np.asarray(p, dtype=float), None, lock=HAND_LOCK, priority=1) for tcp, p in hands.items()
+        ]
+        loads = [ExternalLoad(tcp, mass * GRAVITY / len(hands)) for tcp in hands] if mass > 0 else []
+        spec = base.spec.replace(targets=targets, loads=loads, obstacles=[*base.spec.obstacles, *obstacles])
+        return Problem(base.model, spec)
 
 
 def paces(start: dict[str, np.ndarray], goal: dict[str, np.ndarray]) -> list[tuple[str, np.ndarray, np.ndarray]]:
@@ -35,8 +108,13 @@ def paces(start: dict[str, np.ndarray], goal: dict[str, np.ndarray]) -> list[tup
     out = []
     for j in range(1, count + 1):  # step-to: each foot in turn to the same share of the way
         for foot in order:
-            out.append((foot, start[foot] + (goal[foot] - start[foot]) * (j - 1) / count,
-                        start[foot] + (goal[foot] - start[foot]) * j / count))
+            out.append(
+                (
+                    foot,
+                    start[foot] + (goal[foot] - start[foot]) * (j - 1) / count,
+                    start[foot] + (goal[foot] - start[foot]) * j / count,
+                )
+            )
     return out
 
 

@@ -13,10 +13,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..collision import Obstacle
-from . import timing
-from .objects import WorkObject, grasp_for, moved, origin_of, world_hand
+from ..planning import CarriedBox
+from .objects import WorkObject, moved, origin_of
 from .schema import Operation, OperationError
-from .ways import length, way
+from .ways import way
 
 APPROACH = 0.06  # m: a hand comes to a grasp from this far back along its palm normal
 LIFT = 0.08  # m: an object is lifted this much off where it rests (and set down from this much above)
@@ -50,6 +50,7 @@ class Segment:
     gaze: np.ndarray | None
     carried: tuple[str, tuple[str, ...]] | None  # (object, the hand TCPs holding it)
     resting: dict[str, np.ndarray] = field(default_factory=dict)  # object -> origin (3,) m
+    taking: tuple[str, int] | None = None  # the resting object the hands close on, and how many hands (posing)
 
 
 @dataclass
@@ -59,6 +60,7 @@ class Plan:
     segments: list[Segment]
     objects: dict[str, WorkObject]
     spans: list[tuple[str, float, float]]
+    notes: list[str] = field(default_factory=list)
 
     @property
     def duration(self) -> float:
@@ -74,10 +76,13 @@ class Now:
         self.feet = feet
         self.gaze: np.ndarray | None = None
         self.holding: tuple[str, tuple[str, ...], dict] | None = None  # object, hands, their frames
+        self.objects = objects
         self.origins = {name: origin_of(o.shape) for name, o in objects.items()}
         self.t = 0.0
-        self.taking: str | None = None  # the object a get reaches for
+        self.taking: tuple[str, int] | None = None  # the object a get reaches for, with how many hands
         self.gaze_until = 0  # operations the gaze is still held for
+        self.finder = None  # the stance finder (feet, hands, mass, obstacles) -> (feet, line); None: no stepping
+        self.notes: list[str] = []  # what the plan assumed or did on its own (a step to a found stance)
 
 
 def segment(now: Now, label: str, duration: float, moves: dict | None = None, feet: dict | None = None) -> Segment:
@@ -102,8 +107,8 @@ def segment(now: Now, label: str, duration: float, moves: dict | None = None, fe
         obj_rotation = frames["rotation"]
         now.origins[name] = now.hands[tcps[0]][0] - obj_rotation @ frames[tcps[0]].position
     # the object being taken is no obstacle while the hands close on it (they grip it, 1 cm off its faces)
-    resting = {n: o for n, o in now.origins.items() if n != now.taking and (carried is None or n != carried[0])}
-    out = Segment(label, now.t, now.t + duration, hands, steps, now.gaze, carried, dict(resting))
+    resting = {n: o for n, o in now.origins.items() if carried is None or n != carried[0]}
+    out = Segment(label, now.t, now.t + duration, hands, steps, now.gaze, carried, dict(resting), now.taking)
     now.t += duration
     return out
 
@@ -142,59 +147,6 @@ def check_inside(op: Operation, hands: dict, others: list[Obstacle], what: str) 
                 raise OperationError(f"{op.label}: {what}: {tcp} would be inside {ob.name}")
 
 
-def get(op: Operation, now: Now, objects: dict, obstacles: list) -> list[Segment]:
-    """Reach to 6 cm before the grasp, approach and grasp, lift the object :data:`LIFT` m."""
-    obj = named_object(op, objects)
-    if now.holding is not None:
-        raise OperationError(f"{op.label}: the hands hold {now.holding[0]} already (place it first)")
-    grasp = grasp_for(obj, op.grasp, op.hands)
-    if grasp is None:
-        known = ", ".join(obj.grasps) or "none"
-        raise OperationError(f"{op.label}: {obj.name} has no grasp {op.grasp or 'for hands = ' + op.hands!r} "
-                             f"(its grasps: {known})")  # fmt: skip
-    origin, rotation = now.origins[obj.name], obj.rotation
-    at = {tcp: world_hand(origin, rotation, frame) for tcp, frame in grasp.hands.items()}
-    others = obstacles_for(now, objects, obstacles, obj.name)
-    check_inside(op, at, others, f"grasp {grasp.name!r} of {obj.name}")
-    for tcp, (p, _) in at.items():
-        check_reach(op, now, p, f"the {tcp} grasp of {obj.name}")
-    case = op.case or "B"
-    priority = op_priority(op, 1)
-    before = {tcp: p - APPROACH * r[:, 2] for tcp, (p, r) in at.items()}
-    moves, longest = {}, 0.0
-    for tcp, p in before.items():
-        points = way_or_fail(op, now.hands[tcp][0], p, None, others)
-        moves[tcp] = (points, at[tcp][1], grasp.hands[tcp].lock, priority)
-        low = min(p[2], now.hands[tcp][0][2]) < timing.BEND_HEIGHT
-        longest = max(longest, timing.reach_time(length(points), case) + (timing.BEND_TMU * timing.TMU if low else 0))
-    now.taking = obj.name
-    out = [segment(now, op.label, longest, moves)]
-    grip = timing.JUMBLED_GRASP_TMU if case == "C" else timing.GRASP_TMU
-    closing = {tcp: ([before[tcp], p], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
-    out.append(segment(now, op.label, timing.reach_time(APPROACH, "A") + grip * timing.TMU, closing))
-    frames = dict(grasp.hands, rotation=rotation)
-    now.holding = (obj.name, tuple(grasp.hands), frames)
-    up = np.array([0.0, 0.0, LIFT])
-    lifting = {tcp: ([p, p + up], r, grasp.hands[tcp].lock, priority) for tcp, (p, r) in at.items()}
-    out.append(segment(now, op.label, timing.move_time(LIFT, "B", obj.mass), lifting))
-    out.append(to_carry(op, now, obj, others))
-    now.taking = None
-    return out
-
-
-def to_carry(op: Operation, now: Now, obj: WorkObject, others: list) -> Segment:
-    """The held object brought to :data:`CARRY` in front of the feet's middle (the body faces -y), so that a walk
-    carries it there (MTM-1 move B with its weight)."""
-    name, tcps, frames = now.holding
-    origin = now.origins[name]
-    middle = sum(now.feet.values()) / len(now.feet)
-    goal = middle + CARRY
-    path = way_or_fail(op, origin, goal, obj.size / 2.0, others)
-    moves = {tcp: ([p + now.hands[tcp][0] - origin for p in path], now.hands[tcp][1], frames[tcp].lock,
-                   now.hands[tcp][3]) for tcp in tcps}  # fmt: skip
-    return segment(now, op.label, timing.move_time(length(path), "B", obj.mass), moves)
-
-
 def named_object(op: Operation, objects: dict) -> WorkObject:
     if op.object not in objects:
         known = ", ".join(objects) or "none"
@@ -202,8 +154,8 @@ def named_object(op: Operation, objects: dict) -> WorkObject:
     return objects[op.object]
 
 
-def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, half, obstacles: list) -> list:
-    points = way(start, goal, half, obstacles)
+def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, carried, obstacles: list) -> list:
+    points = way(start, goal, carried, obstacles)
     if isinstance(points, str):
         raise OperationError(f"{op.label}: no way from [{xyz(start)}] to [{xyz(goal)}] m: {points}")
     return points
@@ -211,3 +163,8 @@ def way_or_fail(op: Operation, start: np.ndarray, goal: np.ndarray, half, obstac
 
 def xyz(p: np.ndarray) -> str:
     return ", ".join(f"{v:.2f}" for v in p)
+
+
+def carried_box(obj: WorkObject) -> CarriedBox:
+    """``obj`` as the planner's carried box (its edges along its axes; it does not turn on the way)."""
+    return CarriedBox(np.asarray(obj.size, dtype=float), obj.rotation, name=obj.name)

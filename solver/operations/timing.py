@@ -41,6 +41,7 @@ WEIGHT = [(2.5, 1.00, 0.0), (7.5, 1.06, 2.2), (12.5, 1.11, 3.9), (17.5, 1.17, 5.
           (27.5, 1.28, 9.1), (32.5, 1.33, 10.8), (37.5, 1.39, 12.5), (42.5, 1.44, 14.3), (47.5, 1.50, 16.0)]
 POUND = 0.45359237  # kg
 PACE_TMU = 15.0  # W-P
+SIDE_STEP_TMU, SIDE_STEP_PER_CM = 34.1, 0.4  # SS-C2: a 30 cm side step, case II; per cm beyond
 BEND_TMU = 29.0 + 31.9  # B + AB: down to below the knee and back up
 GRASP_TMU, JUMBLED_GRASP_TMU, RELEASE_TMU = 2.0, 9.1, 2.0  # G1A, G4B, RL1
 EYE_FOCUS_TMU, EYE_TRAVEL_TMU = 7.3, 15.2  # EF; ET per unit travel / distance, at most 20 TMU
@@ -62,12 +63,13 @@ def reach_time(distance: float, case: str = "B") -> float:
     return max(_table_tmu(REACH, REACH_PER_INCH, distance, case) * TMU, MIN_DURATION)
 
 
-def move_time(distance: float, case: str = "B", mass: float = 0.0) -> float:
-    """MTM-1 move M-``case`` of ``mass`` kg (held in both hands: the weight per hand is half) over ``distance`` m,
-    in s; beyond the card's 47.5 lb its last row."""
+def move_time(distance: float, case: str = "B", mass: float = 0.0, hands: int = 1) -> float:
+    """MTM-1 move M-``case`` of ``mass`` kg over ``distance`` m, in s. The weight allowance is for the effective
+    weight per hand: held in ``hands`` hands, each carries ``mass / hands``; beyond the card's 47.5 lb its last
+    row."""
     factor, static = WEIGHT[-1][1:]
     for limit, f, s in WEIGHT:
-        if mass / POUND <= limit:
+        if mass / max(hands, 1) / POUND <= limit:
             factor, static = f, s
             break
     tmu = _table_tmu(MOVE, MOVE_PER_INCH, distance, case) * factor + static
@@ -77,6 +79,13 @@ def move_time(distance: float, case: str = "B", mass: float = 0.0) -> float:
 def walk_time(paces: int) -> float:
     """MTM-1 walking, ``paces`` W-P, in s."""
     return paces * PACE_TMU * TMU
+
+
+def side_step_time(distance: float) -> float:
+    """MTM-1 side step, case II (the lagging leg on the floor before the next motion: a step-to side step with the
+    weight shifted), both feet over ``distance`` m, in s: SS-C2 34.1 TMU for 30 cm, 0.4 TMU per cm beyond (the
+    card says reach or move below 30 cm; the 30 cm time is kept there)."""
+    return (SIDE_STEP_TMU + SIDE_STEP_PER_CM * max(distance * 100.0 - 30.0, 0.0)) * TMU
 
 
 def eye_time(travel: float, distance: float) -> float:

@@ -1,9 +1,12 @@
-"""The way a hand (or a carried object's middle) takes between two points: ONE call site for the path planner.
+"""The way a hand (or a carried object's middle) takes between two points: ONE call site for the path planner,
+:func:`solver.planning.find_way` (RRT-Connect in the workspace of the hand or the carried box, shortened and
+smoothed; the straight line when that is free). A way that cannot be found comes back as one line naming what
+blocks it ("blocked by bench: ..."), which the operation reports.
 
-Until the collision-free planner (:mod:`solver.planning`, being built) lands, a way is the straight line, lifted
-over what is in between: when the segment between the points passes through an obstacle (the carried object's
-half size as clearance), it goes up over the obstacle's top and down again (three legs). A way that still passes
-through something comes back as "blocked by NAME", which the operation reports.
+The whole body along the way is not followed here (:func:`solver.planning.follow`): every frame of the motion is
+solved anyway, warm-started from the frame before, and the swept check between frames
+(:mod:`solver.motion.between_frames`) is the same check ``follow`` makes, so following first would solve each
+posture twice for the same answer.
 """
 
 from __future__ import annotations
@@ -11,37 +14,17 @@ from __future__ import annotations
 import numpy as np
 
 from ..collision import Obstacle
-
-CLEAR = 0.03  # m kept above an obstacle's top on a lifted way
-DEPTH = 0.01  # m: a way may graze (an object set down on its support touches it)
+from ..planning import CarriedBox, find_way
 
 
-def way(start: np.ndarray, goal: np.ndarray, carried: np.ndarray | None,
+def way(start: np.ndarray, goal: np.ndarray, carried: CarriedBox | None,
         obstacles: list[Obstacle]) -> list[np.ndarray] | str:  # fmt: skip
-    """Points from ``start`` to ``goal`` (m, both included), or "blocked by NAME". ``carried``: the carried
-    object's half size (3,) m around the points (None: a hand alone, kept 5 cm clear)."""
-    start, goal = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
-    # a carried object as a ball of its half height about its middle: right below and above it, short at its sides
-    below = reach = 0.05 if carried is None else float(np.asarray(carried)[2])
-    hit = _first_hit([start, goal], reach, obstacles)
-    if hit is None:
-        return [start, goal]
-    top = max(float(hit.bounds()[1][2]), start[2] - below, goal[2] - below) + below + CLEAR
-    over = [start, np.array([*start[:2], top]), np.array([*goal[:2], top]), goal]
-    blocker = _first_hit(over, reach, obstacles)
-    return over if blocker is None else f"blocked by {blocker.name}"
-
-
-def _first_hit(points: list[np.ndarray], radius: float, obstacles: list[Obstacle]) -> Obstacle | None:
-    """The first obstacle a capsule of ``radius`` m along the polyline ``points`` enters, else None."""
-    for a, b in zip(points[:-1], points[1:], strict=True):
-        if np.allclose(a, b):
-            continue
-        for ob in obstacles:
-            found = ob.distance(a[None], b[None], np.array([radius]))
-            if float(np.min(found.distance)) < -DEPTH:
-                return ob
-    return None
+    """Points from ``start`` to ``goal`` (m, both included), or "blocked by NAME: why". ``carried``: the box the
+    hands carry, its centre on the way (None: a hand alone, its TCP on the way)."""
+    found = find_way(np.asarray(start, dtype=float), np.asarray(goal, dtype=float), carried, obstacles)
+    if not found.found:
+        return found.blocked
+    return [np.asarray(p, dtype=float) for p in found.points]
 
 
 def polyline_at(points: list[np.ndarray], share: float) -> np.ndarray:

@@ -31,7 +31,7 @@ Units: m, rad inside; reports in m and deg.
 
 from __future__ import annotations
 
-from .find import StanceResult, find_stance, plant
+from ..lazy import lazy_attributes
 from .limits import FEET, ROWS, StanceBounds, StanceLimits, stance_limits, stature_of
 from .report import PLANTED_NOTE, Step, annotate, frame_moves, step_dicts, steps_of
 from .step_problem import FEET_MODES, PLANTED, STEP, bounds_of, check_feet, foot_targets, stepping
@@ -39,3 +39,8 @@ from .step_problem import FEET_MODES, PLANTED, STEP, bounds_of, check_feet, foot
 __all__ = ["FEET", "FEET_MODES", "PLANTED", "PLANTED_NOTE", "ROWS", "STEP", "StanceBounds", "StanceLimits",
            "StanceResult", "Step", "annotate", "bounds_of", "check_feet", "find_stance", "foot_targets", "frame_moves",
            "plant", "stance_limits", "stature_of", "step_dicts", "steps_of", "stepping"]
+
+# find_stance solves (the iteration, LAPACK): loaded on first use, so the result reader and the ergonomics that
+# import the step report stay free of scipy (Blender enables without it)
+_HOMES = {"StanceResult": "find", "find_stance": "find", "plant": "find"}
+__getattr__ = lazy_attributes(__name__, _HOMES, globals())

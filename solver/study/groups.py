@@ -3,12 +3,16 @@
 ``shortfall`` (the unmet targets and their summed shortfall), then every ergonomic score that has study columns
 (:mod:`solver.ergonomics.registry`: the peaks of RULA and REBA), the loads (``l4_l5``: the peak L4/L5 compression;
 ``strength``: the peak percent of strength and its joint), then the motion scores (``niosh``: the lifting index
-and the RWL). A score registered there is a group here, under its name, without a line in this package.
+and the RWL), then ``job`` (each job method's level and headline numbers, :mod:`.job_columns`; recorded only
+for a study whose scenarios name a job). A score registered there is a group here, under its name, without a line
+in this package.
 """
 
 from __future__ import annotations
 
 from ..ergonomics.registry import frame_scores, motion_scores
+from .job_columns import GROUP as JOB
+from .job_columns import job_columns
 
 SHORTFALL = {"shortfall": ["unmet", "shortfall_m"]}
 LOADS = {"l4_l5": ["l4_l5_peak_N"], "strength": ["strength_peak_pct", "strength_joint"]}
@@ -23,7 +27,8 @@ def groups() -> dict[str, list[str]]:
     out = dict(SHORTFALL)
     out |= {s.name: s.study_columns() for s in frame_scores() if s.study_columns()}
     out |= LOADS
-    return out | {s.name: s.study_columns() for s in motion_scores() if s.study_columns()}
+    out |= {s.name: s.study_columns() for s in motion_scores() if s.study_columns()}
+    return out | {JOB: job_columns()}
 
 
 def record() -> tuple[str, ...]:
@@ -32,8 +37,8 @@ def record() -> tuple[str, ...]:
 
 
 def ergonomic() -> tuple[str, ...]:
-    """The groups that need the ergonomics of a run (all but the shortfall)."""
-    return tuple(g for g in groups() if g not in SHORTFALL)
+    """The groups that need the ergonomics of a run (all but the shortfall and the job's, which rates it itself)."""
+    return tuple(g for g in groups() if g not in SHORTFALL and g != JOB)
 
 
 def panels() -> list[tuple[str, str, str, tuple]]:

@@ -14,6 +14,8 @@ A row's columns (docs/tutorials/study.md); units m, N, kg, s; peaks are the larg
     l4_l5_peak_N, strength_peak_pct, strength_joint      the peak L4/L5 compression, percent of strength, its joint
     niosh_li, niosh_rwl_kg                               a motion score's: only when the hands carry a load, else empty;
                                                          LI inf where the RWL is 0 (outside the equation's limits)
+    job_lifft_level, job_lifft_probability_high_risk ... a scenario with a ``job``: each job method's level and
+                                                         headline numbers (:mod:`.job_columns`)
     balanced_mean_m, ..., mesh                           an [envelope] run's columns (:mod:`.envelope_runs`)
     solve_s, eval_s, run_s, failure                      times (s, not reproducible: solving, the ergonomics, the
                                                          whole run with building the scenario), why a run failed
@@ -31,6 +33,8 @@ from ..ergonomics.base import peak
 from ..ergonomics.registry import SCORES
 from .envelope_runs import ENVELOPE_COLUMNS, envelope_row
 from .groups import LOADS, ergonomic, groups
+from .job_columns import GROUP as JOB
+from .job_columns import job_row
 from .plan import Run
 
 if TYPE_CHECKING:
@@ -94,6 +98,8 @@ def _scenario_columns(run: Run) -> dict:
         t1 = time.perf_counter()
         row |= scores(_evaluate(solved, run))
         row["eval_s"] = round(time.perf_counter() - t1, 4)
+    if JOB in run.record and run.scenario.job is not None:
+        row |= job_row(run.scenario.job, solved, _model(run.manikin))
     return row
 
 

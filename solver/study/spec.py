@@ -18,6 +18,8 @@
     file = "../presets/scenarios/box_lift.toml"   # relative to the study file
     name = "lift"            # default: the file's stem
     keep_manikin = false     # true: the scenario's own [manikin], not the study's manikins
+    job = "../presets/jobs/box_lift_job.toml"   # optional: rate each run's motion as this job ([work], [load];
+    # its [motion] is not used): the job columns (.job_columns)
     ergonomics = { frequency = 2.0, duration = "moderate" }   # NIOSH / RULA task facts (ErgoOptions)
     with = { carried = { size = [0.35, 0.26, 0.24], tcps = ["hand_r", "hand_l"] } }   # tables put into the file's
     # data (one of the same name replaced), e.g. the box the hands hold, before the parameters are applied
@@ -52,8 +54,10 @@ from ..population.family_files import INDEX, read_family
 from . import keypath
 from .envelope_spec import EnvelopeStudy, load_envelope
 from .groups import record as recordable
+from .job_columns import GROUP as JOB
 
 if TYPE_CHECKING:
+    from ..job.spec import Job
     from ..population.family import Member
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -125,6 +129,7 @@ class StudyScenario:
     parameters: tuple[Parameter, ...]
     keep_manikin: bool
     ergonomics: dict
+    job: Job | None = None  # the job each run's motion is rated as (its [work] and [load])
 
 
 @dataclass(frozen=True)
@@ -171,7 +176,7 @@ def load_study(path: str | Path) -> Study:
         name=head.string("name", path.stem),
         manikins=manikins,
         scenarios=scenarios,
-        record=tuple(r for r in groups if r in record),
+        record=tuple(r for r in groups if r in record and (r != JOB or any(s.job for s in scenarios))),
         seed=head.integer("seed", 0, 0, 2**31 - 1),
         repeats=head.integer("repeats", 1, 1, MAX_REPEATS),
         start_jitter=head.number("start_jitter", 0.0, 0.0, MAX_JITTER, "rad"),
@@ -259,7 +264,7 @@ def _manikin(where: TableReader, name: str, preset: str | None, path: Path, memb
 
 
 def _scenario(t: TableReader, here: Path, checked: set[str]) -> StudyScenario:
-    t.known({"file", "name", "keep_manikin", "ergonomics", "parameters", "with"})
+    t.known({"file", "name", "keep_manikin", "ergonomics", "parameters", "with", "job"})
     t.required("file")
     path = Path(t.string("file"))
     path = (path if path.is_absolute() else here / path).resolve()
@@ -284,7 +289,18 @@ def _scenario(t: TableReader, here: Path, checked: set[str]) -> StudyScenario:
     named = t.named_tables("parameters")
     parameters = tuple(_parameter(name, p, data) for name, p in named.items())
     return StudyScenario(t.string("name", path.stem), path, data, parameters, t.boolean("keep_manikin", False),
-                         dict(ergo.data))  # fmt: skip
+                         dict(ergo.data), _job(t, here) if "job" in t.data else None)  # fmt: skip
+
+
+def _job(t: TableReader, here: Path) -> Job:
+    """The job file named by ``job`` (relative to the study file), read by the job command's reader."""
+    from ..job.spec import read_job
+
+    path = Path(t.string("job"))
+    try:
+        return read_job(path if path.is_absolute() else here / path)
+    except ManikinError as exc:
+        raise t.fail("job", f"a valid job file ({exc})") from None
 
 
 def _parameter(name: str, t: TableReader, data: dict) -> Parameter:

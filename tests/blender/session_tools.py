@@ -44,12 +44,16 @@ class Layout:
         assert name in data.bl_rna.properties, name
         self._icon(kw)
 
-    def operator(self, idname: str, **kw) -> None:
+    def operator(self, idname: str, **kw) -> object:
         import bpy
 
         group, name = idname.split(".")
         assert hasattr(getattr(bpy.ops, group), name), idname
         self._icon(kw)
+        return type("OperatorProperties", (), {})()  # a panel may set the button's properties
+
+    def separator(self, **kw) -> None:
+        pass
 
     def operator_menu_enum(self, idname: str, prop: str, **kw) -> None:
         self.operator(idname, **kw)

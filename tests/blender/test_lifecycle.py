@@ -28,8 +28,8 @@ def test_add_manikin_does_not_remember_a_body_file(session: dict) -> None:
     assert seen["moved_error"] == "" and seen["third"] == ["male_50", ""]
     # what a click reuses: only the file browsers' paths (the browser sets them on every call)
     assert seen["remembered"] == [
-        "export_motion.filepath", "export_scenario.filepath", "import_envelope.filepath", "import_scenario.filepath",
-        "load_bone_map.filepath", "save_bone_map.filepath",
+        "export_motion.filepath", "export_scenario.filepath", "import_envelope.filepath", "import_operations.filepath",
+        "import_scenario.filepath", "load_bone_map.filepath", "save_bone_map.filepath",
     ]  # fmt: skip
 
 
