@@ -36,7 +36,7 @@ class Comfort:
 
     def with_targets(self, targets: list) -> Comfort:
         """This comfort for a problem of ``targets`` (itself when no term reads them)."""
-        terms = [(weight, term.with_targets(targets)) for weight, term in self.terms]
+        terms = [(weight, term.with_targets(targets) if weight else term) for weight, term in self.terms]
         if all(new is old for (_, new), (_, old) in zip(terms, self.terms, strict=True)):
             return self
         return Comfort(terms, self.weights)

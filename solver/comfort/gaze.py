@@ -22,7 +22,8 @@ from ..body.state import State
 from .base import ComfortTerm
 from .trunk_tilt import THORAX_JOINT
 
-REFERENCE_ANGLE = np.radians(15.0)  # rad: cost 1 there, about the gaze shift the eyes take alone
+EYES_TAKE = np.radians(40.0)  # rad: the part of the gaze shift the eyes take alone (no cost below it; fitted)
+REFERENCE_ANGLE = np.radians(15.0)  # rad: cost 1 this far beyond EYES_TAKE
 POSITION = ("x", "y", "z")
 
 
@@ -44,8 +45,8 @@ def _head_frame(model: Model) -> tuple[int, np.ndarray, np.ndarray, set[str]]:
 
 
 class Gaze(ComfortTerm):
-    """k (1 - v . u): v the head's view axis, u the unit line from the eyes to the working point; the curvature
-    model is the exact diagonal of the Hessian, clipped at 0."""
+    """k max(cos a - v . u, 0)^2: v the head's view axis, u the unit line from the eyes to the working point, a the
+    eyes' share; the curvature model is the exact diagonal of the Hessian, clipped at 0."""
 
     name = "gaze"
     description = "head turned away from the hands' working point (behaviour model)"
@@ -54,7 +55,8 @@ class Gaze(ComfortTerm):
         self.model = model
         self.link, self.eye, self.view, self.heads = _head_frame(model)
         self.chain = np.flatnonzero(model.descendant[:, self.link]) if self.link >= 0 else np.zeros(0, int)
-        self.scale = 1.0 / (1.0 - np.cos(REFERENCE_ANGLE))
+        self.free = float(np.cos(EYES_TAKE))  # cos of the angle the eyes take: no cost closer than that
+        self.scale = 1.0 / (self.free - np.cos(EYES_TAKE + REFERENCE_ANGLE)) ** 2
         names = model.joint_names
         self.arms = model.descendant[names.index(THORAX_JOINT)] if THORAX_JOINT in names else None
         self.point: np.ndarray | None = None  # m, world: the working point, set by :meth:`with_targets`
@@ -93,13 +95,16 @@ class Gaze(ComfortTerm):
         if self.point is None:
             return 0.0
         _, v, u, _ = self._geometry(state)
-        return float(self.scale * (1.0 - v @ u))
+        return float(self.scale * max(self.free - v @ u, 0.0) ** 2)
 
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
         grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
         if self.point is None:
             return grad, curv
         e, v, u, r = self._geometry(state)
+        g = self.free - v @ u
+        if g <= 0.0:
+            return grad, curv
         kin, chain = state.kin, self.chain
         a = kin.axis[chain]
         slide = self.model.prismatic[chain][:, None]
@@ -115,7 +120,7 @@ class Gaze(ComfortTerm):
         u2 = (d2 - 2.0 * u1 * r1[:, None] - u * r2[:, None]) / r
         f1 = v1 @ u + u1 @ v  # d(v . u)
         f2 = v2 @ u + 2.0 * np.einsum("ij,ij->i", v1, u1) + u2 @ v
-        k = weight * self.scale
-        grad[chain] = -k * f1
-        curv[chain] = np.maximum(-k * f2, 0.0)
+        k = weight * self.scale  # cost k g^2, g = cos(eyes' share) - v . u
+        grad[chain] = -2.0 * k * g * f1
+        curv[chain] = np.maximum(2.0 * k * (f1 * f1 - g * f2), 0.0)
         return grad, curv

@@ -40,7 +40,7 @@ register(JointRange, 1.0)
 register(JointLoad, 1.0)
 register(ContactSpread, 0.01)
 register(TrunkTilt, 5.0)  # the behaviour model, on by default (BEHAVIOUR_TRUNK); 0 is the standard model
-register(Gaze, 1.0)  # the head toward the hands; counts only with the behaviour model on
+register(Gaze, 0.0)  # the head toward the hands: off, the fit found no gain (mocap-validation.md); needs trunk > 0
 
 
 class ComfortWeights(Mapping):

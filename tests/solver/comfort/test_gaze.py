@@ -8,6 +8,7 @@ import pytest
 from helpers import finite_difference
 
 from solver import Problem, ProblemSpec, Target
+import solver.comfort.gaze as gaze
 from solver.comfort import BEHAVIOUR, STANDARD, Comfort, Gaze
 from solver.io.scenario.bodies import load_body
 from solver.iteration import solve
@@ -24,13 +25,17 @@ def _targets(model, hands=(("hand_r", (-0.2, -0.45, 1.0)),)) -> list[Target]:
     return [*feet, *(Target(t, np.array(p), lock=("x", "y", "z")) for t, p in hands)]
 
 
-def _problem(model, targets, terms=None, weights=BEHAVIOUR) -> Problem:
+ON = BEHAVIOUR.replace(gaze=1.0)  # the term is off by default (its fit found no gain): switched on here
+
+
+def _problem(model, targets, terms=None, weights=ON) -> Problem:
     return Problem(model, ProblemSpec(targets, balance=True, comfort=terms, comfort_weights=weights))
 
 
 @pytest.mark.parametrize("seed", range(3))
 def test_gaze_gradient_and_curvature_match_finite_differences(male50, seed) -> None:
-    problem = _problem(male50, _targets(male50), Comfort([(2.5, Gaze(male50))]))
+    behind = _targets(male50, (("hand_r", (-0.3, 0.4, 0.4)),))  # well past the eyes' share: the cost is not 0
+    problem = _problem(male50, behind, Comfort([(2.5, Gaze(male50))]))
     term = problem.comfort.terms[0][1]
     rng = np.random.default_rng(seed)
     theta = np.clip(rng.normal(0.0, 0.3, male50.n), male50.lower + 0.01, male50.upper - 0.01)
@@ -53,7 +58,7 @@ def test_gaze_gradient_and_curvature_match_finite_differences(male50, seed) -> N
     assert checked >= 5
 
 
-def test_gaze_aims_at_the_mean_of_the_hand_targets_and_is_one_at_fifteen_degrees(male50) -> None:
+def test_gaze_aims_at_the_mean_of_the_hand_targets_and_is_one_fifteen_degrees_past_the_eyes_share(male50) -> None:
     hands = (("hand_r", (-0.2, -0.5, 0.9)), ("hand_l", (0.2, -0.5, 0.7)))
     problem = _problem(male50, _targets(male50, hands))
     term = next(t for _, t in problem.comfort.terms if t.name == "gaze")
@@ -61,7 +66,9 @@ def test_gaze_aims_at_the_mean_of_the_hand_targets_and_is_one_at_fifteen_degrees
     state = problem.state(problem.start())
     _, v, u, _ = term._geometry(state)
     psi = np.arccos(np.clip(v @ u, -1, 1))
-    assert term.cost(state) == pytest.approx((1 - np.cos(psi)) / (1 - np.cos(np.radians(15.0))))
+    free = gaze.EYES_TAKE
+    expected = (max(np.cos(free) - np.cos(psi), 0.0) / (np.cos(free) - np.cos(free + np.radians(15.0)))) ** 2
+    assert psi > free and term.cost(state) == pytest.approx(expected)
     # moved to other targets (a motion's next frame), the term follows them
     moved = problem.with_targets(_targets(male50, (("hand_r", (0.0, -0.6, 1.4)),)))
     np.testing.assert_allclose(next(t for _, t in moved.comfort.terms if t.name == "gaze").point, [0.0, -0.6, 1.4])
@@ -79,11 +86,12 @@ def test_gaze_is_zero_without_a_hand_target_with_a_user_gaze_or_with_the_behavio
     look = Target("eyes", np.array([0.0, -0.1, 1.6]), np.eye(3), lock=("rx", "rz"))
     assert cost(_problem(male50, [*_targets(male50), look])) == 0.0  # the user's gaze wins
     assert cost(_problem(male50, _targets(male50), weights=STANDARD)) == 0.0
+    assert cost(_problem(male50, _targets(male50), weights=BEHAVIOUR)) == 0.0  # the default: off
     assert cost(_problem(male50, _targets(male50), weights=STANDARD.replace(gaze=1.0))) == 0.0  # trunk 0: off
 
 
 def test_a_solve_turns_the_head_toward_a_low_hand(male50) -> None:
-    targets = _targets(male50, (("hand_r", (-0.15, -0.5, 0.75)),))
+    targets = _targets(male50, (("hand_r", (-0.15, -0.35, 0.5)),))
     on_problem = _problem(male50, targets)
     term = next(t for _, t in on_problem.comfort.terms if t.name == "gaze")
     off = solve(_problem(male50, targets, weights=BEHAVIOUR.replace(gaze=0.0)), male50.zero_pose())
