@@ -2,9 +2,10 @@
 
 h = -sum_k weight_k cost_k(x) over :class:`ComfortTerm` objects, one per module: ``joint_range`` (tan^2 of each
 joint's deviation from neutral), ``joint_load`` (squared joint strain), ``contact_spread`` (squared contact forces),
-``trunk_tilt`` (the trunk's lean from vertical), ``gaze`` (the head turned away from the hands). A new term is a new module with a ComfortTerm; :class:`Comfort`
-takes any list of (weight, term). The standard terms, which every problem has unless it brings its own, are
-registered by name in :mod:`.standard` (one line each), weighted by :class:`ComfortWeights`.
+``trunk_tilt`` (the trunk's lean from vertical), ``gaze`` (the head turned away from the hands). A new term is a new
+module with a ComfortTerm; :class:`Comfort` takes any list of (weight, term). The standard terms, which every
+problem has unless it brings its own, are registered by name in :mod:`.standard` (one line each), weighted by
+:class:`ComfortWeights`.
 """
 
 from __future__ import annotations

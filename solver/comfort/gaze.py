@@ -82,7 +82,7 @@ class Gaze(ComfortTerm):
         bound.point = point
         return bound
 
-    def _geometry(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    def geometry(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
         """(eye point e, view axis v, unit line u, distance r) in the world."""
         kin = state.kin
         r_link = kin.rotation[self.link]
@@ -94,14 +94,14 @@ class Gaze(ComfortTerm):
     def cost(self, state: State) -> float:
         if self.point is None:
             return 0.0
-        _, v, u, _ = self._geometry(state)
+        _, v, u, _ = self.geometry(state)
         return float(self.scale * max(self.free - v @ u, 0.0) ** 2)
 
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
         grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
         if self.point is None:
             return grad, curv
-        e, v, u, r = self._geometry(state)
+        e, v, u, r = self.geometry(state)
         g = self.free - v @ u
         if g <= 0.0:
             return grad, curv

@@ -45,9 +45,10 @@ register(Gaze, 0.0)  # the head toward the hands: off, the fit found no gain (mo
 
 class ComfortWeights(Mapping):
     """Weights of the standard comfort terms (dimensionless), one per registered term: by name,
-    ``ComfortWeights(range=1.0, load=0.5)``, or in the registry's order, ``ComfortWeights(1.0, 0.5, 0.01)`` (range, load,
-    contact, trunk, gaze); a term not given keeps its default. Read as attributes (``weights.load``) or as a mapping
-    (``weights["load"]``, ``dict(weights)``). Frozen (:meth:`replace` makes another); equal when the weights are."""
+    ``ComfortWeights(range=1.0, load=0.5)``, or in the registry's order, ``ComfortWeights(1.0, 0.5, 0.01)`` (range,
+    load, contact, trunk, gaze); a term not given keeps its default. Read as attributes (``weights.load``) or as a
+    mapping (``weights["load"]``, ``dict(weights)``). Frozen (:meth:`replace` makes another); equal when the
+    weights are."""
 
     __slots__ = ("_values",)
 
@@ -132,5 +133,6 @@ def standard_terms(model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> l
     ``weights`` were made has its default weight); the range term with its posture tables when
     :func:`behaviour_on`."""
     posture = behaviour_on(weights)
-    return [(_weight(weights, name, term.weight, posture), JointRange(model, posture) if term.factory is JointRange and posture
-             else term.factory(model)) for name, term in STANDARD_TERMS.items()]  # fmt: skip
+    return [(_weight(weights, name, term.weight, posture),
+             JointRange(model, posture) if term.factory is JointRange and posture else term.factory(model))
+            for name, term in STANDARD_TERMS.items()]  # fmt: skip

@@ -72,7 +72,7 @@ def test_the_comfort_weights_are_the_registered_terms() -> None:
     assert [s.prop for s in settings] == ["comfort_range", "comfort_load", "comfort_contact",
                                           "comfort_trunk", "comfort_gaze"]  # as saved files hold; fmt: skip
     assert [(s.title, s.default) for s in settings] == [("Range", 1.0), ("Load", 1.0), ("Contact", 0.01),
-                                                        ("Trunk", 5.0), ("Gaze", 0.0)]  # fmt: skip  # the behaviour model
+                                                        ("Trunk", 5.0), ("Gaze", 0.0)]  # fmt: skip  # behaviour model
     assert settings[1].description == "Weight: joint moments / strength"
     rig = SimpleNamespace(comfort_range=2.0, comfort_load=0.5, comfort_contact=0.02, comfort_trunk=5.0,
                           comfort_gaze=0.1)  # fmt: skip

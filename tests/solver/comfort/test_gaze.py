@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from helpers import finite_difference
 
-from solver import Problem, ProblemSpec, Target
 import solver.comfort.gaze as gaze
+from solver import Problem, ProblemSpec, Target
 from solver.comfort import BEHAVIOUR, STANDARD, Comfort, Gaze
 from solver.io.scenario.bodies import load_body
 from solver.iteration import solve
@@ -64,7 +64,7 @@ def test_gaze_aims_at_the_mean_of_the_hand_targets_and_is_one_fifteen_degrees_pa
     term = next(t for _, t in problem.comfort.terms if t.name == "gaze")
     np.testing.assert_allclose(term.point, [0.0, -0.5, 0.8])
     state = problem.state(problem.start())
-    _, v, u, _ = term._geometry(state)
+    _, v, u, _ = term.geometry(state)
     psi = np.arccos(np.clip(v @ u, -1, 1))
     free = gaze.EYES_TAKE
     expected = (max(np.cos(free) - np.cos(psi), 0.0) / (np.cos(free) - np.cos(free + np.radians(15.0)))) ** 2
