@@ -75,7 +75,8 @@ def run_phase(
         ctl.hovering = ctl.hovering + 1 if hovers else 0
         if comfort_on and ctl.hovering > tuning.hover_limit:
             return PhaseEnd(at, iteration, StopReason.HOVERING)
-        task_first = tuning.task_first and ctl.dropped
+        far = at.worst > tuning.comfort_slack
+        task_first = (tuning.task_first or (tuning.task_first_far and far)) and ctl.dropped
         outcome = LineSearch(evaluate, at, f, lin, step, tuning, move_limit, task_first).run()
         _adapt_comfort(ctl, outcome, step, tuning, task_first)
         settled = _adapt(ctl, outcome, at, f, step, negligible, tuning, task_first)

@@ -42,6 +42,7 @@ class Tuning:
     comfort_shrink: float = 1.0  # < 1: after comfort was given up, cap the next comfort part at this x the rejected one
     comfort_retry: float = 0.0  # > 0: near, a rejected comfort try keeps its task part and scales comfort by this
     task_first: bool = False  # after comfort was given up, try the task part alone first in the next iteration
+    task_first_far: bool = False  # the same only far from the constraints (comfort rides along no step then)
     # Stopping
     final_gain: float = 2.0  # a full feasible comfort step predicted to gain < this x tolerance ends the phase
     hover_limit: int = 12  # comfort iterations just outside the constraints before the restoring phase
