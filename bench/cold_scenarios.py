@@ -79,12 +79,20 @@ def counting(count: Counter):
         trial.Evaluator.__call__, line_search.LineSearch.run, phases.attempt = evaluate, search, attempt
 
 
+def replace_tuning(tuning, field: str, value: str):
+    """``tuning`` with ``field`` = ``value`` (a Python literal), or with each ``F=V`` of a comma-separated ``field``
+    when ``value`` is ``-``."""
+    import ast
+    from dataclasses import replace
+
+    pairs = [item.split("=", 1) for item in field.split(",")] if value == "-" else [(field, value)]
+    return replace(tuning, **{name: ast.literal_eval(literal) for name, literal in pairs})
+
+
 def run(repeats: int = 10, knobs: str = "") -> str:
     """The table; ``knobs``: ``FIELD=VALUE,...`` of ``Tuning`` to solve with instead of the default."""
     import solver
     from solver.iteration import TUNING
-
-    from .same_iterates import replace_tuning
 
     tuning = replace_tuning(TUNING, knobs, "-") if knobs else TUNING
 

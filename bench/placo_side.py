@@ -38,7 +38,7 @@ def run(seeds: int = 20, knobs: str = "") -> str:
     model = rt.load_body(preset=rt.PRESET)
     box = rt.workspace_box(model)
     balance, groups = rt.CONFIGS["physics + reduction"]
-    from .same_iterates import replace_tuning
+    from .cold_scenarios import replace_tuning
 
     knob_side = f"ours, comfort on, {knobs}"
     sides = (*SIDES, knob_side) if knobs else SIDES

@@ -161,7 +161,7 @@ def tuning(field: str, value: str, count: int = 100) -> str:
     import solver
     from solver.iteration import TUNING
 
-    from .cold_scenarios import counting, single_pose_scenarios
+    from .cold_scenarios import counting, replace_tuning, single_pose_scenarios
     from .live_drag import cases
 
     sides = {"A": TUNING, "B": replace_tuning(TUNING, field, value)}
@@ -194,21 +194,18 @@ def tuning(field: str, value: str, count: int = 100) -> str:
                 lines.append(f"{label} {k}: median {np.median(t) * 1e3:.2f} ms, total {np.sum(t):.2f} s, iterations "
                              f"{sum(it)}, trial points {sum(points)}, converged {sum(ok)}/{len(items)}, mean comfort "
                              f"{np.mean(comfort):.4f}")  # fmt: skip
-            diff = np.array(got["B"][3]) - np.array(got["A"][3])
+            both = np.array(got["A"][2], dtype=bool) & np.array(got["B"][2], dtype=bool)
+            h_a, h_b = np.array(got["A"][3])[both], np.array(got["B"][3])[both]
+            diff = h_b - h_a
+            rel = diff / np.maximum(np.abs(h_a), 1e-9)
             ratio = np.median(np.array(got["B"][0]) / np.array(got["A"][0]))
-            lines.append(f"{label}: B/A time median {ratio:.3f}; comfort B higher in {int((diff > 1e-9).sum())}, "
-                         f"lower in {int((diff < -1e-9).sum())}")  # fmt: skip
+            total = np.sum(got["B"][0]) / np.sum(got["A"][0])
+            worst = 100 * min(rel.min(initial=0.0), 0.0)
+            lines.append(f"{label}: B/A time median {ratio:.3f}, total {total:.3f}; "
+                         f"converged in both {int(both.sum())}: comfort B higher in {int((diff > 1e-9).sum())}, lower "
+                         f"in {int((diff < -1e-9).sum())} (by more than 1 %: {int((rel < -0.01).sum())}, largest "
+                         f"{worst:.1f} %), mean A {h_a.mean():.4f}, B {h_b.mean():.4f}")  # fmt: skip
     return "\n".join(lines)
-
-
-def replace_tuning(tuning, field: str, value: str):
-    """``tuning`` with ``field`` = ``value`` (a Python literal), or with each ``F=V`` of a comma-separated ``field``
-    when ``value`` is ``-``."""
-    import ast
-    from dataclasses import replace
-
-    pairs = [item.split("=", 1) for item in field.split(",")] if value == "-" else [(field, value)]
-    return replace(tuning, **{name: ast.literal_eval(literal) for name, literal in pairs})
 
 
 def main(argv: list[str]) -> None:
