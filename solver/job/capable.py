@@ -152,8 +152,11 @@ class PercentCapable(Method):
             out |= {f"minimum_{s}_pct": t.result[f"minimum_{s}_pct"], f"minimum_{s}_task": t.name,
                     f"minimum_{s}_frame": t.result[f"minimum_{s}_frame"],
                     f"limiting_joint_{s}": t.result[f"limiting_joint_{s}"]}  # fmt: skip
-        words = [f"{out[f'minimum_{s}_pct']:.0f} % of {s} ({out[f'minimum_{s}_task']}, frame "
-                 f"{out[f'minimum_{s}_frame']}, {out[f'limiting_joint_{s}'].replace('_', ' ')})" for s in SEXES]
+        words = [
+            f"{out[f'minimum_{s}_pct']:.0f} % of {s} ({out[f'minimum_{s}_task']}, frame "
+            f"{out[f'minimum_{s}_frame']}, {out[f'limiting_joint_{s}'].replace('_', ' ')})"
+            for s in SEXES
+        ]
         text = (f"{' and '.join(words)} capable at the weakest frame of {len(rated)} tasks; hip, knee and ankle "
                 f"rated, {', '.join(NOT_RATED)} not")  # fmt: skip
         per_task = [dict(task=t.name, minimum_men_pct=t.result["minimum_men_pct"],

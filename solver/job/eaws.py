@@ -141,5 +141,10 @@ class Eaws(Method):
                 f"s cycle, all {len(rated)} tasks: {times}; loads per shift: {loads}")  # fmt: skip
         per_task = [dict(task=t.name, repetitions_per_cycle=t.per_cycle, load_kg=t.result["load_kg"],
                          handlings_per_shift=t.result["handlings_per_shift"]) for t in rated]  # fmt: skip
-        return dict(verdict=verdict(text, None, bent.frames, bent.name), scored=False, bands=bands,
-                    handlings_per_shift=sum(t.result["handlings_per_shift"] for t in rated), per_task=per_task)
+        return dict(
+            verdict=verdict(text, None, bent.frames, bent.name),
+            scored=False,
+            bands=bands,
+            handlings_per_shift=sum(t.result["handlings_per_shift"] for t in rated),
+            per_task=per_task,
+        )

@@ -126,8 +126,10 @@ def write_csv(report: dict, path: Path) -> Path:
                 columns |= result.get("per_frame", {})
             for i, (frame, time) in enumerate(zip(task["frames"], task["times_s"], strict=True)):
                 values = [columns[c][i] if c in columns else None for c in names]
-                w.writerow([task["name"], frame, f"{time:.6g}"] +
-                           ["" if v is None else f"{v:.6g}" if isinstance(v, float) else v for v in values])
+                w.writerow(
+                    [task["name"], frame, f"{time:.6g}"]
+                    + ["" if v is None else f"{v:.6g}" if isinstance(v, float) else v for v in values]
+                )
     return path
 
 

@@ -127,9 +127,19 @@ class ShoulderTool(Method):
         text = (f"P(shoulder clinic visit) {100 * p:.0f} % (CD {cd[side]:.3g} over {len(per_side[side])} tasks, "
                 f"{SIDE[side]} shoulder; {drive.name} {share:.0f} % of it: {r['peak_moment_Nm']:.0f} N*m at frame "
                 f"{r['peak_frame']}, {drive.result['lifts_per_shift']} lifts)")  # fmt: skip
-        per_task = [dict(task=t.name, shoulder=SIDE[s], peak_moment_Nm=r["peak_moment_Nm"], peak_frame=r["peak_frame"],
-                         lifts_per_shift=t.result["lifts_per_shift"], damage_per_cycle=r["damage_per_cycle"],
-                         cumulative_damage=r["cumulative_damage"]) for s, rows in per_side.items() for t, r in rows]
+        per_task = [
+            dict(
+                task=t.name,
+                shoulder=SIDE[s],
+                peak_moment_Nm=r["peak_moment_Nm"],
+                peak_frame=r["peak_frame"],
+                lifts_per_shift=t.result["lifts_per_shift"],
+                damage_per_cycle=r["damage_per_cycle"],
+                cumulative_damage=r["cumulative_damage"],
+            )
+            for s, rows in per_side.items()
+            for t, r in rows
+        ]
         return dict(verdict=verdict(text, level(p), [r["peak_frame"]], drive.name), worst_shoulder=SIDE[side],
                     cumulative_damage_right=cd.get("r", 0.0), cumulative_damage_left=cd.get("l", 0.0),
                     cumulative_damage=cd[side], probability_clinic_visit=p, driving_task=drive.name,
