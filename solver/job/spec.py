@@ -102,7 +102,11 @@ def read_job(path: str | Path) -> Job:
                         f"{shift:g} h shift", repetitions)  # fmt: skip
     name = root.string("name", path.stem)
     if "tasks" in root.data:
-        tasks = tuple(read_task(t, path.parent, i) for i, t in enumerate(root.table_list("tasks", non_empty=True)))
+        readers = root.table_list("tasks", non_empty=True)
+        tasks = tuple(read_task(t, path.parent, i) for i, t in enumerate(readers))
+        for i, task in enumerate(tasks):  # the report's sections and the CSV's task column go by name
+            if task.name in (t.name for t in tasks[:i]):
+                raise readers[i].fail("name", "a name no other task has", task.name)
         first = tasks[0]
         return Job(path=path, name=name, scenario=first.source if first.kind != "result" else None,
                    result=first.source if first.kind == "result" else None, fps=first.fps or 24.0,
