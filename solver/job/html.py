@@ -102,7 +102,7 @@ def _methods(task: dict, frames: dict[int, Frame], level: int = 2) -> str:
     parts = []
     for name, result in task["methods"].items():
         method = METHODS[name]
-        anchor = name if level == 2 else f"{task['name']}-{name}"  # one task: the method's name, as before
+        anchor = name if level == 2 else f"{_slug(task['name'])}-{name}"  # one task: the method's name, as before
         parts.append(f'<h{level} id="{escape(anchor)}">{escape(method.title)}</h{level}>')
         parts += [f"<h{level + 1}>{escape(head)}</h{level + 1}>{_table(header, rows)}"
                   for head, header, rows in method.detail(result)]  # fmt: skip
@@ -121,6 +121,11 @@ def _totals(report: dict) -> str:
         if rows:
             parts.append(_table(list(rows[0]), [list(r.values()) for r in rows]))
     return "".join(parts)
+
+
+def _slug(name: str) -> str:
+    """A task's name as an HTML id (no spaces)."""
+    return "task-" + "-".join(name.split())
 
 
 def _inputs(job: dict) -> list[list]:
@@ -148,7 +153,7 @@ def html_report(report: dict, frames: list[Frame] | None = None, task_frames: li
         for task, numbers in zip(tasks, by_number, strict=True):
             inputs = [[k, v] for k, v in task["inputs"].items()] + [["motion file", task["motion_file"]]]
             notes = "".join(f"<p><small>{escape(n)}</small></p>" for n in task["notes"])
-            body += (f'<h2 id="{escape(task["name"])}">Task: {escape(task["name"])}</h2>{notes}'
+            body += (f'<h2 id="{escape(_slug(task["name"]))}">Task: {escape(task["name"])}</h2>{notes}'
                      f"{_verdicts(task['verdicts'])}{_table(['input', 'value'], inputs)}"
                      f"{_methods(task, numbers, 3)}")  # fmt: skip
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{CSS}</style></head><body>"

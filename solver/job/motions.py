@@ -15,13 +15,15 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..io.result.read import ResultFile, read_result
-from ..problem.problem import Problem
-from ..problem.specs import ExternalLoad
 from .tasks import Force, Task
+
+if TYPE_CHECKING:  # the problem and the solver load only when a task is solved (Blender's job panel never does)
+    from ..problem.problem import Problem
 
 RESULT_NOTE = ("hand forces added to the result's frames at the hand: the joint moments from the hand to the trunk "
                "(elbow, shoulder, L5/S1) include them; the feet's contact forces were not solved again, so the legs' "
@@ -42,6 +44,9 @@ def with_forces(problem_at: Callable[[int], Problem], forces: tuple[Force, ...])
     """``problem_at`` with the forces acting at each frame added to the problem's loads."""
     if not forces:
         return problem_at
+    from ..problem.problem import Problem
+    from ..problem.specs import ExternalLoad
+
     built: dict[tuple, tuple[Problem, Problem]] = {}  # (id of the base problem, active forces) -> (base, loaded)
 
     def at(frame: int) -> Problem:
