@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import UsageError
 from ..io.result.read import ResultFile, read_result
 from .tasks import Force, Task
 
@@ -101,9 +102,10 @@ def _solve(task: Task, path: Path) -> tuple[ResultFile, float, list[str]]:
     return read_result(writer.close()), fps, notes
 
 
-def motions_of(tasks: tuple[Task, ...], out_dir: Path) -> list[TaskMotion]:
+def motions_of(tasks: tuple[Task, ...], out_dir: Path, job_path: Path | None = None) -> list[TaskMotion]:
     """Every task's motion: a result file read (its forces added), a scenario solved into ``out_dir`` (motion.json
-    for one task, motion_<n>.json for task n of several)."""
+    for one task, motion_<n>.json for task n of several). A force acting at none of its task's frames is one
+    UsageError line naming ``job_path`` and the force's key."""
     out = []
     for i, task in enumerate(tasks):
         if task.kind == "result":
@@ -113,4 +115,9 @@ def motions_of(tasks: tuple[Task, ...], out_dir: Path) -> list[TaskMotion]:
         else:
             name = "motion.json" if len(tasks) == 1 else f"motion_{i + 1}.json"
             out.append(TaskMotion(task, *_solve(task, out_dir / name)))
+        numbers = [f.number for f in out[-1].motion.frames]
+        for j, force in enumerate(task.forces):
+            if numbers and not any(force.acts_at(n) for n in numbers):
+                raise UsageError(f"{job_path}: tasks[{i}].forces[{j}].frames: expected frames of the task's motion "
+                                 f"({numbers[0]}-{numbers[-1]}), got {list(force.frames or ())}")  # fmt: skip
     return out

@@ -141,7 +141,7 @@ def run_job(job_path: str | Path, out_dir: str | Path) -> dict:
     job = read_job(job_path)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    motions = motions_of(tasks_of(job), out_dir)
+    motions = motions_of(tasks_of(job), out_dir, job.path)
     report = evaluate_job(job, motions)
     frames = [m.motion.frames for m in motions]
     written = [write_json(out_dir / OUTPUTS[0], report, allow_nan=False), write_csv(report, out_dir / OUTPUTS[1]),

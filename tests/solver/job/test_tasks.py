@@ -210,6 +210,14 @@ def test_tasks_that_do_not_fit_the_cycle_or_the_shift_are_refused(short_result, 
             evaluate_job(job, motions_of(job.tasks, tmp_path))
 
 
+def test_a_force_outside_its_task_s_frames_is_one_line(short_result, tmp_path: Path) -> None:
+    path = tmp_path / "job.toml"
+    force = '[[tasks.forces]]\nhand = "left"\nforce = [0, 0, 1]\nframes = [61, 90]\n'
+    path.write_text(WORK + _task("a", short_result([1, 30, 60])) + force)
+    with pytest.raises(UsageError, match=rf"^{path}: tasks\[0\]\.forces\[0\]\.frames: expected frames of the task's"):
+        motions_of(read_job(path).tasks, tmp_path, path)
+
+
 def test_a_study_or_blender_motion_rates_only_a_one_task_job(short_result) -> None:
     from solver.io.result.read import read_result
 
