@@ -4,12 +4,15 @@
     python blender_manikin/batch.py ARGS                       (with the bpy module: pip install bpy)
 
 ARGS: --scenario S.toml (a new manikin with keyed target empties) and/or --blend FILE.blend (or the .blend Blender
-opened), --manikin NAME (when the scene has several), --frames START END (default: the scenario's motion or the
-scene's range), --out OUT.blend, --export OUT.fbx|OUT.bvh|OUT.glb|OUT.gltf (repeatable), --report REPORT.json,
---result RESULT.json (the format of python -m solver solve), --picture KEY_POSES.png, --plots PREFIX (ergonomics
-plots PREFIX_loads.png, PREFIX_scores.png, PREFIX_back.png), --retarget RIG|ARMATURE (key the baked motion onto a
-shipped rig built beside the manikin: mpfb_default, game_engine, mixamo, cmu_mb, rigify; or onto an armature of the
-.blend; the exports then write it instead of the manikin), -q.
+opened), or --operations OPS.toml (a new manikin, the file's objects and operations imported as Import Operations does,
+the motion generated in this process as ``manikin operate`` generates it and keyed as Generate Motion keys it: the
+armature and the objects; no --scenario, --blend, --manikin, --frames or --retarget), --manikin NAME (when the scene has
+several), --frames START END (default: the scenario's motion or the scene's range), --out OUT.blend, --export
+OUT.fbx|OUT.bvh|OUT.glb|OUT.gltf (repeatable), --report REPORT.json, --result RESULT.json (the format of python -m
+solver solve), --picture KEY_POSES.png, --plots PREFIX (ergonomics plots PREFIX_loads.png, PREFIX_scores.png,
+PREFIX_back.png), --retarget RIG|ARMATURE (key the baked motion onto a shipped rig built beside the manikin:
+mpfb_default, game_engine, mixamo, cmu_mb, rigify; or onto an armature of the .blend; the exports then write it instead
+of the manikin), -q.
 
 Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input or a file
 that cannot be written (one line on stderr; each file is written beside its name, checked and renamed, so a full
@@ -58,6 +61,8 @@ def parser() -> argparse.ArgumentParser:
     p = ERRORS.ArgumentParser(prog="batch.py", description=__doc__.splitlines()[0])  # a bad argument: one line
     p.add_argument("--scenario", type=Path, help="scenario TOML: creates the manikin and its (keyed) targets")
     p.add_argument("--blend", type=Path, help="open this .blend first (its manikin and animated targets)")
+    p.add_argument("--operations", type=Path, help="operations scenario TOML ([[objects]], [[operations]]): a new "
+                   "manikin, the motion generated from the operations")  # fmt: skip
     p.add_argument("--manikin", help="the armature to bake when the scene has several manikins")
     p.add_argument("--frames", type=int, nargs=2, metavar=("START", "END"), help="frame range (inclusive)")
     p.add_argument("--out", type=Path, help="save the baked scene as this .blend")
@@ -89,6 +94,10 @@ def parse(argv: list[str]) -> argparse.Namespace:
         raise BadInput(f"--out {args.out}: expected a .blend file")
     if args.picture is not None and args.picture.suffix.lower() != ".png":
         raise BadInput(f"--picture {args.picture}: expected a .png file")
+    if args.operations is not None:
+        given = [f"--{name}" for name in ("scenario", "blend", "manikin", "frames", "retarget") if getattr(args, name)]
+        if given:
+            raise BadInput(f"--operations makes its own manikin and frames from the file: leave out {', '.join(given)}")
     return args
 
 
@@ -150,8 +159,11 @@ def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
     """Bake and write with the loaded extension; its exit code (bad input: one line on stderr, 2)."""
     job = importlib.import_module(f"{extension.__name__}.blender_manikin.motion.job")
     errors = importlib.import_module(f"{extension.__name__}.solver.errors")
+    run = job.run
+    if args.operations is not None:  # generated from the operations, not baked from targets
+        run = importlib.import_module(f"{extension.__name__}.blender_manikin.operations.headless").run
     try:
-        return job.run(
+        return run(
             job.Job(
                 scenario=args.scenario,
                 blend=args.blend,
@@ -165,6 +177,7 @@ def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
                 plots=args.plots,
                 retarget=args.retarget,
                 quiet=args.quiet,
+                operations=args.operations,
             )
         )
     except (errors.ManikinError, OSError) as exc:

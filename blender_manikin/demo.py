@@ -1,16 +1,18 @@
-"""The demo: a 10 kg box lifted from a low shelf onto a table over 60 frames, baked headlessly; and a hand put
-into a wall cabinet's compartment.
+"""The demo: a 10 kg box taken off a low shelf and set onto a table, generated from its operations alone (no keyed
+target) and rendered; and a hand put into a wall cabinet's compartment.
 
-    python -m blender_manikin.demo [--out-dir out] [--frames START END] [-q]
+    python -m blender_manikin.demo [--out-dir out] [-q]
 
-runs ``batch.py`` on presets/scenarios/box_lift_motion.toml and writes ``box_lift.blend`` (the keyed manikin, its
-animated targets, the shelf and table as obstacles and the carried box keyed with the hands: open it in Blender
-4.2+ with the extension), ``box_lift.glb`` and ``box_lift.bvh`` (the motion for other tools),
-``box_lift_report.json`` (per frame: convergence, times, residuals, RULA, REBA, OWAS, joint loads, L4/L5
-compression, NIOSH) and ``box_lift_key_poses.png`` (key poses side by side, with the shelf, table and box); then on
-presets/scenarios/cabinet_reach.toml (one pose, the arm in between the cabinet's boards) ``cabinet_reach.blend``
-and ``cabinet_reach.png``. Blender runs with a throwaway user folder, so your own Blender settings and add-ons stay
-out of it. Exit codes as batch.py (the first job's that failed).
+runs ``batch.py --operations`` on presets/operations/box_lift.toml (get the box, place it onto the table: the
+generator plans the stance, the steps and the hands' ways, times them by MTM-1 and solves every frame in balance)
+and writes ``box_lift.blend`` (the keyed manikin, the shelf and table as obstacles, the box keyed with the hands
+and the operation list: open it in Blender 4.2+ with the extension), ``box_lift.glb`` and ``box_lift.bvh`` (the
+motion for other tools), ``box_lift_report.json`` (per frame: convergence, times, residuals, RULA, REBA, OWAS,
+joint loads, L4/L5 compression; the NIOSH lift from the grasp to the release) and ``box_lift_key_poses.png`` (key
+poses side by side, with the shelf, table and box); then on presets/scenarios/cabinet_reach.toml (one pose, the
+arm in between the cabinet's boards) ``cabinet_reach.blend`` and ``cabinet_reach.png``. Blender runs with a
+throwaway user folder, so your own Blender settings and add-ons stay out of it. Exit codes as batch.py (the first
+job's that failed).
 """
 
 from __future__ import annotations
@@ -21,18 +23,18 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENARIO = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
+OPERATIONS = ROOT / "presets" / "operations" / "box_lift.toml"  # no keyed target: generated from its operations
 NAME = "box_lift"
 REACH = ROOT / "presets" / "scenarios" / "cabinet_reach.toml"  # a single pose among obstacles
 REACH_NAME = "cabinet_reach"
 
 
-def batch_args(out_dir: Path, frames: list[int] | None = None, quiet: bool = False) -> list[str]:
-    """The batch.py arguments of the demo."""
+def batch_args(out_dir: Path, quiet: bool = False) -> list[str]:
+    """The batch.py arguments of the demo's box lift (generated from its operations)."""
     out = out_dir / NAME
-    args = ["--scenario", str(SCENARIO), "--out", f"{out}.blend", "--export", f"{out}.glb"]
+    args = ["--operations", str(OPERATIONS), "--out", f"{out}.blend", "--export", f"{out}.glb"]
     args += ["--export", f"{out}.bvh", "--report", f"{out}_report.json", "--picture", f"{out}_key_poses.png"]
-    return args + (["--frames", *map(str, frames)] if frames else []) + (["-q"] if quiet else [])
+    return args + (["-q"] if quiet else [])
 
 
 def reach_args(out_dir: Path, quiet: bool = False) -> list[str]:
@@ -45,14 +47,13 @@ def main(argv: list[str] | None = None) -> int:
     summary = " ".join(__doc__.split("\n\n")[0].split())  # the first paragraph, on one line
     parser = argparse.ArgumentParser(prog="python -m blender_manikin.demo", description=summary)
     parser.add_argument("--out-dir", type=Path, default=Path("out"), help="where the files go (default: out/)")
-    parser.add_argument("--frames", type=int, nargs=2, metavar=("START", "END"), help="bake part of the motion")
     parser.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="manikin-demo-user-") as user:
         os.environ.setdefault("BLENDER_USER_RESOURCES", user)  # read before bpy is imported (in batch.main)
         from .batch import main as batch
 
-        code = batch(batch_args(args.out_dir, args.frames, args.quiet))
+        code = batch(batch_args(args.out_dir, args.quiet))
         if code != 2:
             code = code or batch(reach_args(args.out_dir, args.quiet))
     if code != 2 and not args.quiet:

@@ -17,6 +17,7 @@ from mathutils import Matrix
 from ...solver.body.spatial import quat_to_matrix
 from ...solver.collision.placed import placed_mesh
 from ...solver.operations.objects import origin_of
+from ..scene.carried_object import COLOR, MATERIAL
 from ..scene.schema import IMPORTED_KEY
 
 TARGET_SIZE = 0.1  # m: the target empties' axes
@@ -37,6 +38,9 @@ def add_object(scene: bpy.types.Scene, arm: bpy.types.Object, obj, source: str) 
     vertices, faces, local, _ = placed_mesh(obj.shape)
     mesh = bpy.data.meshes.new(obj.name)
     mesh.from_pydata(vertices.tolist(), [], faces.tolist())
+    material = bpy.data.materials.get(MATERIAL) or bpy.data.materials.new(MATERIAL)
+    material.diffuse_color = COLOR  # cardboard, as a carried box: told apart from the grey obstacles
+    mesh.materials.append(material)
     ob = bpy.data.objects.new(obj.name, mesh)
     scene.collection.objects.link(ob)
     ob.matrix_world = arm.matrix_world @ Matrix(local.tolist())
@@ -116,16 +120,18 @@ def add_operations(scene: bpy.types.Scene, arm: bpy.types.Object, operations, so
     return warnings
 
 
-def import_operations(context: bpy.types.Context, path: str | Path, onto: bpy.types.Object | None) -> tuple:
+def import_operations(context: bpy.types.Context, path: str | Path, onto: bpy.types.Object | None,
+                      planned=None) -> tuple:  # fmt: skip
     """Read the operations scenario ``path`` into the scene; (the manikin, objects made, operations, warnings).
-    ManikinError (one line) for a bad file, before anything changes."""
+    ManikinError (one line) for a bad file, before anything changes. ``planned``: the file's
+    ``solver.operations.generate.Job`` when the caller has read and planned it already (batch.py)."""
     from ...solver.io.scenario.read import read_toml
     from ...solver.operations.generate import load_operations
     from ...solver.operations.schema import read_operations
     from ..scenario.read import apply_scenario
 
     path = Path(path)
-    job = load_operations(path)  # the whole file read and planned: a bad operation is one line here
+    job = planned or load_operations(path)  # the whole file read and planned: a bad operation is one line here
     operations = read_operations(read_toml(path))
     done = apply_scenario(context, job.scenario, path.name, onto, replace=True)
     scene, arm = context.scene, done.arm

@@ -21,7 +21,7 @@ U_MAX = 0.48 * np.pi
 # ankles costs less per degree than leaning the trunk (priced by :mod:`.trunk_tilt`): with 1 everywhere a squat cost
 # 4 times a stoop and the manikin stooped every low lift where people bend the knees. Fitted on the training subjects
 # of the motion-capture validation (docs/explanation/mocap-validation.md, docs/TUNING.md); the held-out test them.
-POSTURE_SCALE = {"knee_flexion": 0.1, "hip_flexion": 0.5, "ankle_dorsiflexion": 0.2}
+POSTURE_SCALE = {"knee_flexion": 0.3, "hip_flexion": 0.5, "ankle_dorsiflexion": 0.2}
 
 
 # Per motion: a neutral value (rad) replacing the model's in the behaviour model (clipped into the joint's limits).
@@ -35,15 +35,21 @@ POSTURE_NEUTRAL: dict[str, float] = {"elbow_flexion": float(np.radians(60.0))}
 # 0.5 (the wall 12.5 deg past the limit, tan^2 = 13 at a straight elbow) x1.18, and the training subjects' elbows
 # are fitted as well as with the wall (docs/TUNING.md).
 POSTURE_SPAN = 0.5
+# Per motion: the tan^2 span above the neutral value (rad) in the behaviour model, where shorter than the span up to
+# the joint's limit: the cost's wall comes before the limit, so bending further costs steeply more. The knee's at
+# 110 deg (limit 140): people lift in a semi-squat, knees 30-60 deg, and avoid the full squat (Burgess-Limerick &
+# Abernethy 1997; REBA adds to the legs' score from 60 deg of knee flexion, Hignett & McAtamney 2000), and the knee
+# extensors' moment grows with flexion (van Dieen et al. 1999). Costs x 0.3: 0.4 at 60 deg, 3.5 at 90, 15 at 100 deg.
+POSTURE_SPAN_UP: dict[str, float] = {"knee_flexion": float(np.radians(110.0))}
 
 
-def posture_scale(names: tuple[str, ...], table: dict[str, float] = POSTURE_SCALE) -> np.ndarray:
-    """Per joint, the scale ``table`` gives its motion (``knee_r_flexion`` -> ``knee_flexion``), else 1."""
-    out = np.ones(len(names))
+def posture_scale(names: tuple[str, ...], table: dict[str, float] = POSTURE_SCALE, other: float = 1.0) -> np.ndarray:
+    """Per joint, the value ``table`` gives its motion (``knee_r_flexion`` -> ``knee_flexion``), else ``other``."""
+    out = np.full(len(names), other)
     for i, name in enumerate(names):
         parts = name.split("_")
         if len(parts) == 3 and parts[1] in ("r", "l"):
-            out[i] = table.get(f"{parts[0]}_{parts[2]}", 1.0)
+            out[i] = table.get(f"{parts[0]}_{parts[2]}", other)
     return out
 
 
@@ -72,7 +78,8 @@ class JointRange(ComfortTerm):
         scale = posture_scale(model.joint_names) if posture else 1.0
         finite = np.isfinite(lo) & np.isfinite(hi) & (hi > lo)
         self.joint_weight = np.where(finite, model.range_weight * scale, 0.0)
-        self.span_up = np.where(finite, np.maximum(hi - mid, 1e-9), 1.0)
+        up = np.minimum(hi - mid, posture_scale(model.joint_names, POSTURE_SPAN_UP, np.inf)) if posture else hi - mid
+        self.span_up = np.where(finite, np.maximum(up, 1e-9), 1.0)
         down = mid - lo
         if posture:  # a moved neutral value keeps its wall off the lower limit (POSTURE_SPAN)
             moved = mid != np.asarray(model.neutral, dtype=float)

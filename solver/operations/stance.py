@@ -24,7 +24,7 @@ import numpy as np
 from ..body.model import GRAVITY
 from ..problem.problem import Problem
 from ..problem.specs import ExternalLoad, Target
-from ..stance import find_stance, foot_targets
+from ..stance import Step, find_stance, foot_targets
 
 PACE = 0.45  # m: the longest pace (a foot's travel)
 LIFT = 0.05  # m: a swinging foot's height at mid-swing
@@ -81,8 +81,15 @@ class StanceFinder:
             problem, x = found.problem, found.result.x
             if found.converged:
                 break
-        moved = {t.tcp: np.asarray(t.position, dtype=float) for t in foot_targets(problem).values()}
-        return {tcp: np.array([*moved[tcp][:2], feet[tcp][2]]) for tcp in feet}, lines[-1]
+        final = foot_targets(problem)
+        moved = {t.tcp: np.asarray(t.position, dtype=float) for t in final.values()}
+        out = {tcp: np.array([*moved[tcp][:2], feet[tcp][2]]) for tcp in feet}
+        if not found.converged:
+            return out, lines[-1]
+        # the steps from where the feet stood (the walk-up and the finder's last step together)
+        turns = {t.tcp: _turn_deg(t.rotation) for t in final.values()}
+        steps = [_net_step(tcp, feet[tcp], out[tcp], turns.get(tcp, 0.0)) for tcp in feet]
+        return out, "; ".join(s.text() for s in steps if s.length > 0.01 or abs(s.turn_deg) > 1.0) or lines[-1]
 
     def _problem(self, feet: dict, hands: dict, mass: float, obstacles: list) -> Problem:
         base = self.base
@@ -94,6 +101,22 @@ class StanceFinder:
         loads = [ExternalLoad(tcp, mass * GRAVITY / len(hands)) for tcp in hands] if mass > 0 else []
         spec = base.spec.replace(targets=targets, loads=loads, obstacles=[*base.spec.obstacles, *obstacles])
         return Problem(base.model, spec)
+
+
+def _turn_deg(rotation: np.ndarray | None) -> float:
+    """A foot target's turn about z from the facing (deg, left positive); 0 without a rotation."""
+    if rotation is None:
+        return 0.0
+    heading = np.asarray(rotation, dtype=float)[:, 1]  # the sole's long axis, +y at the zero pose
+    return float(np.degrees(np.arctan2(-heading[0], heading[1])))
+
+
+def _net_step(tcp: str, start: np.ndarray, end: np.ndarray, turn_deg: float) -> Step:
+    """The step of ``tcp`` from ``start`` to ``end`` (m), its direction from the facing (-y), left positive."""
+    d = (end - start)[:2]
+    direction = float(np.degrees(np.arctan2(d[0], -d[1]))) if np.linalg.norm(d) > 1e-9 else 0.0
+    return Step(tcp, float(np.linalg.norm(d)), direction, turn_deg,
+                tuple(map(float, start)), tuple(map(float, end)))
 
 
 def paces(start: dict[str, np.ndarray], goal: dict[str, np.ndarray]) -> list[tuple[str, np.ndarray, np.ndarray]]:

@@ -31,9 +31,10 @@ class PoseTask(Protocol):
     spec: ProblemSpec
     comfort: Comfort
 
-# The crouch: knees 100 deg, hips 80 deg, ankles 15 deg dorsiflexed, on both sides (a half squat; the solver
-# moves on from it).
-CROUCH_DEG = {"knee_{s}_flexion": 100.0, "hip_{s}_flexion": 80.0, "ankle_{s}_dorsiflexion": 15.0}
+# The crouch: knees 60 deg, hips 60 deg, ankles 10 deg dorsiflexed, on both sides (the semi-squat people lift in,
+# knees 30-60 deg: Burgess-Limerick & Abernethy 1997; the solver moves on from it). A deeper start (knees 100, hips
+# 80, ankles 15) over-squatted low picks and set-downs (docs/TUNING.md).
+CROUCH_DEG = {"knee_{s}_flexion": 60.0, "hip_{s}_flexion": 60.0, "ankle_{s}_dorsiflexion": 10.0}
 HIP_JOINT = "hip_r_flexion"
 
 

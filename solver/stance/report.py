@@ -46,7 +46,7 @@ class Step:
         """ "foot_r stepped 0.42 m at 12 deg (left of forward), turned -5 deg"."""
         side = "forward" if abs(self.direction_deg) < 0.5 else ("left" if self.direction_deg > 0 else "right")
         where = f"{abs(self.direction_deg):.0f} deg {side} of forward" if side != "forward" else "straight forward"
-        return f"{self.foot} stepped {self.length:.2f} m, {where}, turned {self.turn_deg:.0f} deg"
+        return f"{self.foot} stepped {self.length:.2f} m, {where}, turned {round(self.turn_deg)} deg"  # never "-0"
 
 
 def _angle(a: np.ndarray, b: np.ndarray) -> float:

@@ -204,37 +204,49 @@ def test_batch_prints_only_its_own_lines(tmp_path: Path, run, quiet: bool) -> No
 
 
 def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: Path) -> None:
-    """``python -m blender_manikin.demo -q``: every file written, not a line printed."""
-    args = ["-m", "blender_manikin.demo", "--out-dir", tmp_path, "--frames", 1, 3, "-q"]
+    """``python -m blender_manikin.demo -q``: every file written, not a line printed. The box lift is generated
+    from presets/operations/box_lift.toml alone (issues 35, 36): the knees bend at the low shelf, the worker steps
+    toward the table, the box is keyed from the shelf onto the table."""
+    args = ["-m", "blender_manikin.demo", "--out-dir", tmp_path, "-q"]
     done = run_python(blender_python, args, user, cwd=ROOT)
     assert (done.returncode, done.stdout, done.stderr) == (0, "", "")
     written = sorted(p.name for p in tmp_path.iterdir())
     assert written == ["box_lift.blend", "box_lift.bvh", "box_lift.glb", "box_lift_key_poses.png",
                        "box_lift_report.json", "cabinet_reach.blend", "cabinet_reach.png"]  # fmt: skip
+    report = json.loads((tmp_path / "box_lift_report.json").read_text(encoding="utf-8"))
+    assert report["converged"] and report["source"]["operations"].endswith("box_lift.toml")
+    grasp = report["niosh"]["origin"]["frame"]  # the first frame the hands hold the box (on the shelf)
+    knees = report["frames"][grasp - 1]["ergonomics"]["posture"]
+    assert min(knees["l"]["knee_flexion"], knees["r"]["knee_flexion"]) > 60, knees
+    assert report["niosh"]["load_kg"] == pytest.approx(10.0)
     seen = tmp_path / "seen.json"
     done = run_python(blender_python, ["-c", SCENE, tmp_path / "box_lift.blend", seen], user, cwd=tmp_path)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     scene = json.loads(seen.read_text(encoding="utf-8"))
-    assert {"shelf", "table"} <= set(scene["obstacles"])  # the scenario's obstacles are objects in the .blend
-    assert scene["box"]["animated"]  # the carried box is keyed, at every frame baked between the hands
-    places = [box for box, _ in scene["box"]["at"].values()]
-    assert np.linalg.norm(np.subtract(places[-1], places[0])) > 1e-3  # it moves with them
-    for frame, (box, hands) in scene["box"]["at"].items():
-        assert np.allclose(box, np.mean(hands, axis=0), atol=1e-4), frame
+    assert {"shelf", "table"} <= set(scene["obstacles"])  # the file's obstacles are objects in the .blend
+    assert scene["box"]["animated"]
+    first, last = scene["box"]["at"][str(scene["start"])], scene["box"]["at"][str(scene["end"])]
+    assert np.allclose(first, [0.0, -0.40, 0.40], atol=2e-3)  # on the shelf
+    assert abs(last[1] + 0.87) < 0.02 and abs(last[2] - 0.872) < 0.01  # on the table (its top at 0.75 m)
+    feet = scene["feet_y"]  # the manikin faces -y: it stepped toward the table
+    assert feet[str(scene["end"])] < feet[str(scene["start"])] - 0.05, feet
 
 
 SCENE = """
 import bpy, json, sys
+from mathutils import Vector
 blend, out = sys.argv[1], sys.argv[2]
 bpy.ops.wm.open_mainfile(filepath=blend, load_ui=False)
-box = next(ob for ob in bpy.data.objects if "manikin_carried" in ob)
-at = {}
-for frame in (1, 2, 3):
-    bpy.context.scene.frame_set(frame)
-    hands = [list(bpy.data.objects["tcp." + t].matrix_world.translation) for t in ("hand_r", "hand_l")]
-    at[frame] = [list(box.matrix_world.translation), hands]
+scene = bpy.context.scene
+box = bpy.data.objects["box"]
+at, feet = {}, {}
+for frame in (scene.frame_start, scene.frame_end):
+    scene.frame_set(frame)
+    at[frame] = list(sum((box.matrix_world @ Vector(c) for c in box.bound_box), Vector()) / 8)
+    feet[frame] = sum(bpy.data.objects["tcp." + t].matrix_world.translation.y for t in ("foot_r", "foot_l")) / 2
 obstacles = [ob.name for ob in bpy.data.collections["Obstacles"].objects]
-seen = dict(obstacles=obstacles, box=dict(animated=box.animation_data is not None, at=at))
+seen = dict(obstacles=obstacles, start=scene.frame_start, end=scene.frame_end, feet_y=feet,
+            box=dict(animated=box.animation_data is not None, at=at))
 with open(out, "w", encoding="utf-8") as fh:
     json.dump(seen, fh)
 """

@@ -20,7 +20,6 @@ from solver.body.spatial import quat_to_matrix
 from solver.collision import Box, HalfSpace, Mesh, box_distance, obstacle_distance
 from solver.collision.body import capsules_of
 from solver.collision.carried import Carried, carried_box, carried_frame
-from solver.comfort import STANDARD
 from solver.errors import ScenarioError
 from solver.io.scenario.bodies import load_body
 from solver.problem.priorities import ranked
@@ -218,14 +217,12 @@ def test_a_mesh_corner_poking_into_the_middle_of_a_box_face_is_measured():
 def test_hands_set_the_box_down_onto_a_spike_leave_it_on_the_tip(tmp_path):
     """Hand targets that would push a pyramid's tip 4 cm up into the middle of the box's bottom face end unmet: the
     box rests on the tip, recomputed from the result JSON by the independent check (the mesh's edges against the
-    box too). The standard model (trunk 0): the behaviour model starts this reach (hands below the hip) from its
-    crouch, where the box sits behind the spike below its tip and is held beside it (hands 11-14 cm short, not 4:
-    docs/TUNING.md, the behaviour model as the default)."""
+    box too). The default (behaviour) model: its semi-squat start passes this; the deep crouch it started from before
+    held the box beside the spike below its tip (docs/TUNING.md, "The semi-squat revision")."""
     model = load_body(preset="male_50")
     box = Carried(np.array([0.35, 0.30, 0.24]), ("hand_r", "hand_l"), "box")
     pyramid = spike([0.0, -0.24, 0.72], height=0.2, half=0.04)  # the box's bottom held at 0.68 m
-    problem = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[pyramid],
-                                         comfort_weights=STANDARD))  # fmt: skip
+    problem = Problem(model, ProblemSpec(held_low(model, box).all_targets, carried=box, obstacles=[pyramid]))
     result, frame = solved_pose(problem, tmp_path)
     assert not result.converged and set(result.unmet) == {"hand_r", "hand_l"}
     placed, _, wrong = carried_obstacle(frame)

@@ -40,7 +40,12 @@ def test_clearance_jacobian_matches_finite_differences(male50):
     box = Box([-0.3, -0.3, 0.5], [0.4, 0.4, 0.4], name="box")
     problem, clearance = reach_below(male50, [FLOOR, box])
     rng = np.random.default_rng(11)
-    x = problem.start() + np.r_[rng.uniform(-0.5, 0.5, male50.n), np.zeros(problem.n_x - male50.n)]
+    x = problem.start()
+    for side in ("r", "l"):  # the deep crouch (the behaviour model's start before its semi-squat): legs well bent
+        for joint, degrees in (("knee", 100.0), ("hip", 80.0), ("ankle", 15.0)):
+            name = f"{joint}_{side}_{'dorsiflexion' if joint == 'ankle' else 'flexion'}"
+            x[male50.joint_index(name)] = np.radians(degrees)
+    x = x + np.r_[rng.uniform(-0.5, 0.5, male50.n), np.zeros(problem.n_x - male50.n)]
     x[2] = -0.45  # root lowered: the legs and hips go through the floor
     state = problem.state_of_x(x)
     value = clearance.value(state)
@@ -54,8 +59,8 @@ def test_clearance_jacobian_matches_finite_differences(male50):
 def test_the_floor_keeps_the_manikin_standing(male50):
     """A hand target 1 m below the floor: without the floor the solve 'converges' with the pelvis at the floor;
     with it (the default) the hand ends short, nothing goes more than 1 mm below z = 0 (recomputed from the
-    capsules), the feet and balance hold. The standard model (trunk 0): from the behaviour model's crouched start
-    the free solve stops 66 cm short of this target 1 m below the feet (docs/TUNING.md)."""
+    capsules), the feet and balance hold. The standard model (trunk 0): with the behaviour model the free solve
+    stops 66 cm short of this target 1 m below the feet, from its crouched and its rested start (docs/TUNING.md)."""
     free, _ = reach_below(male50, [])
     sunk = solve(free)
     pelvis = male50.forward(sunk.theta).tcp_frame(male50.tcp("pelvis"))[1][2]
