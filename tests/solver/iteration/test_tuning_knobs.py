@@ -68,14 +68,18 @@ def test_comfort_retry_keeps_the_task_part_whole(monkeypatch, retry):
     np.testing.assert_allclose(points[1], problem.bounds.clip(second), atol=1e-12)
 
 
-def test_task_first_follows_a_dropped_comfort_part(monkeypatch):
-    """With ``task_first`` the iteration after one that gave comfort up tries the task part alone."""
-    seen = _searches(monkeypatch, replace(TUNING, task_first=True))
+@pytest.mark.parametrize("field", ["task_first", "task_first_far"])
+def test_task_first_follows_a_dropped_comfort_part(monkeypatch, field):
+    """With ``task_first`` the iteration after one that gave comfort up tries the task part alone (with
+    ``task_first_far`` only far from the constraints); no other iteration does."""
+    seen = _searches(monkeypatch, replace(TUNING, **{field: True}))
     pairs = list(zip(seen[:-1], seen[1:], strict=True))
-    followed = [after for before, after in pairs if _dropped(*before)]
-    assert followed, "the high box lift gives comfort up at least once"
-    for search, _ in followed:
-        assert search.task_first and search.attempts() == [(False, TUNING.task_tries)]
+    assert any(_dropped(*before) for before, _ in pairs), "the high box lift gives comfort up at least once"
+    for before, (search, _) in pairs:
+        wanted = _dropped(*before) and (field == "task_first" or not search.near)
+        assert search.task_first == wanted
+        if wanted:
+            assert search.attempts() == [(False, TUNING.task_tries)]
 
 
 def test_comfort_shrink_caps_the_next_comfort_part(monkeypatch):
