@@ -7,7 +7,7 @@ functions: trial evaluations, line searches that cut the step back (an accepted 
 comfort part dropped) or found nothing, the evaluations those cut-backs cost, and attempts beyond the first
 (restarts from another pose, the ranked re-solve of an unmet problem).
 
-    python -m bench.cold_scenarios [REPEATS]      # default 10
+    python -m bench.cold_scenarios [REPEATS [FIELD=VALUE,...]]   # default 10; knobs of Tuning changed
 """
 
 from __future__ import annotations
@@ -79,8 +79,22 @@ def counting(count: Counter):
         trial.Evaluator.__call__, line_search.LineSearch.run, phases.attempt = evaluate, search, attempt
 
 
-def run(repeats: int = 10) -> str:
+def replace_tuning(tuning, field: str, value: str):
+    """``tuning`` with ``field`` = ``value`` (a Python literal), or with each ``F=V`` of a comma-separated ``field``
+    when ``value`` is ``-``."""
+    import ast
+    from dataclasses import replace
+
+    pairs = [item.split("=", 1) for item in field.split(",")] if value == "-" else [(field, value)]
+    return replace(tuning, **{name: ast.literal_eval(literal) for name, literal in pairs})
+
+
+def run(repeats: int = 10, knobs: str = "") -> str:
+    """The table; ``knobs``: ``FIELD=VALUE,...`` of ``Tuning`` to solve with instead of the default."""
     import solver
+    from solver.iteration import TUNING
+
+    tuning = replace_tuning(TUNING, knobs, "-") if knobs else TUNING
 
     names = single_pose_scenarios()
     loaded = {name: solver.load_scenario(PRESETS / f"{name}.toml") for name in names}
@@ -91,7 +105,7 @@ def run(repeats: int = 10) -> str:
                 sc = loaded[name]
                 count.clear()
                 t0 = time.perf_counter()
-                result = solver.solve(sc.problem, sc.start, sc.options)
+                result = solver.solve(sc.problem, sc.start, sc.options, tuning)
                 per[name].append((time.perf_counter() - t0, result.iterations, bool(result.converged), Counter(count)))
     lines = [
         "| scenario | median ms | p95 ms | <= 50 ms | iterations | converged | evaluations | line searches cut back "
@@ -119,4 +133,4 @@ def run(repeats: int = 10) -> str:
 
 if __name__ == "__main__":
     one_core("bench.cold_scenarios")
-    print(run(*map(int, sys.argv[1:2])))
+    print(run(*map(int, sys.argv[1:2]), *sys.argv[2:3]))

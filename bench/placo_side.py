@@ -9,7 +9,8 @@ Success is judged by our constraint function for all three. placo is a benchmark
     python3 -m venv /work/venv-bench
     /work/venv-bench/bin/pip install numpy==1.26.4 scipy==1.15.3
     /work/venv-bench/bin/pip install --no-deps -r requirements-bench.txt
-    /work/venv-bench/bin/python -m bench.placo_side [SEEDS]      # 20: 120 trials
+    /work/venv-bench/bin/python -m bench.placo_side [SEEDS [FIELD=VALUE,...]]   # 20: 120 trials
+    # with knobs of Tuning: a fourth side, ours with comfort on and those knobs (an A/B of an algorithmic change)
 """
 
 from __future__ import annotations
@@ -24,9 +25,9 @@ from . import one_core
 SIDES = ("ours, comfort on", "ours, comfort off", "placo")
 
 
-def run(seeds: int = 20) -> str:
+def run(seeds: int = 20, knobs: str = "") -> str:
     """Median ms and successes per side, and the ratios placo / ours of the medians; Markdown table rows."""
-    from solver.iteration import solve
+    from solver.iteration import TUNING, solve
     from solver.options import SolverOptions
 
     from . import random_targets as rt
@@ -37,14 +38,19 @@ def run(seeds: int = 20) -> str:
     model = rt.load_body(preset=rt.PRESET)
     box = rt.workspace_box(model)
     balance, groups = rt.CONFIGS["physics + reduction"]
-    times: dict[str, list[float]] = {s: [] for s in SIDES}
-    good = dict.fromkeys(SIDES, 0)
-    steps: dict[str, list[int]] = {s: [] for s in SIDES}  # iterations (placo: QP steps)
+    from .cold_scenarios import replace_tuning
+
+    knob_side = f"ours, comfort on, {knobs}"
+    sides = (*SIDES, knob_side) if knobs else SIDES
+    tunings = {knob_side: replace_tuning(TUNING, knobs, "-")} if knobs else {}
+    times: dict[str, list[float]] = {s: [] for s in sides}
+    good = dict.fromkeys(sides, 0)
+    steps: dict[str, list[int]] = {s: [] for s in sides}  # iterations (placo: QP steps)
     trial = 0
     for level in range(len(rt.LEVELS)):
         for seed in range(seeds):
             targets = rt.draw_targets(model, box, rt.LEVELS[level], 7000 + seed)
-            order = SIDES[trial % 3 :] + SIDES[: trial % 3]
+            order = sides[trial % len(sides) :] + sides[: trial % len(sides)]
             trial += 1
             for side in order:
                 if side == "placo":
@@ -54,16 +60,16 @@ def run(seeds: int = 20) -> str:
                     steps[side].append(peer.iterations)
                     continue
                 problem = rt.trial_problem(model, targets, balance, groups)
-                options = SolverOptions(optimize_comfort=side == "ours, comfort on")
+                options = SolverOptions(optimize_comfort=side != "ours, comfort off")
                 t0 = time.perf_counter()
-                result = solve(problem, options=options)
+                result = solve(problem, options=options, tuning=tunings.get(side, TUNING))
                 times[side].append(time.perf_counter() - t0)
                 good[side] += bool(result.converged)
                 steps[side].append(result.iterations)
-    median = {s: float(np.median(times[s])) * 1e3 for s in SIDES}
+    median = {s: float(np.median(times[s])) * 1e3 for s in sides}
     lines = ["| | median ms | p95 ms | succeeded | iterations (median, mean) | placo / this (medians) |",
              "|---|---:|---:|---:|---:|---:|"]  # fmt: skip
-    for s in SIDES:
+    for s in sides:
         p95 = float(np.percentile(times[s], 95)) * 1e3
         its = f"{np.median(steps[s]):.0f}, {np.mean(steps[s]):.1f}"
         lines.append(f"| {s} | {median[s]:.1f} | {p95:.1f} | {good[s]}/{trial} | {its} | "
@@ -73,4 +79,4 @@ def run(seeds: int = 20) -> str:
 
 if __name__ == "__main__":
     one_core("bench.placo_side")
-    print(run(*map(int, sys.argv[1:2])))
+    print(run(*map(int, sys.argv[1:2]), *sys.argv[2:3]))

@@ -151,25 +151,25 @@ def scenarios(old_root: str, repeats: int = 10) -> str:
 
 
 def tuning(field: str, value: str, count: int = 100) -> str:
-    """This tree with ``TUNING`` (A) and with its ``field`` set to ``value`` (B, a Python literal), interleaved: live
-    drags, random-benchmark trials (physics + reduction, comfort on, ``count // 10`` seeds per level) and the cold
-    scenarios; per side the median time, iterations, successes and mean comfort, and in how many B's comfort beat
-    A's. An algorithmic change alters the iterates on purpose: this is its side-by-side record."""
-    import ast
-    from dataclasses import replace
+    """This tree with ``TUNING`` (A) and with its ``field`` set to ``value`` (B, a Python literal; several knobs:
+    ``FIELD=VALUE,FIELD=VALUE`` as field and ``-`` as value), interleaved: live drags, random-benchmark trials
+    (physics + reduction, comfort on, ``count // 10`` seeds per level) and every shipped single-pose scenario, cold
+    (``count // 20`` repeats); per side the median time, iterations, trial points, successes and mean comfort, and
+    in how many B's comfort beat A's. An algorithmic change alters the iterates on purpose: this is its record."""
+    from collections import Counter
 
     import solver
     from solver.iteration import TUNING
 
+    from .cold_scenarios import counting, replace_tuning, single_pose_scenarios
     from .live_drag import cases
-    from .scenarios import SCENARIOS
 
-    sides = {"A": TUNING, "B": replace(TUNING, **{field: ast.literal_eval(value)})}
+    sides = {"A": TUNING, "B": replace_tuning(TUNING, field, value)}
     rt = importlib.import_module("bench.random_targets")
     model = rt.load_body(preset=rt.PRESET)
     balance, groups = rt.CONFIGS["physics + reduction"]
     box = rt.workspace_box(model)
-    loaded = [solver.load_scenario(PRESETS / "scenarios" / f"{name}.toml") for name in SCENARIOS]
+    loaded = [solver.load_scenario(PRESETS / "scenarios" / f"{name}.toml") for name in single_pose_scenarios()]
     suites = {
         "live drags": cases(solver, count)[0],
         "random trials": [(rt.trial_problem(model, rt.draw_targets(model, box, rt.LEVELS[level], 7000 + seed),
@@ -178,23 +178,33 @@ def tuning(field: str, value: str, count: int = 100) -> str:
         "cold scenarios": [(sc.problem, sc.start, sc.options) for sc in loaded] * max(count // 20, 1),
     }  # fmt: skip
     lines = [f"A: TUNING; B: {field} = {value}"]
-    for label, items in suites.items():
-        got = {k: ([], [], [], []) for k in sides}  # times, iterations, converged, comfort
-        for i, (problem, start, options) in enumerate(items):
-            for k in list(sides) if i % 2 == 0 else list(sides)[::-1]:
-                t0 = time.perf_counter()
-                result = solver.solve(problem, start, options, sides[k])
-                for store, v in zip(got[k], (time.perf_counter() - t0, result.iterations, result.converged,
-                                             result.comfort), strict=True):  # fmt: skip
-                    store.append(v)
-        for k in sides:
-            t, it, ok, comfort = got[k]
-            lines.append(f"{label} {k}: median {np.median(t) * 1e3:.2f} ms, iterations {sum(it)}, converged "
-                         f"{sum(ok)}/{len(items)}, mean comfort {np.mean(comfort):.4f}")  # fmt: skip
-        diff = np.array(got["B"][3]) - np.array(got["A"][3])
-        ratio = np.median(np.array(got["B"][0]) / np.array(got["A"][0]))
-        lines.append(f"{label}: B/A time median {ratio:.3f}; comfort B higher in {int((diff > 1e-9).sum())}, lower "
-                     f"in {int((diff < -1e-9).sum())}")  # fmt: skip
+    with counting(Counter()) as tally:
+        for label, items in suites.items():
+            got = {k: ([], [], [], [], []) for k in sides}  # times, iterations, converged, comfort, trial points
+            for i, (problem, start, options) in enumerate(items):
+                for k in list(sides) if i % 2 == 0 else list(sides)[::-1]:
+                    tally.clear()
+                    t0 = time.perf_counter()
+                    result = solver.solve(problem, start, options, sides[k])
+                    for store, v in zip(got[k], (time.perf_counter() - t0, result.iterations, result.converged,
+                                                 result.comfort, tally["evaluations"]), strict=True):  # fmt: skip
+                        store.append(v)
+            for k in sides:
+                t, it, ok, comfort, points = got[k]
+                lines.append(f"{label} {k}: median {np.median(t) * 1e3:.2f} ms, total {np.sum(t):.2f} s, iterations "
+                             f"{sum(it)}, trial points {sum(points)}, converged {sum(ok)}/{len(items)}, mean comfort "
+                             f"{np.mean(comfort):.4f}")  # fmt: skip
+            both = np.array(got["A"][2], dtype=bool) & np.array(got["B"][2], dtype=bool)
+            h_a, h_b = np.array(got["A"][3])[both], np.array(got["B"][3])[both]
+            diff = h_b - h_a
+            rel = diff / np.maximum(np.abs(h_a), 1e-9)
+            ratio = np.median(np.array(got["B"][0]) / np.array(got["A"][0]))
+            total = np.sum(got["B"][0]) / np.sum(got["A"][0])
+            worst = 100 * min(rel.min(initial=0.0), 0.0)
+            lines.append(f"{label}: B/A time median {ratio:.3f}, total {total:.3f}; "
+                         f"converged in both {int(both.sum())}: comfort B higher in {int((diff > 1e-9).sum())}, lower "
+                         f"in {int((diff < -1e-9).sum())} (by more than 1 %: {int((rel < -0.01).sum())}, largest "
+                         f"{worst:.1f} %), mean A {h_a.mean():.4f}, B {h_b.mean():.4f}")  # fmt: skip
     return "\n".join(lines)
 
 

@@ -35,9 +35,19 @@ class LineSearch:
     """
 
     def __init__(
-        self, evaluate: Evaluator, at: Trial, f: float, lin: Linearization, step: Step, tuning: Tuning, move_limit
+        self,
+        evaluate: Evaluator,
+        at: Trial,
+        f: float,
+        lin: Linearization,
+        step: Step,
+        tuning: Tuning,
+        move_limit,
+        task_first: bool = False,
     ) -> None:
-        """``move_limit``: per joint, the largest change of a step far from the constraints (rad or m)."""
+        """``move_limit``: per joint, the largest change of a step far from the constraints (rad or m);
+        ``task_first``: the task part alone only (the last iteration gave comfort up: ``Tuning.task_first``)."""
+        self.task_first = task_first
         self.evaluate, self.at, self.f, self.lin, self.step, self.tuning = evaluate, at, f, lin, step, tuning
         self.move_limit = move_limit
         self.problem = evaluate.problem
@@ -50,7 +60,7 @@ class LineSearch:
     def attempts(self) -> list[tuple[bool, int]]:
         """(with comfort, tries) in the order they are tried."""
         t = self.tuning
-        if self.step.predicted_gain <= 0:
+        if self.step.predicted_gain <= 0 or self.task_first:
             return [(False, t.task_tries)]
         if self.near:
             return [(True, t.near_comfort_tries), (False, t.task_tries - 1)]
@@ -73,25 +83,40 @@ class LineSearch:
         return direction
 
     def _try(self, with_comfort: bool, tries: int) -> tuple[Trial | None, float]:
-        """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha)."""
+        """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha).
+
+        With ``Tuning.comfort_retry`` near the constraints, alpha scales only the comfort part of a comfort try
+        (the task part stays whole) and shrinks by that factor after a rejection."""
         at, problem = self.at, self.problem
         direction = self._direction(with_comfort)
         lin = self.lin
         slope = 0.0 if with_comfort else 2.0 * float(at.err[lin.live] @ (lin.jac @ direction))  # d merit / d alpha at 0
         hopeless = self.tuning.hopeless * self.tuning.comfort_slack
+        retry = self.tuning.comfort_retry if (with_comfort and self.near) else 0.0
+        if retry:
+            task, comfort = self.step.task, self.step.comfort
+
+            def along(a: float) -> np.ndarray:
+                return problem.bounds.clip(at.x + (task + a * comfort) * problem.scale)
+        else:
+
+            def along(a: float) -> np.ndarray:
+                return problem.bounds.clip(at.x + a * direction * problem.scale)
+
+        shrink = retry or 0.5
         alpha = 1.0
         for _ in range(tries):
-            trial = self.evaluate(problem.bounds.clip(at.x + alpha * direction * problem.scale))
-            trial, alpha = self._short_of_contact(trial, alpha, direction)
+            trial = self.evaluate(along(alpha))
+            trial, alpha = self._short_of_contact(trial, alpha, along)
             if with_comfort and self.near and trial.worst > hopeless:
-                alpha *= 0.5  # too far off for a correction to bring it back: halve without trying one
+                alpha *= shrink  # too far off for a correction to bring it back: shorten without trying one
                 continue
             if not (with_comfort and self.near and not self.tuning.correct_accepted and self._accepts(trial, True)):
                 trial = self._corrected(trial, with_comfort, alpha)
             if self._accepts(trial, with_comfort):
                 return trial, alpha
             if with_comfort or not np.isfinite(trial.merit):
-                alpha *= 0.5
+                alpha *= shrink
             else:  # minimum of the quadratic through merit(0), its slope and merit(alpha), safeguarded
                 bend = (trial.merit - at.merit - alpha * slope) / alpha**2
                 guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
@@ -104,7 +129,7 @@ class LineSearch:
             return False
         return bool(np.isfinite(self.evaluate.cost(trial.state)))
 
-    def _short_of_contact(self, trial: Trial, alpha: float, direction: np.ndarray) -> tuple[Trial, float]:
+    def _short_of_contact(self, trial: Trial, alpha: float, along) -> tuple[Trial, float]:
         """(trial, alpha), cut back to where the first obstacle row met at the start would reach its clearance, when
         the trial goes into it by more than its tolerance: the step's linear model sees only the rows near contact,
         so a long step would carry a hand into an obstacle it did not know of (and out again only slowly). Linear in
@@ -124,7 +149,7 @@ class LineSearch:
         if share < self.tuning.least_contact_share:
             return trial, alpha  # already touching it: the step's hold keeps it, a cut would stall
         alpha *= share
-        return self.evaluate(problem.bounds.clip(at.x + alpha * direction * problem.scale)), alpha
+        return self.evaluate(along(alpha)), alpha
 
     def _corrected(self, trial: Trial, with_comfort: bool, alpha: float) -> Trial:
         """The trial after a second-order correction, when one applies and lowers the error below its bar.
@@ -156,9 +181,12 @@ class LineSearch:
             return trial.merit < at.merit
         cost = self.evaluate.cost
         if not self.near:  # comfort rides along a task step: the error falls and comfort ends no worse than predicted
+            if not self.tuning.far_comfort_check:  # the error falls: the near phase mends what comfort lost
+                return trial.merit < at.merit
             return trial.merit < at.merit and cost(trial.state) < f + self.task_change + self.step.predicted_gain
         # the exact-penalty merit, or (as a filter would) any feasible point that is more comfortable
-        penalty = self.step.penalty * (np.abs(trial.err).sum() - np.abs(at.err).sum())
+        weight = self.step.penalty * (self.tuning.penalty_margin / 2.0)  # Step.penalty is 2 max |lambda|
+        penalty = weight * (np.abs(trial.err).sum() - np.abs(at.err).sum())
         cost_try = cost(trial.state)
         feasible_gain = trial.worst <= 1.0 and cost_try < f
         return trial.worst <= self.tuning.comfort_slack and (cost_try - f + penalty < 0.0 or feasible_gain)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -35,6 +35,8 @@ class _Controls:
     hovering: int = 0  # iterations in a row just outside the constraints
     quiet: int = 0  # feasible iterations in a row that gained negligible comfort
     gained: float = 0.0  # what the last accepted step gained in f
+    comfort_cap: float = 0.0  # largest entry of the next comfort part (Tuning.comfort_shrink; 0: max_comfort_step)
+    dropped: bool = False  # the last line search gave the comfort part up (Tuning.task_first)
 
 
 def run_phase(
@@ -63,7 +65,8 @@ def run_phase(
         lin = _linearize(problem, at, comfort_on, keep_off_limits)
         if memory is not None and previous is not None and at.worst <= tuning.comfort_slack:
             _remember(memory, problem, previous, at, lin)
-        step = compute_step(problem, at, lin, ctl.mu, ctl.radius, tuning, memory)
+        capped = replace(tuning, max_comfort_step=ctl.comfort_cap) if ctl.comfort_cap else tuning
+        step = compute_step(problem, at, lin, ctl.mu, ctl.radius, capped, memory)
         previous = (at, lin, step)
         negligible = options.comfort_tolerance * max(evaluate.size(at.state), 1.0)
         if at.worst <= 1.0 and (step.gain_left <= negligible or ctl.quiet >= 2):
@@ -72,8 +75,11 @@ def run_phase(
         ctl.hovering = ctl.hovering + 1 if hovers else 0
         if comfort_on and ctl.hovering > tuning.hover_limit:
             return PhaseEnd(at, iteration, StopReason.HOVERING)
-        outcome = LineSearch(evaluate, at, f, lin, step, tuning, move_limit).run()
-        settled = _adapt(ctl, outcome, at, f, step, negligible, tuning)
+        far = at.worst > tuning.comfort_slack
+        task_first = (tuning.task_first or (tuning.task_first_far and far)) and ctl.dropped
+        outcome = LineSearch(evaluate, at, f, lin, step, tuning, move_limit, task_first).run()
+        _adapt_comfort(ctl, outcome, step, tuning, task_first)
+        settled = _adapt(ctl, outcome, at, f, step, negligible, tuning, task_first)
         if outcome.trial is not None:
             at, f = outcome.trial, outcome.cost
         elif ctl.rejected >= tuning.max_rejected:
@@ -113,10 +119,35 @@ def _remember(memory: CurvatureMemory, problem: Problem, previous, at: Trial, li
     memory.add(step, change)
 
 
-def _adapt(ctl: _Controls, outcome: Outcome, at: Trial, f: float, step: Step, negligible: float, tuning: Tuning):
+def _adapt_comfort(ctl: _Controls, outcome: Outcome, step: Step, tuning: Tuning, task_first: bool) -> None:
+    """The comfort part's trust region: after comfort was given up, the next comfort part is capped below the
+    rejected one; after a full step with comfort the cap doubles back toward ``max_comfort_step``."""
+    tried = step.predicted_gain > 0 and not task_first  # the comfort part was tried first
+    ctl.dropped = tried and (outcome.trial is None or not outcome.with_comfort)
+    if tuning.comfort_shrink >= 1.0:
+        return
+    if ctl.dropped:
+        biggest = float(np.abs(step.comfort).max(initial=0.0))
+        ctl.comfort_cap = max(tuning.comfort_shrink * biggest, 1e-6)
+    elif ctl.comfort_cap and outcome.trial is not None and outcome.with_comfort and outcome.alpha == 1.0:
+        ctl.comfort_cap = min(2.0 * ctl.comfort_cap, tuning.max_comfort_step)
+        ctl.comfort_cap = 0.0 if ctl.comfort_cap >= tuning.max_comfort_step else ctl.comfort_cap
+
+
+def _adapt(
+    ctl: _Controls,
+    outcome: Outcome,
+    at: Trial,
+    f: float,
+    step: Step,
+    negligible: float,
+    tuning: Tuning,
+    task_first: bool = False,
+):
     """Update mu, the trust region and the counters after a line search; True when the phase has settled (a
-    full, feasible comfort step that was to gain little, or did gain little as a modest prediction confirmed)."""
-    near = at.worst <= tuning.comfort_slack
+    full, feasible comfort step that was to gain little, or did gain little as a modest prediction confirmed).
+    A search that tried the task part alone (``task_first``) says nothing of the comfort model: mu stays."""
+    near = at.worst <= tuning.comfort_slack and not task_first
     factor = tuning.mu_factor
     if near and step.predicted_gain > 0:
         if outcome.trial is not None and outcome.with_comfort:

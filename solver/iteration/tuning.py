@@ -29,6 +29,7 @@ class Tuning:
     # Trials and their acceptance
     comfort_slack: float = 10.0  # within this error a step is "near" and carries comfort
     least_contact_share: float = 0.05  # a step cut short of a new contact to less than this share is not cut
+    penalty_margin: float = 2.0  # the exact-penalty merit's weight of sum |error|: this x the largest multiplier
     hopeless: float = 5.0  # a near trial worse than this x comfort_slack is halved without a correction
     correct_accepted: bool = True  # near: correct a comfort trial the merit accepts as it is (False: keep it)
     max_turn: float = 0.3  # rad: largest joint rotation of a step far from the constraints
@@ -36,7 +37,12 @@ class Tuning:
     max_rejected: int = 6  # steps rejected in a row before a phase gives up
     near_comfort_tries: int = 2  # near the constraints: halvings of task + comfort before the task part alone
     far_comfort_tries: int = 1  # far from them: comfort rides along a full step only
+    far_comfort_check: bool = True  # ... and only if comfort ends no worse than predicted (False: if the error falls)
     task_tries: int = 5  # backtracking tries of the task part alone (one fewer after comfort tries near)
+    comfort_shrink: float = 1.0  # < 1: after comfort was given up, cap the next comfort part at this x the rejected one
+    comfort_retry: float = 0.0  # > 0: near, a rejected comfort try keeps its task part and scales comfort by this
+    task_first: bool = False  # after comfort was given up, try the task part alone first in the next iteration
+    task_first_far: bool = False  # the same only far from the constraints (comfort rides along no step then)
     # Stopping
     final_gain: float = 2.0  # a full feasible comfort step predicted to gain < this x tolerance ends the phase
     hover_limit: int = 12  # comfort iterations just outside the constraints before the restoring phase

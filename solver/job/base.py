@@ -29,14 +29,34 @@ class JobInputs:
         return len(self.frames) * self.frame_time
 
 
-def verdict(text: str, severity: int, frames: list[int] | None = None) -> dict:
-    """A method's verdict on the job: one line, severity 0 (green) / 1 (yellow) / 2 (red) / None (no rating), and the
-    frames that drive it."""
-    return dict(text=text, severity=severity, frames=frames or [])
+def verdict(text: str, severity: int | None, frames: list[int] | None = None, task: str | None = None) -> dict:
+    """A method's verdict on the job: one line, severity 0 (green) / 1 (yellow) / 2 (red) / None (no rating), the
+    frames that drive it and, in a job of several tasks, the task those frames are of."""
+    return dict(text=text, severity=severity, frames=frames or []) | ({"task": task} if task is not None else {})
+
+
+@dataclass(frozen=True)
+class TaskResult:
+    """One task's result of a method, with how often the task is done: what :meth:`Method.combine` adds up."""
+
+    name: str
+    result: dict
+    repetitions: int  # per shift
+    per_cycle: float  # repetitions per work cycle (a per-shift task's: per shift / cycles per shift)
+    motion_time: float  # s, one repetition
+
+    @property
+    def frames(self) -> list[int]:
+        return self.result["verdict"]["frames"]
+
+
+def worst(tasks: list[TaskResult]) -> TaskResult:
+    """The task whose verdict is most severe (red before yellow before green before not rated); the first of ties."""
+    return max(tasks, key=lambda t: -1 if t.result["verdict"]["severity"] is None else t.result["verdict"]["severity"])
 
 
 # entries of a method's result that are not numbers for its detail table
-RESERVED = ("verdict", "per_frame", "plot", "levers")
+RESERVED = ("verdict", "per_frame", "plot", "levers", "per_task")
 
 
 def lever(frame: int, origin, end, length: float, label: str) -> dict:
@@ -59,6 +79,16 @@ class Method:
 
     def evaluate(self, inputs: JobInputs) -> dict:
         raise NotImplementedError
+
+    def combine(self, job, tasks: list[TaskResult]) -> dict:
+        """The job's result from its tasks' (one task: that task's result). By default the most severe task's
+        verdict, named; a method whose published form adds tasks up overrides this."""
+        if len(tasks) == 1:
+            return tasks[0].result
+        w = worst(tasks)
+        v = w.result["verdict"]
+        return dict(verdict=verdict(f"{w.name}: {v['text']}", v["severity"], v["frames"], w.name),
+                    per_task=[dict(task=t.name, verdict=t.result["verdict"]["text"]) for t in tasks])  # fmt: skip
 
     def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
         """The HTML's tables of ``result``, each (heading, header, rows); by default one of its single numbers."""

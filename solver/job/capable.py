@@ -12,13 +12,14 @@ presets/manikins, 50th-percentile British stature, mass BMI 24 x stature^2), so 
 SD). A joint pushed into a limit of its range (a knee locked straight) leaves that moment to the limit, not the
 muscles: it counts as 0 N*m there. Anderson's table covers the hip, knee and ankle only; the elbow, shoulder and
 torso (L5/S1) are not rated: no published mean and SD of their strength could be read (docs/guide/job.md).
+Several tasks: the job's minimum is the smallest over its tasks (:meth:`PercentCapable.combine`).
 """
 
 from __future__ import annotations
 
 import math
 
-from .base import JobInputs, Method, verdict
+from .base import JobInputs, Method, TaskResult, verdict
 
 G = 9.81  # m/s^2: Anderson et al. normalised by m x 9.81 x H
 # (joint, direction) -> ((c1 mean, c1 SD), c2, c3) for (male, female), ages 18-25; direction "ext" = extensors
@@ -137,3 +138,28 @@ class PercentCapable(Method):
             plot=dict(kind="line", y=[f"capable_{s}_pct" for s in SEXES], label="% capable", marks=marks,
                       title="% of men and women capable, weakest rated joint"),
         )  # fmt: skip
+
+    def combine(self, job, tasks: list[TaskResult]) -> dict:
+        """Per sex, the minimum over the tasks; the verdict names each minimum's task; its frames are the women's."""
+        if len(tasks) == 1:
+            return tasks[0].result
+        rated = [t for t in tasks if "minimum_women_pct" in t.result]
+        if not rated:
+            return dict(verdict=verdict("not rated: no task could be rated", None))
+        out: dict = {}
+        for s in SEXES:
+            t = min(rated, key=lambda t: t.result[f"minimum_{s}_pct"])
+            out |= {f"minimum_{s}_pct": t.result[f"minimum_{s}_pct"], f"minimum_{s}_task": t.name,
+                    f"minimum_{s}_frame": t.result[f"minimum_{s}_frame"],
+                    f"limiting_joint_{s}": t.result[f"limiting_joint_{s}"]}  # fmt: skip
+        words = [
+            f"{out[f'minimum_{s}_pct']:.0f} % of {s} ({out[f'minimum_{s}_task']}, frame "
+            f"{out[f'minimum_{s}_frame']}, {out[f'limiting_joint_{s}'].replace('_', ' ')})"
+            for s in SEXES
+        ]
+        text = (f"{' and '.join(words)} capable at the weakest frame of {len(rated)} tasks; hip, knee and ankle "
+                f"rated, {', '.join(NOT_RATED)} not")  # fmt: skip
+        per_task = [dict(task=t.name, minimum_men_pct=t.result["minimum_men_pct"],
+                         minimum_women_pct=t.result["minimum_women_pct"]) for t in rated]  # fmt: skip
+        return out | dict(verdict=verdict(text, None, [out["minimum_women_frame"]], out["minimum_women_task"]),
+                          not_rated=", ".join(NOT_RATED), per_task=per_task)  # fmt: skip

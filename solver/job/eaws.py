@@ -12,12 +12,14 @@ handlings per shift (section 3's inputs). docs/guide/job.md ("EAWS") says what i
 Section 1 rates static postures, those held at least 4 s (two independent descriptions of the form agree: Haufe
 Arbeitsschutz Office, "EAWS Modul 1: Körperhaltungen", and the ema software's user manual, "Ergonomie-Zwischenwerte";
 shorter postures are rated with the cycle's main posture, rows 1-2 when standing). So each band also gives the time in
-holds of at least 4 s (STATIC_HOLD); shorter stays in a band are counted in its total only.
+holds of at least 4 s (STATIC_HOLD); shorter stays in a band are counted in its total only. Several tasks: each
+task's inputs, and the cycle's (:meth:`Eaws.combine`: each task's seconds in a band x its repetitions per cycle, per
+minute of the cycle; the handlings of each load).
 """
 
 from __future__ import annotations
 
-from .base import JobInputs, Method, verdict
+from .base import JobInputs, Method, TaskResult, verdict
 
 # (key, label, test on a frame's posture report); degrees. Bands as the form's section 1 rows are commonly named
 # (upright / bent forward 20-60 deg / strongly bent > 60 deg; elbows at or above shoulder level; hands above head);
@@ -114,3 +116,35 @@ class Eaws(Method):
         head = ["band", "frames", "s", "s per min of cycle", "s in holds >= 4 s", "of which per min"]
         tables = [("EAWS section 1 inputs: time in each posture band", head, rows)] if rows else []
         return tables + super().detail(result)
+
+    def combine(self, job, tasks: list[TaskResult]) -> dict:
+        """Per band, s per minute of the cycle over all tasks (each task's s x its repetitions per cycle); the loads
+        and their handlings per shift per task; the verdict's frame the most bent one of the most bent task."""
+        if len(tasks) == 1:
+            return tasks[0].result
+        rated = [t for t in tasks if "bands" in t.result]
+        if not rated:
+            return dict(verdict=verdict("not rated: the manikin's posture cannot be measured", None))
+        bands = {}
+        for key, label, _ in BANDS:
+            seconds = sum(t.result["bands"][key]["seconds"] * t.per_cycle for t in rated)
+            static = sum(t.result["bands"][key]["static_seconds"] * t.per_cycle for t in rated)
+            bands[key] = dict(label=label, frames=sum(t.result["bands"][key]["frames"] for t in rated),
+                              seconds=seconds, s_per_min=60.0 * seconds / job.cycle_time, static_seconds=static,
+                              static_s_per_min=60.0 * static / job.cycle_time)  # fmt: skip
+        times = "; ".join(f"{b['label']} {b['s_per_min']:.1f} s/min ({b['static_s_per_min']:.1f} in holds >= 4 s)"
+                          for b in bands.values() if b["seconds"] > 0)  # fmt: skip
+        loads = ", ".join(f"{t.name} {t.result['load_kg']:g} kg x {t.result['handlings_per_shift']}" for t in rated)
+        bent = max(rated, key=lambda t: max(v for v in t.result["per_frame"]["eaws_trunk_flexion_deg"]
+                                            if v is not None))  # fmt: skip
+        text = (f"not scored (the form's point tables were not read first-hand); per minute of the {job.cycle_time:g} "
+                f"s cycle, all {len(rated)} tasks: {times}; loads per shift: {loads}")  # fmt: skip
+        per_task = [dict(task=t.name, repetitions_per_cycle=t.per_cycle, load_kg=t.result["load_kg"],
+                         handlings_per_shift=t.result["handlings_per_shift"]) for t in rated]  # fmt: skip
+        return dict(
+            verdict=verdict(text, None, bent.frames, bent.name),
+            scored=False,
+            bands=bands,
+            handlings_per_shift=sum(t.result["handlings_per_shift"] for t in rated),
+            per_task=per_task,
+        )

@@ -39,7 +39,7 @@ def _png(figure) -> bytes:
     return buf.getvalue()
 
 
-def plot(report: dict, result: dict) -> str:
+def plot(times: list[float], result: dict) -> str:
     """A method's plot over the motion's time as an <img> tag ("" without one): ``line`` (its per-frame columns,
     the ``marks`` dotted) or ``levels`` (each per-frame column as steps, named levels by their ``order``)."""
     spec, columns = result.get("plot"), result.get("per_frame", {})
@@ -50,7 +50,6 @@ def plot(report: dict, result: dict) -> str:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    times = report["times_s"]
     fig, ax = plt.subplots(figsize=(7, 2.6))
     if spec["kind"] == "line":
         for name in spec["y"]:
@@ -88,33 +87,76 @@ def pictures(title: str, result: dict, frames: dict[int, Frame]) -> str:
     return "".join(out)
 
 
-def _verdicts(report: dict) -> str:
+def _verdicts(verdicts: dict) -> str:
     cards = []
-    for v in report["verdicts"].values():
+    for v in verdicts.values():
         frames = f" <small>(frames {', '.join(map(str, v['frames']))})</small>" if v["frames"] else ""
+        task = f" <small>(task {escape(v['task'])})</small>" if v.get("task") else ""
         cards.append(f'<div class="v" style="border-color:{COLOURS.get(v["severity"])}"><b>{escape(v["title"])}</b>: '
-                     f"{escape(v['text'])}{frames}</div>")  # fmt: skip
+                     f"{escape(v['text'])}{task}{frames}</div>")  # fmt: skip
     return "".join(cards)
 
 
-def _details(report: dict, frames: dict[int, Frame]) -> str:
-    parts = ["<h2>The job</h2>", _table(["input", "value"], [[k, v] for k, v in report["job"].items()])]
-    for name, result in report["methods"].items():
+def _methods(task: dict, frames: dict[int, Frame], level: int = 2) -> str:
+    """Per method of one task: its detail tables, its plot over the task's motion, its driving frames' pictures."""
+    parts = []
+    for name, result in task["methods"].items():
         method = METHODS[name]
-        parts.append(f'<h2 id="{escape(name)}">{escape(method.title)}</h2>')
-        parts += [f"<h3>{escape(head)}</h3>{_table(header, rows)}" for head, header, rows in method.detail(result)]
-        parts += [plot(report, result), pictures(method.title, result, frames)]
+        anchor = name if level == 2 else f"{_slug(task['name'])}-{name}"  # one task: the method's name, as before
+        parts.append(f'<h{level} id="{escape(anchor)}">{escape(method.title)}</h{level}>')
+        parts += [f"<h{level + 1}>{escape(head)}</h{level + 1}>{_table(header, rows)}"
+                  for head, header, rows in method.detail(result)]  # fmt: skip
+        parts += [plot(task["times_s"], result), pictures(method.title, result, frames)]
     return "".join(parts)
 
 
-def html_report(report: dict, frames: list[Frame] | None = None) -> str:
-    """The whole HTML page; with the motion's ``frames``, the pictures of the driving frames."""
+def _totals(report: dict) -> str:
+    """The job's result of each method over its tasks: its tables and the per-task table it adds up."""
+    parts = ["<h2>The job's totals over its tasks</h2>"]
+    for name, result in report["methods"].items():
+        method = METHODS[name]
+        parts.append(f"<h3>{escape(method.title)}</h3>")
+        parts += [f"<h4>{escape(head)}</h4>{_table(header, rows)}" for head, header, rows in method.detail(result)]
+        rows = result.get("per_task") or []
+        if rows:
+            parts.append(_table(list(rows[0]), [list(r.values()) for r in rows]))
+    return "".join(parts)
+
+
+def _slug(name: str) -> str:
+    """A task's name as an HTML id (no spaces)."""
+    return "task-" + "-".join(name.split())
+
+
+def _inputs(job: dict) -> list[list]:
+    return [[k, v] for k, v in job.items() if k != "tasks"]
+
+
+def html_report(report: dict, frames: list[Frame] | None = None, task_frames: list[list[Frame]] | None = None) -> str:
+    """The whole HTML page; with the motion's ``frames`` (one task) or each task's ``task_frames``, the pictures of
+    the driving frames. A job of several tasks: its verdicts and totals, then a section per task."""
     title = escape(f"Job: {report['job']['name']}")
-    by_number = {f.number: f for f in frames or []}
+    tasks = report["tasks"]
+    task_frames = task_frames or [frames or []] + [[] for _ in tasks[1:]]
+    by_number = [{f.number: f for f in fs} for fs in task_frames]
     sources = "".join(f"<li><b>{escape(k)}</b>: {escape(v)}</li>" for k, v in report["sources"].items())
+    job = report["job"]
+    if len(tasks) == 1:
+        head = (f"{len(report['frames'])} frames, {report['motion_time_s']:.2f} s of motion per "
+                f"{job['cycle_time_s']:g} s cycle; {job['repetitions_per_shift']} cycles per {job['shift_h']:g} h "
+                f"shift. Motion: {escape(report['motion_file'])}")  # fmt: skip
+        body = _methods(tasks[0] | {"methods": report["methods"]}, by_number[0])  # the job's: a caller may add
+    else:
+        head = (f"{len(tasks)} tasks, {report['motion_time_s']:.2f} s of motion per {job['cycle_time_s']:g} s cycle; "
+                f"{job['repetitions_per_shift']} cycles per {job['shift_h']:g} h shift.")  # fmt: skip
+        body = _totals(report)
+        for task, numbers in zip(tasks, by_number, strict=True):
+            inputs = [[k, v] for k, v in task["inputs"].items()] + [["motion file", task["motion_file"]]]
+            notes = "".join(f"<p><small>{escape(n)}</small></p>" for n in task["notes"])
+            body += (f'<h2 id="{escape(_slug(task["name"]))}">Task: {escape(task["name"])}</h2>{notes}'
+                     f"{_verdicts(task['verdicts'])}{_table(['input', 'value'], inputs)}"
+                     f"{_methods(task, numbers, 3)}")  # fmt: skip
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{CSS}</style></head><body>"
-            f"<h1>{title}</h1><p>{len(report['frames'])} frames, {report['motion_time_s']:.2f} s of motion per "
-            f"{report['job']['cycle_time_s']:g} s cycle; {report['job']['repetitions_per_shift']} cycles per "
-            f"{report['job']['shift_h']:g} h shift. Motion: {escape(report['motion_file'])}</p>"
-            f"<h2>Verdicts</h2>{_verdicts(report)}{_details(report, by_number)}"
+            f"<h1>{title}</h1><p>{head}</p><h2>Verdicts</h2>{_verdicts(report['verdicts'])}"
+            f"<h2>The job</h2>{_table(['input', 'value'], _inputs(job))}{body}"
             f"<h2>Sources</h2><ul>{sources}</ul></body></html>\n")  # fmt: skip

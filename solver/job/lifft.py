@@ -17,7 +17,10 @@ exp(0.03785 x PLM) / 655,182, i.e. 1 / (902,416 x exp(-(0.038 x PLM + 0.32))) to
 2022 (Applied Ergonomics 99:103619, eq. 1) as quoted by two code repositories read 1,902,416 there, a damage 2.1x
 lower that reproduces neither the paper's nor the calculator's worked example (see tests/solver/job/test_lifft.py).
 
-Here the motion is one task: its lift's PLM is the largest over the frames of the load's weight x the horizontal
+Several tasks add up as the paper's and the calculator's multi-task form does (Palmgren-Miner): the job's CD is
+the sum over its tasks of lifts per day x damage per lift, and P follows from that sum (:meth:`Lifft.combine`).
+
+Here each motion is one task: its lift's PLM is the largest over the frames of the load's weight x the horizontal
 distance from the lumbosacral joint (L5/S1, the body's ``l5_rx``) to the hands holding the load (their midpoint
 for both hands); the lifts per day are the job's cycles per shift x lifts per cycle.
 """
@@ -29,7 +32,7 @@ import math
 import numpy as np
 
 from ..io.result.frame import Frame
-from .base import JobInputs, Method, lever, verdict
+from .base import JobInputs, Method, TaskResult, lever, verdict
 
 FT_LB = 1.3558179483314004  # N*m per ft*lb (0.3048 m x 4.4482216152605 N): the calculator works in ft*lb
 LOG10_SCALE = -5.81636221052493  # log10 damage per lift at no moment (LiFFT v1.4.0 workbook, damage cells)
@@ -98,3 +101,29 @@ class Lifft(Method):
                       title="load moment about L5/S1 (LiFFT)"),
             levers=[lever(number, at.pos(SPINE), hands, distance[peak], "L5/S1 to the hands")],
         )  # fmt: skip
+
+    def combine(self, job, tasks: list[TaskResult]) -> dict:
+        """The job's CD: the sum of its tasks' (each lifts per shift x damage per lift at its PLM); P of that sum.
+        The verdict names the task with the largest share of the damage."""
+        if len(tasks) == 1:
+            return tasks[0].result
+        rated = [t for t in tasks if "cumulative_damage" in t.result]
+        if not rated:
+            return dict(verdict=verdict("not rated: no task could be rated", None))
+        cd = sum(t.result["cumulative_damage"] for t in rated)
+        p = probability(cd)
+        share = {t.name: 100.0 * t.result["cumulative_damage"] / cd if cd > 0 else 0.0 for t in rated}
+        drive = max(rated, key=lambda t: t.result["cumulative_damage"])
+        r = drive.result
+        text = (f"P(high-risk job) {100 * p:.0f} % (CD {cd:.3g} over {len(rated)} tasks; {drive.name} "
+                f"{share[drive.name]:.0f} % of it: PLM {r['peak_load_moment_Nm']:.0f} N*m at frame {r['peak_frame']}, "
+                f"{r['lifts_per_shift']} lifts)")  # fmt: skip
+        if p >= 0.5:
+            text += ": more likely than not a high-risk job"
+        per_task = [dict(task=t.name, peak_load_moment_Nm=t.result["peak_load_moment_Nm"],
+                         peak_frame=t.result["peak_frame"], lifts_per_shift=t.result["lifts_per_shift"],
+                         damage_per_lift=t.result["damage_per_lift"], cumulative_damage=t.result["cumulative_damage"],
+                         share_of_damage_pct=share[t.name]) for t in rated]  # fmt: skip
+        return dict(verdict=verdict(text, 2 if p >= 0.5 else None, [r["peak_frame"]], drive.name),
+                    lifts_per_shift=sum(t.result["lifts_per_shift"] for t in rated), cumulative_damage=cd,
+                    probability_high_risk=p, driving_task=drive.name, per_task=per_task)  # fmt: skip

@@ -13,7 +13,8 @@ inch, lb and ft*lb: a "Handling Load" task's moment M = lever arm / 12 x load + 
 Here each hand holding the load is one shoulder's task: its lever arm is the horizontal distance from that shoulder
 (the body's ``shoulder_*_flexion`` joint) to the hand, its load the load's weight shared evenly between the hands
 holding it (the paper's two-handed example); the peak moment over the motion counts once per lift (the job's cycles
-per shift x lifts per cycle).
+per shift x lifts per cycle). Several tasks add up per shoulder (eq. 2's sum over tasks): each shoulder's CD is
+the sum of its tasks', and the larger rates the job (:meth:`ShoulderTool.combine`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import math
 
 import numpy as np
 
-from .base import JobInputs, Method, verdict
+from .base import JobInputs, Method, TaskResult, verdict
 from .base import lever as _lever  # "lever" names the lever arms below
 
 INCH = 0.0254  # m
@@ -107,6 +108,42 @@ class ShoulderTool(Method):
             plot=dict(kind="line", y=list(per_frame), label="N*m", marks=marks,
                       title="moment about each shoulder (The Shoulder Tool)"),
         )  # fmt: skip
+
+    def combine(self, job, tasks: list[TaskResult]) -> dict:
+        """Each shoulder's CD summed over the tasks; the larger rates the job; the verdict names its largest task."""
+        if len(tasks) == 1:
+            return tasks[0].result
+        per_side: dict[str, list[tuple[TaskResult, dict]]] = {}
+        for t in tasks:
+            for s, r in t.result.get("shoulders", {}).items():
+                per_side.setdefault(s, []).append((t, r))
+        if not per_side:
+            return dict(verdict=verdict("not rated: no task could be rated", None))
+        cd = {s: sum(r["cumulative_damage"] for _, r in rows) for s, rows in per_side.items()}
+        side = max(cd, key=cd.get)
+        drive, r = max(per_side[side], key=lambda tr: tr[1]["cumulative_damage"])
+        p = probability(cd[side])
+        share = 100.0 * r["cumulative_damage"] / cd[side] if cd[side] > 0 else 0.0
+        text = (f"P(shoulder clinic visit) {100 * p:.0f} % (CD {cd[side]:.3g} over {len(per_side[side])} tasks, "
+                f"{SIDE[side]} shoulder; {drive.name} {share:.0f} % of it: {r['peak_moment_Nm']:.0f} N*m at frame "
+                f"{r['peak_frame']}, {drive.result['lifts_per_shift']} lifts)")  # fmt: skip
+        per_task = [
+            dict(
+                task=t.name,
+                shoulder=SIDE[s],
+                peak_moment_Nm=r["peak_moment_Nm"],
+                peak_frame=r["peak_frame"],
+                lifts_per_shift=t.result["lifts_per_shift"],
+                damage_per_cycle=r["damage_per_cycle"],
+                cumulative_damage=r["cumulative_damage"],
+            )
+            for s, rows in per_side.items()
+            for t, r in rows
+        ]
+        return dict(verdict=verdict(text, level(p), [r["peak_frame"]], drive.name), worst_shoulder=SIDE[side],
+                    cumulative_damage_right=cd.get("r", 0.0), cumulative_damage_left=cd.get("l", 0.0),
+                    cumulative_damage=cd[side], probability_clinic_visit=p, driving_task=drive.name,
+                    per_task=per_task)  # fmt: skip
 
     def detail(self, result: dict) -> list[tuple[str, list[str], list[list]]]:
         """Per shoulder: its lever arm, load share, moment, damage per cycle, CD and P; then the job's numbers."""

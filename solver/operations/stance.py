@@ -87,8 +87,8 @@ class StanceFinder:
         if not found.converged:
             return out, lines[-1]
         # the steps from where the feet stood (the walk-up and the finder's last step together)
-        turns = {t.tcp: _turn_deg(t.rotation) for t in final.values()}
-        steps = [_net_step(tcp, feet[tcp], out[tcp], turns.get(tcp, 0.0)) for tcp in feet]
+        turns = {t.tcp: turn_deg(t.rotation) for t in final.values()}
+        steps = [net_step(tcp, feet[tcp], out[tcp], turns.get(tcp, 0.0)) for tcp in feet]
         return out, "; ".join(s.text() for s in steps if s.length > 0.01 or abs(s.turn_deg) > 1.0) or lines[-1]
 
     def _problem(self, feet: dict, hands: dict, mass: float, obstacles: list) -> Problem:
@@ -103,7 +103,7 @@ class StanceFinder:
         return Problem(base.model, spec)
 
 
-def _turn_deg(rotation: np.ndarray | None) -> float:
+def turn_deg(rotation: np.ndarray | None) -> float:
     """A foot target's turn about z from the facing (deg, left positive); 0 without a rotation."""
     if rotation is None:
         return 0.0
@@ -111,11 +111,11 @@ def _turn_deg(rotation: np.ndarray | None) -> float:
     return float(np.degrees(np.arctan2(-heading[0], heading[1])))
 
 
-def _net_step(tcp: str, start: np.ndarray, end: np.ndarray, turn_deg: float) -> Step:
+def net_step(tcp: str, start: np.ndarray, end: np.ndarray, turn: float) -> Step:
     """The step of ``tcp`` from ``start`` to ``end`` (m), its direction from the facing (-y), left positive."""
     d = (end - start)[:2]
     direction = float(np.degrees(np.arctan2(d[0], -d[1]))) if np.linalg.norm(d) > 1e-9 else 0.0
-    return Step(tcp, float(np.linalg.norm(d)), direction, turn_deg,
+    return Step(tcp, float(np.linalg.norm(d)), direction, turn,
                 tuple(map(float, start)), tuple(map(float, end)))
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "blender_manikin"
-FEATURES = ("pose", "scenario", "motion", "study", "envelope", "retarget")
+FEATURES = ("pose", "scenario", "motion", "study", "envelope", "retarget", "operations")
 
 
 def _dotted(node: ast.AST) -> str:
