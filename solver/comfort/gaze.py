@@ -1,16 +1,17 @@
-"""Gaze discomfort: the head turned away from the hands' working point, (1 - cos psi) / (1 - cos 15 deg).
+"""Gaze discomfort: the head turned away from the hands' working point beyond the share the eyes take.
 
 In reaching and manipulation the eyes lead the hand and fixate its target until it is reached or the grasp is
 made (Land & Hayhoe 2001; Johansson et al. 2001), and a gaze shift of more than a few degrees is shared between the
-eyes and the head (Freedman & Sparks 1997: the head's share grows with the shift; the eyes alone take up to about
-15-20 deg). The term models the head's share: psi is the angle between the head's view axis (the eyes' view axis
-with the eye joints at rest, so the eyes are free to take the rest of the gaze within their own range) and the line
-from the eyes to the working point, the mean of the reach targets on the arms that hold a position (all of x, y, z;
-not supports). Its cost is 1 at 15 deg (about (psi / 15 deg)^2 below), so the head need not point exactly. A body
-with no eyes TCP uses its ``head`` TCP's forward (-y) axis; no head, no such target, or a target on the eyes or
-head (a gaze the user set: the operations' ``look``) makes the cost 0. Within the behaviour model
-(:func:`.standard.behaviour_on`): with ``trunk = 0`` its weight counts as 0. The weight is fitted on the training
-subjects in docs/explanation/mocap-validation.md.
+eyes and the head (Freedman & Sparks 1997, in monkeys; in people the eyes alone take shifts up to about 15-20 deg,
+Stahl 1999, measured for horizontal shifts). The term models the head's share: psi is the angle between the head's
+view axis (the eyes' view axis with the eye joints at rest: the eyes are free to take the rest within their range)
+and the line from the eyes to the working point, the mean of the reach targets on the arms that hold a position (all
+of x, y, z; not supports). Cost (max(cos a - cos psi, 0) / (cos a - cos(a + 15 deg)))^2: 0 while the eyes can take
+the shift (psi <= a, ``EYES_TAKE``), 1 when the head is 15 deg beyond it. A body with no eyes TCP uses its ``head``
+TCP's forward (-y) axis; no head, no such target, or a target on the eyes or head (a gaze the user set: the
+operations' ``look``) makes the cost 0. Within the behaviour model (:func:`.standard.behaviour_on`): with
+``trunk = 0`` its weight counts as 0. Fitted on the training subjects (docs/explanation/mocap-validation.md, "Gaze"),
+no weight and share helped (the head's error grew): its default weight is 0, and ``a`` the least-bad fit, 40 deg.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from ..body.state import State
 from .base import ComfortTerm
 from .trunk_tilt import THORAX_JOINT
 
-EYES_TAKE = np.radians(40.0)  # rad: the part of the gaze shift the eyes take alone (no cost below it; fitted)
+EYES_TAKE = np.radians(40.0)  # rad: the gaze shift the eyes take alone (no cost below; the least-bad fit)
 REFERENCE_ANGLE = np.radians(15.0)  # rad: cost 1 this far beyond EYES_TAKE
 POSITION = ("x", "y", "z")
 
