@@ -2,9 +2,10 @@
 
 h = -sum_k weight_k cost_k(x) over :class:`ComfortTerm` objects, one per module: ``joint_range`` (tan^2 of each
 joint's deviation from neutral), ``joint_load`` (squared joint strain), ``contact_spread`` (squared contact forces),
-``trunk_tilt`` (the trunk's lean from vertical). A new term is a new module with a ComfortTerm; :class:`Comfort`
-takes any list of (weight, term). The standard terms, which every problem has unless it brings its own, are
-registered by name in :mod:`.standard` (one line each), weighted by :class:`ComfortWeights`.
+``trunk_tilt`` (the trunk's lean from vertical), ``gaze`` (the head turned away from the hands). A new term is a new
+module with a ComfortTerm; :class:`Comfort` takes any list of (weight, term). The standard terms, which every
+problem has unless it brings its own, are registered by name in :mod:`.standard` (one line each), weighted by
+:class:`ComfortWeights`.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from ..body.model import Model
 from ..body.state import State
 from .base import ComfortTerm
 from .contact_spread import ContactSpread
+from .gaze import Gaze
 from .joint_load import JointLoad
 from .joint_range import JointRange
 from .standard import BEHAVIOUR, DEFAULT_COMFORT, STANDARD, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
@@ -32,6 +34,13 @@ class Comfort:
     def standard(cls, model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> Comfort:
         """The standard terms (:data:`STANDARD_TERMS`) with ``weights``."""
         return cls(standard_terms(model, weights), weights)
+
+    def with_targets(self, targets: list) -> Comfort:
+        """This comfort for a problem of ``targets`` (itself when no term reads them)."""
+        terms = [(weight, term.with_targets(targets) if weight else term) for weight, term in self.terms]
+        if all(new is old for (_, new), (_, old) in zip(terms, self.terms, strict=True)):
+            return self
+        return Comfort(terms, self.weights)
 
     def parts(self, state: State) -> dict[str, float]:
         """Each term's unweighted cost (>= 0), for reports; a term of zero weight is not part of comfort (0)."""
@@ -76,4 +85,4 @@ class Comfort:
 
 
 __all__ = ["BEHAVIOUR", "DEFAULT_COMFORT", "STANDARD", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights",
-           "ContactSpread", "JointLoad", "JointRange", "StandardTerm", "TrunkTilt"]
+           "ContactSpread", "Gaze", "JointLoad", "JointRange", "StandardTerm", "TrunkTilt"]

@@ -27,3 +27,7 @@ class ComfortTerm(ABC):
     def curvature_rows(self, state: State, weight: float) -> np.ndarray | None:
         """Rows R (k, n_x) whose R^T R is curvature of weight c beyond the diagonal model (None: there is none)."""
         return None
+
+    def with_targets(self, targets: list) -> ComfortTerm:
+        """This term for a problem of ``targets`` (a term that reads them returns another; most return self)."""
+        return self

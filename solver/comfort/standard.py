@@ -13,6 +13,7 @@ from typing import NamedTuple
 from ..body.model import Model
 from .base import ComfortTerm
 from .contact_spread import ContactSpread
+from .gaze import Gaze
 from .joint_load import JointLoad
 from .joint_range import JointRange
 from .trunk_tilt import TrunkTilt
@@ -39,13 +40,15 @@ register(JointRange, 1.0)
 register(JointLoad, 1.0)
 register(ContactSpread, 0.01)
 register(TrunkTilt, 5.0)  # the behaviour model, on by default (BEHAVIOUR_TRUNK); 0 is the standard model
+register(Gaze, 0.0)  # the head toward the hands: off, the fit found no gain (mocap-validation.md); needs trunk > 0
 
 
 class ComfortWeights(Mapping):
     """Weights of the standard comfort terms (dimensionless), one per registered term: by name,
     ``ComfortWeights(range=1.0, load=0.5)``, or in the registry's order, ``ComfortWeights(1.0, 0.5, 0.01)`` (range,
-    load, contact, trunk); a term not given keeps its default. Read as attributes (``weights.load``) or as a mapping
-    (``weights["load"]``, ``dict(weights)``). Frozen (:meth:`replace` makes another); equal when the weights are."""
+    load, contact, trunk, gaze); a term not given keeps its default. Read as attributes (``weights.load``) or as a
+    mapping (``weights["load"]``, ``dict(weights)``). Frozen (:meth:`replace` makes another); equal when the
+    weights are."""
 
     __slots__ = ("_values",)
 
@@ -109,7 +112,7 @@ DEFAULT_COMFORT = ComfortWeights()
 # On by default (the default weights are BEHAVIOUR); ``trunk = 0`` gives the standard model (STANDARD).
 BEHAVIOUR_TRUNK = 5.0
 BEHAVIOUR = DEFAULT_COMFORT.replace(trunk=BEHAVIOUR_TRUNK)
-STANDARD = DEFAULT_COMFORT.replace(trunk=0.0)  # the standard comfort of the thesis: the behaviour model off
+STANDARD = DEFAULT_COMFORT.replace(trunk=0.0, gaze=0.0)  # the standard comfort of the thesis: the behaviour model off
 
 
 def behaviour_on(weights: Mapping[str, float]) -> bool:
@@ -117,10 +120,19 @@ def behaviour_on(weights: Mapping[str, float]) -> bool:
     return weights.get("trunk", 0.0) > 0.0
 
 
+BEHAVIOUR_ONLY = ("gaze",)  # terms of the behaviour model beyond the trunk: weight 0 when it is off
+
+
+def _weight(weights: Mapping[str, float], name: str, default: float, posture: bool) -> float:
+    """The weight of term ``name`` in comfort: its own, or 0 for a behaviour term with the behaviour model off."""
+    return weights.get(name, default) if posture or name not in BEHAVIOUR_ONLY else 0.0
+
+
 def standard_terms(model: Model, weights: ComfortWeights = DEFAULT_COMFORT) -> list[tuple[float, ComfortTerm]]:
     """(weight, term) of every standard term for ``model``, in the registry's order (a term registered after
     ``weights`` were made has its default weight); the range term with its posture tables when
     :func:`behaviour_on`."""
     posture = behaviour_on(weights)
-    return [(weights.get(name, term.weight), JointRange(model, posture) if term.factory is JointRange and posture
-             else term.factory(model)) for name, term in STANDARD_TERMS.items()]  # fmt: skip
+    return [(_weight(weights, name, term.weight, posture),
+             JointRange(model, posture) if term.factory is JointRange and posture else term.factory(model))
+            for name, term in STANDARD_TERMS.items()]  # fmt: skip

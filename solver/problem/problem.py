@@ -84,7 +84,8 @@ class Problem:
             if carried is not None and around else None  # fmt: skip
         self.extra_constraints = list(spec.extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
-        self.comfort = spec.comfort if spec.comfort is not None else Comfort.standard(model, spec.comfort_weights)
+        comfort = spec.comfort if spec.comfort is not None else Comfort.standard(model, spec.comfort_weights)
+        self.comfort = comfort.with_targets(self.targets)  # a term that reads the targets (gaze) aimed at them
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
         self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)
         xb = self.x_bounds
@@ -110,6 +111,7 @@ class Problem:
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
         moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
+        moved.comfort = self.comfort.with_targets(moved.targets)
         return moved
 
     def with_frames(self, targets: list[FrameConstraint], comfort: Comfort) -> Problem:

@@ -32,7 +32,8 @@ def test_the_installed_menus_are_the_registries(session: dict) -> None:
     assert [i for i, _, _ in before["shapes"]][:5] == ["MESH", "BOX", "SPHERE", "CAPSULE", "PLANE"]
     weights = {name: (title, default) for name, title, default, _ in before["weights"]}
     registered = [f"comfort_{name}" for name in STANDARD_TERMS]
-    assert list(weights) == registered == ["comfort_range", "comfort_load", "comfort_contact", "comfort_trunk"]
+    assert list(weights) == registered == ["comfort_range", "comfort_load", "comfort_contact", "comfort_trunk",
+                                                "comfort_gaze"]
     for name, term in STANDARD_TERMS.items():
         assert weights[f"comfort_{name}"] == (name.title(), pytest.approx(term.weight))
 
@@ -50,23 +51,23 @@ def test_enabled_again_the_add_on_offers_the_new_kind_and_weight(session: dict) 
     assert after["shapes"] == [*before["shapes"], PEBBLE]  # the others keep their place (saved files hold it)
     assert after["weights"][:-1] == before["weights"] and after["weights"][-1] == IDLE
     assert session["panel"] == ["comfort_range", "comfort_load", "comfort_contact", "comfort_trunk",
-                                "comfort_idle_test"]
+                                "comfort_gaze", "comfort_idle_test"]
 
 
 def test_the_new_kind_and_weight_reach_the_problem_the_solve_and_the_files(session: dict) -> None:
     read = session["read"]
     assert read["kinds"] == {"pebble": "Pebble"}
-    assert read["weights"] == dict(range=1.0, load=1.0, contact=0.01, trunk=5.0, idle_test=2.0)  # as typed
+    assert read["weights"] == dict(range=1.0, load=1.0, contact=0.01, trunk=5.0, gaze=0.0, idle_test=2.0)  # as typed
     assert session["solve"] == ["FINISHED"] and session["comfort_parts"]["idle_test"] == 0.0
     assert session["export"] == ["FINISHED"]
     text = (Path(session["work"]) / "registered.toml").read_text(encoding="utf-8")
-    assert "\ncontact = 0.01\ntrunk = 5.0\nidle_test = 2.0\n" in text and 'kind = "pebble_test"' in text
+    assert "\ncontact = 0.01\ntrunk = 5.0\ngaze = 0.0\nidle_test = 2.0\n" in text and 'kind = "pebble_test"' in text
     assert session["import"] == ["FINISHED"] and session["imported"] == dict(shape="PEBBLE_TEST", weight=2.0)
 
 
 def test_gone_again_the_menus_are_as_installed_and_a_stale_shape_is_one_line(session: dict) -> None:
     assert session["restored"] == session["before"]
-    assert session["restored_weights"] == dict(range=1.0, load=1.0, contact=0.01, trunk=5.0)
+    assert session["restored_weights"] == dict(range=1.0, load=1.0, contact=0.01, trunk=5.0, gaze=0.0)
     assert session["stale_shape"] == ""  # saved as the 7th item, which the menu no longer has
     line = session["stale_solve"].strip()
     assert "obstacle 'pebble': its shape is no registered obstacle kind" in line and "\n" not in line

@@ -70,14 +70,17 @@ def test_the_shape_menu_lists_every_kind_mesh_first() -> None:
 def test_the_comfort_weights_are_the_registered_terms() -> None:
     settings = registries.comfort_settings()
     assert [s.prop for s in settings] == ["comfort_range", "comfort_load", "comfort_contact",
-                                          "comfort_trunk"]  # as saved files hold; fmt: skip
+                                          "comfort_trunk", "comfort_gaze"]  # as saved files hold; fmt: skip
     assert [(s.title, s.default) for s in settings] == [("Range", 1.0), ("Load", 1.0), ("Contact", 0.01),
-                                                        ("Trunk", 5.0)]  # fmt: skip  # the behaviour model
+                                                        ("Trunk", 5.0), ("Gaze", 0.0)]  # fmt: skip  # behaviour model
     assert settings[1].description == "Weight: joint moments / strength"
-    rig = SimpleNamespace(comfort_range=2.0, comfort_load=0.5, comfort_contact=0.02, comfort_trunk=5.0)
-    assert registries.comfort_weights(rig) == standard.ComfortWeights(range=2.0, load=0.5, contact=0.02, trunk=5.0)
+    rig = SimpleNamespace(comfort_range=2.0, comfort_load=0.5, comfort_contact=0.02, comfort_trunk=5.0,
+                          comfort_gaze=0.1)  # fmt: skip
+    assert registries.comfort_weights(rig) == standard.ComfortWeights(range=2.0, load=0.5, contact=0.02, trunk=5.0,
+                                                                      gaze=0.1)  # fmt: skip
     registries.set_comfort_weights(rig, standard.ComfortWeights(load=3.0))
-    assert vars(rig) == dict(comfort_range=1.0, comfort_load=3.0, comfort_contact=0.01, comfort_trunk=5.0)
+    assert vars(rig) == dict(comfort_range=1.0, comfort_load=3.0, comfort_contact=0.01, comfort_trunk=5.0,
+                             comfort_gaze=0.0)  # fmt: skip
 
 
 def test_a_new_kind_and_term_appear_without_a_blender_edit(throwaway) -> None:

@@ -18,21 +18,21 @@ from solver.io.scenario.write import dumps_scenario
 
 def test_the_standard_terms_and_their_defaults() -> None:
     assert {name: term.weight for name, term in STANDARD_TERMS.items()} == {"range": 1.0, "load": 1.0, "contact": 0.01,
-                                                                          "trunk": 5.0}
+                                                                          "trunk": 5.0, "gaze": 0.0}
     assert all(term.factory.name == name for name, term in STANDARD_TERMS.items())  # the results' keys
 
 
 def test_weights_by_name_in_order_and_as_a_mapping() -> None:
     w = ComfortWeights(1.0, 0.5)
     assert (w.range, w.load, w.contact) == (1.0, 0.5, 0.01) and w == ComfortWeights(load=0.5)
-    assert dict(w) == {"range": 1.0, "load": 0.5, "contact": 0.01, "trunk": 5.0} and w["contact"] == 0.01
+    assert dict(w) == {"range": 1.0, "load": 0.5, "contact": 0.01, "trunk": 5.0, "gaze": 0.0} and w["contact"] == 0.01
     assert hash(w) == hash(ComfortWeights(load=0.5)) and w != DEFAULT_COMFORT
     assert w.replace(contact=0.2) == ComfortWeights(1.0, 0.5, 0.2) and w.contact == 0.01
     assert pickle.loads(pickle.dumps(w)) == w
-    assert repr(w) == "ComfortWeights(range=1.0, load=0.5, contact=0.01, trunk=5.0)"
+    assert repr(w) == "ComfortWeights(range=1.0, load=0.5, contact=0.01, trunk=5.0, gaze=0.0)"
     with pytest.raises(AttributeError):
         w.range = 2.0
-    for args, named in (((1, 2, 3, 4, 5), {}), ((), {"elbow": 1.0}), ((1,), {"range": 2})):
+    for args, named in (((1, 2, 3, 4, 5, 6), {}), ((), {"elbow": 1.0}), ((1,), {"range": 2})):
         with pytest.raises(TypeError):
             ComfortWeights(*args, **named)
 
@@ -77,13 +77,13 @@ class ElbowStraight(ComfortTerm):
 def test_a_registered_term_is_read_weighted_written_and_reported(tmp_path, monkeypatch) -> None:
     """What ``register(ElbowStraight, 0.5)`` in solver/comfort/standard.py does, done for this test alone."""
     monkeypatch.setitem(STANDARD_TERMS, "elbow", StandardTerm(ElbowStraight, 0.5))
-    assert ComfortWeights().elbow == 0.5 and ComfortWeights(1.0, 1.0, 0.01, 0.0, 2.0).elbow == 2.0
+    assert ComfortWeights().elbow == 0.5 and ComfortWeights(1.0, 1.0, 0.01, 0.0, 0.0, 2.0).elbow == 2.0
     model = load_body(preset="male_50")
     zero = model.forward(model.zero_pose())
     feet = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
     hand = Target("hand_r", np.array([-0.25, -0.45, 1.1]), lock=("x", "y", "z"))
     problem = Problem(model, ProblemSpec([*feet, hand], comfort_weights=ComfortWeights(elbow=4.0)))
-    assert [term.name for _, term in problem.comfort.terms] == ["range", "load", "contact", "trunk", "elbow"]
+    assert [term.name for _, term in problem.comfort.terms] == ["range", "load", "contact", "trunk", "gaze", "elbow"]
     assert problem.comfort.terms[-1][0] == 4.0
     path = tmp_path / "elbow.toml"
     path.write_text(dumps_scenario(scenario_to_dict(problem, {"preset": "male_50"})), encoding="utf-8")
@@ -91,6 +91,6 @@ def test_a_registered_term_is_read_weighted_written_and_reported(tmp_path, monke
     again = load_scenario(path).problem
     assert again.comfort.weights == problem.comfort.weights
     result = solve(again)
-    assert result.converged and set(result.comfort_parts) == {"range", "load", "contact", "trunk", "elbow"}
+    assert result.converged and set(result.comfort_parts) == {"range", "load", "contact", "trunk", "gaze", "elbow"}
     straight = Comfort.standard(model, ComfortWeights(elbow=0.0))  # zero weight: not part of comfort
     assert straight.parts(result.state)["elbow"] == 0.0

@@ -87,7 +87,7 @@ def test_the_scenario_writer_reads_the_spec(male50) -> None:
     problem = Problem(male50, ProblemSpec(targets, loops, loads, comfort_weights=ComfortWeights(contact=0.5),
                                           obstacles=[table], floor=False))  # fmt: skip
     data = scenario_to_dict(problem, {"preset": "male_50"})
-    assert data["comfort"] == {"range": 1.0, "load": 1.0, "contact": 0.5, "trunk": 5.0}  # trunk: its default
+    assert data["comfort"] == {"range": 1.0, "load": 1.0, "contact": 0.5, "trunk": 5.0, "gaze": 0.0}  # defaults
     assert data["floor"] == {"enabled": False} and [o["name"] for o in data["obstacles"]] == ["table"]
     assert len(data["targets"]) == 3 and len(data["loops"]) == 1 and len(data["loads"]) == 1
     own = Problem(male50, problem.spec.replace(comfort=Comfort([])))
