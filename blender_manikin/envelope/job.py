@@ -2,19 +2,17 @@
 Python that runs Blender (:mod:`..scene.background`: the extension's solver with the wheels Blender installed, as
 a population study runs), watched without ever waiting on it. Its progress is the command's own progress line (on
 standard error, a line every few seconds, in ``OUT.log`` beside the output folder); its result the OBJ files it
-writes (``<body>_<hand>.obj``). Cancel asks it to stop as Ctrl-C does and kills it after ``GRACE_S``. No bpy here.
+writes (``<body>_<hand>.obj``). Cancel asks it to stop as Ctrl-C does and kills it after a grace time. No bpy here.
 """
 
 from __future__ import annotations
 
 import re
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..scene.background import interrupt, kill, last_line, solver_command, start
+from ..scene.background import CommandJob, solver_command
 
-GRACE_S = 5.0  # s a cancelled envelope has to stop by itself before it is killed
 EXIT_OK = 0
 PROGRESS = re.compile(r"directions (\d+)/(\d+)")  # solver.progress.progress_line, what="directions"
 SUMMARY = "envelopes.csv"  # solver.envelope.outputs.SUMMARY: written once an envelope is done
@@ -66,63 +64,19 @@ def free_folder(base: Path) -> Path:
     return folder
 
 
-class EnvelopeJob:
-    """One envelope under way (``directions`` per hand): its subprocess and what became of it (``state``: running,
-    cancelling, done, cancelled or failed; ``error`` the command's one line when it failed)."""
+class EnvelopeJob(CommandJob):
+    """One envelope under way (``directions`` per hand): its subprocess and what became of it (:class:`CommandJob`)."""
+
+    PROGRESS = PROGRESS
+    WORDS = dict(command="envelope", verb="Computing", unit="directions", cancelled="nothing imported",
+                 failed="Envelope")  # fmt: skip
 
     def __init__(self, request: EnvelopeRequest, output: Path, directions: int) -> None:
         self.request, self.output = request, Path(output)
-        self.log = self.output.with_name(self.output.name + ".log")
-        self.state, self.error = "running", ""
-        self.done, self.total = 0, directions * len(request.hands())
-        self._cancelled_at: float | None = None
         self.output.parent.mkdir(parents=True, exist_ok=True)
-        self.started = time.monotonic()
-        self.process = start(solver_command(*request.arguments(self.output)), self.output.parent, self.log)
+        log = self.output.with_name(self.output.name + ".log")
+        command = solver_command(*request.arguments(self.output))
+        self.begin(command, self.output.parent, log, directions * len(request.hands()))
 
-    def poll(self) -> bool:
-        """Read the progress so far and see whether the command ended; True while it runs."""
-        self._read_progress()
-        code = self.process.poll()
-        if code is None:
-            if self._cancelled_at is not None and time.monotonic() - self._cancelled_at > GRACE_S:
-                kill(self.process)
-            return True
-        if self._cancelled_at is not None:
-            self.state = "cancelled"
-        elif code == EXIT_OK and finished(self.request, self.output):
-            self.state, self.done = "done", self.total
-        else:
-            self.state = "failed"
-            self.error = last_line(self.log).removeprefix("error: ") or f"the envelope command exited with {code}"
-        return False
-
-    def cancel(self) -> None:
-        """Ask the command to stop; :meth:`poll` says when it has."""
-        if self.process.poll() is not None or self._cancelled_at is not None:
-            return
-        self._cancelled_at = time.monotonic()
-        self.state = "cancelling"
-        interrupt(self.process)
-
-    def _read_progress(self) -> None:
-        """The count of the command's last progress line."""
-        try:
-            text = self.log.read_text(encoding="utf-8", errors="replace")
-        except OSError:
-            return
-        found = PROGRESS.findall(text)
-        if found:
-            self.done = int(found[-1][0])
-
-    def line(self) -> str:
-        """The status line the panel shows."""
-        seconds = time.monotonic() - self.started
-        if self.state in ("running", "cancelling"):
-            what = "Stopping" if self.state == "cancelling" else "Computing"
-            return f"{what}: {self.done} of {self.total} directions, {seconds:.0f} s"
-        if self.state == "failed":
-            return f"Envelope failed: {self.error}"
-        if self.state == "cancelled":
-            return f"Cancelled after {seconds:.0f} s: nothing imported"
-        return f"Done: {self.total} directions in {seconds:.0f} s"
+    def ended_well(self, code: int) -> bool:
+        return code == EXIT_OK and finished(self.request, self.output)

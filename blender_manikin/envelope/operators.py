@@ -13,6 +13,7 @@ from bpy_extras.io_utils import ImportHelper
 
 from ...solver.errors import ManikinError
 from ..scene.schema import rig_of
+from ..scene.watch import CancelJob
 from . import control
 
 
@@ -82,21 +83,13 @@ class MANIKIN_OT_envelope_compute(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class MANIKIN_OT_envelope_cancel(bpy.types.Operator):
+class MANIKIN_OT_envelope_cancel(CancelJob, bpy.types.Operator):
     """Stop computing the envelope (nothing is imported)"""
 
     bl_idname = "manikin.envelope_cancel"
     bl_label = "Cancel Envelope"
-
-    @classmethod
-    def poll(cls, context: bpy.types.Context) -> bool:
-        return control.WATCH.cancellable()
-
-    def execute(self, context: bpy.types.Context) -> set[str]:
-        job = control.current_job()
-        job.cancel()
-        self.report({"INFO"}, f"Stopping the envelope: {job.done} of {job.total} directions done")
-        return {"FINISHED"}
+    watch = control.WATCH
+    stopping = "Stopping the envelope: {job.done} of {job.total} directions done"
 
 
 classes = (MANIKIN_OT_import_envelope, MANIKIN_OT_envelope_compute, MANIKIN_OT_envelope_cancel)

@@ -12,6 +12,7 @@ from bpy_extras.io_utils import ImportHelper
 
 from ...solver.errors import ManikinError
 from ..scene.schema import rig_of
+from ..scene.watch import CancelJob
 from . import control
 from .properties import is_work_object
 
@@ -148,21 +149,13 @@ class MANIKIN_OT_operations_generate(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class MANIKIN_OT_operations_cancel(bpy.types.Operator):
+class MANIKIN_OT_operations_cancel(CancelJob, bpy.types.Operator):
     """Stop generating the motion (nothing is keyed)"""
 
     bl_idname = "manikin.operations_cancel"
     bl_label = "Cancel"
-
-    @classmethod
-    def poll(cls, context: bpy.types.Context) -> bool:
-        return control.WATCH.cancellable()
-
-    def execute(self, context: bpy.types.Context) -> set[str]:
-        job = control.current_job()
-        job.cancel()
-        self.report({"INFO"}, f"Stopping: {job.done} of {job.total} frames solved; nothing will be keyed")
-        return {"FINISHED"}
+    watch = control.WATCH
+    stopping = "Stopping: {job.done} of {job.total} frames solved; nothing will be keyed"
 
 
 class MANIKIN_OT_import_operations(bpy.types.Operator, ImportHelper):

@@ -16,10 +16,12 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 import signal
 import site
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]  # the extension root: solver/, blender_manikin/, presets/
@@ -99,3 +101,78 @@ def last_line(path: Path) -> str:
     except OSError:
         return ""
     return next((line.strip() for line in reversed(lines) if line.strip()), "")
+
+
+class CommandJob:
+    """A ``python -m solver ...`` command under way, watched without waiting on it (a reach envelope, a generated
+    motion): ``state`` running, cancelling, done, cancelled or failed; ``done`` of ``total`` from the command's
+    progress lines (:attr:`PROGRESS` in ``log``); ``error`` its one line when it failed. Cancel asks it to stop as
+    Ctrl-C does and kills it after :attr:`GRACE_S`. A subclass names its command's words (:attr:`WORDS`) and says
+    when an exit is a finished run (:meth:`ended_well`)."""
+
+    GRACE_S = 5.0  # s a cancelled command has to stop by itself before it is killed
+    PROGRESS = re.compile(r"(\d+)/(\d+)")  # a subclass's: solver.progress.progress_line with its own word
+    # the status line's words: the command's name, running verb, unit, what a cancel leaves, the failure's label
+    WORDS = dict(command="solver", verb="Running", unit="steps", cancelled="nothing kept", failed="Run")
+
+    def begin(self, command: list[str], cwd: Path, log: Path, total: int) -> None:
+        """Start ``command`` in ``cwd``, its standard error into ``log``, ``total`` progress steps expected."""
+        self.log, self.total = log, total
+        self.state, self.error, self.done = "running", "", 0
+        self._cancelled_at: float | None = None
+        self.started = time.monotonic()
+        self.process = start(command, cwd, log)
+
+    def ended_well(self, code: int) -> bool:
+        """Whether exit ``code`` left a finished run."""
+        return code == 0
+
+    def failure(self, code: int) -> str:
+        """The one line a failed run ends with: the command's own error line, or its exit code."""
+        return last_line(self.log).removeprefix("error: ") or f"the {self.WORDS['command']} command exited with {code}"
+
+    def poll(self) -> bool:
+        """Read the progress so far and see whether the command ended; True while it runs."""
+        self._read_progress()
+        code = self.process.poll()
+        if code is None:
+            if self._cancelled_at is not None and time.monotonic() - self._cancelled_at > self.GRACE_S:
+                kill(self.process)
+            return True
+        if self._cancelled_at is not None:
+            self.state = "cancelled"
+        elif self.ended_well(code):
+            self.state, self.done = "done", self.total
+        else:
+            self.state, self.error = "failed", self.failure(code)
+        return False
+
+    def cancel(self) -> None:
+        """Ask the command to stop; :meth:`poll` says when it has."""
+        if self.process.poll() is not None or self._cancelled_at is not None:
+            return
+        self._cancelled_at = time.monotonic()
+        self.state = "cancelling"
+        interrupt(self.process)
+
+    def _read_progress(self) -> None:
+        """The count of the command's last progress line."""
+        try:
+            text = self.log.read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            return
+        found = self.PROGRESS.findall(text)
+        if found:
+            self.done = int(found[-1][0])
+
+    def line(self) -> str:
+        """The status line the panel shows while it runs, or how it ended."""
+        words, seconds = self.WORDS, time.monotonic() - self.started
+        if self.state in ("running", "cancelling"):
+            what = "Stopping" if self.state == "cancelling" else words["verb"]
+            return f"{what}: {self.done} of {self.total} {words['unit']}, {seconds:.0f} s"
+        if self.state == "failed":
+            return f"{words['failed']} failed: {self.error}"
+        if self.state == "cancelled":
+            return f"Cancelled after {seconds:.0f} s: {words['cancelled']}"
+        return f"Done: {self.total} {words['unit']} in {seconds:.0f} s"

@@ -78,3 +78,21 @@ class Watch:
             self._ended(bpy.data.scenes.get(self.scene_name), self.job)
         redraw_views()
         return POLL_S if running else None
+
+
+class CancelJob:
+    """What a feature's Cancel operator does (a mixin before ``bpy.types.Operator``): polls its :attr:`watch`, asks the
+    job to stop, reports :attr:`stopping` (formatted with ``job``)."""
+
+    watch: Watch
+    stopping = "Stopping: {job.done} of {job.total} done"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return cls.watch.cancellable()
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        job = self.watch.job
+        job.cancel()
+        self.report({"INFO"}, self.stopping.format(job=job))
+        return {"FINISHED"}

@@ -9,6 +9,7 @@ import bpy
 
 from ...solver.errors import ManikinError
 from ..scene.schema import rig_of
+from ..scene.watch import CancelJob
 from . import control
 
 
@@ -37,21 +38,13 @@ class MANIKIN_OT_study_run(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class MANIKIN_OT_study_cancel(bpy.types.Operator):
+class MANIKIN_OT_study_cancel(CancelJob, bpy.types.Operator):
     """Stop the running study; the finished runs are kept, and Run Study goes on from them"""
 
     bl_idname = "manikin.study_cancel"
     bl_label = "Cancel Study"
-
-    @classmethod
-    def poll(cls, context: bpy.types.Context) -> bool:
-        return control.WATCH.cancellable()
-
-    def execute(self, context: bpy.types.Context) -> set[str]:
-        job = control.current_job()
-        job.cancel()
-        self.report({"INFO"}, f"Stopping the study: {job.done} of {job.total} runs done")
-        return {"FINISHED"}
+    watch = control.WATCH
+    stopping = "Stopping the study: {job.done} of {job.total} runs done"
 
 
 class MANIKIN_OT_study_load_row(bpy.types.Operator):
