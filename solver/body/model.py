@@ -13,7 +13,9 @@ from functools import cached_property
 
 import numpy as np
 
+from .. import kernels
 from ..errors import ModelError
+from ..kernels.forward import link_frames
 from .spatial import cross, skew
 from .tree import TreeSums, descendants
 
@@ -107,6 +109,10 @@ class Model:
         theta = np.asarray(theta, dtype=float)
         fk = self._fk
         n = len(theta)
+        if kernels.active():
+            rot, pos, axis, com = np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+            link_frames(theta, *fk.loop_tables, rot, pos, axis, com)
+            return Kinematics(self, theta, rot, pos, axis, com)
         angle = theta[fk.store]  # links in the storage order of the chain steps
         rev_angles = np.where(fk.prismatic, 0.0, angle)
         sin, cos = np.sin(rev_angles)[:, None], np.cos(rev_angles)[:, None]
@@ -166,6 +172,7 @@ class _ForwardTables:
     jumps: tuple  # ((start, ancestor chain of chains start:), ...)
     inner: tuple  # ((slice of links inside chains, depth-order index of the chain above each, c = none), ...)
     axis_and_com: np.ndarray  # (n, 4, 2) per link (link order): [axis, 0] and [COM, 1] in the link frame
+    loop_tables: tuple  # the compiled kernel's: links parents first, then the model's arrays (contiguous float64)
     eye: np.ndarray = field(default_factory=lambda: np.eye(3).ravel())  # (9,) the identity, row-major
     identity: np.ndarray = field(default_factory=lambda: np.eye(4)[None])  # (1, 4, 4)
 
@@ -234,6 +241,13 @@ class _ForwardTables:
             inner=tuple(inner),
             axis_and_com=np.stack(
                 [np.column_stack([model.axis, np.zeros(n)]), np.column_stack([model.com, np.ones(n)])], axis=2
+            ),
+            loop_tables=(
+                np.array(_parents_first(parent), dtype=np.int64),
+                np.ascontiguousarray(parent, dtype=np.int64),
+                np.ascontiguousarray(model.prismatic, dtype=np.bool_),
+                *(np.ascontiguousarray(a, dtype=float) for a in (model.axis, model.origin_rotation)),
+                *(np.ascontiguousarray(a, dtype=float) for a in (model.origin_position, model.com)),
             ),
         )
 

@@ -1,0 +1,40 @@
+"""The compiled kernels' switch: MANIKIN_KERNELS picks Numba or NumPy, a wrong value falls back with a reason, and
+Numba's machine code goes to the user's cache folder."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from solver import kernels
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def _status(value: str) -> str:
+    env = dict(os.environ, MANIKIN_KERNELS=value, PYTHONPATH=str(ROOT))
+    code = "from solver import kernels; print(kernels.active(), kernels.status())"
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout
+
+
+def test_numpy_is_chosen_by_name_and_a_wrong_choice_says_what_is_wrong() -> None:
+    assert _status("numpy").startswith("False NumPy (MANIKIN_KERNELS=numpy)")
+    wrong = _status("fortran")
+    assert wrong.startswith("False") and "'fortran' is not one of auto, numba, numpy" in wrong
+
+
+def test_auto_uses_numba_where_it_imports_and_caches_in_the_users_folder() -> None:
+    pytest.importorskip("numba")
+    line = _status("auto")
+    assert line.startswith("True Numba") and str(kernels.cache_folder()) in line
+
+
+def test_using_switches_within_a_block_and_restores() -> None:
+    before = kernels.active()
+    with kernels.using(False):
+        assert not kernels.active()
+    assert kernels.active() == before
