@@ -2,12 +2,19 @@
 one iteration, timed in one process with the cases taking turns (prints median and p95 per call, in ms).
 
     python -m bench.forward_kinematics [ROUNDS]
+    python -m bench.forward_kinematics --pinocchio [ROUNDS]   # the compiled path against pinocchio (if it imports)
 
 - ``Model.forward``: the shipped code (zero-offset chains composed first, then the chains by pointer jumping);
 - level by level: every link at one depth of the tree in one batched product (one product per level);
 - joint by joint: one 4x4 product per link in a Python loop.
 
 The two references give the same frames as ``Model.forward`` (checked here to 1e-12); they are not shipped.
+
+``--pinocchio``: issue 37's "forward kinematics plus all Jacobians of one iteration within 5x of pinocchio's on the
+same model": the URDF export loaded by pinocchio; forward kinematics alone (``pin.forwardKinematics`` against
+``Model.forward``), and forward kinematics with the TCP frames' Jacobians (``pin.computeJointJacobians`` +
+``updateFramePlacements`` + ``getFrameJacobian`` per TCP, against ``Model.forward`` + the frame constraints' Jacobian
+rows), each with the NumPy and the compiled kernels.
 """
 
 from __future__ import annotations
@@ -106,6 +113,92 @@ def run(rounds: int = 400) -> str:
     return "\n".join(lines)
 
 
+def _interleaved(cases: dict[str, Callable[[int], object]], rounds: int) -> dict[str, np.ndarray]:
+    """µs per call of each case, the cases taking turns (each leads in turn)."""
+    times: dict[str, list[float]] = {name: [] for name in cases}
+    names = list(cases)
+    for r in range(rounds):
+        for name in names[r % len(names) :] + names[: r % len(names)]:
+            t0 = time.perf_counter()
+            cases[name](r)
+            times[name].append(time.perf_counter() - t0)
+    return {name: np.array(t[len(t) // 10 :]) * 1e6 for name, t in times.items()}  # the first tenth warms up
+
+
+def pinocchio_side(rounds: int = 2000) -> str:
+    """Ours (NumPy and compiled kernels) against pinocchio on the URDF export of the same model, µs per call."""
+    import pinocchio as pin
+
+    from solver import kernels
+    from solver.constraints.frame import FrameGroup
+    from solver.io.urdf import model_to_urdf
+
+    model = rt.load_body(preset=rt.PRESET)
+    pmodel = pin.buildModelFromXML(model_to_urdf(model))
+    pdata = pmodel.createData()
+    balance, groups = rt.CONFIGS["physics + reduction"]
+    problem = rt.trial_problem(
+        model, rt.draw_targets(model, rt.workspace_box(model), rt.LEVELS[3], 7000), balance, groups
+    )
+    frames = [c for c in problem.constraints if isinstance(c, FrameGroup)]
+    tcp_names = [m.tcp.name for g in frames for m in g.members]
+    frame_ids = [pmodel.getFrameId(f"tcp_{name}") for name in tcp_names]
+    rng = np.random.default_rng(5)
+    poses = [rng.uniform(model.lower, model.upper) for _ in range(16)]
+    index = [pmodel.joints[pmodel.getJointId(name)].idx_q for name in model.joint_names]
+    q_of = [np.zeros(pmodel.nq) for _ in poses]
+    for q, theta in zip(q_of, poses, strict=True):
+        q[index] = theta
+    pin.forwardKinematics(pmodel, pdata, q_of[0])
+    ours = model.forward(poses[0])
+    lower = pdata.oMi[pmodel.getJointId(model.joint_names[-1])].translation
+    assert np.allclose(lower, ours.position[-1], atol=1e-9), "pinocchio and ours disagree on the model"
+    x_tail = problem.state(problem.start()).x[model.n :]
+
+    def ours_jacobians(r: int) -> None:
+        state = problem.state_of_x(np.concatenate([poses[r % 16], x_tail]))
+        for group in frames:
+            group.jacobian(state)
+
+    def pin_jacobians(r: int) -> None:
+        q = q_of[r % 16]
+        pin.computeJointJacobians(pmodel, pdata, q)
+        pin.updateFramePlacements(pmodel, pdata)
+        for f in frame_ids:
+            pin.getFrameJacobian(pmodel, pdata, f, pin.LOCAL_WORLD_ALIGNED)
+
+    def with_kernels(flag: bool, call: Callable[[int], object]) -> Callable[[int], object]:
+        def run_one(r: int) -> object:
+            with kernels.using(flag):
+                return call(r)
+
+        return run_one
+
+    cases: dict[str, Callable[[int], object]] = {
+        "FK: ours, NumPy": with_kernels(False, lambda r: model.forward(poses[r % 16])),
+        "FK: ours, compiled": with_kernels(True, lambda r: model.forward(poses[r % 16])),
+        "FK: pinocchio": lambda r: pin.forwardKinematics(pmodel, pdata, q_of[r % 16]),
+        "FK + TCP Jacobians: ours, NumPy": with_kernels(False, ours_jacobians),
+        "FK + TCP Jacobians: ours, compiled": with_kernels(True, ours_jacobians),
+        "FK + TCP Jacobians: pinocchio": pin_jacobians,
+    }
+    us = _interleaved(cases, rounds)
+    lines = [
+        f"{kernels.status()}; pinocchio {pin.__version__}; n = {model.n} joints, {len(tcp_names)} TCP frames "
+        f"({', '.join(tcp_names)}); {rounds} calls each, interleaved; µs per call (median, p95, ratio to pinocchio)"
+    ]
+    for name, t in us.items():
+        peer = us[name.split(":")[0] + ": pinocchio"]
+        lines.append(f"{name}: {np.median(t):.1f} µs, p95 {np.percentile(t, 95):.1f}, "
+                     f"{np.median(t) / np.median(peer):.1f}x pinocchio")  # fmt: skip
+    return "\n".join(lines)
+
+
 if __name__ == "__main__":
     one_core("bench.forward_kinematics")  # one core, one BLAS thread
-    print(run(int(sys.argv[1]) if len(sys.argv) > 1 else 400))
+    args = [a for a in sys.argv[1:] if a != "--pinocchio"]
+    count = int(args[0]) if args else None
+    if "--pinocchio" in sys.argv:
+        print(pinocchio_side(count or 2000))
+    else:
+        print(run(count or 400))
