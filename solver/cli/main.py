@@ -1,6 +1,6 @@
 """Command line: ``python -m solver COMMAND ...`` (the ``manikin`` script): ``solve SCENARIO.toml [-o RESULT.json]``,
 ``ergo RESULT.json -o ERGO.json``, ``study STUDY.toml -o OUT/``, ``urdf PRESET -o OUT.urdf``, ``presets``,
-``family ... -o DIR``, ``envelope [MANIKIN ...] -o DIR``.
+``family ... -o DIR``, ``envelope [MANIKIN ...] -o DIR``, ``kernels [--compile]``.
 
 Each command is a module of this package named as the command, with ``add_parser(sub)``, which adds its subparser
 and sets ``run``, and its ``run(args) -> exit code``. Adding a command is its module and one entry in
@@ -21,11 +21,11 @@ import sys
 
 from ..errors import ArgumentParser, ManikinError
 from ..io.interrupts import sigterm_as_interrupt, stopped_by
-from . import envelope, ergo, family, job, operate, presets, solve, study, urdf, validate
+from . import envelope, ergo, family, job, kernels, operate, presets, solve, study, urdf, validate
 from .common import EXIT_BAD_INPUT, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED
 
 # in the order --help lists them
-COMMAND_MODULES = (solve, operate, ergo, job, study, urdf, presets, family, envelope, validate)
+COMMAND_MODULES = (solve, operate, ergo, job, study, urdf, presets, family, envelope, validate, kernels)
 COMMANDS = tuple(module.__name__.rpartition(".")[2] for module in COMMAND_MODULES)  # the command names
 
 

@@ -38,3 +38,14 @@ def test_using_switches_within_a_block_and_restores() -> None:
     with kernels.using(False):
         assert not kernels.active()
     assert kernels.active() == before
+
+
+def test_the_kernels_command_says_which_and_compile_solves_the_box_lift() -> None:
+    env = dict(os.environ, MANIKIN_KERNELS="numpy", PYTHONPATH=str(ROOT))
+    done = subprocess.run(
+        [sys.executable, "-m", "solver", "kernels", "--compile"], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0] == "kernels: NumPy (MANIKIN_KERNELS=numpy)"
+    assert lines[1].startswith("box_lift solved (converged) in ")
