@@ -91,7 +91,7 @@ class JointRange(ComfortTerm):
     def per_joint(self, theta: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
         """tan^2(u) per joint (unweighted) and, with ``derivatives``, its first and second derivative (per rad or m)."""
         if kernels.active():
-            out = np.empty((3, len(theta)))
+            theta, out = np.asarray(theta, dtype=float), np.empty((3, len(theta)))
             range_per_joint(theta, self.neutral, self.span_up, self.span_down, float(U_MAX), out[0], out[1], out[2])
             return (out[0], out[1], out[2]) if derivatives else (out[0],)
         d = theta - self.neutral
