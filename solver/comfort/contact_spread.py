@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import GRAVITY, Model
 from ..body.state import State
+from ..kernels.comfort import contact_cost, contact_derivatives
 from .base import ComfortTerm
 
 
@@ -20,9 +22,13 @@ class ContactSpread(ComfortTerm):
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))  # N
 
     def cost(self, state: State) -> float:
+        if kernels.active():
+            return float(contact_cost(state.w, self.body_weight))
         return float(np.sum((state.w / self.body_weight) ** 2)) if len(state.w) else 0.0
 
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
+        if kernels.active():
+            return contact_derivatives(state.w, self.n, self.body_weight, float(weight))
         grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
         if len(state.w):
             grad[self.n :] = weight * 2.0 * state.w / self.body_weight**2

@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
+from ..kernels.comfort import load_cost, load_factors
 from .base import ComfortTerm
 
 
@@ -24,7 +26,7 @@ class JointLoad(ComfortTerm):
         inverse = 1.0 / strength  # (n, 2): for negative and positive muscle moments
         self._inv_negative = inverse[:, 0].copy()
         self._inv_positive = inverse[:, 1].copy()
-        self.joint_weight = np.where(model.prismatic, 0.0, model.range_weight)
+        self.joint_weight = np.ascontiguousarray(np.where(model.prismatic, 0.0, model.range_weight), dtype=float)
 
     def _strain_scale(self, tau: np.ndarray) -> np.ndarray:
         # The muscles must produce -tau: positive capacity when tau < 0.
@@ -32,13 +34,19 @@ class JointLoad(ComfortTerm):
 
     def cost(self, state: State) -> float:
         tau = state.statics.axis_loads()
+        if kernels.active():
+            return float(load_cost(tau, self._inv_negative, self._inv_positive, self.joint_weight))
         strain = tau * self._strain_scale(tau)
         return float(self.joint_weight @ (strain * strain))
 
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
         tau = state.statics.axis_loads()
-        scale = self._strain_scale(tau)
-        coef = 2.0 * self.joint_weight * tau * scale * scale
-        rows = 2.0 * weight * self.joint_weight * scale * scale
+        if kernels.active():
+            coef, rows = np.empty(len(tau)), np.empty(len(tau))
+            load_factors(tau, self._inv_negative, self._inv_positive, self.joint_weight, float(weight), coef, rows)
+        else:
+            scale = self._strain_scale(tau)
+            coef = 2.0 * self.joint_weight * tau * scale * scale
+            rows = 2.0 * weight * self.joint_weight * scale * scale
         linear, squared = state.statics.axis_load_contractions(coef, rows)
         return weight * linear, squared

@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
+from ..kernels.comfort import range_per_joint, weighted_pair
 from .base import ComfortTerm
 
 U_MAX = 0.48 * np.pi
@@ -88,6 +90,10 @@ class JointRange(ComfortTerm):
 
     def per_joint(self, theta: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
         """tan^2(u) per joint (unweighted) and, with ``derivatives``, its first and second derivative (per rad or m)."""
+        if kernels.active():
+            theta, out = np.asarray(theta, dtype=float), np.empty((3, len(theta)))
+            range_per_joint(theta, self.neutral, self.span_up, self.span_down, float(U_MAX), out[0], out[1], out[2])
+            return (out[0], out[1], out[2]) if derivatives else (out[0],)
         d = theta - self.neutral
         span = np.where(d >= 0.0, self.span_up, self.span_down)
         u = 0.5 * np.pi * d / span
@@ -115,6 +121,8 @@ class JointRange(ComfortTerm):
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
         n = self.model.n
         _, slope, curvature = self._at(state)
+        if kernels.active():
+            return weighted_pair(float(weight), self.joint_weight, slope, curvature, state.n_x)
         grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
         grad[:n] = weight * self.joint_weight * slope
         curv[:n] = weight * self.joint_weight * curvature

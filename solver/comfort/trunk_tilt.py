@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
+from ..kernels.comfort import trunk_derivatives
 from .base import ComfortTerm
 
 THORAX_JOINT = "t1_rz"  # the last joint of the top thoracic vertebra: its link is the thorax
@@ -43,6 +45,9 @@ class TrunkTilt(ComfortTerm):
         return float(self.scale * (1.0 - self._up(state)[2]))
 
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
+        if kernels.active() and self.link >= 0:
+            kin = state.kin
+            return trunk_derivatives(kin.rotation, kin.axis, self.link, self.chain, weight * self.scale, state.n_x)
         grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
         if self.link < 0:
             return grad, curv
