@@ -155,7 +155,7 @@ class Statics:
         kin, layout = self.kin, self.layout
         n, n_w = len(kin.com), layout.contacts.n_vars
         outer, g, arms = np.empty((n, 9)), np.empty((n, 3)), np.empty((n_w, 3))
-        d_theta, d_w = np.empty((6, n)), np.empty((6, n_w))
+        balance = np.empty((6, n + n_w))
         loops.moment_derivatives(
             kin.position,
             kin.axis,
@@ -167,11 +167,10 @@ class Statics:
             outer,
             g,
             arms,
-            d_theta,
-            d_w,
+            balance,
         )
         self.__dict__["sub_outer"], self.__dict__["edge_moment_arms"] = outer.reshape(n, 3, 3), arms
-        self._balance_blocks = d_theta, d_w
+        self._balance_rows = balance
         self._g = g
 
     @cached_property
@@ -233,12 +232,19 @@ class Statics:
     def balance_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
         """d balance_error / d theta (6, n) and / d w (6, n_w)."""
         if self._compiled:
-            self.moment_derivatives()
-            return self._balance_blocks[0].copy(), self._balance_blocks[1].copy()
+            rows, n = self.balance_rows(), self.layout.model.n
+            return rows[:, :n], rows[:, n:]  # views of a fresh array
         d_theta = np.zeros((6, self.layout.model.n))
         d_theta[3:] = self.moment_derivatives().T
         d_w = np.concatenate([self.layout.contacts.var_direction.T, self.edge_moment_arms.T])
         return d_theta, d_w
+
+    def balance_rows(self) -> np.ndarray:
+        """(6, n + n_w) d balance_error / d x, x = [theta, w]: :meth:`balance_jacobian`'s blocks side by side."""
+        if self._compiled:
+            self.moment_derivatives()
+            return self._balance_rows.copy()
+        return np.hstack(self.balance_jacobian())
 
     @cached_property
     def edge_moment_arms(self) -> np.ndarray:

@@ -118,12 +118,11 @@ def moment_derivatives(
     outer: np.ndarray,
     g: np.ndarray,
     arms: np.ndarray,
-    d_theta: np.ndarray,
-    d_w: np.ndarray,
+    balance: np.ndarray,
 ) -> None:
     """Fill ``outer`` (n, 9) the subtree sums of q F^T (row-major, N*m), ``g`` (n, 3) d(total moment)/d theta_j
-    (N*m per rad; per m if prismatic), ``arms`` (n_w, 3) q x d per contact edge (m), and the balance Jacobian's
-    blocks ``d_theta`` (6, n) and ``d_w`` (6, n_w)."""
+    (N*m per rad; per m if prismatic), ``arms`` (n_w, 3) q x d per contact edge (m), and ``balance`` (6, n + n_w)
+    the balance Jacobian [d / d theta, d / d w]."""
     order, parent, prismatic, gravity_force, point_link, point_local, var_corner, var_direction, load_force = tables
     n = order.shape[0]
     for j in range(n):
@@ -154,16 +153,16 @@ def moment_derivatives(
                 along = outer[j, 3 * r] * ax + outer[j, 3 * r + 1] * ay + outer[j, 3 * r + 2] * az
                 g[j, r] = along - position[j, r] * a_dot_f - axis[j, r] * rest
         for r in range(3):
-            d_theta[r, j] = 0.0
-            d_theta[3 + r, j] = g[j, r]
+            balance[r, j] = 0.0
+            balance[3 + r, j] = g[j, r]
     for e in range(var_corner.shape[0]):
         q = var_corner[e]
         dx, dy, dz = var_direction[e, 0], var_direction[e, 1], var_direction[e, 2]
         qx, qy, qz = points[q, 0], points[q, 1], points[q, 2]
         arms[e, 0], arms[e, 1], arms[e, 2] = qy * dz - qz * dy, qz * dx - qx * dz, qx * dy - qy * dx
         for r in range(3):
-            d_w[r, e] = var_direction[e, r]
-            d_w[3 + r, e] = arms[e, r]
+            balance[r, n + e] = var_direction[e, r]
+            balance[3 + r, n + e] = arms[e, r]
 
 
 @kernel

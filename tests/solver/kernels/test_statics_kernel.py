@@ -49,6 +49,7 @@ def _everything(problem: Problem, x: np.ndarray, coef: np.ndarray, weight: np.nd
         corner_points=statics.corner_points,
         load_points=statics.load_points,
         moment_derivatives=statics.moment_derivatives(),
+        balance_rows=statics.balance_rows(),
         edge_moment_arms=statics.edge_moment_arms,
         twist=kin.twist,
         origin_velocity=kin.origin_velocity,
