@@ -16,6 +16,7 @@ import numpy as np
 from .. import kernels
 from ..errors import ModelError
 from ..kernels.forward import link_frames
+from ..kernels.statics import twists
 from .spatial import cross, skew
 from .tree import TreeSums, descendants
 
@@ -304,6 +305,11 @@ class Kinematics:
         """(n, 6) per joint, for a unit joint rate: velocity of the point at the world origin moving with the
         joint's link (m/s), then angular velocity (rad/s). A point q moves with spin x q + origin; the twist
         dotted with a wrench [force, moment about the world origin] is the joint's load about its axis."""
+        if kernels.active():  # both in one loop; the origin velocity kept for its own property
+            out, origin = np.empty((len(self.axis), 6)), np.empty((len(self.axis), 3))
+            twists(self.position, self.axis, self.model._fk.loop_tables[2], out, origin)
+            self.__dict__.setdefault("origin_velocity", origin)
+            return out
         out = np.empty((len(self.axis), 6))  # filled, then the few prismatic rows fixed: fewer calls than np.where
         out[:, :3] = self.origin_velocity
         out[:, 3:] = self.axis
@@ -321,6 +327,9 @@ class Kinematics:
     @cached_property
     def origin_velocity(self) -> np.ndarray:
         """(n, 3) p x a: velocity (m/s) of the point at the world origin turning with each revolute joint."""
+        if kernels.active() and "twist" not in self.__dict__:
+            self.twist  # noqa: B018 (the kernel fills both)
+            return self.__dict__["origin_velocity"]
         return cross(self.position, self.axis)
 
     def jacobian_rows(self, points: np.ndarray, rows_lin: np.ndarray, rows_ang: np.ndarray, mask) -> np.ndarray:

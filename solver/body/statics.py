@@ -21,6 +21,8 @@ from functools import cached_property
 
 import numpy as np
 
+from .. import kernels
+from ..kernels import statics as loops
 from .contacts import ContactSet
 from .model import GRAVITY, Kinematics, Model, Tcp
 from .spatial import cross
@@ -78,6 +80,16 @@ class StaticsLayout:
         self.supporting_edge_acts = self.edge_acts[self.supporting]
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
         self.has_prismatic = bool(model.prismatic.any())
+        # the compiled kernels' constants: links parents first (preorder), then the point forces' links and places
+        ints = (model.tree_sums.order, model.parent, extra_links, contacts.var_corner, self.supporting)
+        order, parent, point_link, var_corner, supporting = (np.ascontiguousarray(a, dtype=np.int64) for a in ints)
+        floats = (self.gravity_force, contacts.var_direction, self.load_force, self.supporting_edge_acts)
+        gravity_force, var_direction, load_force, acts = (np.ascontiguousarray(a, dtype=float) for a in floats)
+        point_local = np.ascontiguousarray(np.concatenate([contacts.corner_local, self.load_local]), dtype=float)
+        prismatic = np.ascontiguousarray(model.prismatic, dtype=np.bool_)
+        self.point_tables = (order, parent, prismatic, gravity_force, point_link, point_local, var_corner)
+        self.point_tables += (var_direction, load_force)
+        self.contraction_tables = (order, parent, np.ascontiguousarray(self.revolute), supporting, acts, var_direction)
 
     def subtree_sums(self, values: np.ndarray) -> np.ndarray:
         """(n, k): per joint, the sum of per-point ``values`` (link COMs, sole corners, loads; (points, k))
@@ -97,6 +109,12 @@ class Statics:
         self.layout = layout
         self.kin = kin
         self.w = w
+        self._g = None
+        self._axis_loads: np.ndarray | None = None
+        self._compiled = kernels.active()  # the kernels' state stays with the kernels (decided once per state)
+        if self._compiled:
+            self._fill_compiled()
+            return
         contacts = layout.contacts
         self.corner_points = contacts.corner_points(kin)
         if len(layout.load_link):
@@ -114,8 +132,46 @@ class Statics:
         few_forces = np.concatenate([GRAVITY[None, :], self._corner_forces, layout.load_force])
         self.total_force = layout.gravity_total + few_forces[1:].sum(axis=0)
         self.total_moment = cross(few_points, few_forces).sum(axis=0)  # about the world origin
-        self._g = None
-        self._axis_loads: np.ndarray | None = None
+
+    def _fill_compiled(self) -> None:
+        """The kernel path of the constructor: points, forces, totals, subtree wrenches and axis loads in one loop."""
+        kin, layout = self.kin, self.layout
+        n, c = len(kin.com), len(layout.contacts.corner_link)
+        points, forces = np.empty((len(layout.point_tables[4]), 3)), np.empty((len(layout.point_tables[4]), 3))
+        totals, wrench, loads = np.empty(6), np.empty((n, 6)), np.empty(n)
+        w = np.ascontiguousarray(self.w, dtype=float)
+        loops.point_loads(
+            kin.rotation, kin.position, kin.axis, kin.com, w, layout.point_tables, points, forces, totals, wrench, loads
+        )
+        self._kernel_points, self._kernel_forces = points, forces
+        self.corner_points, self.load_points, self._corner_forces = points[:c], points[c:], forces[:c]
+        self.total_force, self.total_moment = totals[:3], totals[3:]
+        self.__dict__["_subtree_wrench"] = wrench  # what the cached property would compute
+        self._axis_loads = loads
+
+    def _compiled_derivatives(self) -> None:
+        """The kernel path of :meth:`moment_derivatives`: G, the subtree outer sums, the edges' moment arms and the
+        balance Jacobian's blocks in one loop."""
+        kin, layout = self.kin, self.layout
+        n, n_w = len(kin.com), layout.contacts.n_vars
+        outer, g, arms = np.empty((n, 9)), np.empty((n, 3)), np.empty((n_w, 3))
+        balance = np.empty((6, n + n_w))
+        loops.moment_derivatives(
+            kin.position,
+            kin.axis,
+            kin.com,
+            self._kernel_points,
+            self._kernel_forces,
+            self._subtree_wrench,
+            layout.point_tables,
+            outer,
+            g,
+            arms,
+            balance,
+        )
+        self.__dict__["sub_outer"], self.__dict__["edge_moment_arms"] = outer.reshape(n, 3, 3), arms
+        self._balance_rows = balance
+        self._g = g
 
     @cached_property
     def _points(self) -> np.ndarray:
@@ -152,6 +208,8 @@ class Statics:
 
     def moment_derivatives(self) -> np.ndarray:
         """(n, 3) G_j = d(total moment)/d theta_j, N*m per rad (per m if prismatic)."""
+        if self._g is None and self._compiled:
+            self._compiled_derivatives()
         if self._g is None:
             a, p, sf = self.kin.axis, self.kin.position, self.sub_force
             a_dot_f = np.einsum("ni,ni->n", a, sf)
@@ -173,10 +231,20 @@ class Statics:
 
     def balance_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
         """d balance_error / d theta (6, n) and / d w (6, n_w)."""
+        if self._compiled:
+            rows, n = self.balance_rows(), self.layout.model.n
+            return rows[:, :n], rows[:, n:]  # views of a fresh array
         d_theta = np.zeros((6, self.layout.model.n))
         d_theta[3:] = self.moment_derivatives().T
         d_w = np.concatenate([self.layout.contacts.var_direction.T, self.edge_moment_arms.T])
         return d_theta, d_w
+
+    def balance_rows(self) -> np.ndarray:
+        """(6, n + n_w) d balance_error / d x, x = [theta, w]: :meth:`balance_jacobian`'s blocks side by side."""
+        if self._compiled:
+            self.moment_derivatives()
+            return self._balance_rows.copy()
+        return np.hstack(self.balance_jacobian())
 
     @cached_property
     def edge_moment_arms(self) -> np.ndarray:
@@ -213,6 +281,23 @@ class Statics:
         done as subtree and ancestor sums.
         """
         layout = self.layout
+        if self._compiled:
+            n, size = len(coef), len(coef) + layout.contacts.n_vars
+            g, linear, squared = self.moment_derivatives(), np.empty(size), np.empty(size)
+            coef, weight = (np.ascontiguousarray(v, dtype=float) for v in (coef, weight))
+            loops.load_contractions(
+                self.kin.position,
+                self.kin.axis,
+                g,
+                self.edge_moment_arms,
+                coef,
+                weight,
+                layout.contraction_tables,
+                np.empty((2, n, 9)),
+                linear,
+                squared,
+            )
+            return linear, squared
         coef, weight = coef * layout.revolute, weight * layout.revolute
         # rows [a, s(a)], [g, s(g)]: on A, J_ij = g_i.a_j and J_ij^2 = s(g_i).s(a_j); on D, a and g swap
         n = len(coef)

@@ -35,8 +35,7 @@ class BalanceConstraint(Constraint):
         return state.statics.balance_error()
 
     def jacobian(self, state: State) -> np.ndarray:
-        d_theta, d_w = state.statics.balance_jacobian()
-        return np.hstack([d_theta, d_w])
+        return state.statics.balance_rows()
 
     def residuals(self, state: State) -> dict[str, float]:
         err = self.error(state)
