@@ -1,0 +1,202 @@
+"""The step's element-wise stages as loops (the kernels of :mod:`solver.iteration.step`): the bound check, the
+metric, gathering the free columns, scattering the free variables' steps back and saturating on bounds.
+
+Units: scaled variables (a joint's half range, body weight for a force); rows in tolerances. The LAPACK and matrix
+products of the step stay with NumPy/SciPy; these loops replace the many small array operations around them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import kernel
+
+
+@kernel
+def bound_start(
+    lower: np.ndarray,
+    upper: np.ndarray,
+    scale: np.ndarray,
+    x: np.ndarray,
+    outward: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    free: np.ndarray,
+) -> int:
+    """Fill the room ``lo`` <= 0 <= ``hi`` of each variable (scaled) and ``free``: inside its bounds and not held on a
+    bound that ``outward`` (the descent of both pushes is along -outward) presses it against; return the count."""
+    count = 0
+    for i in range(x.shape[0]):
+        low = (lower[i] - x[i]) / scale[i]
+        high = (upper[i] - x[i]) / scale[i]
+        lo[i], hi[i] = low, high
+        held = (low >= -1e-12 and outward[i] >= 0.0) or (high <= 1e-12 and outward[i] <= 0.0)
+        free[i] = low < high and not held
+        count += free[i]
+    return count
+
+
+@kernel
+def root_metric(
+    curv_f: np.ndarray,
+    free: np.ndarray,
+    mu: float,
+    comfort_on: bool,
+    x: np.ndarray,
+    scale: np.ndarray,
+    is_joint: np.ndarray,
+    force_floor: float,
+    force_barrier: float,
+    root: np.ndarray,
+) -> None:
+    """Fill ``root`` with the square root of the step's diagonal metric (see ``solver.iteration.step.metric``)."""
+    n = curv_f.shape[0]
+    curved = False
+    total = 0.0
+    count = 0
+    for i in range(n):
+        curved = curved or curv_f[i] != 0.0
+        if free[i]:
+            total += curv_f[i]
+            count += 1
+    if not (comfort_on or curved):
+        for i in range(n):
+            root[i] = 1.0
+        return
+    level = total / count if count else 1.0
+    shift = mu * max(level, 1e-12)
+    for i in range(n):
+        value = curv_f[i] + shift + 1e-12
+        if not is_joint[i]:  # a contact edge weight: the log barrier's curvature
+            share = max(x[i] / scale[i], force_floor)
+            value += force_barrier / (share * share)
+        root[i] = math.sqrt(value)
+
+
+@kernel
+def free_columns(
+    jac: np.ndarray,
+    live: np.ndarray,
+    err: np.ndarray,
+    free: np.ndarray,
+    fixed: np.ndarray,
+    root: np.ndarray,
+    scaled: np.ndarray,
+    used: np.ndarray,
+    err_eff: np.ndarray,
+    r_f: np.ndarray,
+) -> None:
+    """The free variables' part of a step: ``scaled`` (m, k) = the free columns of ``jac`` / their metric root ``r_f``
+    (k), ``used`` the rows with an entry there, ``err_eff`` = ``err`` plus the held variables' ``jac @ fixed``."""
+    m, n = jac.shape
+    k = 0
+    for j in range(n):
+        if free[j]:
+            r_f[k] = root[j]
+            k += 1
+    for i in range(err.shape[0]):
+        err_eff[i] = err[i]
+    for r in range(m):
+        k = 0
+        held = 0.0
+        any_entry = False
+        for j in range(n):
+            if free[j]:
+                value = jac[r, j] / r_f[k]
+                scaled[r, k] = value
+                any_entry = any_entry or value != 0.0
+                k += 1
+            else:
+                held += jac[r, j] * fixed[j]
+        used[r] = any_entry
+        err_eff[live[r]] += held
+
+
+@kernel
+def gather_scaled(values: np.ndarray, columns: np.ndarray, free: np.ndarray, r_f: np.ndarray, out_values, out_columns):
+    """``out_values`` = values[free] / r_f and ``out_columns`` = columns[free] / r_f[:, None] (the comfort gradient and
+    the quasi-Newton columns in the metric, free variables only)."""
+    k = 0
+    for i in range(values.shape[0]):
+        if free[i]:
+            out_values[k] = values[i] / r_f[k]
+            for c in range(columns.shape[1]):
+                out_columns[k, c] = columns[i, c] / r_f[k]
+            k += 1
+
+
+@kernel
+def scatter_scaled(part: np.ndarray, r_f: np.ndarray, free: np.ndarray, out: np.ndarray, cap: float) -> None:
+    """out[free] = part / r_f (the other entries kept), then all of ``out`` scaled so its largest |entry| <= ``cap``."""
+    k = 0
+    biggest = 0.0
+    for i in range(out.shape[0]):
+        if free[i]:
+            out[i] = part[k] / r_f[k]
+            k += 1
+        biggest = max(biggest, abs(out[i]))
+    if biggest > cap:
+        factor = cap / biggest
+        for i in range(out.shape[0]):
+            out[i] *= factor
+
+
+@kernel
+def saturate(
+    task: np.ndarray,
+    comfort: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    free: np.ndarray,
+    fixed: np.ndarray,
+    is_joint: np.ndarray,
+    fraction_near: float,
+    apply: bool,
+) -> int:
+    """How many free variables task + comfort pushes past a bound; with ``apply`` they leave ``free`` and are held in
+    ``fixed``: a joint halfway to its limit unless already within ``fraction_near`` of it, a force at zero."""
+    count = 0
+    for i in range(task.shape[0]):
+        if not free[i]:
+            continue
+        total = task[i] + comfort[i]
+        if total < lo[i] - 1e-12:
+            count += 1
+            if apply:
+                fixed[i] = lo[i] * (0.5 if (is_joint[i] and -lo[i] > fraction_near) else 1.0)
+                free[i] = False
+        elif total > hi[i] + 1e-12:
+            count += 1
+            if apply:
+                fixed[i] = hi[i] * (0.5 if (is_joint[i] and hi[i] > fraction_near) else 1.0)
+                free[i] = False
+    return count
+
+
+@kernel
+def step_tail(
+    task: np.ndarray,
+    comfort: np.ndarray,
+    free: np.ndarray,
+    fixed: np.ndarray,
+    grad_f: np.ndarray,
+    root: np.ndarray,
+    r_free: np.ndarray,
+    g_free: np.ndarray,
+) -> tuple[bool, float]:
+    """(task and comfort all finite, -grad_f . fixed over the saturated variables); fills ``r_free`` = root[free] and
+    ``g_free`` = grad_f[free] / r_free."""
+    finite = True
+    dot = 0.0
+    k = 0
+    for i in range(task.shape[0]):
+        finite = finite and math.isfinite(task[i]) and math.isfinite(comfort[i])
+        if free[i]:
+            r_free[k] = root[i]
+            g_free[k] = grad_f[i] / root[i]
+            k += 1
+        elif fixed[i] != 0.0:
+            dot += grad_f[i] * fixed[i]
+    return finite, -dot
