@@ -185,8 +185,10 @@ def _bounded_step_compiled(
     lo, hi, root, free = np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool)
     outward = lin.jac.T @ at.err[lin.live] + grad_f  # descent of both pushes along -outward
     compiled.bound_start(bounds.lower, bounds.upper, bounds.scale, x, outward, lo, hi, free)
+    curv_free = lin.curv_f[free]
+    level = float(curv_free.sum()) / curv_free.size if curv_free.size else 1.0  # as in metric(): the same rounding
     compiled.root_metric(
-        lin.curv_f, free, mu, lin.comfort_on, x, bounds.scale, bounds.is_joint, tuning.force_floor,
+        lin.curv_f, level, mu, lin.comfort_on, x, bounds.scale, bounds.is_joint, tuning.force_floor,
         tuning.force_barrier, root,
     )  # fmt: skip
     compact = _curvature_model(memory, lin) if memory is not None else None
@@ -200,11 +202,13 @@ def _bounded_step_compiled(
             comfort *= _room(task, comfort, lo, hi)  # shorten the comfort part to stay inside
     k = int(np.count_nonzero(free))
     r_free, g_free = np.empty(k), np.empty(k)
-    finite, saturated = compiled.step_tail(task, comfort, free, fixed, grad_f, root, r_free, g_free)
-    if not finite:
+    if not compiled.step_tail(task, comfort, free, grad_f, root, r_free, g_free):
         task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
     gain = _predicted_gain(lin, comfort, compact)
-    saturated_gain = max(float(saturated), 0.0) if lin.comfort_on else 0.0
+    saturated_gain = 0.0
+    if lin.comfort_on and fixed.any():  # as in _bounded_step (a BLAS dot: the same rounding)
+        saturated = (~free) & (fixed != 0.0)
+        saturated_gain = max(-float(grad_f[saturated] @ fixed[saturated]), 0.0)
     return Step(task, comfort, gain, free, lsq, r_free, g_free, saturated_gain)
 
 
@@ -212,8 +216,13 @@ def _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning):
     """:func:`_free_step` with the gathering and scattering of the free variables in compiled loops."""
     jac, err = lin.jac, at.err
     n, m, k = len(at.x), len(jac), int(np.count_nonzero(free))
-    scaled, used, err_eff, r_f = np.empty((m, k)), np.empty(m, dtype=bool), np.empty(len(err)), np.empty(k)
-    compiled.free_columns(jac, lin.live, err, free, fixed, root, scaled, used, err_eff, r_f)
+    # Fortran order, as NumPy's jac[:, free] has: the products below then take the same BLAS paths (same rounding)
+    scaled, used, r_f = np.empty((m, k), order="F"), np.empty(m, dtype=bool), np.empty(k)
+    compiled.free_columns(jac, free, root, scaled, used, r_f)
+    err_eff = err
+    if fixed.any():  # held variables move by ``fixed``: the free ones make up the rest of the error
+        err_eff = err.copy()
+        err_eff[lin.live] += jac[:, ~free] @ fixed[~free]
     lsq = LeastSquares(scaled, tuning.max_damping, lin.live, len(err), used=used)
     task = fixed.copy()
     task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)

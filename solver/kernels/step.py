@@ -41,7 +41,7 @@ def bound_start(
 @kernel
 def root_metric(
     curv_f: np.ndarray,
-    free: np.ndarray,
+    level: float,
     mu: float,
     comfort_on: bool,
     x: np.ndarray,
@@ -51,21 +51,16 @@ def root_metric(
     force_barrier: float,
     root: np.ndarray,
 ) -> None:
-    """Fill ``root`` with the square root of the step's diagonal metric (see ``solver.iteration.step.metric``)."""
+    """Fill ``root`` with the square root of the step's diagonal metric (``solver.iteration.step.metric``); ``level``
+    is the mean of ``curv_f`` on the free variables (NumPy's sum, so that both paths take the same one)."""
     n = curv_f.shape[0]
     curved = False
-    total = 0.0
-    count = 0
     for i in range(n):
         curved = curved or curv_f[i] != 0.0
-        if free[i]:
-            total += curv_f[i]
-            count += 1
     if not (comfort_on or curved):
         for i in range(n):
             root[i] = 1.0
         return
-    level = total / count if count else 1.0
     shift = mu * max(level, 1e-12)
     for i in range(n):
         value = curv_f[i] + shift + 1e-12
@@ -77,41 +72,22 @@ def root_metric(
 
 @kernel
 def free_columns(
-    jac: np.ndarray,
-    live: np.ndarray,
-    err: np.ndarray,
-    free: np.ndarray,
-    fixed: np.ndarray,
-    root: np.ndarray,
-    scaled: np.ndarray,
-    used: np.ndarray,
-    err_eff: np.ndarray,
-    r_f: np.ndarray,
+    jac: np.ndarray, free: np.ndarray, root: np.ndarray, scaled: np.ndarray, used: np.ndarray, r_f: np.ndarray
 ) -> None:
-    """The free variables' part of a step: ``scaled`` (m, k) = the free columns of ``jac`` / their metric root ``r_f``
-    (k), ``used`` the rows with an entry there, ``err_eff`` = ``err`` plus the held variables' ``jac @ fixed``."""
+    """The free variables' Jacobian in the metric: ``scaled`` (m, k, Fortran order) = the free columns of ``jac`` /
+    their metric root ``r_f`` (k), and ``used``: the rows with an entry there."""
     m, n = jac.shape
+    for r in range(m):
+        used[r] = False
     k = 0
-    for j in range(n):
+    for j in range(n):  # column by column: ``scaled`` is in Fortran order
         if free[j]:
             r_f[k] = root[j]
-            k += 1
-    for i in range(err.shape[0]):
-        err_eff[i] = err[i]
-    for r in range(m):
-        k = 0
-        held = 0.0
-        any_entry = False
-        for j in range(n):
-            if free[j]:
-                value = jac[r, j] / r_f[k]
+            for r in range(m):
+                value = jac[r, j] / root[j]
                 scaled[r, k] = value
-                any_entry = any_entry or value != 0.0
-                k += 1
-            else:
-                held += jac[r, j] * fixed[j]
-        used[r] = any_entry
-        err_eff[live[r]] += held
+                used[r] = used[r] or value != 0.0
+            k += 1
 
 
 @kernel
@@ -177,19 +153,11 @@ def saturate(
 
 @kernel
 def step_tail(
-    task: np.ndarray,
-    comfort: np.ndarray,
-    free: np.ndarray,
-    fixed: np.ndarray,
-    grad_f: np.ndarray,
-    root: np.ndarray,
-    r_free: np.ndarray,
-    g_free: np.ndarray,
-) -> tuple[bool, float]:
-    """(task and comfort all finite, -grad_f . fixed over the saturated variables); fills ``r_free`` = root[free] and
-    ``g_free`` = grad_f[free] / r_free."""
+    task: np.ndarray, comfort: np.ndarray, free: np.ndarray, grad_f: np.ndarray, root: np.ndarray, r_free, g_free
+) -> bool:
+    """Whether task and comfort are all finite; fills ``r_free`` = root[free] and ``g_free`` = grad_f[free] /
+    r_free."""
     finite = True
-    dot = 0.0
     k = 0
     for i in range(task.shape[0]):
         finite = finite and math.isfinite(task[i]) and math.isfinite(comfort[i])
@@ -197,6 +165,4 @@ def step_tail(
             r_free[k] = root[i]
             g_free[k] = grad_f[i] / root[i]
             k += 1
-        elif fixed[i] != 0.0:
-            dot += grad_f[i] * fixed[i]
-    return finite, -dot
+    return finite
