@@ -223,7 +223,7 @@ def _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning):
     if fixed.any():  # held variables move by ``fixed``: the free ones make up the rest of the error
         err_eff = err.copy()
         err_eff[lin.live] += jac[:, ~free] @ fixed[~free]
-    lsq = LeastSquares(scaled, tuning.max_damping, lin.live, len(err), used=used)
+    lsq = LeastSquares(scaled, tuning.max_damping, lin.live, len(err), used)
     task = fixed.copy()
     task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)
     comfort = np.zeros(n)
