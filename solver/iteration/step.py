@@ -103,8 +103,13 @@ def compute_step(
     slack, no more) and the step is solved again, so a part slides along a surface or leaves it, never into it.
     """
     live = lin.live
-    watched = problem.one_sided[live] & (at.err[live] == 0.0) & lin.jac.any(axis=1)  # per row of lin.jac
-    if not watched.any():
+    if kernels.active():
+        watched = np.empty(len(live), dtype=bool)
+        any_watched = compiled.watched_rows(problem.one_sided, at.err, live, lin.jac, watched) > 0
+    else:
+        watched = problem.one_sided[live] & (at.err[live] == 0.0) & lin.jac.any(axis=1)  # per row of lin.jac
+        any_watched = watched.any()
+    if not any_watched:
         return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
     step = _bounded_step(problem, at, _without(lin, watched), mu, radius, tuning, memory)
     slack = problem.scaled_slack(at.state)[live]

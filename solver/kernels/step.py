@@ -166,3 +166,21 @@ def step_tail(
             g_free[k] = grad_f[i] / root[i]
             k += 1
     return finite
+
+
+@kernel
+def watched_rows(one_sided: np.ndarray, err: np.ndarray, live: np.ndarray, jac: np.ndarray, out: np.ndarray) -> int:
+    """``out`` per row of ``jac`` (rows ``live``): a one-sided row met with no error (a clearance within its watch
+    band) whose Jacobian row has an entry; return how many."""
+    count = 0
+    for r in range(live.shape[0]):
+        row = live[r]
+        watched = False
+        if one_sided[row] and err[row] == 0.0:
+            for j in range(jac.shape[1]):
+                if jac[r, j] != 0.0:
+                    watched = True
+                    break
+        out[r] = watched
+        count += watched
+    return count

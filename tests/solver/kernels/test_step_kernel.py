@@ -4,24 +4,27 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from bench import random_targets as rt
-from solver import SolverOptions, kernels, solve
+from solver import SolverOptions, kernels, load_scenario, solve
 from solver.io.scenario.bodies import load_body
 from solver.iteration import TUNING, loop
 from solver.iteration import step as step_module
 
 pytest.importorskip("numba")
 
+SCENARIOS = Path(__file__).resolve().parents[3] / "presets" / "scenarios"
 FIELDS = ("task", "comfort", "free", "root_metric", "free_gradient", "multipliers")
 
 
 @pytest.fixture(scope="module")
 def step_calls() -> list[tuple]:
-    """The arguments of every compute_step of a few random-benchmark solves (NumPy path), comfort on and off."""
+    """The arguments of every compute_step of a few random-benchmark solves (NumPy path), comfort on and off, and of
+    two shipped scenarios whose clearance rows are watched (held on their floor by the step)."""
     model = load_body(preset=rt.PRESET)
     box = rt.workspace_box(model)
     balance, groups = rt.CONFIGS["physics + reduction"]
@@ -39,6 +42,9 @@ def step_calls() -> list[tuple]:
                 problem = rt.trial_problem(model, rt.draw_targets(model, box, rt.LEVELS[level], seed), balance, groups)
                 for comfort in (True, False):
                     solve(problem, options=SolverOptions(optimize_comfort=comfort, max_iterations=25))
+            for name in ("cabinet_reach", "box_lift_high"):
+                scenario = load_scenario(SCENARIOS / f"{name}.toml")
+                solve(scenario.problem, scenario.start, scenario.options)
     finally:
         loop.compute_step = original
     return calls
@@ -68,12 +74,14 @@ def _assert_same(reference, compiled) -> None:
 def test_compiled_step_is_the_numpy_step(step_calls) -> None:
     assert len(step_calls) > 20
     assert any(call[2].comfort_on for call in step_calls) and not all(call[2].comfort_on for call in step_calls)
-    saturated = 0
+    saturated = watched = 0
     for call in step_calls:
         reference, compiled = _both(call)
         _assert_same(reference, compiled)
         saturated += reference.saturated_gain > 0.0
-    assert saturated  # the saturation on bounds was exercised
+        problem, at, lin = call[:3]
+        watched += bool((problem.one_sided[lin.live] & (at.err[lin.live] == 0.0)).any())
+    assert saturated and watched  # the saturation on bounds and the watched clearance rows were exercised
 
 
 def test_compiled_step_out_of_clamping_rounds(step_calls) -> None:
