@@ -193,7 +193,7 @@ def _bounded_step_compiled(
     curv_free = lin.curv_f[free]
     level = float(curv_free.sum()) / curv_free.size if curv_free.size else 1.0  # as in metric(): the same rounding
     compiled.root_metric(
-        lin.curv_f, level, mu, lin.comfort_on, x, bounds.scale, bounds.is_joint, tuning.force_floor,
+        lin.curv_f, mu * max(level, 1e-12), lin.comfort_on, x, bounds.scale, bounds.is_joint, tuning.force_floor,
         tuning.force_barrier, root,
     )  # fmt: skip
     compact = _curvature_model(memory, lin) if memory is not None else None

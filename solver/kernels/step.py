@@ -41,8 +41,7 @@ def bound_start(
 @kernel
 def root_metric(
     curv_f: np.ndarray,
-    level: float,
-    mu: float,
+    shift: float,
     comfort_on: bool,
     x: np.ndarray,
     scale: np.ndarray,
@@ -51,8 +50,8 @@ def root_metric(
     force_barrier: float,
     root: np.ndarray,
 ) -> None:
-    """Fill ``root`` with the square root of the step's diagonal metric (``solver.iteration.step.metric``); ``level``
-    is the mean of ``curv_f`` on the free variables (NumPy's sum, so that both paths take the same one)."""
+    """Fill ``root`` with the square root of the step's diagonal metric (``solver.iteration.step.metric``); ``shift``
+    is mu x the mean of ``curv_f`` on the free variables (summed by NumPy, so that both paths round alike)."""
     n = curv_f.shape[0]
     curved = False
     for i in range(n):
@@ -61,11 +60,11 @@ def root_metric(
         for i in range(n):
             root[i] = 1.0
         return
-    shift = mu * max(level, 1e-12)
     for i in range(n):
         value = curv_f[i] + shift + 1e-12
         if not is_joint[i]:  # a contact edge weight: the log barrier's curvature
-            share = max(x[i] / scale[i], force_floor)
+            share = x[i] / scale[i]
+            share = force_floor if share < force_floor else share  # np.maximum: NaN stays NaN
             value += force_barrier / (share * share)
         root[i] = math.sqrt(value)
 
@@ -112,7 +111,9 @@ def scatter_scaled(part: np.ndarray, r_f: np.ndarray, free: np.ndarray, out: np.
         if free[i]:
             out[i] = part[k] / r_f[k]
             k += 1
-        biggest = max(biggest, abs(out[i]))
+        size = abs(out[i])
+        if size > biggest or size != size:  # NaN wins, as in NumPy's max: then nothing is scaled
+            biggest = size
     if biggest > cap:
         factor = cap / biggest
         for i in range(out.shape[0]):

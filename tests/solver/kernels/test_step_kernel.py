@@ -89,3 +89,17 @@ def test_compiled_step_out_of_clamping_rounds(step_calls) -> None:
     tuning = dataclasses.replace(TUNING, clamping_rounds=1)
     for call in step_calls[::3]:
         _assert_same(*_both(call, tuning))
+
+
+def test_comfort_scatter_follows_numpy_on_nan() -> None:
+    """NumPy's largest |entry| of a comfort part with a NaN is NaN, so the part is not scaled (the step then replaces
+    the NaN): the loop must not scale it either."""
+    from solver.kernels.step import scatter_scaled
+
+    free = np.array([True, False, True])
+    out = np.array([0.0, 7.0, 0.0])
+    scatter_scaled(np.array([np.nan, 10.0]), np.ones(2), free, out, 1.0)
+    np.testing.assert_array_equal(out, [np.nan, 7.0, 10.0])
+    out = np.array([0.0, 7.0, 0.0])
+    scatter_scaled(np.array([1.0, 10.0]), np.array([1.0, 2.0]), free, out, 1.0)
+    np.testing.assert_allclose(out, np.array([1.0, 7.0, 5.0]) / 7.0, rtol=1e-15)
