@@ -71,7 +71,7 @@ class LeastSquares:
         factor = self._factors.get(shift)
         if factor is None:
             shifted = self._gram.copy()
-            shifted.reshape(-1)[:: len(shifted) + 1] += shift  # the diagonal, through a view (flat is slower)
+            shifted.flat[:: len(shifted) + 1] += shift
             factor, info = lapack.dpotrf(shifted, lower=1, overwrite_a=1)
             if info != 0:  # cannot happen for shift >= 0 once G itself factored; stay finite regardless
                 return np.zeros_like(rhs)
