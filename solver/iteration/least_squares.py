@@ -22,15 +22,22 @@ class LeastSquares:
     """
 
     def __init__(
-        self, jac: np.ndarray, max_damping: float, rows: np.ndarray | None = None, total: int | None = None
+        self,
+        jac: np.ndarray,
+        max_damping: float,
+        rows: np.ndarray | None = None,
+        total: int | None = None,
+        used: np.ndarray | None = None,
     ) -> None:
         """``jac`` holds rows ``rows`` (indices) of a Jacobian of ``total`` rows, the others zero (default: all
-        rows); errors passed in and multipliers given back have all ``total`` rows."""
+        rows); errors passed in and multipliers given back have all ``total`` rows. ``used``: the rows of ``jac``
+        with an entry, when the caller knows them already."""
         self._rows = jac.shape[0] if total is None else total
         rows = np.arange(jac.shape[0]) if rows is None else np.asarray(rows)
         # rows without any entry (a one-sided constraint while it is met) take no part: kept, they would make G
         # singular and send every step down the eigendecomposition path
-        used = jac.any(axis=1) if jac.size else np.zeros(jac.shape[0], dtype=bool)
+        if used is None:
+            used = jac.any(axis=1) if jac.size else np.zeros(jac.shape[0], dtype=bool)
         self._active = rows[used]
         if not used.all():
             jac = jac[used]

@@ -14,6 +14,8 @@ from functools import cached_property
 
 import numpy as np
 
+from .. import kernels
+from ..kernels import step as compiled
 from ..problem.problem import Problem
 from . import lapack
 from .curvature_memory import CurvatureMemory, null_space_newton
@@ -101,8 +103,13 @@ def compute_step(
     slack, no more) and the step is solved again, so a part slides along a surface or leaves it, never into it.
     """
     live = lin.live
-    watched = problem.one_sided[live] & (at.err[live] == 0.0) & lin.jac.any(axis=1)  # per row of lin.jac
-    if not watched.any():
+    if kernels.active():
+        watched = np.empty(len(live), dtype=bool)
+        any_watched = compiled.watched_rows(problem.one_sided, at.err, live, lin.jac, watched) > 0
+    else:
+        watched = problem.one_sided[live] & (at.err[live] == 0.0) & lin.jac.any(axis=1)  # per row of lin.jac
+        any_watched = watched.any()
+    if not any_watched:
         return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
     step = _bounded_step(problem, at, _without(lin, watched), mu, radius, tuning, memory)
     slack = problem.scaled_slack(at.state)[live]
@@ -130,6 +137,8 @@ def _bounded_step(
 ) -> Step:
     """The step on the rows of ``lin``: variables the step would push past a bound are saturated there and the
     step solved again without them."""
+    if kernels.active():
+        return _bounded_step_compiled(problem, at, lin, mu, radius, tuning, memory)
     x, jac, err, grad_f = at.x, lin.jac, at.err, lin.grad_f
     lo, hi = problem.bounds.room(x)
     # Start by holding variables on a bound that neither the constraint error nor comfort would pull inwards.
@@ -163,6 +172,73 @@ def _bounded_step(
     saturated_gain = max(-float(grad_f[saturated] @ fixed[saturated]), 0.0) if lin.comfort_on else 0.0
     r_free = root[free]
     return Step(task, comfort, gain, free, lsq, r_free, grad_f[free] / r_free, saturated_gain)
+
+
+def _bounded_step_compiled(
+    problem: Problem,
+    at: Trial,
+    lin: Linearization,
+    mu: float,
+    radius: float,
+    tuning: Tuning,
+    memory: CurvatureMemory | None,
+) -> Step:
+    """:func:`_bounded_step` with its element-wise stages in the loops of :mod:`solver.kernels.step` (the same
+    numbers to rounding; the matrix products and LAPACK calls are the NumPy path's)."""
+    x, bounds, grad_f = at.x, problem.bounds, lin.grad_f
+    n = len(x)
+    lo, hi, root, free = np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool)
+    outward = lin.jac.T @ at.err[lin.live] + grad_f  # descent of both pushes along -outward
+    compiled.bound_start(bounds.lower, bounds.upper, bounds.scale, x, outward, lo, hi, free)
+    curv_free = lin.curv_f[free]
+    level = float(curv_free.sum()) / curv_free.size if curv_free.size else 1.0  # as in metric(): the same rounding
+    compiled.root_metric(
+        lin.curv_f, mu * max(level, 1e-12), lin.comfort_on, x, bounds.scale, bounds.is_joint, tuning.force_floor,
+        tuning.force_barrier, root,
+    )  # fmt: skip
+    compact = _curvature_model(memory, lin) if memory is not None else None
+    fixed = np.zeros(n)
+    for round_ in range(tuning.clamping_rounds):
+        task, comfort, lsq = _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning)
+        last = round_ == tuning.clamping_rounds - 1  # out of rounds: nothing more is saturated
+        if not compiled.saturate(task, comfort, lo, hi, free, fixed, bounds.is_joint, tuning.fraction_near, not last):
+            break
+        if last:
+            comfort *= _room(task, comfort, lo, hi)  # shorten the comfort part to stay inside
+    k = int(np.count_nonzero(free))
+    r_free, g_free = np.empty(k), np.empty(k)
+    if not compiled.step_tail(task, comfort, free, grad_f, root, r_free, g_free):
+        task, comfort = np.nan_to_num(task), np.nan_to_num(comfort)
+    gain = _predicted_gain(lin, comfort, compact)
+    saturated_gain = 0.0
+    if lin.comfort_on and fixed.any():  # as in _bounded_step (a BLAS dot: the same rounding)
+        saturated = (~free) & (fixed != 0.0)
+        saturated_gain = max(-float(grad_f[saturated] @ fixed[saturated]), 0.0)
+    return Step(task, comfort, gain, free, lsq, r_free, g_free, saturated_gain)
+
+
+def _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning):
+    """:func:`_free_step` with the gathering and scattering of the free variables in compiled loops."""
+    jac, err = lin.jac, at.err
+    n, m, k = len(at.x), len(jac), int(np.count_nonzero(free))
+    # Fortran order, as NumPy's jac[:, free] has: the products below then take the same BLAS paths (same rounding)
+    scaled, used, r_f = np.empty((m, k), order="F"), np.empty(m, dtype=bool), np.empty(k)
+    compiled.free_columns(jac, free, root, scaled, used, r_f)
+    err_eff = err
+    if fixed.any():  # held variables move by ``fixed``: the free ones make up the rest of the error
+        err_eff = err.copy()
+        err_eff[lin.live] += jac[:, ~free] @ fixed[~free]
+    lsq = LeastSquares(scaled, tuning.max_damping, lin.live, len(err), used)
+    task = fixed.copy()
+    task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)
+    comfort = np.zeros(n)
+    if lin.comfort_on:
+        columns = compact[0] if compact is not None else np.zeros((n, 0))
+        g_w, v = np.empty(k), np.empty((k, columns.shape[1]))
+        compiled.gather_scaled(lin.grad_f, columns, free, r_f, g_w, v)
+        z = null_space_newton(g_w, lsq.basis, None if compact is None else (v, compact[1]))
+        compiled.scatter_scaled(z, r_f, free, comfort, tuning.max_comfort_step)
+    return task, comfort, lsq
 
 
 def _curvature_model(memory: CurvatureMemory, lin: Linearization) -> tuple[np.ndarray, np.ndarray] | None:

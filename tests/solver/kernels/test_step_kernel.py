@@ -1,0 +1,105 @@
+"""The step's compiled loops (solver/kernels/step.py) give the NumPy path's step: on the iterates of real solves."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bench import random_targets as rt
+from solver import SolverOptions, kernels, load_scenario, solve
+from solver.io.scenario.bodies import load_body
+from solver.iteration import TUNING, loop
+from solver.iteration import step as step_module
+
+pytest.importorskip("numba")
+
+SCENARIOS = Path(__file__).resolve().parents[3] / "presets" / "scenarios"
+FIELDS = ("task", "comfort", "free", "root_metric", "free_gradient", "multipliers")
+
+
+@pytest.fixture(scope="module")
+def step_calls() -> list[tuple]:
+    """The arguments of every compute_step of a few random-benchmark solves (NumPy path), comfort on and off, and of
+    two shipped scenarios whose clearance rows are watched (held on their floor by the step)."""
+    model = load_body(preset=rt.PRESET)
+    box = rt.workspace_box(model)
+    balance, groups = rt.CONFIGS["physics + reduction"]
+    calls: list[tuple] = []
+    original = loop.compute_step
+
+    def record(problem, at, lin, mu, radius, tuning, memory):
+        calls.append((problem, at, lin, mu, radius, tuning, copy.copy(memory)))
+        return original(problem, at, lin, mu, radius, tuning, memory)
+
+    loop.compute_step = record
+    try:
+        with kernels.using(False):
+            for level, seed in ((1, 7000), (4, 7001), (5, 7002)):
+                problem = rt.trial_problem(model, rt.draw_targets(model, box, rt.LEVELS[level], seed), balance, groups)
+                for comfort in (True, False):
+                    solve(problem, options=SolverOptions(optimize_comfort=comfort, max_iterations=25))
+            for name in ("cabinet_reach", "box_lift_high"):
+                scenario = load_scenario(SCENARIOS / f"{name}.toml")
+                solve(scenario.problem, scenario.start, scenario.options)
+    finally:
+        loop.compute_step = original
+    return calls
+
+
+def _both(call: tuple, tuning=None) -> tuple:
+    problem, at, lin, mu, radius, default, memory = call
+    args = (problem, at, lin, mu, radius, tuning or default, memory)
+    with kernels.using(False):
+        reference = step_module.compute_step(*args)
+    with kernels.using(True):
+        compiled = step_module.compute_step(*args)
+    return reference, compiled
+
+
+def _assert_same(reference, compiled) -> None:
+    for name in FIELDS:
+        want, got = getattr(reference, name), getattr(compiled, name)
+        assert got.shape == want.shape, name
+        size = max(float(np.abs(want).max(initial=0.0)), 1.0)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * size, err_msg=name)
+    for name in ("predicted_gain", "saturated_gain", "penalty"):
+        want, got = getattr(reference, name), getattr(compiled, name)
+        assert abs(got - want) <= 1e-12 * max(abs(want), 1.0), name
+
+
+def test_compiled_step_is_the_numpy_step(step_calls) -> None:
+    assert len(step_calls) > 20
+    assert any(call[2].comfort_on for call in step_calls) and not all(call[2].comfort_on for call in step_calls)
+    saturated = watched = 0
+    for call in step_calls:
+        reference, compiled = _both(call)
+        _assert_same(reference, compiled)
+        saturated += reference.saturated_gain > 0.0
+        problem, at, lin = call[:3]
+        watched += bool((problem.one_sided[lin.live] & (at.err[lin.live] == 0.0)).any())
+    assert saturated and watched  # the saturation on bounds and the watched clearance rows were exercised
+
+
+def test_compiled_step_out_of_clamping_rounds(step_calls) -> None:
+    """With one clamping round every step that leaves the bounds has its comfort part shortened instead."""
+    tuning = dataclasses.replace(TUNING, clamping_rounds=1)
+    for call in step_calls[::3]:
+        _assert_same(*_both(call, tuning))
+
+
+def test_comfort_scatter_follows_numpy_on_nan() -> None:
+    """NumPy's largest |entry| of a comfort part with a NaN is NaN, so the part is not scaled (the step then replaces
+    the NaN): the loop must not scale it either."""
+    from solver.kernels.step import scatter_scaled
+
+    free = np.array([True, False, True])
+    out = np.array([0.0, 7.0, 0.0])
+    scatter_scaled(np.array([np.nan, 10.0]), np.ones(2), free, out, 1.0)
+    np.testing.assert_array_equal(out, [np.nan, 7.0, 10.0])
+    out = np.array([0.0, 7.0, 0.0])
+    scatter_scaled(np.array([1.0, 10.0]), np.array([1.0, 2.0]), free, out, 1.0)
+    np.testing.assert_allclose(out, np.array([1.0, 7.0, 5.0]) / 7.0, rtol=1e-15)
