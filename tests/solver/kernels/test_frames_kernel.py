@@ -7,11 +7,12 @@ import numpy as np
 import pytest
 
 from solver import kernels
+from solver.body.reduction import DEFAULT_GROUPS
 from solver.body.spatial import exp_so3
 from solver.constraints import FrameConstraint, lock_operator
 from solver.constraints.frame import FrameGroup
 from solver.io.scenario.bodies import load_body
-from solver.problem.problem import Problem, ProblemSpec
+from solver.problem.problem import Loop, Problem, ProblemSpec, Target
 
 pytest.importorskip("numba")
 
@@ -79,3 +80,31 @@ def test_the_kernels_give_the_numpy_errors_and_jacobian_rows(angle: float | None
                 got, expected, rtol=0, atol=1e-12 * condition * max(1.0, np.abs(expected).max()), err_msg=name
             )
         assert not compiled_got["jacobian"][:, model.n :].any()  # the forces do not move a frame
+
+
+@pytest.mark.parametrize("groups", [DEFAULT_GROUPS, ()])
+def test_the_live_jacobian_through_the_reduction_is_the_numpy_one(groups: tuple[str, ...]) -> None:
+    """Targets, a loop, balance and the floor: the live rows in the solver's scaled variables (the reduction's basis
+    product and the scaling in one kernel), with and without a reduction."""
+    model = load_body(preset="male_50")
+    rng = np.random.default_rng(5)
+    kin = model.forward(model.zero_pose())
+    targets = [
+        Target(name, kin.tcp_frame(model.tcp(name))[1] + rng.normal(scale=0.1, size=3), lock=lock, support=support)
+        for name, lock, support in (
+            ("foot_l", ("z", "rx", "ry"), True),
+            ("foot_r", ("z", "rx", "ry"), True),
+            ("hand_r", LOCKS[0], False),
+        )  # fmt: skip
+    ]
+    loops = [Loop("hand_l", "hand_r", np.array([0.3, 0.0, 0.0]))]
+    problem = Problem(model, ProblemSpec(targets, loops, reduction=groups, floor=True))
+    for _ in range(4):
+        v = problem.start() + rng.normal(scale=0.1, size=problem.n_var)
+        got = {}
+        for compiled in (False, True):
+            with kernels.using(compiled):
+                got[compiled] = problem.live_jacobian(problem.state(v))
+        np.testing.assert_array_equal(got[True][0], got[False][0])
+        expected = got[False][1]
+        np.testing.assert_allclose(got[True][1], expected, rtol=0, atol=1e-12 * max(1.0, np.abs(expected).max()))
