@@ -11,8 +11,9 @@ The Jacobian is exact: d e_r = J_l^-1(e_r) R_T^T (omega - omega_ref) (inverse le
 d e_p = R_T^T (v - v_ref(o)), where v_ref(o) is the velocity of the point o carried rigidly by the reference
 TCP's link (zero for a fixed target).
 
-A problem's frame constraints are evaluated together by a :class:`FrameGroup`, itself a constraint: one batched
-NumPy pass for all TCPs (errors) and one for all rows (Jacobian), kept in the state's cache. A frame constraint
+A problem's frame constraints are evaluated together by a :class:`FrameGroup`, itself a constraint: one pass for
+all TCPs (errors) and one for all rows (Jacobian), kept in the state's cache; each pass is one compiled kernel
+(:mod:`solver.kernels.frames`) when kernels are on, else batched NumPy (the reference). A frame constraint
 on its own is evaluated as a group of one; grouping never changes a member, so members can be shared freely.
 """
 
@@ -132,8 +133,8 @@ class FrameConstraint(Constraint):
 
 class _FrameValues:
     """One state's evaluation of a group: world target frames (C, 3, 3) and (C, 3) m, TCP positions (C, 3) m,
-        the unrelaxed errors (C, 6) and the relaxed rows of all members stacked (R,); ``packed`` (the compiled kernels'
-    (C, 9) [position, full] and (C, 3, 4) [target rotation | position]) when they computed it."""
+    the unrelaxed errors (C, 6) and the relaxed rows of all members stacked (R,); ``packed``: the compiled kernels'
+    (C, 9) [position, full] and (C, 3, 4) [target rotation | position], of which the fields are views."""
 
     __slots__ = ("target_rotation", "target_position", "position", "full", "errors", "jacobian", "packed")
 

@@ -3,7 +3,8 @@ loop (the kernel of :meth:`solver.problem.problem.Problem.live_jacobian`).
 
 Row i of the output is (jac[i] @ basis) * row_scale[live[i]] * scale. The basis's columns have disjoint supports,
 so each x column j adds to at most one variable, ``column[j]`` (-1: none), with the weight ``weight[j]``; the sums
-run over the row's nonzeros in x order, as the NumPy path adds each column's rows.
+run over the row's nonzeros in x order, as the NumPy path adds each column's rows. Without a reduction (empty
+``column``) each x column is its own variable, weight 1: the scaling alone.
 """
 
 from __future__ import annotations
@@ -25,14 +26,18 @@ def reduce_and_scale(
 ) -> None:
     """Fill ``out`` (k, n_var) from ``jac`` (k, n_x), the row scales of the ``live`` rows and the variables'
     ``scale`` (n_var,)."""
+    identity = column.shape[0] == 0
     for i in range(jac.shape[0]):
         for c in range(out.shape[1]):
             out[i, c] = 0.0
         used = False
         for j in range(jac.shape[1]):
             value = jac[i, j]
-            if value != 0.0 and column[j] >= 0:  # NaN counts, as in the NumPy path
-                out[i, column[j]] += value * weight[j]
+            if value != 0.0:  # NaN counts, as in the NumPy path
+                if identity:
+                    out[i, j] = value
+                elif column[j] >= 0:
+                    out[i, column[j]] += value * weight[j]
                 used = True
         if used:
             factor = row_scale[live[i]]

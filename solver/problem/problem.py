@@ -34,6 +34,8 @@ from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
 
+_NO_REDUCTION = (np.zeros(0, dtype=np.int64), np.zeros(0))  # reduce_and_scale's supports for x itself: scaling only
+
 
 class Problem:
     """Everything the solver needs, assembled from plain specifications."""
@@ -287,9 +289,10 @@ class Problem:
         live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
         jac = np.concatenate([jac for _, jac in got])
         red = self.reduction
-        if red is not None and red.linear and kernels.active():  # the basis product and the scaling in one loop
+        if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
             out = np.empty((len(jac), self.n_var))
-            reduce_and_scale(jac, live, self._row_scale[:, 0], self.scale, *red.kernel_supports, out)
+            supports = _NO_REDUCTION if red is None else red.kernel_supports
+            reduce_and_scale(jac, live, self._row_scale[:, 0], self.scale, *supports, out)
             return live, out
         jac = self._in_solver_variables(jac, state)
         jac *= self._row_scale[live]  # in place: a fresh temporary costs page faults, more than the product
