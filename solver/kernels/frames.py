@@ -3,7 +3,8 @@
 
 Units: m, rad. Error of a member (TCP frame (R, o), target frame (R_T, o_T)): e_p = R_T^T (o - o_T),
 e_r = log(R_T^T R); a row is its operator row times [e_p, e_r]. Its Jacobian row on joint j (twist [v_j, w_j]):
-sign * ((m - l x o) . w_j + l . v_j), with l = L_lin R_T^T and m = L_ang J_l^-1(e_r) R_T^T.
+sign * ((m - l x o) . w_j + l . v_j), with l = L_lin R_T^T and m = L_ang J_l^-1(e_r) R_T^T. Also the general
+rows of :meth:`solver.body.model.Kinematics.jacobian_rows` (points moved by masked joints, the clearance rows').
 """
 
 from __future__ import annotations
@@ -129,3 +130,27 @@ def frame_jacobian_rows(
             j = joint[s]
             moved = t0 * twist[j, 3] + t1 * twist[j, 4] + t2 * twist[j, 5]
             out[r, j] = sign[s] * (moved + lin[0] * twist[j, 0] + lin[1] * twist[j, 1] + lin[2] * twist[j, 2])
+
+
+@kernel
+def point_jacobian_rows(
+    points: np.ndarray, rows_lin: np.ndarray, rows_ang: np.ndarray, mask: np.ndarray, twist: np.ndarray, out: np.ndarray
+) -> None:
+    """Fill ``out`` (k, n): row r is mask[r] * ((m - l x p) . w_j + l . v_j) for l = ``rows_lin[r]``, m =
+    ``rows_ang[r]`` (k, 3), p = ``points[r]`` m (or ``points[0]`` when one point (1, 3) serves every row; the same
+    for a one-row ``mask`` (1, n)) and the joints' ``twist`` (n, 6) [velocity of the world origin, spin]."""
+    for r in range(out.shape[0]):
+        p = 0 if points.shape[0] == 1 else r
+        q = 0 if mask.shape[0] == 1 else r
+        lx, ly, lz = rows_lin[r, 0], rows_lin[r, 1], rows_lin[r, 2]
+        px, py, pz = points[p, 0], points[p, 1], points[p, 2]
+        t0 = rows_ang[r, 0] - (ly * pz - lz * py)
+        t1 = rows_ang[r, 1] - (lz * px - lx * pz)
+        t2 = rows_ang[r, 2] - (lx * py - ly * px)
+        for j in range(out.shape[1]):
+            m = mask[q, j]
+            if m == 0.0:
+                out[r, j] = 0.0
+                continue
+            moved = t0 * twist[j, 3] + t1 * twist[j, 4] + t2 * twist[j, 5]
+            out[r, j] = (moved + lx * twist[j, 0] + ly * twist[j, 1] + lz * twist[j, 2]) * m

@@ -108,3 +108,27 @@ def test_the_live_jacobian_through_the_reduction_is_the_numpy_one(groups: tuple[
         np.testing.assert_array_equal(got[True][0], got[False][0])
         expected = got[False][1]
         np.testing.assert_allclose(got[True][1], expected, rtol=0, atol=1e-12 * max(1.0, np.abs(expected).max()))
+
+
+def test_the_point_rows_kernel_gives_the_numpy_jacobian_rows() -> None:
+    """Kinematics.jacobian_rows (the clearance rows' points) and frame_jacobian: per-row points and masks, one point
+    and one bool mask for all rows."""
+    model = load_body(preset="male_50")
+    rng = np.random.default_rng(8)
+    for _ in range(4):
+        theta = rng.uniform(model.lower, model.upper)
+        links = rng.integers(0, model.n, size=7)
+        points, rows_lin, rows_ang = rng.normal(size=(3, 7, 3))
+        mask = model.descendant[:, links].T.astype(float)
+        got = {}
+        for compiled in (False, True):
+            with kernels.using(compiled):
+                kin = model.forward(theta)
+                got[compiled] = [
+                    kin.jacobian_rows(points, rows_lin, rows_ang, mask),
+                    kin.jacobian_rows(points[0], rows_lin, np.zeros_like(rows_lin), mask),
+                    kin.frame_jacobian(int(links[0]), points[0]),
+                ]
+        for expected, value in zip(got[False], got[True], strict=True):
+            assert value.shape == expected.shape
+            np.testing.assert_allclose(value, expected, rtol=0, atol=1e-12 * max(1.0, np.abs(expected).max()))
