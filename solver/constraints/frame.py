@@ -308,18 +308,14 @@ class FrameGroup(Constraint):
         return self._compiled_tables
 
     def _moving_joints(self, model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Per member, the joints that move its TCP (sign 1) or only its reference TCP (sign -1), as :meth:`_mask`:
-        (joint_start (C + 1,), joint, sign)."""
+        """Per member, the joints that move its TCP (sign 1) or only its reference TCP (sign -1): its rows' nonzeros in
+        :meth:`_mask` (none for a member without rows), as (joint_start (C + 1,), joint, sign)."""
         if self._moving is None:
-            desc = model.descendant.astype(float)
-            masks = [
-                desc[:, c.tcp.link] - (desc[:, c.reference.link] if c.reference is not None else 0.0)
-                for c in self.members
-            ]
-            joints = [np.flatnonzero(m) for m in masks]
-            start = np.concatenate([[0], np.cumsum([len(j) for j in joints])]).astype(np.int64)
-            joint = np.concatenate([np.zeros(0, dtype=np.int64), *joints]).astype(np.int64)
-            sign = np.concatenate([np.zeros(0), *(m[j] for m, j in zip(masks, joints, strict=True))])
+            first = np.array([rows.start if rows.stop > rows.start else -1 for rows in self.member_rows], dtype=int)
+            per_member = self._mask(model)[np.maximum(first, 0)] * (first >= 0)[:, None]  # (C, n)
+            member, joint = np.nonzero(per_member)
+            start = np.searchsorted(member, np.arange(len(first) + 1)).astype(np.int64)
+            joint, sign = joint.astype(np.int64), per_member[member, joint]
             self._moving = (start, joint, sign)
         return self._moving
 
