@@ -16,6 +16,7 @@ import numpy as np
 from .. import kernels
 from ..errors import ModelError
 from ..kernels.forward import link_frames
+from ..kernels.frames import point_jacobian_rows
 from ..kernels.statics import twists
 from .spatial import cross, skew
 from .tree import TreeSums, descendants
@@ -336,6 +337,13 @@ class Kinematics:
         """(k, n): row r is rows_lin[r] @ (d p_r / d theta) + rows_ang[r] @ (angular velocity / d theta) for a point
         p_r = ``points[r]`` (or one point (3,) for all rows), times ``mask`` ((k, n) or (n,): 1 for the joints that
         move the point's link, 0 otherwise). ``rows_lin``, ``rows_ang``: (k, 3)."""
+        if kernels.active():
+            n = self.model.n
+            out = np.empty((len(rows_lin), n))
+            points, mask = np.reshape(points, (-1, 3)), np.reshape(mask, (-1, n))
+            flat = (np.ascontiguousarray(a, dtype=float) for a in (points, rows_lin, rows_ang, mask))
+            point_jacobian_rows(*flat, self.twist, out)
+            return out
         spin, origin = self.twist_basis
         # velocity of a point p: spin x p + origin, so l.v + m.omega = (m - l x p).spin + l.origin
         through_spin = rows_ang - cross(rows_lin, points)

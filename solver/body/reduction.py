@@ -67,6 +67,15 @@ class Reduction:
         complete = bool(np.all(np.diff(np.append(starts, len(cols))) > 0))
         return rows, cols, self.basis[rows, cols], starts, complete
 
+    @cached_property
+    def kernel_supports(self) -> tuple[np.ndarray, np.ndarray]:
+        """``basis`` by x row for the compiled kernels: (the column of each row's one nonzero, -1 where none; its
+        weight), contiguous int64 and float64 (n_x,)."""
+        rows, cols, weight, _, _ = self._supports
+        column, value = np.full(self.basis.shape[0], -1, dtype=np.int64), np.zeros(self.basis.shape[0])
+        column[rows], value[rows] = cols, weight
+        return column, value
+
     def times_basis(self, a: np.ndarray, squared: bool = False) -> np.ndarray:
         """``a @ basis`` (``a @ basis**2`` when ``squared``) for a (..., n_x) array, summing each column's own
         rows instead of a dense product (most columns are a single joint)."""

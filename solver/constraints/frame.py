@@ -11,8 +11,9 @@ The Jacobian is exact: d e_r = J_l^-1(e_r) R_T^T (omega - omega_ref) (inverse le
 d e_p = R_T^T (v - v_ref(o)), where v_ref(o) is the velocity of the point o carried rigidly by the reference
 TCP's link (zero for a fixed target).
 
-A problem's frame constraints are evaluated together by a :class:`FrameGroup`, itself a constraint: one batched
-NumPy pass for all TCPs (errors) and one for all rows (Jacobian), kept in the state's cache. A frame constraint
+A problem's frame constraints are evaluated together by a :class:`FrameGroup`, itself a constraint: one pass for
+all TCPs (errors) and one for all rows (Jacobian), kept in the state's cache; each pass is one compiled kernel
+(:mod:`solver.kernels.frames`) when kernels are on, else batched NumPy (the reference). A frame constraint
 on its own is evaluated as a group of one; grouping never changes a member, so members can be shared freely.
 """
 
@@ -23,10 +24,12 @@ import math
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model, Tcp
 from ..body.spatial import left_jacobian_inverse_so3, log_so3
 from ..body.state import State
 from ..errors import ManikinError
+from ..kernels.frames import frame_errors, frame_jacobian_rows
 from ..options import AXES
 from .base import Constraint
 
@@ -130,17 +133,33 @@ class FrameConstraint(Constraint):
 
 class _FrameValues:
     """One state's evaluation of a group: world target frames (C, 3, 3) and (C, 3) m, TCP positions (C, 3) m,
-    the unrelaxed errors (C, 6) and the relaxed rows of all members stacked (R,)."""
+    the unrelaxed errors (C, 6) and the relaxed rows of all members stacked (R,); ``packed``: the compiled kernels'
+    (C, 9) [position, full] and (C, 3, 4) [target rotation | position], of which the fields are views."""
 
-    __slots__ = ("target_rotation", "target_position", "position", "full", "errors", "jacobian")
+    __slots__ = ("target_rotation", "target_position", "position", "full", "errors", "jacobian", "packed")
 
-    def __init__(self, target_rotation, target_position, position, full, errors) -> None:
+    def __init__(self, target_rotation, target_position, position, full, errors, packed=None) -> None:
         self.target_rotation = target_rotation
         self.target_position = target_position
         self.position = position
         self.full = full
         self.errors = errors
         self.jacobian: np.ndarray | None = None
+        self.packed: tuple[np.ndarray, np.ndarray] | None = packed
+
+    @classmethod
+    def of_packed(cls, values: np.ndarray, target: np.ndarray, errors: np.ndarray) -> _FrameValues:
+        """The evaluation from the kernel's packed arrays (the fields are views of them)."""
+        packed = (values, target)
+        return cls(target[:, :, :3], target[:, :, 3], values[:, :3], values[:, 3:], errors, packed)
+
+    def packed_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """(values (C, 9), target (C, 3, 4)) as :func:`~solver.kernels.frames.frame_errors` fills them."""
+        if self.packed is None:
+            values = np.concatenate([self.position, self.full], axis=1)
+            target = np.concatenate([self.target_rotation, self.target_position[:, :, None]], axis=2)
+            self.packed = (values, target)
+        return self.packed
 
 
 class FrameGroup(Constraint):
@@ -172,6 +191,8 @@ class FrameGroup(Constraint):
         self.operator_lin = self.operator[:, None, :3]  # (R, 1, 3)
         self.operator_ang = self.operator[:, None, 3:]
         self._row_mask: np.ndarray | None = None
+        self._compiled_tables: tuple | None = None  # the kernels' constant arrays, built on first use
+        self._moving: tuple | None = None  # per member, its moving joints and their signs (from the model)
 
     @property
     def rows(self) -> int:
@@ -219,6 +240,9 @@ class FrameGroup(Constraint):
         if values is not None:
             return values
         kin = state.kin
+        if kernels.active():
+            values = state.cache[self] = self._evaluate_compiled(kin)
+            return values
         link_rot = kin.rotation[self.link]
         rot = link_rot @ self.tcp_rotation
         pos = kin.position[self.link] + (link_rot @ self.tcp_position[:, :, None])[:, :, 0]
@@ -246,6 +270,13 @@ class FrameGroup(Constraint):
         if values.jacobian is not None:
             return values.jacobian
         kin = state.kin
+        if kernels.active():
+            out = np.zeros((len(self.row_member), self.n_x))
+            frame_jacobian_rows(
+                *values.packed_arrays(), *self._tables()[2:], kin.twist, *self._moving_joints(kin.model), out
+            )
+            values.jacobian = out
+            return out
         r_t_inv = values.target_rotation.transpose(0, 2, 1)
         # rows of the rotation part: L_ang J_l^-1(e_r) R_T^T; of the position part: L_lin R_T^T
         ang_map = np.array([left_jacobian_inverse_so3(e) for e in values.full[:, 3:]]) @ r_t_inv
@@ -256,3 +287,42 @@ class FrameGroup(Constraint):
         out[:, : kin.model.n] = kin.jacobian_rows(values.position[member], rows_lin, rows_ang, self._mask(kin.model))
         values.jacobian = out
         return out
+
+    def _tables(self) -> tuple:
+        """The kernels' constants: links (C, 2) (TCP, reference TCP or -1), local frames (C, 3, 3, 4) [R | p] of the
+        TCP, the target and the reference TCP, the operator rows (R, 6) and each row's member (R,)."""
+        if self._compiled_tables is None:
+            count = len(self.members)
+            links = np.full((count, 2), -1, dtype=np.int64)
+            links[:, 0] = self.link
+            links[self.loops, 1] = self.reference_link
+            local = np.zeros((count, 3, 3, 4))
+            local[:, 2, :, :3] = np.eye(3)
+            for k, (rotation, position) in enumerate(
+                ((self.tcp_rotation, self.tcp_position), (self.target_rotation, self.target_position))
+            ):
+                local[:, k, :, :3], local[:, k, :, 3] = rotation, position
+            local[self.loops, 2, :, :3], local[self.loops, 2, :, 3] = self.reference_rotation, self.reference_position
+            operator = np.ascontiguousarray(self.operator, dtype=float)
+            self._compiled_tables = (links, local, operator, self.row_member.astype(np.int64))
+        return self._compiled_tables
+
+    def _moving_joints(self, model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per member, the joints that move its TCP (sign 1) or only its reference TCP (sign -1): its rows' nonzeros in
+        :meth:`_mask` (none for a member without rows), as (joint_start (C + 1,), joint, sign)."""
+        if self._moving is None:
+            first = np.array([rows.start if rows.stop > rows.start else -1 for rows in self.member_rows], dtype=int)
+            per_member = self._mask(model)[np.maximum(first, 0)] * (first >= 0)[:, None]  # (C, n)
+            member, joint = np.nonzero(per_member)
+            start = np.searchsorted(member, np.arange(len(first) + 1)).astype(np.int64)
+            joint, sign = joint.astype(np.int64), per_member[member, joint]
+            self._moving = (start, joint, sign)
+        return self._moving
+
+    def _evaluate_compiled(self, kin) -> _FrameValues:
+        """:meth:`evaluate` by the compiled kernel."""
+        count = len(self.members)
+        values, target, errors = np.empty((count, 9)), np.empty((count, 3, 4)), np.empty(len(self.row_member))
+        rotation, position = np.ascontiguousarray(kin.rotation), np.ascontiguousarray(kin.position)
+        frame_errors(rotation, position, *self._tables(), target, values, errors)
+        return _FrameValues.of_packed(values, target, errors)

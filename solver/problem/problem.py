@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from .. import kernels
 from ..body.contacts import Support, build_contacts
 from ..body.model import GRAVITY, Model
 from ..body.reduction import build_reduction
@@ -26,11 +27,14 @@ from ..constraints.clearance import FLOOR, Clearance, ClearanceRows, Closeness, 
 from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
+from ..kernels.reduction import reduce_and_scale
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
 from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
+
+_NO_REDUCTION = (np.zeros(0, dtype=np.int64), np.zeros(0))  # reduce_and_scale's supports for x itself: scaling only
 
 
 class Problem:
@@ -283,7 +287,14 @@ class Problem:
             return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
         got = [c.jacobian_rows(state) for c in self.constraints]
         live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
-        jac = self._in_solver_variables(np.concatenate([jac for _, jac in got]), state)
+        jac = np.concatenate([jac for _, jac in got])
+        red = self.reduction
+        if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
+            out = np.empty((len(jac), self.n_var))
+            supports = _NO_REDUCTION if red is None else red.kernel_supports
+            reduce_and_scale(jac, live, self._row_scale[:, 0], self.scale, *supports, out)
+            return live, out
+        jac = self._in_solver_variables(jac, state)
         jac *= self._row_scale[live]  # in place: a fresh temporary costs page faults, more than the product
         jac *= self.scale
         return live, jac
