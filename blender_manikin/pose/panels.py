@@ -280,6 +280,9 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=f"{abs(tau):.1f} N m, {percent:.0f}%")
         for c in data["contacts"]:
             layout.label(text=f"{c['tcp']}: {c['force'][2]:.0f} N up")
+        from ...solver import kernels  # light; decides (imports Numba) once a process, as the solve did already
+
+        layout.label(text=f"Solver kernels: {kernels.status()}")
 
 
 class MANIKIN_PT_settings(_SidebarPanel):
