@@ -52,8 +52,8 @@ def test_solve_pose_gives_the_numpy_pose(session: dict) -> None:
             assert a["iterations"] == b["iterations"], mode
             np.testing.assert_allclose(a["com"], b["com"], rtol=0, atol=1e-9, err_msg=mode)  # m
             assert abs(a["comfort"] - b["comfort"]) <= 1e-9 * max(1.0, abs(a["comfort"])), mode
-            forces = [[c["force"] for c in s["contacts"]] for s in (a, b)]
-            np.testing.assert_allclose(*forces, rtol=1e-9, atol=1e-9, err_msg=mode)  # N
+            forces = [np.array([c["force"] for c in s["contacts"]]) for s in (a, b)]  # N, the smallest ~0.2
+            np.testing.assert_allclose(*forces, rtol=0, atol=1e-9 * np.abs(forces[0]).max(), err_msg=mode)
             # the bones' channels are stored in single precision
             np.testing.assert_allclose(mine["channels"], theirs["channels"], rtol=0, atol=1e-6, err_msg=mode)
 
