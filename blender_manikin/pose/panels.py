@@ -280,9 +280,8 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=f"{abs(tau):.1f} N m, {percent:.0f}%")
         for c in data["contacts"]:
             layout.label(text=f"{c['tcp']}: {c['force'][2]:.0f} N up")
-        from ...solver import kernels  # light; decides (imports Numba) once a process, as the solve did already
-
-        layout.label(text=f"Solver kernels: {kernels.status()}")
+        if data.get("kernels"):  # a solve's (not a baked frame's, nor an older version's): which kernels solved it
+            layout.label(text=f"Solver kernels: {data['kernels']}")
 
 
 class MANIKIN_PT_settings(_SidebarPanel):

@@ -27,8 +27,8 @@ _kernels_said: list[bool] = []  # filled on the first solve without compiled ker
 
 
 def kernels_note() -> str:
-    """"Solver kernels: <status>" the first time a solve runs on the NumPy kernels in this process (Numba did not
-    import, or MANIKIN_KERNELS=numpy), else "": the Solve report says it once, the Result panel always."""
+    """The line "Solver kernels: <status>" the first time a solve runs on the NumPy kernels in this process (Numba
+    did not import, or MANIKIN_KERNELS=numpy), else "": the Solve report says it once, the Result panel always."""
     if kernels.active() or _kernels_said:
         return ""
     _kernels_said.append(True)

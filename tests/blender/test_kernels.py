@@ -59,6 +59,7 @@ def test_solve_pose_gives_the_numpy_pose(session: dict) -> None:
 
 
 def test_the_result_panel_names_the_kernels(session: dict) -> None:
+    assert all(s["summary"]["kernels"] == session["status"] for s in session["solves"])  # the solve's, kept with it
     assert f"Solver kernels: {session['status']}" in session["panel"]
     assert f"Solver kernels: {_later(session, 'numpy')['status']}" in _later(session, "numpy")["panel"]
     assert "Solver kernels: NumPy (MANIKIN_KERNELS=numpy)" in _later(session, "numpy")["panel"]
