@@ -1,10 +1,12 @@
 """The manifest's wheels: every platform gets the same packages at the same versions, one wheel each, the test
-environment (requirements.txt) runs the scipy and matplotlib that the extension ships, and what the manifest leaves
+environment (requirements.txt) runs the scipy, matplotlib and numba that the extension ships, each shipped package
+finds what it requires (numpy: every supported Blender's own), and what the manifest leaves
 out of matplotlib's requirements (fonttools, tzdata: Blender extracts every wheel's files again on each enable) the
 add-on's pictures and plots never import."""
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import subprocess
 import sys
@@ -41,7 +43,7 @@ def test_every_platform_gets_one_wheel_of_each_compiled_package() -> None:
     assert set(by_platform) == set(MANIFEST["platforms"])
     first = next(iter(by_platform.values()))
     assert all(packages == first for packages in by_platform.values()), by_platform
-    assert {"scipy", "matplotlib"} <= set(first) and not set(first) & set(pure)
+    assert {"scipy", "matplotlib", "numba", "llvmlite"} <= set(first) and not set(first) & set(pure)
     assert all(w.startswith("./wheels/") for w in MANIFEST["wheels"])
 
 
@@ -53,8 +55,42 @@ def test_the_tests_run_the_shipped_scipy_and_matplotlib() -> None:
         if "==" in requirement:
             name, version = requirement.split("==")
             pins[name.strip()] = version.strip()
-    for name in ("scipy", "matplotlib", "pyparsing"):
+    for name in ("scipy", "matplotlib", "pyparsing", "numba", "llvmlite"):
         assert pins[name] == shipped[name], name
+
+
+def _blender_numpys() -> list[str]:
+    """The numpy versions the supported Blenders bundle (tests/blender/environments.py)."""
+    spec = importlib.util.spec_from_file_location("environments", ROOT / "tests" / "blender" / "environments.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return sorted({numpy for _, numpy in module.BLENDERS.values()})
+
+
+def test_each_shipped_wheel_finds_what_it_requires_in_every_blender() -> None:
+    """numpy is Blender's own (1.24.3 in 4.2: numba 0.62 needs >= 1.22, scipy 1.15 >= 1.23.5); everything else a
+    shipped package requires is shipped at a version it accepts, or left out knowingly (fonttools, tzdata). The
+    requirements are read from this environment's install of the same version (requirements.txt pins them)."""
+    shipped = {canonicalize_name(Path(w).name.split("-")[0]): Path(w).name.split("-")[1] for w in MANIFEST["wheels"]}
+    checked = []
+    for name, version in shipped.items():
+        try:
+            if metadata.version(name) != version:
+                continue  # another version here (contourpy, packaging): its requirements may differ
+        except metadata.PackageNotFoundError:
+            continue
+        checked.append(name)
+        for requirement in map(Requirement, metadata.requires(name) or []):
+            if requirement.marker is not None and not requirement.marker.evaluate({"extra": ""}):
+                continue
+            wanted = canonicalize_name(requirement.name)
+            if wanted == "numpy":
+                assert all(requirement.specifier.contains(v) for v in _blender_numpys()), (name, str(requirement))
+            elif wanted in shipped:
+                assert requirement.specifier.contains(shipped[wanted], prereleases=True), (name, str(requirement))
+            else:
+                assert wanted in {"fonttools", "tzdata"}, (name, str(requirement))
+    assert {"scipy", "matplotlib", "numba", "llvmlite"} <= set(checked), checked
 
 
 # Run first thing in every Python the test starts (a sitecustomize module on PYTHONPATH, so the study's worker

@@ -171,7 +171,7 @@ class MANIKIN_OT_solve_pose(_RigOperator):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         from ..scene.supports import moved_text
-        from .solve import solve_pose
+        from .solve import kernels_note, solve_pose
 
         arm = _active_rig(context)
         try:
@@ -182,6 +182,7 @@ class MANIKIN_OT_solve_pose(_RigOperator):
         data = last_result(arm) or {}
         said = data.get("step_lines", []) + moved_text(data.get("moved", {})) + data.get("notes", [])  # steps, slid
         # feet and hints, with units
+        said += [note] if (note := kernels_note()) else []  # NumPy kernels (Numba missing or off): said once
         tail = "".join(f"; {line}" for line in said)
         if result.converged:
             self.report({"INFO"}, f"Converged in {result.iterations} iterations ({result.time_s * 1e3:.0f} ms){tail}")

@@ -280,6 +280,8 @@ class MANIKIN_PT_result(_SidebarPanel):
             row.label(text=f"{abs(tau):.1f} N m, {percent:.0f}%")
         for c in data["contacts"]:
             layout.label(text=f"{c['tcp']}: {c['force'][2]:.0f} N up")
+        if data.get("kernels"):  # a solve's (not a baked frame's, nor an older version's): which kernels solved it
+            layout.label(text=f"Solver kernels: {data['kernels']}")
 
 
 class MANIKIN_PT_settings(_SidebarPanel):

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import bpy
 
-from ...solver import Result, solve
+from ...solver import Result, kernels, solve
 from ..scene import armature, problem_io
 from ..scene.schema import RESULT_KEY
 
@@ -21,6 +21,18 @@ def solve_pose(arm: bpy.types.Object) -> Result:
     result = solve(sp.problem, sp.x0, sp.options)
     problem_io.write_result(arm, result)
     return result
+
+
+_kernels_said: list[bool] = []  # filled on the first solve without compiled kernels: said once a process
+
+
+def kernels_note() -> str:
+    """The line "Solver kernels: <status>" the first time a solve runs on the NumPy kernels in this process (Numba
+    did not import, or MANIKIN_KERNELS=numpy), else "": the Solve report says it once, the Result panel always."""
+    if kernels.active() or _kernels_said:
+        return ""
+    _kernels_said.append(True)
+    return f"Solver kernels: {kernels.status()}"
 
 
 def reset_pose(arm: bpy.types.Object) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 from mathutils import Matrix
 
 from ... import solver
-from ...solver import ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target
+from ...solver import ExternalLoad, Loop, ManikinError, Problem, Result, SolverOptions, Target, kernels
 from ...solver.body.contacts import support_polygon
 from ...solver.body.reduction import DEFAULT_GROUPS
 from ...solver.collision.body import capsules_of
@@ -226,6 +226,7 @@ def summarize(result: Result, scores: bool = True) -> dict:
         steps=[s.as_dict() for s in steps],  # May step: each foot's step (length m, direction and turn deg)
         step_lines=[s.text() for s in steps],  # "foot_r stepped 0.41 m, 8 deg left of forward, turned 3 deg"
         notes=floor_notes(result) + pushed_notes(result),  # hints: a support off the floor, pushed by an obstacle
+        kernels=kernels.status(),  # which kernels solved: Numba's compiled ones or the NumPy code (and why)
     )
 
 

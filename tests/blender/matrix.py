@@ -69,12 +69,13 @@ def main(argv: list[str]) -> int:
 
 The extension as a user meets it, per supported Blender series: `.venv/bin/python tests/blender/matrix.py`
 runs `tests/blender` once per series in a virtual environment holding only that `bpy` wheel and the numpy that
-Blender release bundles (no scipy, no matplotlib: the extension's own wheels must bring them). Each leg builds
+Blender release bundles (no scipy, no matplotlib, no numba: the extension's own wheels must bring them). Each leg builds
 the linux-x64 zip with that version's build tool, installs it into a throwaway user folder and drives the
 whole user flow: every preset, targets, loops, loads, solve, undo, reset, live mode, scenario export and
 import, a keyed scenario baked (operator and modal), FBX / BVH / glTF export and re-import, the key-pose
-picture and ergonomics plots, the snapshot render, `batch.py` from a checkout and from the installed
-extension, bad input and bad states, and disabling (nothing left registered).
+picture and ergonomics plots, the snapshot render, the compiled kernels (Numba from the extension's wheels
+inside Blender, its cache, the NumPy fallback), `batch.py` from a checkout and from the installed extension, bad
+input and bad states, and disabling (nothing left registered).
 
 Last run: {today} on {platform.platform()} (Python {platform.python_version()}),
 {"all passed" if not failed else "FAILED on " + ", ".join(failed)}.

@@ -1,0 +1,78 @@
+"""The compiled kernels work inside Blender on the wheels the extension ships (tests/blender/kernels_session.py in
+Blender-equivalent processes): numba imports after bpy from the installed extension, the first process compiles the
+kernels into the user's cache folder and a later one loads them from there, Solve Pose gives the same pose as with
+MANIKIN_KERNELS=numpy, and where numba cannot import the add-on solves on NumPy and says so once in the Solve report
+and always in the Result panel ("Solver kernels: ...")."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+NUMBA = "Numba 0.62.1"  # blender_manifest.toml's wheel
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory, run_session) -> dict:
+    return run_session(tmp_path_factory.mktemp("kernels"), "kernels_session.py")
+
+
+def _later(session: dict, mode: str) -> dict:
+    later = session["later"][mode]
+    assert later["code"] == 0, later["log"]
+    return later
+
+
+def _reports(seen: dict) -> list[str]:
+    """Solve Pose's reports, in order (background Blender prints them)."""
+    return [line for line in seen["log"].splitlines() if line.startswith(("Info: Converged", "Warning: Not conv"))]
+
+
+def test_numba_imports_after_bpy_from_the_extension_s_wheels(session: dict) -> None:
+    assert session["numba_file"].startswith(str(Path(session["work"], "user")))  # not a developer's environment
+    assert session["active"] and session["status"].startswith(NUMBA)
+    cache = Path(session["work"], "cache", "manikin", "numba")
+    assert session["cache"] == str(cache) and str(cache) in session["status"]  # the user's folder (XDG_CACHE_HOME)
+    assert any(name.endswith(".nbc") for name in session["cached"]), session["cached"]  # compiled and kept
+
+
+def test_a_later_blender_loads_the_cached_kernels(session: dict) -> None:
+    again = _later(session, "again")
+    assert again["active"] and again["status"] == session["status"]
+    assert again["cached"] == session["cached"]  # the same files, untouched: loaded, not compiled again
+
+
+def test_solve_pose_gives_the_numpy_pose(session: dict) -> None:
+    for mode in ("again", "numpy", "blocked"):
+        for mine, theirs in zip(session["solves"], _later(session, mode)["solves"], strict=True):
+            assert mine["done"] == theirs["done"] == ["FINISHED"] and mine["summary"]["converged"]
+            a, b = mine["summary"], theirs["summary"]
+            assert a["iterations"] == b["iterations"], mode
+            np.testing.assert_allclose(a["com"], b["com"], rtol=0, atol=1e-9, err_msg=mode)  # m
+            assert abs(a["comfort"] - b["comfort"]) <= 1e-9 * max(1.0, abs(a["comfort"])), mode
+            forces = [np.array([c["force"] for c in s["contacts"]]) for s in (a, b)]  # N, the smallest ~0.2
+            np.testing.assert_allclose(*forces, rtol=0, atol=1e-9 * np.abs(forces[0]).max(), err_msg=mode)
+            # the bones' channels are stored in single precision
+            np.testing.assert_allclose(mine["channels"], theirs["channels"], rtol=0, atol=1e-6, err_msg=mode)
+
+
+def test_the_result_panel_names_the_kernels(session: dict) -> None:
+    assert all(s["summary"]["kernels"] == session["status"] for s in session["solves"])  # the solve's, kept with it
+    assert f"Solver kernels: {session['status']}" in session["panel"]
+    assert f"Solver kernels: {_later(session, 'numpy')['status']}" in _later(session, "numpy")["panel"]
+    assert "Solver kernels: NumPy (MANIKIN_KERNELS=numpy)" in _later(session, "numpy")["panel"]
+
+
+def test_without_numba_the_add_on_solves_on_numpy_and_says_so_once(session: dict) -> None:
+    blocked = _later(session, "blocked")
+    assert not blocked["active"] and blocked["status"].startswith("NumPy (Numba does not import: ImportError")
+    line = f"Solver kernels: {blocked['status']}"
+    assert line in blocked["panel"]
+    first, second = _reports(blocked)
+    assert first.endswith("; " + line) and "Solver kernels" not in second  # once a process
+    numpy = _later(session, "numpy")
+    first, second = _reports(numpy)
+    assert first.endswith("; Solver kernels: NumPy (MANIKIN_KERNELS=numpy)") and "Solver kernels" not in second
+    assert not any("Solver kernels" in line for line in _reports(session))  # on Numba: only the panel says it
