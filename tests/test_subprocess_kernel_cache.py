@@ -1,8 +1,9 @@
 """The add-on's subprocesses (a study, a reach envelope, Generate Motion: blender_manikin/scene/background.py) keep
 their compiled kernels apart from Blender's. Blender imports the kernels' files as ``bl_ext.<repo>.manikin.solver``,
 the subprocess as the top-level ``solver``; Numba finds a cached kernel by its file's path and loads it by importing
-the module that compiled it, so a shared cache folder breaks whichever process comes second. Shown here without
-Blender: a copy of ``solver/kernels`` compiled as ``ext.solver.kernels`` and then run as ``solver.kernels``."""
+the module that compiled it, so one folder for both breaks whichever process comes second: each import name keeps
+a folder of its own (``solver.kernels.cache_folder``). Shown here without Blender: a copy of ``solver/kernels``
+compiled as ``ext.solver.kernels`` and then run as ``solver.kernels``, both given the same NUMBA_CACHE_DIR."""
 
 from __future__ import annotations
 
@@ -13,8 +14,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
-from blender_manikin.scene.background import kernel_cache
 
 ROOT = Path(__file__).resolve().parents[1]
 PROBE = """import numpy as np
@@ -49,10 +48,11 @@ def test_a_subprocess_runs_kernels_that_blender_compiled(tmp_path: Path) -> None
         (folder / "__init__.py").write_text("", encoding="utf-8")
     away = tmp_path / "elsewhere"  # the working folder: where ``ext`` cannot be imported from
     away.mkdir()
-    blender = str(tmp_path / "cache" / "manikin" / "numba")
-    first = _run(away, tmp_path, "ext.solver", blender)  # "Blender": compiles into its cache folder
+    cache = tmp_path / "cache"
+    first = _run(away, tmp_path, "ext.solver", str(cache))  # "Blender": compiles into its cache folder
     assert first.returncode == 0 and first.stdout.strip() == "3.0", first.stderr[-2000:]
-    child = _run(away, tmp_path / "ext", "solver", kernel_cache(blender, tmp_path / "unused"))
+    child = _run(away, tmp_path / "ext", "solver", str(cache))  # the subprocess: the same NUMBA_CACHE_DIR
     assert child.returncode == 0 and child.stdout.strip() == "3.0", child.stderr[-2000:]
-    shared = _run(away, tmp_path / "ext", "solver", blender)  # what the child did before it had its own folder
-    assert shared.returncode != 0 and "No module named 'ext'" in shared.stderr
+    assert {p.name for p in cache.iterdir()} == {"ext.solver", "solver"}  # a folder per import name
+    again = _run(away, tmp_path, "ext.solver", str(cache))  # "Blender" again: loads its own
+    assert again.returncode == 0 and again.stdout.strip() == "3.0", again.stderr[-2000:]

@@ -51,21 +51,11 @@ def python_path(root: Path = ROOT) -> list[str]:
     return list(dict.fromkeys(str(p) for p in found if p is not None))
 
 
-def kernel_cache(parent: str | None, user_cache: Path) -> str:
-    """The child's Numba cache: a folder of its own inside this process's (``parent``: its NUMBA_CACHE_DIR, else
-    ``user_cache``, the user's :func:`solver.kernels.cache_folder`). The child imports the kernels' files as the
-    top-level ``solver``, Blender as ``bl_ext.<repo>.manikin.solver``; Numba finds a cached kernel by its file's path
-    but loads it by importing the module that compiled it, so one folder for both fails in whichever comes second."""
-    return str(Path(parent or user_cache) / "subprocess")
-
-
 def child_env(root: Path = ROOT) -> dict[str, str]:
-    """The subprocess's environment: this one, its PYTHONPATH replaced by :func:`python_path`, its own Numba cache
-    (:func:`kernel_cache`), no user site-packages where this process has none (Blender's default)."""
-    from ...solver import kernels  # light: deciding (importing Numba) waits for the first kernel
-
-    cache = kernel_cache(os.environ.get("NUMBA_CACHE_DIR"), kernels.cache_folder())
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(python_path(root)), NUMBA_CACHE_DIR=cache)
+    """The subprocess's environment: this one, its PYTHONPATH replaced by :func:`python_path`, no user
+    site-packages where this process has none (Blender's default). Its compiled kernels go to a cache folder of
+    their own: it imports the solver as ``solver`` (:data:`solver.kernels.PACKAGE`)."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(python_path(root)))
     if not site.ENABLE_USER_SITE:
         env["PYTHONNOUSERSITE"] = "1"
     return env

@@ -17,19 +17,25 @@ from contextlib import contextmanager
 from pathlib import Path
 
 CHOICES = ("auto", "numba", "numpy")
+# "solver", or "bl_ext.<repo>.manikin.solver" inside Blender: Numba finds a cached kernel by its file's path but
+# loads it by importing the module that compiled it, so each import name keeps a cache folder of its own
+PACKAGE = __name__.rpartition(".")[0]
 
 _state: dict = {"available": None, "active": False, "why": ""}  # available: None until decided, then bool
 
 
 def cache_folder() -> Path:
-    """Where compiled kernels are kept: the platform's per-user cache folder, ``manikin/numba`` inside it."""
+    """Where compiled kernels are kept: ``NUMBA_CACHE_DIR`` if set, else ``manikin/numba`` in the platform's per-user
+    cache folder; in either, a folder named as this package is imported (:data:`PACKAGE`)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"]) / PACKAGE
     if sys.platform == "win32":
         base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
     elif sys.platform == "darwin":
         base = Path.home() / "Library" / "Caches"
     else:
         base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "manikin" / "numba"
+    return base / "manikin" / "numba" / PACKAGE
 
 
 def _decide() -> bool:
@@ -40,13 +46,12 @@ def _decide() -> bool:
     if choice == "numpy":
         _state["why"] = "NumPy (MANIKIN_KERNELS=numpy)"
         return False
-    os.environ.setdefault("NUMBA_CACHE_DIR", str(cache_folder()))
     try:
         import numba
     except Exception as error:  # not installed, or its LLVM does not load on this machine
         _state["why"] = f"NumPy (Numba does not import: {type(error).__name__}: {error})"
         return False
-    _state["why"] = f"Numba {numba.__version__} (cache {os.environ['NUMBA_CACHE_DIR']})"
+    _state["why"] = f"Numba {numba.__version__} (cache {cache_folder()})"
     return True
 
 
@@ -87,7 +92,12 @@ class Kernel:
         if self._compiled is None:
             import numba
 
-            self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.python)
+            # Numba takes its cache folder from its config as the dispatcher is made: ours, only for our kernels
+            saved, numba.config.CACHE_DIR = numba.config.CACHE_DIR, str(cache_folder())
+            try:
+                self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.python)
+            finally:
+                numba.config.CACHE_DIR = saved
         return self._compiled(*args)
 
 
