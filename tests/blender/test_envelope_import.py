@@ -2,7 +2,7 @@
 envelope GLB imported onto a turned manikin away from the origin stands where the manikin's frame puts it (origin at
 the shoulder, parented), importing it again replaces its objects, an OBJ with no manikin active lands in the world,
 another body's envelope is imported with a warning, broken and missing files are one-line errors, and the import
-loads neither scipy nor matplotlib."""
+loads neither scipy nor matplotlib beyond what a manikin in the scene loaded."""
 
 from __future__ import annotations
 
