@@ -77,7 +77,10 @@ def _problem(model) -> Problem:
     """Feet on the floor, the hands holding a box in front; a box, a capsule and a sphere near the body."""
     zero = model.forward(model.zero_pose())
     feet = [Target(f, zero.tcp_frame(model.tcp(f))[1], support=True) for f in ("foot_r", "foot_l")]
-    hands = [Target(h, np.array([0.2 * s, -0.35, 1.0]), lock=("x", "y", "z")) for h, s in (("hand_r", -1), ("hand_l", 1))]
+    hands = [
+        Target(h, np.array([0.2 * side, -0.35, 1.0]), lock=("x", "y", "z"))
+        for h, side in (("hand_r", -1.0), ("hand_l", 1.0))
+    ]
     obstacles = [
         Box(np.array([0.0, -0.45, 0.8]), np.array([0.6, 0.3, 0.05]), name="table"),
         Capsule(np.array([-0.4, -0.3, 0.2]), np.array([0.4, -0.3, 1.4]), 0.05, name="bar"),
