@@ -48,11 +48,12 @@ def closest_on_axes(p0, p1, q0, q1) -> tuple[np.ndarray, ...]:
 
 def capsule_pairs(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, i: np.ndarray, j: np.ndarray) -> PairProximity:
     """Capsule i[m] vs capsule j[m] of one batch (self-collision), m = 0..len(i)-1."""
+    if kernels.active():  # the kernel takes the arrays as they are (no broadcast copies)
+        s, w, t, q, n, length = _compiled_axes(p0, p1, p0, p1, i, j)
+        radii = np.asarray(radii, dtype=float)
+        return PairProximity(length - radii[i] - radii[j] if radii.ndim else length - radii - radii, s, w, t, q, n)
     p0, p1, radii = as_batch(p0, p1, radii)
     i, j = np.asarray(i, dtype=np.int64), np.asarray(j, dtype=np.int64)
-    if kernels.active():
-        s, w, t, q, n, length = _compiled_axes(p0, p1, p0, p1, i, j)
-        return PairProximity(length - radii[i] - radii[j], s, w, t, q, n)
     s, w, t, q, n = closest_on_axes(p0[i], p1[i], p0[j], p1[j])
     d = np.sqrt(dot(w - q, w - q)) - radii[i] - radii[j]
     return PairProximity(d, s, w, t, q, n)
@@ -66,9 +67,8 @@ def _compiled_axes(p0, p1, q0, q1, i: np.ndarray, j: np.ndarray) -> tuple[np.nda
     m = len(i)
     s, t, length = np.empty(m), np.empty(m), np.empty(m)
     w, q, normal = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3))
-    axes_closest(p0, p1, q0, q1, i, j, s, w, t, q, normal, length)
-    meet = np.flatnonzero(length <= 1e-150)
-    if meet.size:
+    if axes_closest(p0, p1, q0, q1, i, j, s, w, t, q, normal, length):
+        meet = np.flatnonzero(length <= 1e-150)
         um, vm = p1[i[meet]] - p0[i[meet]], q1[j[meet]] - q0[j[meet]]
         normal[meet] = unit(cross(um, vm), perpendicular(np.where(dot(um, um)[:, None] > 0, um, vm)))
     return s, w, t, q, normal, length

@@ -22,7 +22,7 @@ from ..body.model import Model
 from ..body.state import State
 from ..collision import HalfSpace, Obstacle
 from ..collision.body import BodyCapsules, capsules_of
-from ..kernels.clearance import least_bound, plane_rows
+from ..kernels.clearance import clearance_jacobian, least_bound, plane_rows
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
@@ -208,6 +208,20 @@ class ClearanceRows(Inequality):
         normal = normals[rows]
         return state.kin.jacobian_rows(points[rows], normal, np.zeros_like(normal), mask)
 
+    def _row_link(self, capsule: np.ndarray) -> np.ndarray:
+        """Per row, the link of its part's capsule (int64), kept while the rows' capsules are ``capsule``."""
+        kept = getattr(self, "_links_of", None)
+        if kept is None or kept[0] is not capsule:
+            kept = self._links_of = (capsule, np.ascontiguousarray(self.capsules.link[capsule], dtype=np.int64))
+        return kept[1]
+
+    def _no_other(self, rows: int) -> np.ndarray:
+        """-1 per row: rows with no second moving part, for the Jacobian kernel."""
+        kept = getattr(self, "_none", None)
+        if kept is None or len(kept) != rows:
+            kept = self._none = np.full(rows, -1, dtype=np.int64)
+        return kept
+
     def unmet(self, state: State) -> list[str]:
         """One name per body part and what it keeps clear of, below the clearance, e.g. "hand_r vs floor"."""
         met = self.met_rows(state)
@@ -310,6 +324,11 @@ class Clearance(ClearanceRows):
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
         out = np.zeros((len(rows), self.n_x))
-        if rows.size:
+        if rows.size and kernels.active():
+            _, points, normals, capsule = self._evaluate(state)
+            link = self._row_link(capsule)
+            clearance_jacobian(points, normals, link, points, self._no_other(len(link)), np.asarray(rows, np.int64),
+                               self.model.descendant, state.kin.twist, out)  # fmt: skip
+        elif rows.size:
             out[:, : self.model.n] = self._part_rows(state, rows)
         return out

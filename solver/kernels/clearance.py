@@ -122,12 +122,13 @@ def axes_closest(
     q_out: np.ndarray,
     normal: np.ndarray,
     length: np.ndarray,
-) -> None:
+) -> int:
     """Row m: the closest points of segment ``first[m]`` of p0-p1 and segment ``second[m]`` of q0-q1 (m): their
     parameters ``s_out``, ``t_out`` (:func:`solver.collision.closest.segment_segment`'s rule and branches), points
     ``w_out``, ``q_out``, the gap's ``length`` (m) and the unit ``normal`` from q to w (left as the gap where the
-    length is <= 1e-150: the axes meet, the caller picks a normal)."""
+    length is <= 1e-150: the axes meet, the caller picks a normal). Returns how many rows' axes meet."""
     d1, d2, r = np.empty(3), np.empty(3), np.empty(3)
+    meets = 0
     for m in range(first.shape[0]):
         i, j = first[m], second[m]
         for k in range(3):
@@ -169,3 +170,41 @@ def axes_closest(
         if size > 1e-150:
             for k in range(3):
                 normal[m, k] = normal[m, k] / size
+        else:
+            meets += 1
+    return meets
+
+
+@kernel
+def clearance_jacobian(
+    point: np.ndarray,
+    normal: np.ndarray,
+    link: np.ndarray,
+    other_point: np.ndarray,
+    other_link: np.ndarray,
+    rows: np.ndarray,
+    descendant: np.ndarray,
+    twist: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Fill ``out`` (len(rows), >= n; zeros beyond n by the caller): per row r of ``rows``, n . (velocity of
+    ``point[r]`` carried by ``link[r]``) - n . (velocity of ``other_point[r]`` carried by ``other_link[r]``) per joint
+    j (the second term only where ``other_link[r]`` >= 0), n = ``normal[r]``; a joint moves a link where
+    ``descendant[j, link]``; ``twist`` (n, 6) [velocity of the world origin, spin]."""
+    for m in range(rows.shape[0]):
+        r = rows[m]
+        lx, ly, lz = normal[r, 0], normal[r, 1], normal[r, 2]
+        a, b = link[r], other_link[r]
+        px, py, pz = point[r, 0], point[r, 1], point[r, 2]
+        t0, t1, t2 = -(ly * pz - lz * py), -(lz * px - lx * pz), -(lx * py - ly * px)
+        if b >= 0:
+            qx, qy, qz = other_point[r, 0], other_point[r, 1], other_point[r, 2]
+            u0, u1, u2 = -(ly * qz - lz * qy), -(lz * qx - lx * qz), -(lx * qy - ly * qx)
+        for j in range(twist.shape[0]):
+            along = lx * twist[j, 0] + ly * twist[j, 1] + lz * twist[j, 2]
+            value = 0.0
+            if descendant[j, a]:
+                value = t0 * twist[j, 3] + t1 * twist[j, 4] + t2 * twist[j, 5] + along
+            if b >= 0 and descendant[j, b]:
+                value = value - (u0 * twist[j, 3] + u1 * twist[j, 4] + u2 * twist[j, 5] + along)
+            out[m, j] = value

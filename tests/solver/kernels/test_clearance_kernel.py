@@ -66,8 +66,11 @@ def test_axes_and_pairs(seed):
             both0, both1 = np.concatenate([p0, q0]), np.concatenate([p1, q1])
             radii = rng.uniform(0.0, 0.1, size=128) if not compiled else got[False][2]
             pairs = capsule_pairs(both0, both1, radii, np.arange(64), 64 + np.arange(64))
-            got[compiled] = (axes, pairs, radii)
-    for a, b in zip(got[True][0] + got[True][1], got[False][0] + got[False][1], strict=True):
+            one_radius = capsule_pairs(both0, both1, 0.05, list(range(64)), list(range(64, 128)))  # as sweep.py asks
+            got[compiled] = (axes, pairs, radii, one_radius)
+    for a, b in zip(
+        got[True][0] + got[True][1] + got[True][3], got[False][0] + got[False][1] + got[False][3], strict=True
+    ):
         close(a, b)
     normal = got[True][0][4]
     close(np.linalg.norm(normal, axis=1), np.ones(64))  # unit, the crossing rows too
