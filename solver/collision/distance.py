@@ -62,7 +62,7 @@ def capsule_pairs(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, i: np.ndarr
 def _compiled_axes(p0, p1, q0, q1, i: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, ...]:
     """(s, w, t, q, normal, gap length (m)) of segments p0[i]-p1[i] and q0[j]-q1[j] by the kernel; where the axes
     meet (rare) the normal is made as :func:`closest_on_axes` makes it."""
-    p0, p1, q0, q1 = (np.ascontiguousarray(x, dtype=float).reshape(-1, 3) for x in (p0, p1, q0, q1))
+    p0, p1, q0, q1 = (_rows(x) for x in (p0, p1, q0, q1))
     i, j = np.ascontiguousarray(i, dtype=np.int64), np.ascontiguousarray(j, dtype=np.int64)
     m = len(i)
     s, t, length = np.empty(m), np.empty(m), np.empty(m)
@@ -72,3 +72,10 @@ def _compiled_axes(p0, p1, q0, q1, i: np.ndarray, j: np.ndarray) -> tuple[np.nda
         um, vm = p1[i[meet]] - p0[i[meet]], q1[j[meet]] - q0[j[meet]]
         normal[meet] = unit(cross(um, vm), perpendicular(np.where(dot(um, um)[:, None] > 0, um, vm)))
     return s, w, t, q, normal, length
+
+
+def _rows(x) -> np.ndarray:
+    """``x`` as a contiguous (k, 3) float64 array (itself when it is one already: the common case, kept cheap)."""
+    if isinstance(x, np.ndarray) and x.ndim == 2 and x.dtype == np.float64 and x.flags.c_contiguous:
+        return x
+    return np.ascontiguousarray(x, dtype=float).reshape(-1, 3)
