@@ -11,6 +11,7 @@ import pytest
 from solver import kernels
 from solver.collision import Box, Capsule, Sphere
 from solver.collision.body import capsules_of
+from solver.collision.boxes import box_rows
 from solver.collision.carried import Carried
 from solver.collision.distance import capsule_pairs, closest_on_axes
 from solver.io.scenario.bodies import load_body
@@ -154,3 +155,29 @@ def test_capsule_ends(model):
             got = capsules.world(kin)
         close(got[0], want[0])
         close(got[1], want[1])
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_box_rows(seed):
+    """Capsules vs boxes row by row, per-row boxes and one box for all: apart, axes through the box, ends on its
+    surface, segments along a box axis (a coordinate that does not move) and of zero length."""
+    rng = np.random.default_rng(seed)
+    m = 96
+    p0, p1 = rng.normal(scale=0.5, size=(m, 3)), rng.normal(scale=0.5, size=(m, 3))
+    center, half = rng.normal(scale=0.2, size=(m, 3)), rng.uniform(0.05, 0.3, size=(m, 3))
+    rotation = np.array([np.linalg.qr(rng.normal(size=(3, 3)))[0] for _ in range(m)])
+    rotation *= np.linalg.det(rotation)[:, None, None]  # proper rotations
+    for k in range(0, m, 6):
+        p1[k] = p0[k]  # zero length
+        p0[k + 1] = p1[k + 1] + 0.3 * rotation[k + 1][:, 0]  # along the box's x axis
+        p0[k + 2] = center[k + 2] + rotation[k + 2] @ (half[k + 2] * [1.0, 0.5, -0.2])  # an end on a face
+        p1[k + 3] = center[k + 3]  # into the box
+    radii = rng.uniform(0.0, 0.1, size=m)
+    for box in ((center, rotation, half), tuple(np.broadcast_to(x[0], x.shape) for x in (center, rotation, half))):
+        got = {}
+        for compiled in (False, True):
+            with kernels.using(compiled):
+                got[compiled] = box_rows(p0, p1, radii, *box)
+        assert np.any(got[False].distance + radii < 0.0) and np.any(got[False].distance > 0.0)
+        for a, b in zip(got[True], got[False], strict=True):
+            close(a, b)
