@@ -143,7 +143,7 @@ def _compiled_rows(p0, p1, radii, center, rotation, half) -> Proximity:
     center, rotation, half = (np.asarray(x, dtype=float) for x in (center, rotation, half))
     center, rotation, half = (x[:1] if x.strides[0] == 0 else np.ascontiguousarray(x) for x in (center, rotation, half))
     k = len(p0)
-    distance, t, rare = np.empty(k), np.empty(k), np.empty(k, dtype=bool)
+    distance, t, rare = np.empty(k), np.empty(k), np.zeros(k, dtype=bool)
     point, normal, closest = np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3))
     if box_rows_apart(p0, p1, radii, center, rotation, half, distance, t, point, normal, closest, rare):
         rows = np.flatnonzero(rare)

@@ -32,11 +32,10 @@ def box_rows_apart(
 ) -> int:
     """Row k: capsule ``p0[k]``-``p1[k]`` of ``radii[k]`` vs the box ``center``, ``rotation`` (axes as columns),
     ``half`` sizes (row k, or row 0 of a one-row array), filling the Proximity fields ``distance``, ``t_out``,
-    ``point``, ``normal`` (world), ``closest``. Rows whose axis meets or touches the box are marked in ``rare``
-    (their fields unset); returns how many."""
+    ``point``, ``normal`` (world), ``closest``. Rows whose axis meets or touches the box are marked True in
+    ``rare`` (all False from the caller; their fields unset); returns how many."""
     a, b, u, h, knots = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(8)
-    x, gap, best_gap = np.empty(3), np.empty(3), np.empty(3)
-    count = 0
+    count, gap, best_gap = 0, np.empty(3), np.empty(3)
     for k in range(p0.shape[0]):
         c = 0 if center.shape[0] == 1 else k
         r = 0 if rotation.shape[0] == 1 else k
@@ -78,8 +77,8 @@ def box_rows_apart(
             t = min(max(pull / (squared if squared > 0.0 else 1.0), knots[p]), knots[p + 1])
             d2 = 0.0
             for j in range(3):
-                x[j] = a[j] + t * u[j]
-                gap[j] = x[j] - min(max(x[j], -h[j]), h[j])
+                xj = a[j] + t * u[j]
+                gap[j] = xj - min(max(xj, -h[j]), h[j])
                 d2 += gap[j] * gap[j]
             if d2 < best:  # the first least, as np.argmin
                 best, best_t = d2, t
@@ -89,7 +88,6 @@ def box_rows_apart(
             rare[k] = True
             count += 1
             continue
-        rare[k] = False
         distance[k], t_out[k] = axis - radii[k], best_t
         for i in range(3):
             point[k, i] = p0[k, i] + best_t * (p1[k, i] - p0[k, i])
