@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import kernels
-from ..kernels.clearance_box import box_rows_apart
+from ..kernels.clearance_box import box_rows_apart, box_rows_overlap
 from .closest import dot, perpendicular, segment_segment, unit
 from .proximity import Proximity
 
@@ -137,19 +137,23 @@ def _numpy_rows(p0, p1, radii, center, rotation, half) -> Proximity:
 
 
 def _compiled_rows(p0, p1, radii, center, rotation, half) -> Proximity:
-    """:func:`box_rows` by the kernel; the rare rows whose axis meets or touches its box by the NumPy code."""
+    """:func:`box_rows` by the kernels; a row whose axis only touches its box (rounding's case) by the NumPy code."""
     p0, p1, radii = (np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii))
-    # a box broadcast to every row (one box's query, the carried box) is passed as its one row
     center, rotation, half = (np.asarray(x, dtype=float) for x in (center, rotation, half))
+    # a box broadcast to every row (one box's query, the carried box) is passed as its one row
     center, rotation, half = (x[:1] if x.strides[0] == 0 else np.ascontiguousarray(x) for x in (center, rotation, half))
     k = len(p0)
-    distance, t, rare = np.empty(k), np.empty(k), np.zeros(k, dtype=bool)
+    distance, t, rare = np.empty(k), np.empty(k), np.zeros(k, dtype=np.int64)
     point, normal, closest = np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3))
     if box_rows_apart(p0, p1, radii, center, rotation, half, distance, t, point, normal, closest, rare):
-        rows = np.flatnonzero(rare)
-        m = len(rows)
-        box = (np.broadcast_to(x, (m, *x.shape[1:])) if len(x) == 1 else x[rows] for x in (center, rotation, half))
-        got = _numpy_rows(p0[rows], p1[rows], radii[rows], *box)
-        for mine, theirs in zip((distance, t, point, normal, closest), got, strict=True):
-            mine[rows] = theirs
+        meet = np.flatnonzero(rare == 1)
+        if meet.size:
+            box_rows_overlap(p0, p1, radii, center, rotation, half, meet, distance, t, point, normal, closest)
+        rows = np.flatnonzero(rare == 2)
+        if rows.size:
+            m = len(rows)
+            box = (np.broadcast_to(x, (m, *x.shape[1:])) if len(x) == 1 else x[rows] for x in (center, rotation, half))
+            got = _numpy_rows(p0[rows], p1[rows], radii[rows], *box)
+            for mine, theirs in zip((distance, t, point, normal, closest), got, strict=True):
+                mine[rows] = theirs
     return Proximity(distance, t, point, normal, closest)
