@@ -18,7 +18,9 @@ from functools import lru_cache
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Kinematics, Model, Tcp
+from ..kernels.clearance import capsule_ends
 
 DENSITY = 1000.0  # kg/m^3, water (a body's mean density is within 10 % of it)
 MIN_RADIUS = 0.01  # m
@@ -37,11 +39,21 @@ class BodyCapsules:
     end: np.ndarray  # (k, 3) m, link frame
     radius: np.ndarray  # (k,) m
 
+    def __post_init__(self) -> None:
+        # the kernel's contiguous copies, made once per capsule set
+        object.__setattr__(self, "_link64", np.ascontiguousarray(self.link, dtype=np.int64))
+        object.__setattr__(self, "_start", np.ascontiguousarray(self.start, dtype=float))
+        object.__setattr__(self, "_end", np.ascontiguousarray(self.end, dtype=float))
+
     def __len__(self) -> int:
         return len(self.names)
 
     def world(self, kin: Kinematics) -> tuple[np.ndarray, np.ndarray]:
         """The capsules' end points in world coordinates (m), each (k, 3), for the pose ``kin``."""
+        if kernels.active():
+            p0, p1 = np.empty((len(self.link), 3)), np.empty((len(self.link), 3))
+            capsule_ends(kin.rotation, kin.position, self._link64, self._start, self._end, p0, p1)
+            return p0, p1
         rot, pos = kin.rotation[self.link], kin.position[self.link]
         return (pos + (rot @ self.start[:, :, None])[:, :, 0], pos + (rot @ self.end[:, :, None])[:, :, 0])
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
+from ..kernels.clearance_box import box_rows_apart, box_rows_overlap
 from .closest import dot, perpendicular, segment_segment, unit
 from .proximity import Proximity
 
@@ -38,6 +40,7 @@ def box_edges(center: np.ndarray, rotation: np.ndarray, half: np.ndarray) -> tup
 def edges_of_corners(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The 12 edges (starts, ends (12, 3)) of a box given by its :func:`box_corners`."""
     return corners[_EDGES[:, 0]], corners[_EDGES[:, 1]]
+
 
 def _outside(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Segments a-b (k, 3) in box coordinates vs the boxes |x_i| <= half_i (k, 3), as if disjoint: (t, distance,
@@ -105,6 +108,13 @@ def _overlap(a: np.ndarray, b: np.ndarray, half: np.ndarray) -> tuple[np.ndarray
 def box_rows(p0, p1, radii, center, rotation, half) -> Proximity:
     """Capsule p0-p1 (k, 3) m of radius ``radii`` (k,) vs box ``center`` (k, 3), ``rotation`` (k, 3, 3) (box axes
     as columns) and ``half`` sizes (k, 3) m, row by row."""
+    if kernels.active():
+        return _compiled_rows(p0, p1, radii, center, rotation, half)
+    return _numpy_rows(p0, p1, radii, center, rotation, half)
+
+
+def _numpy_rows(p0, p1, radii, center, rotation, half) -> Proximity:
+    """:func:`box_rows` by NumPy (the reference path)."""
     a = np.einsum("ki,kij->kj", p0 - center, rotation)
     b = np.einsum("ki,kij->kj", p1 - center, rotation)
     t, axis, n = _outside(a, b, half)
@@ -124,3 +134,26 @@ def box_rows(p0, p1, radii, center, rotation, half) -> Proximity:
     w = p0 + t[:, None] * (p1 - p0)
     n_world = np.einsum("kj,kij->ki", n, rotation)
     return Proximity(axis - radii, t, w, n_world, w - axis[:, None] * n_world)
+
+
+def _compiled_rows(p0, p1, radii, center, rotation, half) -> Proximity:
+    """:func:`box_rows` by the kernels; a row whose axis only touches its box (rounding's case) by the NumPy code."""
+    p0, p1, radii = (np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii))
+    center, rotation, half = (np.asarray(x, dtype=float) for x in (center, rotation, half))
+    # a box broadcast to every row (one box's query, the carried box) is passed as its one row
+    center, rotation, half = (x[:1] if x.strides[0] == 0 else np.ascontiguousarray(x) for x in (center, rotation, half))
+    k = len(p0)
+    distance, t, rare = np.empty(k), np.empty(k), np.zeros(k, dtype=np.int64)
+    point, normal, closest = np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3))
+    if box_rows_apart(p0, p1, radii, center, rotation, half, distance, t, point, normal, closest, rare):
+        meet = np.flatnonzero(rare == 1)
+        if meet.size:
+            box_rows_overlap(p0, p1, radii, center, rotation, half, meet, distance, t, point, normal, closest)
+        rows = np.flatnonzero(rare == 2)
+        if rows.size:
+            m = len(rows)
+            box = (np.broadcast_to(x, (m, *x.shape[1:])) if len(x) == 1 else x[rows] for x in (center, rotation, half))
+            got = _numpy_rows(p0[rows], p1[rows], radii[rows], *box)
+            for mine, theirs in zip((distance, t, point, normal, closest), got, strict=True):
+                mine[rows] = theirs
+    return Proximity(distance, t, point, normal, closest)

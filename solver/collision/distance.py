@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
+from ..kernels.clearance import axes_closest
 from .closest import cross, dot, perpendicular, segment_segment, unit
 from .proximity import PairProximity
 
@@ -28,6 +30,9 @@ def as_batch(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray) -> tuple[np.ndar
 def closest_on_axes(p0, p1, q0, q1) -> tuple[np.ndarray, ...]:
     """Closest parameters, points and the unit normal from the q segment to the p segment (any direction
     perpendicular to both where the axes meet)."""
+    if kernels.active():
+        index = np.arange(len(p0))
+        return _compiled_axes(p0, p1, q0, q1, index, index)[:5]
     s, t = segment_segment(p0, p1, q0, q1)
     u, v = p1 - p0, q1 - q0
     w, q = p0 + s[:, None] * u, q0 + t[:, None] * v
@@ -43,8 +48,34 @@ def closest_on_axes(p0, p1, q0, q1) -> tuple[np.ndarray, ...]:
 
 def capsule_pairs(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, i: np.ndarray, j: np.ndarray) -> PairProximity:
     """Capsule i[m] vs capsule j[m] of one batch (self-collision), m = 0..len(i)-1."""
+    if kernels.active():  # the kernel takes the arrays as they are (no broadcast copies)
+        s, w, t, q, n, length = _compiled_axes(p0, p1, p0, p1, i, j)
+        radii = np.asarray(radii, dtype=float)
+        return PairProximity(length - radii[i] - radii[j] if radii.ndim else length - radii - radii, s, w, t, q, n)
     p0, p1, radii = as_batch(p0, p1, radii)
     i, j = np.asarray(i, dtype=np.int64), np.asarray(j, dtype=np.int64)
     s, w, t, q, n = closest_on_axes(p0[i], p1[i], p0[j], p1[j])
     d = np.sqrt(dot(w - q, w - q)) - radii[i] - radii[j]
     return PairProximity(d, s, w, t, q, n)
+
+
+def _compiled_axes(p0, p1, q0, q1, i: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(s, w, t, q, normal, gap length (m)) of segments p0[i]-p1[i] and q0[j]-q1[j] by the kernel; where the axes
+    meet (rare) the normal is made as :func:`closest_on_axes` makes it."""
+    p0, p1, q0, q1 = (_rows(x) for x in (p0, p1, q0, q1))
+    i, j = np.ascontiguousarray(i, dtype=np.int64), np.ascontiguousarray(j, dtype=np.int64)
+    m = len(i)
+    s, t, length = np.empty(m), np.empty(m), np.empty(m)
+    w, q, normal = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3))
+    if axes_closest(p0, p1, q0, q1, i, j, s, w, t, q, normal, length):
+        meet = np.flatnonzero(length <= 1e-150)
+        um, vm = p1[i[meet]] - p0[i[meet]], q1[j[meet]] - q0[j[meet]]
+        normal[meet] = unit(cross(um, vm), perpendicular(np.where(dot(um, um)[:, None] > 0, um, vm)))
+    return s, w, t, q, normal, length
+
+
+def _rows(x) -> np.ndarray:
+    """``x`` as a contiguous (k, 3) float64 array (itself when it is one already: the common case, kept cheap)."""
+    if isinstance(x, np.ndarray) and x.ndim == 2 and x.dtype == np.float64 and x.flags.c_contiguous:
+        return x
+    return np.ascontiguousarray(x, dtype=float).reshape(-1, 3)

@@ -17,10 +17,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
 from ..collision import HalfSpace, Obstacle
 from ..collision.body import BodyCapsules, capsules_of
+from ..kernels.clearance import clearance_jacobian, least_bound, plane_rows
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
@@ -120,12 +122,17 @@ class ClearanceRows(Inequality):
     def _ends(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """World ends (m) of ``capsules`` at ``state``, computed once per state for all clearances of the same body
         capsules (the floor's and the body's own)."""
+        ends = self._source_ends(state)
+        return ends if self._subset is None else (ends[0][self._subset], ends[1][self._subset])
+
+    def _source_ends(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """World ends (m) of every capsule of ``_source`` (else ``capsules``) at ``state``, once per state."""
         source = self._source if self._source is not None else self.capsules
         key = ("capsule ends", id(source))
         ends = state.cache.get(key)
         if ends is None:
             ends = state.cache[key] = source.world(state.kin)
-        return ends if self._subset is None else (ends[0][self._subset], ends[1][self._subset])
+        return ends
 
     def _clear_by(self, state: State, band: float) -> bool:
         """True when no row can be within ``band`` (m) of its floor at ``state``, known without a query from how its
@@ -147,6 +154,10 @@ class ClearanceRows(Inequality):
         the trunk moving together change nothing), 2 ends against a still obstacle."""
         (start, end), slack = self._reference
         p0, p1 = self._ends(state)
+        if kernels.active():
+            paired = self._row_other is not None
+            other = self._row_other if paired else self._row_capsule
+            return float(least_bound(p0, p1, start, end, slack, self._row_capsule, other, paired))
         moved = np.stack([p0 - start, p1 - end], axis=1)  # (capsules, 2 ends, 3)
         mine = moved[self._row_capsule]
         if self._row_other is None:
@@ -196,6 +207,20 @@ class ClearanceRows(Inequality):
         mask = self.model.descendant[:, self.capsules.link[capsule[rows]]].T.astype(float)  # joints moving each
         normal = normals[rows]
         return state.kin.jacobian_rows(points[rows], normal, np.zeros_like(normal), mask)
+
+    def _row_link(self, capsule: np.ndarray) -> np.ndarray:
+        """Per row, the link of its part's capsule (int64), kept while the rows' capsules are ``capsule``."""
+        kept = getattr(self, "_links_of", None)
+        if kept is None or kept[0] is not capsule:
+            kept = self._links_of = (capsule, np.ascontiguousarray(self.capsules.link[capsule], dtype=np.int64))
+        return kept[1]
+
+    def _no_other(self, rows: int) -> np.ndarray:
+        """-1 per row: rows with no second moving part, for the Jacobian kernel."""
+        kept = getattr(self, "_none", None)
+        if kept is None or len(kept) != rows:
+            kept = self._none = np.full(rows, -1, dtype=np.int64)
+        return kept
 
     def unmet(self, state: State) -> list[str]:
         """One name per body part and what it keeps clear of, below the clearance, e.g. "hand_r vs floor"."""
@@ -270,6 +295,12 @@ class Clearance(ClearanceRows):
         caps = self.capsules
         if not self.obstacles:
             return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
+        if self._plane is not None and kernels.active():  # the rows below, in one loop over the ends
+            p0, p1 = self._source_ends(state)
+            h, ends = np.empty(len(self._plane_radius)), np.empty((len(self._plane_radius), 3))
+            plane_rows(p0, p1, self._subset, self._plane.point, self._plane.normal, self._plane_radius,
+                       self._reach[0] + 1.0, h, ends)  # fmt: skip
+            return h, ends, self._plane_normal, self._row_capsule
         p0, p1 = self._ends(state)
         if self._plane is not None:  # a row per capsule end, starts first; the end is its own witness
             ends = np.concatenate([p0, p1])
@@ -293,6 +324,11 @@ class Clearance(ClearanceRows):
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
         out = np.zeros((len(rows), self.n_x))
-        if rows.size:
+        if rows.size and kernels.active():
+            _, points, normals, capsule = self._evaluate(state)
+            link = self._row_link(capsule)
+            clearance_jacobian(points, normals, link, points, self._no_other(len(link)), np.asarray(rows, np.int64),
+                               self.model.descendant, state.kin.twist, out)  # fmt: skip
+        elif rows.size:
             out[:, : self.model.n] = self._part_rows(state, rows)
         return out

@@ -15,12 +15,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
 from ..collision.body import BodyCapsules
 from ..collision.distance import capsule_pairs
 from ..collision.proximity import PairProximity
 from ..collision.self_pairs import self_pairs
+from ..kernels.clearance import clearance_jacobian
 from .clearance import HOLD, ClearanceRows
 
 
@@ -41,6 +43,8 @@ class SelfClearance(ClearanceRows):
         self.floor = self.pairs.least.copy()
         # exact at any range and ~40 array operations per query: bounded by the capsules' movement (docs/TUNING.md)
         self._bounded, self._row_capsule, self._row_other = True, self.pairs.first, self.pairs.second
+        pair_ends = (self.pairs.first, self.pairs.second)
+        self._links = tuple(np.ascontiguousarray(capsules.link[p], dtype=np.int64) for p in pair_ends)  # the kernel's
 
     def _proximity(self, state: State) -> PairProximity:
         """Every pair's distance, witnesses and normal at ``state``, once per state."""
@@ -57,7 +61,11 @@ class SelfClearance(ClearanceRows):
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
         out = np.zeros((len(rows), self.n_x))
-        if rows.size:
+        if rows.size and kernels.active():  # both parts' rows in one loop
+            got = self._proximity(state)
+            clearance_jacobian(got.point, got.normal, self._links[0], got.point_other, self._links[1],
+                               np.asarray(rows, np.int64), self.model.descendant, state.kin.twist, out)  # fmt: skip
+        elif rows.size:
             got = self._proximity(state)
             normal = got.normal[rows]
             mask = self.model.descendant[:, self.capsules.link[self.pairs.second[rows]]].T.astype(float)
