@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -13,6 +14,7 @@ from .trial import Evaluator, Trial
 if TYPE_CHECKING:
     from .tuning import Tuning
 
+_MAX = np.maximum.reduce  # np.max without its Python wrapper (the same reduction)
 CONTACT_LOOKAHEAD = 0.05  # m: a clearance row farther than this at the start counts as this far (the query's margin)
 
 
@@ -79,7 +81,7 @@ class LineSearch:
         direction = step.task + step.comfort if with_comfort else step.task
         if not self.near:  # far away, a joint turns at most max_turn per step: the linear model holds about that far
             move = np.abs(problem.joint_change(self.at.state, direction * problem.scale)) / self.move_limit
-            direction = direction / max(float(np.max(move, initial=0.0)), 1.0)
+            direction = direction / max(float(_MAX(move, initial=0.0)), 1.0)
         return direction
 
     def _try(self, with_comfort: bool, tries: int) -> tuple[Trial | None, float]:
@@ -115,19 +117,19 @@ class LineSearch:
                 trial = self._corrected(trial, with_comfort, alpha)
             if self._accepts(trial, with_comfort):
                 return trial, alpha
-            if with_comfort or not np.isfinite(trial.merit):
+            if with_comfort or not math.isfinite(trial.merit):
                 alpha *= shrink
             else:  # minimum of the quadratic through merit(0), its slope and merit(alpha), safeguarded
                 bend = (trial.merit - at.merit - alpha * slope) / alpha**2
                 guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
-                alpha = float(np.clip(guess, 0.1 * alpha, 0.5 * alpha))
+                alpha = min(max(float(guess), 0.1 * alpha), 0.5 * alpha)  # np.clip's value, without its overhead
         return None, alpha
 
     def _accepts(self, trial: Trial, with_comfort: bool) -> bool:
         """The acceptance rule, on a finite trial with a finite cost."""
-        if not (self._better(trial, with_comfort) and np.isfinite(trial.merit)):
+        if not (self._better(trial, with_comfort) and math.isfinite(trial.merit)):
             return False
-        return bool(np.isfinite(self.evaluate.cost(trial.state)))
+        return math.isfinite(self.evaluate.cost(trial.state))
 
     def _short_of_contact(self, trial: Trial, alpha: float, along) -> tuple[Trial, float]:
         """(trial, alpha), cut back to where the first obstacle row met at the start would reach its clearance, when
@@ -169,7 +171,7 @@ class LineSearch:
         change = (trial.x - self.at.x) / problem.scale + self.step.correction(trial.err)
         if not self.near:  # the corrected step keeps the far steps' turn limit too
             move = np.abs(problem.joint_change(self.at.state, change * problem.scale)) / self.move_limit
-            change = change / max(float(np.max(move, initial=0.0)), 1.0)
+            change = change / max(float(_MAX(move, initial=0.0)), 1.0)
         x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
         corrected = self.evaluate(x_soc)
         return corrected if corrected.merit < bar else trial

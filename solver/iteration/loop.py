@@ -61,11 +61,13 @@ def run_phase(
     watch = StagnationWatch(tuning, comfort_on)
     previous: tuple[Trial, Linearization, Step] | None = None
     move_limit = np.where(problem.model.prismatic, tuning.max_slide, tuning.max_turn)
+    capped = tuning  # the tuning with the comfort part's current cap (ctl.comfort_cap; 0: uncapped)
     for iteration in range(1, budget + 1):
         lin = _linearize(problem, at, comfort_on, keep_off_limits)
         if memory is not None and previous is not None and at.worst <= tuning.comfort_slack:
             _remember(memory, problem, previous, at, lin)
-        capped = replace(tuning, max_comfort_step=ctl.comfort_cap) if ctl.comfort_cap else tuning
+        if ctl.comfort_cap != capped.max_comfort_step:  # dataclasses.replace costs ~10 us: once per new cap
+            capped = replace(tuning, max_comfort_step=ctl.comfort_cap) if ctl.comfort_cap else tuning
         step = compute_step(problem, at, lin, ctl.mu, ctl.radius, capped, memory)
         previous = (at, lin, step)
         negligible = options.comfort_tolerance * max(evaluate.size(at.state), 1.0)
@@ -159,7 +161,7 @@ def _adapt(
             )
         else:
             ctl.mu *= factor
-    ctl.mu = float(np.clip(ctl.mu, 1e-8, 1e8))
+    ctl.mu = min(max(float(ctl.mu), 1e-8), 1e8)  # np.clip's value, without its overhead
     if outcome.trial is None:
         ctl.gained = 0.0
         ctl.rejected += 1

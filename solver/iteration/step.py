@@ -68,7 +68,7 @@ class Step:
     @cached_property
     def penalty(self) -> float:
         """Weight of sum |scaled error| in the merit: twice the largest multiplier estimate."""
-        return 2.0 * float(np.max(np.abs(self.multipliers), initial=0.0)) + 1e-9
+        return 2.0 * float(np.maximum.reduce(np.abs(self.multipliers), initial=0.0)) + 1e-9
 
 
 def metric(problem: Problem, x: np.ndarray, lin: Linearization, free: np.ndarray, mu: float, tuning: Tuning):

@@ -182,6 +182,10 @@ class Problem:
         self.n_rows = len(self.row_tolerance)
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
+        self._sizes = [c.rows for c in rows]
+        # live_jacobian's rows when every row may be nonzero, shared by those linearisations (nothing writes to it;
+        # not flagged read-only, which Numba would compile every kernel taking it again for)
+        self._all_rows = np.arange(self.n_rows)
 
     def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """World (rotation (3, 3), position (3,) m) of every target and loop frame at ``state``, by name."""
@@ -264,7 +268,9 @@ class Problem:
         if not self.constraints:
             return np.zeros(0)
         e = np.concatenate([c.error(state) for c in self.constraints])
-        return e * self.row_weight / self.row_tolerance
+        e *= self.row_weight  # in place on the fresh array: e * weight / tolerance, the same rounding
+        e /= self.row_tolerance
+        return e
 
     def scaled_slack(self, state: State) -> np.ndarray:
         """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
@@ -286,7 +292,10 @@ class Problem:
         if not self.constraints:
             return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
         got = [c.jacobian_rows(state) for c in self.constraints]
-        live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
+        if all(len(rows) == size for (rows, _), size in zip(got, self._sizes, strict=True)):
+            live = self._all_rows  # every row (the rows of each are sorted and distinct): no new index array
+        else:
+            live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
         jac = np.concatenate([jac for _, jac in got])
         red = self.reduction
         if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
