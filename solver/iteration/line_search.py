@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import kernels
+from ..kernels import step as compiled
 from .step import Linearization, Step
 from .trial import Evaluator, Trial
 
@@ -54,6 +56,7 @@ class LineSearch:
         self.move_limit = move_limit
         self.problem = evaluate.problem
         self.near = at.worst <= tuning.comfort_slack
+        self.joints = self.problem.joint_supports() if (kernels.active() and not self.near) else None
         self.task_change = 0.0  # f's predicted rise from the task part alone: a ride-along need not undo it
         if not self.near and step.predicted_gain > 0:
             task, grad_f, curv_f = step.task, lin.grad_f, lin.curv_f
@@ -80,9 +83,18 @@ class LineSearch:
         step, problem = self.step, self.problem
         direction = step.task + step.comfort if with_comfort else step.task
         if not self.near:  # far away, a joint turns at most max_turn per step: the linear model holds about that far
-            move = np.abs(problem.joint_change(self.at.state, direction * problem.scale)) / self.move_limit
-            direction = direction / max(float(_MAX(move, initial=0.0)), 1.0)
+            direction = self._turn_limited(direction)
         return direction
+
+    def _turn_limited(self, change: np.ndarray) -> np.ndarray:
+        """The scaled step ``change`` shortened so that no joint turns more than its ``move_limit``."""
+        problem = self.problem
+        if self.joints is not None:  # the same numbers in one loop (solver.kernels.step.turn_share)
+            share = compiled.turn_share(change, problem.scale, *self.joints, self.move_limit)
+        else:
+            move = np.abs(problem.joint_change(self.at.state, change * problem.scale)) / self.move_limit
+            share = float(_MAX(move, initial=0.0))
+        return change / max(share, 1.0)
 
     def _try(self, with_comfort: bool, tries: int) -> tuple[Trial | None, float]:
         """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha).
@@ -170,8 +182,7 @@ class LineSearch:
         problem = self.problem
         change = (trial.x - self.at.x) / problem.scale + self.step.correction(trial.err)
         if not self.near:  # the corrected step keeps the far steps' turn limit too
-            move = np.abs(problem.joint_change(self.at.state, change * problem.scale)) / self.move_limit
-            change = change / max(float(_MAX(move, initial=0.0)), 1.0)
+            change = self._turn_limited(change)
         x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
         corrected = self.evaluate(x_soc)
         return corrected if corrected.merit < bar else trial

@@ -237,6 +237,23 @@ class Problem:
             dx = red.basis_times(dv) if red.linear else self.reduction_jacobian(state) @ dv
         return dx[: self.model.n]
 
+    def joint_supports(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Per model joint, (the solver variable that moves it, -1 for none; the weight it moves it by) for the
+        compiled kernels, contiguous int64 and float64 (n,); None when the reduction is nonlinear."""
+        red = self.reduction
+        if red is not None and not red.linear:
+            return None
+        kept = self.__dict__.get("_joint_supports")
+        if kept is None or kept[0] is not red:  # once per reduction (a copied problem shares it)
+            n = self.model.n
+            if red is None:
+                supports = np.arange(n, dtype=np.int64), np.ones(n)
+            else:
+                column, weight = red.kernel_supports
+                supports = np.ascontiguousarray(column[:n]), np.ascontiguousarray(weight[:n])
+            kept = self._joint_supports = (red, supports)
+        return kept[1]
+
     def state_of_x(self, x: np.ndarray) -> State:
         """Evaluation point for a full x = [joints, forces]."""
         return State(x, self.model.n, self.layout)
