@@ -80,7 +80,7 @@ class LineSearch:
         return Outcome(None, self.f, alpha, with_comfort)
 
     def _direction(self, with_comfort: bool) -> np.ndarray:
-        step, problem = self.step, self.problem
+        step = self.step
         direction = step.task + step.comfort if with_comfort else step.task
         if not self.near:  # far away, a joint turns at most max_turn per step: the linear model holds about that far
             direction = self._turn_limited(direction)

@@ -32,6 +32,7 @@ class PoseTask(Protocol):
     spec: ProblemSpec
     comfort: Comfort
 
+
 # The crouch: knees 60 deg, hips 60 deg, ankles 10 deg dorsiflexed, on both sides (the semi-squat people lift in,
 # knees 30-60 deg: Burgess-Limerick & Abernethy 1997; the solver moves on from it). A deeper start (knees 100, hips
 # 80, ankles 15) over-squatted low picks and set-downs (docs/TUNING.md).
