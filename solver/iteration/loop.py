@@ -98,12 +98,12 @@ def _linearize(problem: Problem, at: Trial, comfort_on: bool, keep_off_limits: b
     live, jac = problem.live_jacobian(at.state)
     zeros = np.zeros(problem.n_var)
     if comfort_on:
-        grad_h, curv = problem.comfort_derivatives(at.state)
+        grad_f, curv_f = problem.comfort_model(at.state)
         rows = problem.comfort_rows(at.state)
         rows = None if rows is None else rows * problem.scale
-        return Linearization(jac, live, -grad_h * problem.scale, curv * problem.scale**2, True, rows)
+        return Linearization(jac, live, grad_f, curv_f, True, rows)
     if keep_off_limits:
-        return Linearization(jac, live, zeros, problem.comfort_derivatives(at.state)[1] * problem.scale**2, False)
+        return Linearization(jac, live, zeros, problem.comfort_model(at.state)[1], False)
     return Linearization(jac, live, zeros, np.zeros(problem.n_var), False)
 
 

@@ -27,7 +27,7 @@ from ..constraints.clearance import FLOOR, Clearance, ClearanceRows, Closeness, 
 from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
-from ..kernels.reduction import reduce_and_scale
+from ..kernels.reduction import comfort_model, reduce_and_scale
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
 from .starts import behaviour_start
@@ -345,6 +345,21 @@ class Problem:
             return red.times_basis(grad), red.times_basis(curv, squared=True)
         dphi = self.reduction_jacobian(state)
         return dphi.T @ grad, (dphi * dphi).T @ curv
+
+    def comfort_model(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """(grad f, curv f) of f = -h in the scaled variables v / scale: ``-grad_h * scale`` and ``curv * scale**2``
+        of :meth:`comfort_derivatives`, the basis product and the scaling in one loop where the kernels run."""
+        red = self.reduction
+        if red is not None and red.linear and kernels.active():
+            rows, _, weight, starts, complete = red._supports  # noqa: SLF001 (the basis by column, built once)
+            if complete:
+                grad, curv = self.comfort.derivatives(state)
+                grad_f, curv_f = np.empty(self.n_var), np.empty(self.n_var)
+                comfort_model(grad, curv, rows, weight, starts, self.scale, grad_f, curv_f)
+                return grad_f, curv_f
+        grad_h, curv = self.comfort_derivatives(state)
+        scale = self.scale
+        return -grad_h * scale, curv * scale**2
 
     def comfort_rows(self, state: State) -> np.ndarray | None:
         """Low-rank curvature rows of -h (k, n_var) in the solver variables v, None when comfort has none."""
