@@ -151,6 +151,8 @@ class LineSearch:
         The floor's and the body's own rows are not cut for: parts pass them on the way to good poses and come back
         out quickly (docs/TUNING.md)."""
         at, problem = self.at, self.problem
+        if not problem.any_obstacle_rows:  # nothing to stop short of (the mask below would be all False)
+            return trial, alpha
         entered = problem.obstacle_rows & (at.err == 0.0) & (trial.err * self.evaluate.unweight < -1.0)
         if not entered.any():
             return trial, alpha

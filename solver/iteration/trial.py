@@ -35,8 +35,7 @@ class Evaluator:
 
     def __call__(self, x: np.ndarray) -> Trial:
         state = self.problem.state(x)
-        err = self.problem.scaled_error(state)
-        worst = float(np.maximum.reduce(np.abs(err) * self.unweight, initial=0.0))  # np.max, less overhead
+        err, worst = self.problem.scaled_error_and_worst(state, self.unweight)
         return Trial(x, state, err, float(err @ err), worst)
 
     def cost(self, state: State) -> float:

@@ -28,6 +28,7 @@ from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model, reduce_and_scale
+from ..kernels.trial import scale_rows
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
 from .starts import behaviour_start
@@ -179,6 +180,7 @@ class Problem:
         obstacles = (self.obstacle_constraint, self.carried_obstacle_constraint)
         self.obstacle_rows = np.concatenate([np.full(c.rows, any(c is o for o in obstacles)) for c in rows]) if rows \
             else np.zeros(0, dtype=bool)  # fmt: skip
+        self.any_obstacle_rows = bool(self.obstacle_rows.any())
         self.n_rows = len(self.row_tolerance)
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
@@ -288,6 +290,17 @@ class Problem:
         e *= self.row_weight  # in place on the fresh array: e * weight / tolerance, the same rounding
         e /= self.row_tolerance
         return e
+
+    def scaled_error_and_worst(self, state: State, unweight: np.ndarray) -> tuple[np.ndarray, float]:
+        """(:meth:`scaled_error`, its largest ``|row| * unweight``: 0 without rows), in one loop where the kernels
+        run (every trial point of a solve asks for both)."""
+        if not self.constraints:
+            return np.zeros(0), 0.0
+        if kernels.active():
+            err = np.concatenate([c.error(state) for c in self.constraints])
+            return err, scale_rows(err, self.row_weight, self.row_tolerance, unweight)
+        err = self.scaled_error(state)
+        return err, float(np.maximum.reduce(np.abs(err) * unweight, initial=0.0))
 
     def scaled_slack(self, state: State) -> np.ndarray:
         """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
