@@ -10,6 +10,7 @@ import numpy as np
 
 from .. import kernels
 from ..kernels import step as compiled
+from ..kernels.trial import step_point
 from .step import Linearization, Step
 from .trial import Evaluator, Trial
 
@@ -17,6 +18,7 @@ if TYPE_CHECKING:
     from .tuning import Tuning
 
 _MAX = np.maximum.reduce  # np.max without its Python wrapper (the same reduction)
+_WHOLE = np.zeros(0)  # step_point's ``task`` for a whole step along one direction
 CONTACT_LOOKAHEAD = 0.05  # m: a clearance row farther than this at the start counts as this far (the query's margin)
 
 
@@ -96,6 +98,13 @@ class LineSearch:
             share = float(_MAX(move, initial=0.0))
         return change / max(share, 1.0)
 
+    def _point(self, alpha: float, direction: np.ndarray, task: np.ndarray) -> np.ndarray:
+        """The clipped trial point x + alpha direction (x + (task + alpha direction) with a ``task``), by the kernel."""
+        bounds, x = self.problem.bounds, self.at.x
+        out = np.empty(len(x))
+        step_point(x, alpha, direction, task, bounds.scale, bounds.lower, bounds.upper, out)
+        return out
+
     def _try(self, with_comfort: bool, tries: int) -> tuple[Trial | None, float]:
         """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha).
 
@@ -107,7 +116,12 @@ class LineSearch:
         slope = 0.0 if with_comfort else 2.0 * float(at.err[lin.live] @ (lin.jac @ direction))  # d merit / d alpha at 0
         hopeless = self.tuning.hopeless * self.tuning.comfort_slack
         retry = self.tuning.comfort_retry if (with_comfort and self.near) else 0.0
-        if retry:
+        if kernels.active():  # the same point in one loop (solver.kernels.trial.step_point)
+            moved, task = (self.step.comfort, self.step.task) if retry else (direction, _WHOLE)
+
+            def along(a: float) -> np.ndarray:
+                return self._point(a, moved, task)
+        elif retry:
             task, comfort = self.step.task, self.step.comfort
 
             def along(a: float) -> np.ndarray:
@@ -185,7 +199,10 @@ class LineSearch:
         change = (trial.x - self.at.x) / problem.scale + self.step.correction(trial.err)
         if not self.near:  # the corrected step keeps the far steps' turn limit too
             change = self._turn_limited(change)
-        x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
+        if kernels.active():
+            x_soc = self._point(1.0, change, _WHOLE)  # 1.0 * change: the same numbers
+        else:
+            x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
         corrected = self.evaluate(x_soc)
         return corrected if corrected.merit < bar else trial
 

@@ -28,7 +28,7 @@ from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model, reduce_and_scale
-from ..kernels.trial import scale_rows
+from ..kernels.trial import linear_phi, scale_rows
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
 from .starts import behaviour_start
@@ -215,6 +215,11 @@ class Problem:
 
     def state(self, v: np.ndarray) -> State:
         """Evaluation point for solver variables v (kept on the state when dphi/dbeta depends on them)."""
+        red = self.reduction
+        if red is not None and red.linear and kernels.active():  # phi in one loop (solver.kernels.trial.linear_phi)
+            x = np.empty(len(red.offset))
+            linear_phi(np.asarray(v, dtype=float), red.offset, *red.kernel_supports, x)
+            return self.state_of_x(x)
         state = self.state_of_x(self.to_x(v))
         if self.reduction is not None and not self.reduction.linear:
             state.variables = np.array(v, dtype=float)

@@ -51,3 +51,49 @@ def test_evaluator_trials_are_the_numpy_ones() -> None:
         np.testing.assert_allclose(got.err, want.err, rtol=0, atol=1e-12 * max(1.0, np.abs(want.err).max()))
         assert abs(got.worst - want.worst) <= 1e-12 * max(1.0, want.worst)
         assert abs(got.merit - want.merit) <= 1e-12 * max(1.0, want.merit)
+
+
+def test_step_point_is_numpy_clip_of_the_step() -> None:
+    """Both forms of a line search's trial point (to the bit), with NaN, -0.0 and points on and past the bounds."""
+    from solver.kernels.trial import step_point
+
+    rng = np.random.default_rng(9)
+    n = 40
+    lower, upper = -rng.uniform(0.1, 1, n), rng.uniform(0.1, 1, n)
+    lower[0] = 0.0
+    scale = rng.uniform(0.2, 2, n)
+    for alpha in (1.0, 0.37, 1e-3):
+        x = rng.uniform(-1.2, 1.2, n)
+        x[0], x[1] = -0.0, np.nan
+        direction, task = rng.normal(size=n), rng.normal(size=n)
+        direction[0] = task[0] = 0.0
+        out = np.empty(n)
+        step_point(x, alpha, direction, np.zeros(0), scale, lower, upper, out)
+        np.testing.assert_array_equal(out, np.clip(x + alpha * direction * scale, lower, upper))
+        assert not np.signbit(out[0])  # np.clip takes the bound 0.0 for -0.0
+        step_point(x, alpha, direction, task, scale, lower, upper, out)
+        np.testing.assert_array_equal(out, np.clip(x + (task + alpha * direction) * scale, lower, upper))
+
+
+@pytest.mark.parametrize("groups", [("lumbar", "thoracic", "cervical", "grasp"), ()])
+def test_problem_state_by_linear_phi_is_the_numpy_one(groups: tuple[str, ...]) -> None:
+    """Problem.state's x through a linear reduction by the kernel is Reduction.phi's (to the bit)."""
+    from solver.kernels.trial import linear_phi
+
+    model = load_body(preset="male_50")
+    problem = Problem(
+        model, ProblemSpec([Target("hand_r", np.array([0.3, -0.4, 1.0]))], balance=False, reduction=groups)
+    )
+    rng = np.random.default_rng(2)
+    for _ in range(4):
+        v = problem.start() + rng.normal(scale=0.2, size=problem.n_var)
+        with kernels.using(True):
+            got = problem.state(v).x
+        with kernels.using(False):
+            np.testing.assert_array_equal(got, problem.state(v).x)
+    if groups:
+        red = problem.reduction
+        beta = rng.normal(size=red.n)
+        out = np.empty(len(red.offset))
+        linear_phi(beta, red.offset, *red.kernel_supports, out)
+        np.testing.assert_array_equal(out, red.phi(beta))
