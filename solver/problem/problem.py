@@ -185,8 +185,7 @@ class Problem:
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
         self._sizes = [c.rows for c in rows]
-        # live_jacobian's rows when every row may be nonzero, shared by those linearisations (nothing writes to it;
-        # not flagged read-only, which Numba would compile every kernel taking it again for)
+        # live_jacobian's rows when all may be nonzero, shared (nothing writes to it; read-only would mean new kernels)
         self._all_rows = np.arange(self.n_rows)
 
     def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -245,20 +244,14 @@ class Problem:
         return dx[: self.model.n]
 
     def joint_supports(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Per model joint, (the solver variable that moves it, -1 for none; the weight it moves it by) for the
-        compiled kernels, contiguous int64 and float64 (n,); None when the reduction is nonlinear."""
-        red = self.reduction
+        """Per model joint, (the solver variable that moves it, -1 for none; its weight), contiguous int64 and float64
+        (n,) for the kernels; None when the reduction is nonlinear. Once per reduction (a copied problem shares it)."""
+        red, kept, n = self.reduction, self.__dict__.get("_joint_supports"), self.model.n
         if red is not None and not red.linear:
             return None
-        kept = self.__dict__.get("_joint_supports")
-        if kept is None or kept[0] is not red:  # once per reduction (a copied problem shares it)
-            n = self.model.n
-            if red is None:
-                supports = np.arange(n, dtype=np.int64), np.ones(n)
-            else:
-                column, weight = red.kernel_supports
-                supports = np.ascontiguousarray(column[:n]), np.ascontiguousarray(weight[:n])
-            kept = self._joint_supports = (red, supports)
+        if kept is None or kept[0] is not red:
+            column, weight = (np.arange(n), np.ones(n)) if red is None else (a[:n] for a in red.kernel_supports)
+            kept = self._joint_supports = (red, (np.ascontiguousarray(column, np.int64), np.ascontiguousarray(weight)))
         return kept[1]
 
     def state_of_x(self, x: np.ndarray) -> State:
@@ -369,15 +362,14 @@ class Problem:
         of :meth:`comfort_derivatives`, the basis product and the scaling in one loop where the kernels run."""
         red = self.reduction
         if red is not None and red.linear and kernels.active():
-            rows, _, weight, starts, complete = red._supports  # noqa: SLF001 (the basis by column, built once)
+            rows, _, weight, starts, complete = red._supports  # the basis by column, built once
             if complete:
                 grad, curv = self.comfort.derivatives(state)
                 grad_f, curv_f = np.empty(self.n_var), np.empty(self.n_var)
                 comfort_model(grad, curv, rows, weight, starts, self.scale, grad_f, curv_f)
                 return grad_f, curv_f
         grad_h, curv = self.comfort_derivatives(state)
-        scale = self.scale
-        return -grad_h * scale, curv * scale**2
+        return -grad_h * self.scale, curv * self.scale**2
 
     def comfort_rows(self, state: State) -> np.ndarray | None:
         """Low-rank curvature rows of -h (k, n_var) in the solver variables v, None when comfort has none."""
