@@ -39,8 +39,8 @@ class PoseTask(Protocol):
 CROUCH_DEG = {"knee_{s}_flexion": 60.0, "hip_{s}_flexion": 60.0, "ankle_{s}_dorsiflexion": 10.0}
 HIP_JOINT = "hip_r_flexion"
 
-# Per model, what the rule reads of it (the standing hip height, the rested pose): computed once, not on every solve
-# from the zero pose (~0.1 ms: a forward pass and the posture tables' name lookups). Models are frozen.
+# Per model, what the rule reads of it (the standing hip height, the crouch, the rested pose): computed once, not on
+# every solve from the zero pose (~0.1 ms: a forward pass and the joint names' lookups). Models are frozen.
 _PER_MODEL: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
@@ -58,6 +58,11 @@ def _standing_hip(model: Model) -> float:
 
 def crouched_pose(model: Model) -> np.ndarray | None:
     """The zero pose with the legs bent as :data:`CROUCH_DEG` (within limits), None when the model has no such legs."""
+    crouch = _once(model, "crouch", _crouched)
+    return None if crouch is None else crouch.copy()
+
+
+def _crouched(model: Model) -> np.ndarray | None:
     theta = model.zero_pose().copy()
     names = model.joint_names
     for side in ("r", "l"):
