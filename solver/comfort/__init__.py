@@ -22,6 +22,8 @@ from .joint_range import JointRange
 from .standard import BEHAVIOUR, DEFAULT_COMFORT, STANDARD, STANDARD_TERMS, ComfortWeights, StandardTerm, standard_terms
 from .trunk_tilt import TrunkTilt
 
+_NO_ROWS = ComfortTerm.curvature_rows  # the base class's: no low-rank curvature rows
+
 
 class Comfort:
     """h(x) = -sum weight x cost over ``terms`` (each a (weight, :class:`ComfortTerm`) pair)."""
@@ -75,7 +77,9 @@ class Comfort:
 
     def curvature_rows(self, state: State) -> np.ndarray | None:
         """The terms' low-rank curvature rows stacked (k, n_x), None when no term has any."""
-        rows = [term.curvature_rows(state, weight) for weight, term in self.terms if weight]
+        # asked every iteration: a term that keeps ComfortTerm's (no rows) is not called
+        with_rows = [(w, term) for w, term in self.terms if w and type(term).curvature_rows is not _NO_ROWS]
+        rows = [term.curvature_rows(state, weight) for weight, term in with_rows]
         rows = [r for r in rows if r is not None]
         return np.concatenate(rows) if rows else None
 
@@ -85,4 +89,4 @@ class Comfort:
 
 
 __all__ = ["BEHAVIOUR", "DEFAULT_COMFORT", "STANDARD", "STANDARD_TERMS", "Comfort", "ComfortTerm", "ComfortWeights",
-           "ContactSpread", "Gaze", "JointLoad", "JointRange", "StandardTerm", "TrunkTilt"]
+           "ContactSpread", "Gaze", "JointLoad", "JointRange", "StandardTerm", "TrunkTilt"]  # fmt: skip

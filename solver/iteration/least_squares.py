@@ -38,8 +38,10 @@ class LeastSquares:
         # singular and send every step down the eigendecomposition path
         if used is None:
             used = jac.any(axis=1) if jac.size else np.zeros(jac.shape[0], dtype=bool)
-        self._active = rows[used]
-        if not used.all():
+        if used.all():
+            self._active = rows
+        else:
+            self._active = rows[used]
             jac = jac[used]
         self._jac = jac
         m = jac.shape[0]

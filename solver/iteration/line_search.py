@@ -2,17 +2,23 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import kernels
+from ..kernels import step as compiled
+from ..kernels.trial import step_point
 from .step import Linearization, Step
 from .trial import Evaluator, Trial
 
 if TYPE_CHECKING:
     from .tuning import Tuning
 
+_MAX = np.maximum.reduce  # np.max without its Python wrapper (the same reduction)
+_WHOLE = np.zeros(0)  # step_point's ``task`` for a whole step along one direction
 CONTACT_LOOKAHEAD = 0.05  # m: a clearance row farther than this at the start counts as this far (the query's margin)
 
 
@@ -52,6 +58,7 @@ class LineSearch:
         self.move_limit = move_limit
         self.problem = evaluate.problem
         self.near = at.worst <= tuning.comfort_slack
+        self.joints = self.problem.joint_supports() if (kernels.active() and not self.near) else None
         self.task_change = 0.0  # f's predicted rise from the task part alone: a ride-along need not undo it
         if not self.near and step.predicted_gain > 0:
             task, grad_f, curv_f = step.task, lin.grad_f, lin.curv_f
@@ -75,12 +82,28 @@ class LineSearch:
         return Outcome(None, self.f, alpha, with_comfort)
 
     def _direction(self, with_comfort: bool) -> np.ndarray:
-        step, problem = self.step, self.problem
+        step = self.step
         direction = step.task + step.comfort if with_comfort else step.task
         if not self.near:  # far away, a joint turns at most max_turn per step: the linear model holds about that far
-            move = np.abs(problem.joint_change(self.at.state, direction * problem.scale)) / self.move_limit
-            direction = direction / max(float(np.max(move, initial=0.0)), 1.0)
+            direction = self._turn_limited(direction)
         return direction
+
+    def _turn_limited(self, change: np.ndarray) -> np.ndarray:
+        """The scaled step ``change`` shortened so that no joint turns more than its ``move_limit``."""
+        problem = self.problem
+        if self.joints is not None:  # the same numbers in one loop (solver.kernels.step.turn_share)
+            share = compiled.turn_share(change, problem.scale, *self.joints, self.move_limit)
+        else:
+            move = np.abs(problem.joint_change(self.at.state, change * problem.scale)) / self.move_limit
+            share = float(_MAX(move, initial=0.0))
+        return change / max(share, 1.0)
+
+    def _point(self, alpha: float, direction: np.ndarray, task: np.ndarray) -> np.ndarray:
+        """The clipped trial point x + alpha direction (x + (task + alpha direction) with a ``task``), by the kernel."""
+        bounds, x = self.problem.bounds, self.at.x
+        out = np.empty(len(x))
+        step_point(x, alpha, direction, task, bounds.scale, bounds.lower, bounds.upper, out)
+        return out
 
     def _try(self, with_comfort: bool, tries: int) -> tuple[Trial | None, float]:
         """Up to ``tries`` step lengths along one direction: (the accepted trial or None, the last alpha).
@@ -93,7 +116,12 @@ class LineSearch:
         slope = 0.0 if with_comfort else 2.0 * float(at.err[lin.live] @ (lin.jac @ direction))  # d merit / d alpha at 0
         hopeless = self.tuning.hopeless * self.tuning.comfort_slack
         retry = self.tuning.comfort_retry if (with_comfort and self.near) else 0.0
-        if retry:
+        if kernels.active():  # the same point in one loop (solver.kernels.trial.step_point)
+            moved, task = (self.step.comfort, self.step.task) if retry else (direction, _WHOLE)
+
+            def along(a: float) -> np.ndarray:
+                return self._point(a, moved, task)
+        elif retry:
             task, comfort = self.step.task, self.step.comfort
 
             def along(a: float) -> np.ndarray:
@@ -115,19 +143,19 @@ class LineSearch:
                 trial = self._corrected(trial, with_comfort, alpha)
             if self._accepts(trial, with_comfort):
                 return trial, alpha
-            if with_comfort or not np.isfinite(trial.merit):
+            if with_comfort or not math.isfinite(trial.merit):
                 alpha *= shrink
             else:  # minimum of the quadratic through merit(0), its slope and merit(alpha), safeguarded
                 bend = (trial.merit - at.merit - alpha * slope) / alpha**2
                 guess = -slope / (2.0 * bend) if (slope < 0.0 and bend > 0.0) else 0.5 * alpha
-                alpha = float(np.clip(guess, 0.1 * alpha, 0.5 * alpha))
+                alpha = min(max(float(guess), 0.1 * alpha), 0.5 * alpha)  # np.clip's value, without its overhead
         return None, alpha
 
     def _accepts(self, trial: Trial, with_comfort: bool) -> bool:
         """The acceptance rule, on a finite trial with a finite cost."""
-        if not (self._better(trial, with_comfort) and np.isfinite(trial.merit)):
+        if not (self._better(trial, with_comfort) and math.isfinite(trial.merit)):
             return False
-        return bool(np.isfinite(self.evaluate.cost(trial.state)))
+        return math.isfinite(self.evaluate.cost(trial.state))
 
     def _short_of_contact(self, trial: Trial, alpha: float, along) -> tuple[Trial, float]:
         """(trial, alpha), cut back to where the first obstacle row met at the start would reach its clearance, when
@@ -137,6 +165,8 @@ class LineSearch:
         The floor's and the body's own rows are not cut for: parts pass them on the way to good poses and come back
         out quickly (docs/TUNING.md)."""
         at, problem = self.at, self.problem
+        if not problem.any_obstacle_rows:  # nothing to stop short of (the mask below would be all False)
+            return trial, alpha
         entered = problem.obstacle_rows & (at.err == 0.0) & (trial.err * self.evaluate.unweight < -1.0)
         if not entered.any():
             return trial, alpha
@@ -168,9 +198,11 @@ class LineSearch:
         problem = self.problem
         change = (trial.x - self.at.x) / problem.scale + self.step.correction(trial.err)
         if not self.near:  # the corrected step keeps the far steps' turn limit too
-            move = np.abs(problem.joint_change(self.at.state, change * problem.scale)) / self.move_limit
-            change = change / max(float(np.max(move, initial=0.0)), 1.0)
-        x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
+            change = self._turn_limited(change)
+        if kernels.active():
+            x_soc = self._point(1.0, change, _WHOLE)  # 1.0 * change: the same numbers
+        else:
+            x_soc = problem.bounds.clip(self.at.x + change * problem.scale)
         corrected = self.evaluate(x_soc)
         return corrected if corrected.merit < bar else trial
 

@@ -61,11 +61,13 @@ def run_phase(
     watch = StagnationWatch(tuning, comfort_on)
     previous: tuple[Trial, Linearization, Step] | None = None
     move_limit = np.where(problem.model.prismatic, tuning.max_slide, tuning.max_turn)
+    capped = tuning  # the tuning with the comfort part's current cap (ctl.comfort_cap; 0: uncapped)
     for iteration in range(1, budget + 1):
         lin = _linearize(problem, at, comfort_on, keep_off_limits)
         if memory is not None and previous is not None and at.worst <= tuning.comfort_slack:
             _remember(memory, problem, previous, at, lin)
-        capped = replace(tuning, max_comfort_step=ctl.comfort_cap) if ctl.comfort_cap else tuning
+        if ctl.comfort_cap != capped.max_comfort_step:  # dataclasses.replace costs ~10 us: once per new cap
+            capped = replace(tuning, max_comfort_step=ctl.comfort_cap) if ctl.comfort_cap else tuning
         step = compute_step(problem, at, lin, ctl.mu, ctl.radius, capped, memory)
         previous = (at, lin, step)
         negligible = options.comfort_tolerance * max(evaluate.size(at.state), 1.0)
@@ -96,12 +98,12 @@ def _linearize(problem: Problem, at: Trial, comfort_on: bool, keep_off_limits: b
     live, jac = problem.live_jacobian(at.state)
     zeros = np.zeros(problem.n_var)
     if comfort_on:
-        grad_h, curv = problem.comfort_derivatives(at.state)
+        grad_f, curv_f = problem.comfort_model(at.state)
         rows = problem.comfort_rows(at.state)
         rows = None if rows is None else rows * problem.scale
-        return Linearization(jac, live, -grad_h * problem.scale, curv * problem.scale**2, True, rows)
+        return Linearization(jac, live, grad_f, curv_f, True, rows)
     if keep_off_limits:
-        return Linearization(jac, live, zeros, problem.comfort_derivatives(at.state)[1] * problem.scale**2, False)
+        return Linearization(jac, live, zeros, problem.comfort_model(at.state)[1], False)
     return Linearization(jac, live, zeros, np.zeros(problem.n_var), False)
 
 
@@ -159,7 +161,7 @@ def _adapt(
             )
         else:
             ctl.mu *= factor
-    ctl.mu = float(np.clip(ctl.mu, 1e-8, 1e8))
+    ctl.mu = min(max(float(ctl.mu), 1e-8), 1e8)  # np.clip's value, without its overhead
     if outcome.trial is None:
         ctl.gained = 0.0
         ctl.rejected += 1

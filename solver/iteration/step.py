@@ -10,11 +10,11 @@ saturated there and the step is solved again without them.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from functools import cached_property
 
 import numpy as np
 
 from .. import kernels
+from ..body.state import computed_once
 from ..kernels import step as compiled
 from ..problem.problem import Problem
 from . import lapack
@@ -60,15 +60,15 @@ class Step:
         out[self.free] = self.least_squares.step(err) / self.root_metric
         return out
 
-    @cached_property
+    @computed_once
     def multipliers(self) -> np.ndarray:
         """Per scaled row: lambda with grad f + J^T lambda ~ 0 on the free variables (only near the constraints)."""
         return self.least_squares.multipliers(self.free_gradient)
 
-    @cached_property
+    @computed_once
     def penalty(self) -> float:
         """Weight of sum |scaled error| in the merit: twice the largest multiplier estimate."""
-        return 2.0 * float(np.max(np.abs(self.multipliers), initial=0.0)) + 1e-9
+        return 2.0 * float(np.maximum.reduce(np.abs(self.multipliers), initial=0.0)) + 1e-9
 
 
 def metric(problem: Problem, x: np.ndarray, lin: Linearization, free: np.ndarray, mu: float, tuning: Tuning):

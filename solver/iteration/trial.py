@@ -35,13 +35,13 @@ class Evaluator:
 
     def __call__(self, x: np.ndarray) -> Trial:
         state = self.problem.state(x)
-        err = self.problem.scaled_error(state)
-        worst = float(np.max(np.abs(err) * self.unweight, initial=0.0))
+        err, worst = self.problem.scaled_error_and_worst(state, self.unweight)
         return Trial(x, state, err, float(err @ err), worst)
 
     def cost(self, state: State) -> float:
         """f = -h at ``state`` (0 without comfort), computed once per state."""
-        return self._cost_and_size(state)[0]
+        both = state.cache.get(COST_KEY)  # asked ~40 times a solve: the kept value without a second call
+        return self._cost_and_size(state)[0] if both is None or not self.comfort_on else both[0]
 
     def size(self, state: State) -> float:
         """The part of f whose size sets the relative comfort tolerance (see ``ComfortTerm.relative``)."""

@@ -185,3 +185,26 @@ def watched_rows(one_sided: np.ndarray, err: np.ndarray, live: np.ndarray, jac: 
         out[r] = watched
         count += watched
     return count
+
+
+@kernel
+def turn_share(
+    direction: np.ndarray, scale: np.ndarray, column: np.ndarray, weight: np.ndarray, limit: np.ndarray
+) -> float:
+    """The largest |joint change| / ``limit`` (0 when none; NaN when a change is NaN) of the scaled step
+    ``direction``: per joint j, dx_j = weight_j * (direction * scale)[column_j] (``column`` -1: no change; a row per
+    joint of a linear reduction's basis, or ``column`` = arange for x itself), as ``np.max(np.abs(
+    Problem.joint_change(state, direction * scale)) / limit, initial=0.0)`` (the same numbers)."""
+    best = 0.0
+    for j in range(limit.shape[0]):
+        c = column[j]
+        if c < 0:
+            change = 0.0
+        else:
+            change = weight[j] * (direction[c] * scale[c])
+        share = abs(change) / limit[j]
+        if share > best or share != share:  # np.max: a NaN wins and stays
+            best = share
+            if share != share:
+                return share
+    return best

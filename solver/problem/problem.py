@@ -27,7 +27,8 @@ from ..constraints.clearance import FLOOR, Clearance, ClearanceRows, Closeness, 
 from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
-from ..kernels.reduction import reduce_and_scale
+from ..kernels.reduction import comfort_model, reduce_and_scale
+from ..kernels.trial import linear_phi, scale_rows
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
 from .starts import behaviour_start
@@ -179,9 +180,13 @@ class Problem:
         obstacles = (self.obstacle_constraint, self.carried_obstacle_constraint)
         self.obstacle_rows = np.concatenate([np.full(c.rows, any(c is o for o in obstacles)) for c in rows]) if rows \
             else np.zeros(0, dtype=bool)  # fmt: skip
+        self.any_obstacle_rows = bool(self.obstacle_rows.any())
         self.n_rows = len(self.row_tolerance)
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
+        self._sizes = [c.rows for c in rows]
+        # live_jacobian's rows when all may be nonzero, shared (nothing writes to it; read-only would mean new kernels)
+        self._all_rows = np.arange(self.n_rows)
 
     def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """World (rotation (3, 3), position (3,) m) of every target and loop frame at ``state``, by name."""
@@ -209,6 +214,11 @@ class Problem:
 
     def state(self, v: np.ndarray) -> State:
         """Evaluation point for solver variables v (kept on the state when dphi/dbeta depends on them)."""
+        red = self.reduction
+        if red is not None and red.linear and kernels.active():  # phi in one loop (solver.kernels.trial.linear_phi)
+            x = np.empty(len(red.offset))
+            linear_phi(np.asarray(v, dtype=float), red.offset, *red.kernel_supports, x)
+            return self.state_of_x(x)
         state = self.state_of_x(self.to_x(v))
         if self.reduction is not None and not self.reduction.linear:
             state.variables = np.array(v, dtype=float)
@@ -232,6 +242,17 @@ class Problem:
         else:
             dx = red.basis_times(dv) if red.linear else self.reduction_jacobian(state) @ dv
         return dx[: self.model.n]
+
+    def joint_supports(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Per model joint, (the solver variable that moves it, -1 for none; its weight), contiguous int64 and float64
+        (n,) for the kernels; None when the reduction is nonlinear. Once per reduction (a copied problem shares it)."""
+        red, kept, n = self.reduction, self.__dict__.get("_joint_supports"), self.model.n
+        if red is not None and not red.linear:
+            return None
+        if kept is None or kept[0] is not red:
+            column, weight = (np.arange(n), np.ones(n)) if red is None else (a[:n] for a in red.kernel_supports)
+            kept = self._joint_supports = (red, (np.ascontiguousarray(column, np.int64), np.ascontiguousarray(weight)))
+        return kept[1]
 
     def state_of_x(self, x: np.ndarray) -> State:
         """Evaluation point for a full x = [joints, forces]."""
@@ -264,7 +285,20 @@ class Problem:
         if not self.constraints:
             return np.zeros(0)
         e = np.concatenate([c.error(state) for c in self.constraints])
-        return e * self.row_weight / self.row_tolerance
+        e *= self.row_weight  # in place on the fresh array: e * weight / tolerance, the same rounding
+        e /= self.row_tolerance
+        return e
+
+    def scaled_error_and_worst(self, state: State, unweight: np.ndarray) -> tuple[np.ndarray, float]:
+        """(:meth:`scaled_error`, its largest ``|row| * unweight``: 0 without rows), in one loop where the kernels
+        run (every trial point of a solve asks for both)."""
+        if not self.constraints:
+            return np.zeros(0), 0.0
+        if kernels.active():
+            err = np.concatenate([c.error(state) for c in self.constraints])
+            return err, scale_rows(err, self.row_weight, self.row_tolerance, unweight)
+        err = self.scaled_error(state)
+        return err, float(np.maximum.reduce(np.abs(err) * unweight, initial=0.0))
 
     def scaled_slack(self, state: State) -> np.ndarray:
         """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
@@ -286,7 +320,10 @@ class Problem:
         if not self.constraints:
             return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
         got = [c.jacobian_rows(state) for c in self.constraints]
-        live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
+        if all(len(rows) == size for (rows, _), size in zip(got, self._sizes, strict=True)):
+            live = self._all_rows  # every row (the rows of each are sorted and distinct): no new index array
+        else:
+            live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
         jac = np.concatenate([jac for _, jac in got])
         red = self.reduction
         if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
@@ -319,6 +356,20 @@ class Problem:
             return red.times_basis(grad), red.times_basis(curv, squared=True)
         dphi = self.reduction_jacobian(state)
         return dphi.T @ grad, (dphi * dphi).T @ curv
+
+    def comfort_model(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """(grad f, curv f) of f = -h in the scaled variables v / scale: ``-grad_h * scale`` and ``curv * scale**2``
+        of :meth:`comfort_derivatives`, the basis product and the scaling in one loop where the kernels run."""
+        red = self.reduction
+        if red is not None and red.linear and kernels.active():
+            rows, _, weight, starts, complete = red._supports  # the basis by column, built once
+            if complete:
+                grad, curv = self.comfort.derivatives(state)
+                grad_f, curv_f = np.empty(self.n_var), np.empty(self.n_var)
+                comfort_model(grad, curv, rows, weight, starts, self.scale, grad_f, curv_f)
+                return grad_f, curv_f
+        grad_h, curv = self.comfort_derivatives(state)
+        return -grad_h * self.scale, curv * self.scale**2
 
     def comfort_rows(self, state: State) -> np.ndarray | None:
         """Low-rank curvature rows of -h (k, n_var) in the solver variables v, None when comfort has none."""

@@ -13,6 +13,7 @@ random benchmark took x1.18 the iterations of the model off, from rested ones x0
 
 from __future__ import annotations
 
+import weakref
 from typing import Protocol
 
 import numpy as np
@@ -31,15 +32,37 @@ class PoseTask(Protocol):
     spec: ProblemSpec
     comfort: Comfort
 
+
 # The crouch: knees 60 deg, hips 60 deg, ankles 10 deg dorsiflexed, on both sides (the semi-squat people lift in,
 # knees 30-60 deg: Burgess-Limerick & Abernethy 1997; the solver moves on from it). A deeper start (knees 100, hips
 # 80, ankles 15) over-squatted low picks and set-downs (docs/TUNING.md).
 CROUCH_DEG = {"knee_{s}_flexion": 60.0, "hip_{s}_flexion": 60.0, "ankle_{s}_dorsiflexion": 10.0}
 HIP_JOINT = "hip_r_flexion"
 
+# Per model, what the rule reads of it (the standing hip height, the crouch, the rested pose): computed once, not on
+# every solve from the zero pose (~0.1 ms: a forward pass and the joint names' lookups). Models are frozen.
+_PER_MODEL: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _once(model: Model, key: str, compute):
+    known = _PER_MODEL.setdefault(model, {})
+    if key not in known:
+        known[key] = compute(model)
+    return known[key]
+
+
+def _standing_hip(model: Model) -> float:
+    """World z of the hip joint in the zero pose (m)."""
+    return float(model.forward(model.zero_pose()).position[model.joint_names.index(HIP_JOINT)][2])
+
 
 def crouched_pose(model: Model) -> np.ndarray | None:
     """The zero pose with the legs bent as :data:`CROUCH_DEG` (within limits), None when the model has no such legs."""
+    crouch = _once(model, "crouch", _crouched)
+    return None if crouch is None else crouch.copy()
+
+
+def _crouched(model: Model) -> np.ndarray | None:
     theta = model.zero_pose().copy()
     names = model.joint_names
     for side in ("r", "l"):
@@ -58,8 +81,7 @@ def low_reach(problem: PoseTask) -> bool:
     model = problem.model
     if HIP_JOINT not in model.joint_names:
         return False
-    zero = model.forward(model.zero_pose())
-    hip = zero.position[model.joint_names.index(HIP_JOINT)][2]
+    hip = _once(model, "hip", _standing_hip)
     for target in problem.spec.targets:
         if target.support or not target.enabled or target.operator is not None or "z" not in target.lock:
             continue
@@ -70,6 +92,10 @@ def low_reach(problem: PoseTask) -> bool:
 
 def rested_pose(model: Model) -> np.ndarray:
     """The zero pose with the joints the behaviour model moves the neutral value of (the elbows) at that value."""
+    return _once(model, "rested", _rested).copy()
+
+
+def _rested(model: Model) -> np.ndarray:
     theta = model.zero_pose().copy()
     neutral = posture_neutral(model)
     moved = neutral != np.asarray(model.neutral, dtype=float)

@@ -103,3 +103,26 @@ def test_comfort_scatter_follows_numpy_on_nan() -> None:
     out = np.array([0.0, 7.0, 0.0])
     scatter_scaled(np.array([1.0, 10.0]), np.array([1.0, 2.0]), free, out, 1.0)
     np.testing.assert_allclose(out, np.array([1.0, 7.0, 5.0]) / 7.0, rtol=1e-15)
+
+
+def test_turn_share_is_the_line_search_turn_limit(step_calls) -> None:
+    """turn_share (the far line search's joint turn limit in one loop) gives NumPy's largest |joint change| / limit
+    for the steps of real solves, with the reduction (a basis) and without it (x itself), and keeps a NaN."""
+    from solver.kernels.step import turn_share
+
+    limit = np.where(step_calls[0][0].model.prismatic, TUNING.max_slide, TUNING.max_turn)
+    reduced = unreduced = 0
+    for problem, at, lin, *_ in step_calls[::2]:
+        direction = np.random.default_rng(len(lin.live)).normal(size=problem.n_var)
+        for change in (direction, at.x / problem.scale):
+            move = np.abs(problem.joint_change(at.state, change * problem.scale)) / limit
+            want = float(np.max(move, initial=0.0))
+            got = turn_share(change, problem.scale, *problem.joint_supports(), limit)
+            assert abs(got - want) <= 1e-12 * max(want, 1.0)
+        reduced += problem.reduction is not None
+        unreduced += problem.reduction is None
+    assert reduced and unreduced
+    problem = step_calls[0][0]
+    change = np.ones(problem.n_var)
+    change[int(problem.joint_supports()[0].max())] = np.nan
+    assert np.isnan(turn_share(change, problem.scale, *problem.joint_supports(), limit))
