@@ -23,16 +23,24 @@ def solve_pose(arm: bpy.types.Object) -> Result:
     return result
 
 
-_kernels_said: list[bool] = []  # filled on the first solve without compiled kernels: said once a process
+_kernels_said: list[float] = []  # the kernels' compile seconds already said (and NumPy's note, once a process)
+SLOW_COMPILE = 1.0  # s: compiling kernels longer than this since the last report is said
 
 
 def kernels_note() -> str:
     """The line "Solver kernels: <status>" the first time a solve runs on the NumPy kernels in this process (Numba
-    did not import, or MANIKIN_KERNELS=numpy), else "": the Solve report says it once, the Result panel always."""
-    if kernels.active() or _kernels_said:
+    did not import, or MANIKIN_KERNELS=numpy); with compiled kernels, how long compiling them took when a solve
+    waited more than a second for it (the first after installing); else "". The Result panel names them always."""
+    if not kernels.active():
+        if _kernels_said:
+            return ""
+        _kernels_said.append(0.0)
+        return f"Solver kernels: {kernels.status()}"
+    spent = kernels.compile_seconds() - sum(_kernels_said)
+    if spent <= SLOW_COMPILE:
         return ""
-    _kernels_said.append(True)
-    return f"Solver kernels: {kernels.status()}"
+    _kernels_said.append(spent)
+    return f"the solver's kernels were compiled for this machine first ({spent:.1f} s, once: later solves load them)"
 
 
 def reset_pose(arm: bpy.types.Object) -> None:

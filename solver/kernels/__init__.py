@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -21,7 +22,8 @@ CHOICES = ("auto", "numba", "numpy")
 # loads it by importing the module that compiled it, so each import name keeps a cache folder of its own
 PACKAGE = __name__.rpartition(".")[0]
 
-_state: dict = {"available": None, "active": False, "why": ""}  # available: None until decided, then bool
+# available: None until decided, then bool; compile_s: seconds spent compiling kernels (not loading them) so far
+_state: dict = {"available": None, "active": False, "why": "", "compile_s": 0.0}
 
 
 def cache_folder() -> Path:
@@ -68,6 +70,12 @@ def status() -> str:
     return _state["why"]
 
 
+def compile_seconds() -> float:
+    """s this process spent compiling kernels (first calls that missed the cache; loading a cached one is not
+    counted)."""
+    return _state["compile_s"]
+
+
 @contextmanager
 def using(compiled: bool) -> Iterator[None]:
     """Within the block, compiled kernels on or off (off always works; on only where Numba imports)."""
@@ -90,15 +98,24 @@ class Kernel:
 
     def __call__(self, *args):
         if self._compiled is None:
-            import numba
-
-            # Numba takes its cache folder from its config as the dispatcher is made: ours, only for our kernels
-            saved, numba.config.CACHE_DIR = numba.config.CACHE_DIR, str(cache_folder())
-            try:
-                self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.python)
-            finally:
-                numba.config.CACHE_DIR = saved
+            return self._first_call(*args)
         return self._compiled(*args)
+
+    def _first_call(self, *args):
+        import numba
+
+        start = time.perf_counter()
+        # Numba takes its cache folder from its config as the dispatcher is made: ours, only for our kernels
+        saved, numba.config.CACHE_DIR = numba.config.CACHE_DIR, str(cache_folder())
+        try:
+            compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.python)
+        finally:
+            numba.config.CACHE_DIR = saved
+        out = compiled(*args)  # compiles (or loads the cache) for these argument types
+        self._compiled = compiled
+        if sum(compiled.stats.cache_misses.values()):
+            _state["compile_s"] += time.perf_counter() - start
+        return out
 
 
 def kernel(function: Callable) -> Kernel:

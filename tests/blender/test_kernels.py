@@ -85,3 +85,12 @@ def test_without_numba_the_add_on_solves_on_numpy_and_says_so_once(session: dict
     first, second = _reports(numpy)
     assert first.endswith("; Solver kernels: NumPy (MANIKIN_KERNELS=numpy)") and "Solver kernels" not in second
     assert not any("Solver kernels" in line for line in _reports(session))  # on Numba: only the panel says it
+
+
+def test_the_first_solve_says_how_long_compiling_took_and_a_cached_start_does_not(session: dict) -> None:
+    """The first Blender after installing compiles the kernels (seconds): its first Solve Pose says so, once; a later
+    Blender loads them from the cache (well under a second: the Solve says nothing)."""
+    first, second = _reports(session)
+    assert "the solver's kernels were compiled for this machine first (" in first, first
+    assert "kernels" not in second
+    assert not any("kernels" in line for line in _reports(_later(session, "again")))

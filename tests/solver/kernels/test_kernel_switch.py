@@ -49,3 +49,16 @@ def test_the_kernels_command_says_which_and_compile_solves_the_box_lift() -> Non
     lines = done.stdout.splitlines()
     assert lines[0] == "kernels: NumPy (MANIKIN_KERNELS=numpy)"
     assert lines[1].startswith("box_lift solved (converged) in ")
+
+
+def test_compiling_is_timed_and_a_cached_kernel_is_not(tmp_path: Path) -> None:
+    pytest.importorskip("numba")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), PYTHONPATH=str(ROOT))
+    code = ("import numpy as np; from solver import kernels; from solver.io.scenario.bodies import load_body; "
+            "m = load_body(preset='male_50'); m.forward(np.zeros(m.n)); print(kernels.compile_seconds())")  # fmt: skip
+    first, again = (
+        float(subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout)
+        for _ in range(2)
+    )
+    assert first > 0.0 and again == 0.0
+    assert (tmp_path / "solver").is_dir()  # the cache folder of this import name
