@@ -1,7 +1,7 @@
 """Fixtures of the Blender tests: everything runs in a Blender-equivalent environment (only the ``bpy`` wheel and
 numpy, see environments.py; series chosen by MANIKIN_BLENDER, default 5.0) on the linux-x64 zip that environment
-built, installed into a throwaway user directory. bpy never enters the pytest process, whose own environment
-(with scipy) only checks the results."""
+built, installed once into a user directory of which each session gets its own copy (installing took ~3 s a
+session). bpy never enters the pytest process, whose own environment (with scipy) only checks the results."""
 
 from __future__ import annotations
 
@@ -10,7 +10,10 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from environments import ROOT, python_of, run_python, selected
+from environments import ROOT, copy_user, install_zip, python_of, run_python, selected
+
+# Sessions that install the zip into an empty user folder themselves: what the zip ships and where Blender puts it.
+INSTALL_FROM_THE_ZIP = {"session.py", "wheels_session.py"}
 
 
 @pytest.fixture(scope="session")
@@ -31,12 +34,24 @@ def extension_zip(blender_python: Path, tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="session")
-def run_session(blender_python: Path, extension_zip: Path):
-    """Run ``tests/blender/<script> <zip> <seen.json> <work>`` in a fresh user directory; what the script recorded."""
+def installed_user(blender_python: Path, extension_zip: Path, tmp_path_factory) -> Path:
+    """A user directory with the zip installed and enabled (as Install from Disk does); copy it, never use it."""
+    folder = tmp_path_factory.mktemp("installed") / "user"
+    install_zip(blender_python, extension_zip, folder)
+    return folder
+
+
+@pytest.fixture(scope="session")
+def run_session(blender_python: Path, extension_zip: Path, installed_user: Path):
+    """Run ``tests/blender/<script> <zip> <seen.json> <work>`` with a copy of the installed user directory (the
+    script's ``session_tools.install`` enables the extension there) or, for the scripts that check the install
+    itself, an empty one; what the script recorded."""
 
     def run(work: Path, script: str) -> dict:
         here = Path(__file__).resolve().parent
         args = [here / script, extension_zip, work / "seen.json", work]
+        if script not in INSTALL_FROM_THE_ZIP:
+            copy_user(installed_user, work / "user")
         done = run_python(blender_python, args, work / "user")
         assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
         seen = json.loads((work / "seen.json").read_text(encoding="utf-8"))

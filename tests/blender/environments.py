@@ -8,6 +8,7 @@ zstandard, cython; no scipy, no matplotlib), so the extension must bring the res
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 import venv
@@ -56,6 +57,30 @@ def run_python(python: Path, args: list, user: Path, cwd: Path | None = None, ti
     return subprocess.run(
         [str(python), *map(str, args)], cwd=cwd or ROOT, env=env, capture_output=True, text=True, timeout=timeout
     )
+
+
+def install_zip(python: Path, zip_path: Path, user: Path) -> None:
+    """Install and enable the zip in the user folder ``user`` as a user would (its wheels go onto Blender's path)."""
+    code = f"import sys; sys.path.insert(0, {str(ROOT)!r}); from blender_manikin.dev.build import install; " \
+           f"install(__import__('pathlib').Path({str(zip_path)!r}))"  # fmt: skip
+    done = run_python(python, ["-c", code], user)
+    assert done.returncode == 0, done.stderr[-3000:]
+
+
+def copy_user(installed: Path, user: Path) -> Path:
+    """A copy of a user folder the zip was installed into: the extension's files and its wheels (about 230 MB)
+    hard-linked, since Blender only adds and deletes those (disabling removes the wheels, enabling extracts them
+    anew), never rewrites one in place; everything else (preferences, caches, repository indexes) copied."""
+    linked = [installed / "extensions" / ".local", *(installed / "extensions" / "user_default").glob("[!.]*")]
+
+    def place(source: str, target: str) -> None:
+        if any(Path(source).is_relative_to(folder) for folder in linked):
+            os.link(source, target)
+        else:
+            shutil.copy2(source, target)
+
+    shutil.copytree(installed, user, symlinks=True, copy_function=place)
+    return user
 
 
 if __name__ == "__main__":

@@ -23,10 +23,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 import session_tools  # noqa: E402
-from session_tools import draw_panels, error_of  # noqa: E402
+from session_tools import draw_panels, error_of, install  # noqa: E402
 
 from blender_manikin.batch import exit_process  # noqa: E402
-from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 DEADLINE_S = 120.0

@@ -22,8 +22,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from session_tools import install  # noqa: E402
+
 from blender_manikin.batch import exit_process  # noqa: E402
-from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 MOTION = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"

@@ -3,6 +3,26 @@
 from __future__ import annotations
 
 from functools import cache
+from pathlib import Path
+
+
+def install(zip_path: Path, repo: str = "user_default") -> str:
+    """The add-on enabled as ``blender_manikin.dev.build.install`` leaves it; its module name. The test's user
+    folder is a copy of one the zip was installed into (tests/blender/conftest.py): enable it there, as Blender
+    does at start-up for an enabled extension (its wheels are in place). In an empty user folder: install the zip."""
+    import addon_utils
+    import bpy
+
+    manifest_id = zip_path.name.split("-")[0]
+    if not Path(bpy.utils.user_resource("EXTENSIONS"), repo, manifest_id).is_dir():
+        from blender_manikin.dev.build import install as install_zip
+
+        return install_zip(zip_path, repo)
+    module = f"bl_ext.{repo}.{manifest_id}"
+    addon_utils.enable(module, default_set=True, handle_error=lambda exc: print(f"enabling {module}: {exc!r}"))
+    if module not in bpy.context.preferences.addons:
+        raise RuntimeError(f"{module} is installed in the user folder but did not enable")
+    return module
 
 
 def error_of(call) -> str:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from environments import ROOT, run_python
+from environments import ROOT, copy_user, run_python
 
 from solver import read_result
 from solver.ergonomics import ErgoOptions, checked
@@ -33,21 +33,11 @@ def numbers(value: object, path: str = "") -> dict:
     return {path: value}
 
 
-def install(python: Path, zip_path: Path, user: Path) -> None:
-    """Install and enable the zip in ``user`` as a user would (its wheels go onto Blender's path)."""
-    code = f"import sys; sys.path.insert(0, {str(ROOT)!r}); from blender_manikin.dev.build import install; " \
-           f"install(__import__('pathlib').Path({str(zip_path)!r}))"  # fmt: skip
-    done = run_python(python, ["-c", code], user)
-    assert done.returncode == 0, done.stderr[-3000:]
-
-
 @pytest.fixture(scope="module")
-def user(blender_python: Path, extension_zip: Path, tmp_path_factory) -> Path:
-    """A Blender user folder with the extension installed: a checkout's batch.py then finds scipy and matplotlib
-    on Blender's path, as in a Blender that has the extension."""
-    folder = tmp_path_factory.mktemp("user")
-    install(blender_python, extension_zip, folder)
-    return folder
+def user(installed_user: Path, tmp_path_factory) -> Path:
+    """A Blender user folder with the extension installed (a copy of conftest's): a checkout's batch.py then finds
+    scipy and matplotlib on Blender's path, as in a Blender that has the extension."""
+    return copy_user(installed_user, tmp_path_factory.mktemp("user") / "user")
 
 
 @pytest.fixture

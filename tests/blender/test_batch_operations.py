@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from environments import run_python
-from test_batch import BATCH, install
+from environments import copy_user, run_python
+from test_batch import BATCH
 
 from solver import read_result
 
@@ -67,10 +67,9 @@ with open(out, "w", encoding="utf-8") as fh:
 
 
 @pytest.fixture(scope="module")
-def user(blender_python: Path, extension_zip: Path, tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("user")
-    install(blender_python, extension_zip, folder)
-    return folder
+def user(installed_user: Path, tmp_path_factory) -> Path:
+    """A Blender user folder with the extension installed (a copy of conftest's)."""
+    return copy_user(installed_user, tmp_path_factory.mktemp("user") / "user")
 
 
 def test_batch_generates_operations_and_writes_every_output(tmp_path: Path, blender_python: Path, user: Path):

@@ -225,7 +225,18 @@ def test_sidebar_draws(session: dict) -> None:
     assert any(line.startswith("= 0.00 kg") for line in lines)  # the load panel
 
 
-def test_headless_render(tmp_path: Path, blender_python: Path, monkeypatch) -> None:
+# python -m blender_manikin.dev.snapshot ARGS, its build() giving this run's zip (copied into the folder build() was
+# given): the zips are built and checked once, by the extension_zip fixture (building them again took ~4 s).
+SNAPSHOT = """
+import shutil, sys
+from pathlib import Path
+from blender_manikin.dev import snapshot
+snapshot.build = lambda out: {snapshot.this_platform(): Path(shutil.copy(sys.argv[1], out))}
+sys.exit(snapshot.main(sys.argv[2:]))
+"""
+
+
+def test_headless_render(tmp_path: Path, blender_python: Path, extension_zip: Path, monkeypatch) -> None:
     """The snapshot script renders the solved box lift; the manikin's skin shows where the camera looks; its build
     and user folders (about 450 MB) are gone afterwards."""
     import matplotlib.image
@@ -233,7 +244,7 @@ def test_headless_render(tmp_path: Path, blender_python: Path, monkeypatch) -> N
     png = tmp_path / "manikin.png"
     (tmp_path / "tmp").mkdir()
     monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
-    args = ["-m", "blender_manikin.dev.snapshot", "-o", png, "--size", 96, "--samples", 2]
+    args = ["-c", SNAPSHOT, extension_zip, "-o", png, "--size", 96, "--samples", 2]
     done = run_python(blender_python, args, tmp_path / "user")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert list((tmp_path / "tmp").glob("manikin-*")) == []

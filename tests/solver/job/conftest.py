@@ -1,12 +1,16 @@
-"""The example job run once (its motion solved, ~2 s) and short result files cut from that motion."""
+"""The example job run once (its motion solved, ~2 s), short result files cut from that motion, and the job of one
+of its frames run once (every run draws the report's pictures, ~3 s)."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 from pathlib import Path
 
 import pytest
 
+from solver.cli.main import main
 from solver.job import run_job
 
 REPO = Path(__file__).resolve().parents[3]
@@ -35,15 +39,27 @@ def short_result(example: tuple[dict, Path], tmp_path_factory: pytest.TempPathFa
     return cut
 
 
+def _write_job(folder: Path, result: Path | str, **work) -> Path:
+    """A job file in ``folder`` on the result file ``result`` (work values overridable); its path."""
+    values = dict(cycle_time=30.0, repetitions=800, shift=8.0) | work
+    body = "\n".join(f"{k} = {v!r}" for k, v in values.items())
+    path = folder / "job.toml"
+    path.write_text(f'name = "t"\n[motion]\nresult = "{result}"\nfps = 24\n[work]\n{body}\n[load]\nmass = 10.0\n')
+    return path
+
+
 @pytest.fixture
 def write_job():
     """A function: a job file in ``folder`` on the result file ``result`` (work values overridable); its path."""
+    return _write_job
 
-    def write(folder: Path, result: Path | str, **work) -> Path:
-        values = dict(cycle_time=30.0, repetitions=800, shift=8.0) | work
-        body = "\n".join(f"{k} = {v!r}" for k, v in values.items())
-        path = folder / "job.toml"
-        path.write_text(f'name = "t"\n[motion]\nresult = "{result}"\nfps = 24\n[work]\n{body}\n[load]\nmass = 10.0\n')
-        return path
 
-    return write
+@pytest.fixture(scope="package")
+def one_frame(short_result, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, str]:
+    """``manikin job`` on the example's frame 30 alone, zero repetitions, a 1 s cycle: job.json and what the command
+    printed (the one-frame checks of LiFFT, % capable and EAWS share this run)."""
+    folder = tmp_path_factory.mktemp("one_frame")
+    job = _write_job(folder, short_result([30]), cycle_time=1.0, repetitions=0)
+    with contextlib.redirect_stdout(io.StringIO()) as printed:
+        assert main(["job", str(job), "-o", str(folder / "out")]) == 0
+    return json.loads((folder / "out" / "job.json").read_text()), printed.getvalue()

@@ -73,12 +73,9 @@ def test_the_example_job_has_a_curve_per_sex_and_its_minimum(example: tuple[dict
     assert "% of men and women capable" in (out / "job.html").read_text()
 
 
-def test_a_one_frame_motion_is_rated(tmp_path: Path, short_result, write_job) -> None:
+def test_a_one_frame_motion_is_rated(one_frame: tuple[dict, str]) -> None:
     """One frame: its values are the minimum."""
-    from solver.job import run_job
-
-    report = run_job(write_job(tmp_path, short_result([30]), cycle_time=1.0, repetitions=0), tmp_path / "out")
-    result = report["methods"]["capable"]
+    result = one_frame[0]["methods"]["capable"]
     assert result["minimum_men_frame"] == 30 and result["minimum_men_pct"] == result["per_frame"]["capable_men_pct"][0]
 
 

@@ -60,10 +60,7 @@ def test_the_example_job_gives_inputs_and_no_score(example: tuple[dict, Path]) -
     assert "in holds >= 4 s" in eaws["verdict"]["text"] and "s in holds &gt;= 4 s" in (out / "job.html").read_text()
 
 
-def test_zero_repetitions_and_one_frame(tmp_path: Path, short_result, write_job) -> None:
-    from solver.job import run_job
-
-    report = run_job(write_job(tmp_path, short_result([1]), cycle_time=1.0, repetitions=0), tmp_path / "out")
-    eaws = report["methods"]["eaws"]
+def test_zero_repetitions_and_one_frame(one_frame: tuple[dict, str]) -> None:
+    eaws = one_frame[0]["methods"]["eaws"]
     assert eaws["handlings_per_shift"] == 0
     assert sum(b["frames"] for k, b in eaws["bands"].items() if k.startswith("trunk")) == 1

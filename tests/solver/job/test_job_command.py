@@ -7,8 +7,6 @@ import csv
 import json
 from pathlib import Path
 
-from solver.cli.main import main
-
 
 def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tuple[dict, Path]) -> None:
     report, out = example
@@ -32,12 +30,10 @@ def test_the_example_job_writes_json_csv_and_an_offline_html_report(example: tup
     assert abs(sum(r["seconds"] for r in seq["owas"]["levels"]) - 2.5) < 1e-9
 
 
-def test_a_one_frame_motion_and_zero_repetitions(tmp_path: Path, short_result, write_job, capsys) -> None:
-    job = write_job(tmp_path, short_result([30]), repetitions=0)
-    assert main(["job", str(job), "-o", str(tmp_path / "out")]) == 0
-    data = json.loads((tmp_path / "out" / "job.json").read_text())
+def test_a_one_frame_motion_and_zero_repetitions(one_frame: tuple[dict, str]) -> None:
+    data, printed = one_frame
     lifft = data["methods"]["lifft"]
     assert lifft["cumulative_damage"] == 0.0 and lifft["probability_high_risk"] == 0.0
     assert data["motion_time_s"] == 1 / 24 and data["frames"] == [30]
     assert all(v["frames"] == [30] for v in data["verdicts"].values())
-    assert "LiFFT" in capsys.readouterr().out
+    assert "LiFFT" in printed
