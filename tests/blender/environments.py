@@ -50,10 +50,17 @@ def python_of(series: str) -> Path:
     return python
 
 
+# Sessions solve on the NumPy kernels: each installs into a folder of its own, where Numba would compile every kernel
+# again (seconds a session); the scripts that test the compiled kernels in Blender ask for them (COMPILED).
+COMPILED = ("kernels_session.py",)
+
+
 def run_python(python: Path, args: list, user: Path, cwd: Path | None = None, timeout: int = 600):
     """Run ``python args`` with ``user`` as Blender's user directory; the completed process."""
     user.mkdir(parents=True, exist_ok=True)
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(user))
+    compiled = Path(str(args[0])).name in COMPILED
+    kernels = "auto" if compiled else os.environ.get("MANIKIN_KERNELS", "numpy")
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(user), MANIKIN_KERNELS=kernels)
     return subprocess.run(
         [str(python), *map(str, args)], cwd=cwd or ROOT, env=env, capture_output=True, text=True, timeout=timeout
     )
