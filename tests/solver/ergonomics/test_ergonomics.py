@@ -356,8 +356,9 @@ def test_cli_ergo_writes_json_csv_and_plots(box_lift: Path, tmp_path: Path) -> N
     assert set(frame["joint_loads"]) == set(result["joints"]) | {"l4_l5"}
     for load in frame["joint_loads"].values():
         assert {"moment", "compression"} <= set(load) or {"moment", "axis_moment", "percent_strength"} <= set(load)
-    # static balance: the whole body's moment about the exterior root is ~0 (the file's contacts hold it)
-    assert np.linalg.norm(frame["joint_loads"]["root_tx"]["moment"]) < 0.05
+    # static balance: the whole body's moment about the exterior root is ~0 (the file's contacts hold it), within
+    # the balance rows' tolerance of 0.1 N*m per axis
+    assert np.linalg.norm(frame["joint_loads"]["root_tx"]["moment"]) < 0.1 * np.sqrt(3.0)
     assert 1000 < frame["joint_loads"]["l4_l5"]["compression"] < 6400
     assert 1 <= frame["rula"]["score"] <= 7 and 1 <= frame["reba"]["score"] <= 15 and len(frame["owas"]["code"]) == 4
     assert frame["owas"]["action_category"] == owas.action_category(*map(int, frame["owas"]["code"]))

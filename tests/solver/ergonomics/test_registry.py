@@ -110,6 +110,15 @@ def test_a_taken_name_is_refused() -> None:
     assert [s.name for s in frame_scores()][:4] == ["rula", "reba", "owas", "worksheet"]
 
 
+def _same(a: object, b: object) -> bool:
+    """Equal, numbers to rounding (the file's kinematics are computed again from its joint values)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, float) and isinstance(b, float):
+        return a == pytest.approx(b, rel=1e-12, abs=1e-12)
+    return a == b
+
+
 def test_a_motion_score_reads_its_frames_by_number_in_memory_and_streamed(solved, tmp_path: Path) -> None:
     """The NIOSH lift from frame 2 to frame 2 (a one-frame lift, D from the travel): the same from the frames in
     memory and from the file read frame by frame; a number that is no frame is one line naming the option."""
@@ -118,7 +127,7 @@ def test_a_motion_score_reads_its_frames_by_number_in_memory_and_streamed(solved
     result = tmp_path / "r.json"
     write_result(result, solved, REPO / "presets/scenarios/box_lift.toml")
     streamed = run(result, tmp_path / "e.json", options, plots=False)
-    assert streamed["niosh"] == whole["niosh"] and whole["niosh"]["origin"]["frame"] == 2
+    assert _same(streamed["niosh"], whole["niosh"]) and whole["niosh"]["origin"]["frame"] == 2
     assert whole["niosh"]["origin"]["D"] == pytest.approx(50.0)
     for source in (solved, result):
         with pytest.raises(UsageError, match=r"^destination 9: not a frame of the result \(its frames: 1, 2, 3\)$"):
