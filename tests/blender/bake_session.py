@@ -87,6 +87,7 @@ scene.frame_set(1)
 seen["bake"] = sorted(bpy.ops.manikin.bake_motion("EXEC_DEFAULT", True, frame_start=2, frame_end=9))
 arm = bpy.data.objects[NAME]
 seen["baked"] = curves(arm)
+seen["compiled_kernels"] = importlib.import_module(module + ".solver.kernels").active()  # which solved the bake
 seen["bake_summary"] = json.loads(arm["manikin_bake"])
 seen["frame_after"] = scene.frame_current
 seen["bake_flags"] = sorted(bpy.types.MANIKIN_OT_bake_motion.bl_options)
