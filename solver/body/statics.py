@@ -93,7 +93,9 @@ class StaticsLayout:
         gravity = np.concatenate([self.gravity_total, GRAVITY]).astype(float)  # the totals' gravity terms
         self.prismatic = np.ascontiguousarray(model.prismatic, dtype=np.bool_)
         self.point_tables = (order, parent, gravity_force, point_link, point_local, var_corner, var_direction)
-        self.point_tables += (load_force, start, end, gravity)
+        by_link = np.argsort(point_link, kind="stable")  # each link's extra points, in their order
+        link_first = np.searchsorted(point_link[by_link], np.arange(n + 1)).astype(np.int64)
+        self.point_tables += (load_force, start, end, gravity, link_first, np.ascontiguousarray(by_link, np.int64))
         revolute = np.ascontiguousarray(self.revolute)
         self.contraction_tables = (order, revolute, start, end, after, by_end, closed_before)
 

@@ -70,27 +70,30 @@ def point_loads(
         start,
         end,
         gravity,
+        link_first,
+        link_points,
     ) = tables
     n, m, c = order.shape[0], points.shape[0], points.shape[0] - load_force.shape[0]  # links, points, sole corners
     for k in range(m):
         link, lx, ly, lz = point_link[k], point_local[k, 0], point_local[k, 1], point_local[k, 2]
-        for r in range(3):
-            rot = rotation[link, r]
-            points[k, r] = position[link, r] + ((rot[0] * lx + rot[2] * lz) + rot[1] * ly)
+        for r in range(3):  # as einsum "cij,cj->ci": terms 0 and 2, then 1
+            turned = (rotation[link, r, 0] * lx + rotation[link, r, 2] * lz) + rotation[link, r, 1] * ly
+            points[k, r] = position[link, r] + turned
             forces[k, r] = corner_forces[k, r] if k < c else load_force[k - c, r]
-    bx, by, bz, fx, fy, fz = body_com[0], body_com[1], body_com[2], gravity[3], gravity[4], gravity[5]
-    totals[0], totals[1], totals[2] = 0.0, 0.0, 0.0
-    totals[3], totals[4], totals[5] = by * fz - bz * fy, bz * fx - bx * fz, bx * fy - by * fx
-    extra = np.zeros((n, 6))  # per link, its extra points' wrenches in their order
+    extra = np.zeros((m + 1, 6))  # the extra points' wrenches; row m: their sums, rows summed in order
     for k in range(m):
         fx, fy, fz, qx, qy, qz = forces[k, 0], forces[k, 1], forces[k, 2], points[k, 0], points[k, 1], points[k, 2]
-        row = (fx, fy, fz, qy * fz - qz * fy, qz * fx - qx * fz, qx * fy - qy * fx)
+        extra[k, 0], extra[k, 1], extra[k, 2] = fx, fy, fz
+        extra[k, 3], extra[k, 4], extra[k, 5] = qy * fz - qz * fy, qz * fx - qx * fz, qx * fy - qy * fx
         for r in range(6):
-            extra[point_link[k], r] += row[r]
-            totals[r] = row[r] if (k == 0 and r < 3) else totals[r] + row[r]
-    for r in range(3):
-        totals[r] = gravity[r] + totals[r]
-    prefix = np.zeros((n + 1, 6))
+            extra[m, r] = extra[k, r] if k == 0 else extra[m, r] + extra[k, r]
+    bx, by, bz, fx, fy, fz = body_com[0], body_com[1], body_com[2], gravity[3], gravity[4], gravity[5]
+    totals[0], totals[1], totals[2] = gravity[0] + extra[m, 0], gravity[1] + extra[m, 1], gravity[2] + extra[m, 2]
+    totals[3], totals[4], totals[5] = by * fz - bz * fy, bz * fx - bx * fz, bx * fy - by * fx
+    for r in range(3, 6):
+        for k in range(m):
+            totals[r] += extra[k, r]
+    prefix, own = np.zeros((n + 1, 6)), np.empty(6)
     for k in range(n):
         j = order[k]
         fx, fy, fz, qx, qy, qz = (
@@ -101,14 +104,24 @@ def point_loads(
             com[j, 1],
             com[j, 2],
         )
-        row = (fx, fy, fz, qy * fz - qz * fy, qz * fx - qx * fz, qx * fy - qy * fx)
+        own[0], own[1], own[2] = fx, fy, fz
+        own[3], own[4], own[5] = qy * fz - qz * fy, qz * fx - qx * fz, qx * fy - qy * fx
+        first, last = link_first[j], link_first[j + 1]
+        if m > 0:  # + its extra points, as the 0/1 product adds them (from zero, in their order)
+            for r in range(6):
+                more = 0.0
+                for q in range(first, last):
+                    more += extra[link_points[q], r]
+                own[r] += more
         for r in range(6):
-            prefix[k + 1, r] = prefix[k, r] + ((row[r] + extra[j, r]) if m > 0 else row[r])
+            prefix[k + 1, r] = prefix[k, r] + own[r]
     for j in range(n):
         for r in range(6):
             wrench[j, r] = prefix[end[j], r] - prefix[start[j], r]
-        t, u = twist[j], wrench[j]
-        loads[j] = ((t[0] * u[0] + t[2] * u[2]) + t[4] * u[4]) + ((t[1] * u[1] + t[3] * u[3]) + t[5] * u[5])
+    for j in range(n):
+        even = (twist[j, 0] * wrench[j, 0] + twist[j, 2] * wrench[j, 2]) + twist[j, 4] * wrench[j, 4]
+        odd = (twist[j, 1] * wrench[j, 1] + twist[j, 3] * wrench[j, 3]) + twist[j, 5] * wrench[j, 5]
+        loads[j] = even + odd  # einsum's two lanes
 
 
 @kernel
@@ -129,30 +142,42 @@ def moment_derivatives(
     """Fill ``outer`` (n, 9) the subtree sums of q F^T (row-major, N*m), ``g`` (n, 3) d(total moment)/d theta_j
     (N*m per rad; per m if prismatic), ``arms`` (n_w, 3) q x d per contact edge (m), and ``balance`` (6, n + n_w)
     the balance Jacobian [d / d theta, d / d w]."""
-    order, parent, gravity_force, point_link, point_local, var_corner, var_direction, load_force, start, end, _ = tables
+    order, _, gravity_force, _, _, var_corner, var_direction, _, start, end, _, link_first, link_points = tables
     n, m = order.shape[0], points.shape[0]
-    extra = np.zeros((n, 9))  # per link, its extra points' q F^T in their order
-    for k in range(m):
-        for r in range(9):
-            extra[point_link[k], r] += points[k, r // 3] * forces[k, r % 3]
-    prefix = np.zeros((n + 1, 9))
+    prefix = np.zeros((n + 1, 9))  # subtree sums of q F^T as differences of prefix sums in preorder
+    more = np.zeros(9)  # a link's extra points' sum, as the 0/1 product adds them (from zero, in their order)
     for k in range(n):
         j = order[k]
-        for r in range(9):
-            value = com[j, r // 3] * gravity_force[j, r % 3]
-            prefix[k + 1, r] = prefix[k, r] + ((value + extra[j, r]) if m > 0 else value)
+        first, last = link_first[j], link_first[j + 1]
+        if first < last:
+            for r in range(9):
+                more[r] = 0.0
+            for q in range(first, last):
+                for r in range(3):
+                    for s in range(3):
+                        more[3 * r + s] += points[link_points[q], r] * forces[link_points[q], s]
+        for r in range(3):
+            for s in range(3):
+                value = com[j, r] * gravity_force[j, s]
+                if m > 0:
+                    value += more[3 * r + s] if first < last else 0.0
+                prefix[k + 1, 3 * r + s] = prefix[k, 3 * r + s] + value
     for j in range(n):
         for r in range(9):
             outer[j, r] = prefix[end[j], r] - prefix[start[j], r]
-        a, f, p, o = axis[j], wrench[j], position[j], outer[j]
+    for j in range(n):
+        ax, ay, az = axis[j, 0], axis[j, 1], axis[j, 2]
+        fx, fy, fz = wrench[j, 0], wrench[j, 1], wrench[j, 2]
         if prismatic[j]:  # moving the subtree along a turns no force: a x F
-            g[j, 0], g[j, 1], g[j, 2] = a[1] * f[2] - a[2] * f[1], a[2] * f[0] - a[0] * f[2], a[0] * f[1] - a[1] * f[0]
-        else:  # sum (q - p)(a . F) - a ((q - p) . F)
-            a_dot_f = (a[0] * f[0] + a[1] * f[1]) + a[2] * f[2]  # in order: einsum's loop for strided a and p
-            rest = ((o[0] + o[4]) + o[8]) - ((p[0] * f[0] + p[1] * f[1]) + p[2] * f[2])
+            g[j, 0], g[j, 1], g[j, 2] = ay * fz - az * fy, az * fx - ax * fz, ax * fy - ay * fx
+        else:  # sum (q - p)(a . F) - a ((q - p) . F), the dots in order (einsum's loop for the strided a and p)
+            a_dot_f = (ax * fx + ay * fy) + az * fz
+            rest = ((outer[j, 0] + outer[j, 4]) + outer[j, 8]) - (
+                (position[j, 0] * fx + position[j, 1] * fy) + position[j, 2] * fz
+            )
             for r in range(3):
-                along = (o[3 * r] * a[0] + o[3 * r + 1] * a[1]) + o[3 * r + 2] * a[2]
-                g[j, r] = (along - p[r] * a_dot_f) - a[r] * rest
+                along = (outer[j, 3 * r] * ax + outer[j, 3 * r + 1] * ay) + outer[j, 3 * r + 2] * az
+                g[j, r] = (along - position[j, r] * a_dot_f) - axis[j, r] * rest
         for r in range(3):
             balance[r, j] = 0.0
             balance[3 + r, j] = g[j, r]
