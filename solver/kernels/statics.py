@@ -58,21 +58,8 @@ def point_loads(
     ``corner_forces`` (c, 3) are BLAS's sums over their edges, the caller's), ``totals``
     (6,) [force N, moment about the world origin N*m] (gravity at ``body_com`` = mass @ com), ``wrench`` (n, 6) per
     joint the same over its subtree, and ``loads`` (n,) = twist . wrench per joint (``twist`` (n, 6) the joints')."""
-    (
-        order,
-        parent,
-        gravity_force,
-        point_link,
-        point_local,
-        var_corner,
-        var_direction,
-        load_force,
-        start,
-        end,
-        gravity,
-        link_first,
-        link_points,
-    ) = tables
+    order, gravity_force, point_link, point_local, load_force = tables[0], tables[2], tables[3], tables[4], tables[7]
+    start, end, gravity, link_first, link_points = tables[8], tables[9], tables[10], tables[11], tables[12]
     n, m, c = order.shape[0], points.shape[0], points.shape[0] - load_force.shape[0]  # links, points, sole corners
     for k in range(m):
         link, lx, ly, lz = point_link[k], point_local[k, 0], point_local[k, 1], point_local[k, 2]
@@ -96,14 +83,8 @@ def point_loads(
     prefix, own = np.zeros((n + 1, 6)), np.empty(6)
     for k in range(n):
         j = order[k]
-        fx, fy, fz, qx, qy, qz = (
-            gravity_force[j, 0],
-            gravity_force[j, 1],
-            gravity_force[j, 2],
-            com[j, 0],
-            com[j, 1],
-            com[j, 2],
-        )
+        fx, fy, fz = gravity_force[j, 0], gravity_force[j, 1], gravity_force[j, 2]
+        qx, qy, qz = com[j, 0], com[j, 1], com[j, 2]
         own[0], own[1], own[2] = fx, fy, fz
         own[3], own[4], own[5] = qy * fz - qz * fy, qz * fx - qx * fz, qx * fy - qy * fx
         first, last = link_first[j], link_first[j + 1]
