@@ -26,8 +26,8 @@ def _problem(model, weights) -> Problem:
 
 
 def _close(got, expected) -> None:
-    """Equal to rounding: 1e-11 of the array's size (the statics kernels sum the joint loads in tree order, so the
-    loads differ in the last bits, and their squared contractions by a few 1e-12 of the largest)."""
+    """Equal to rounding: 1e-11 of the array's size (each path's own forward kinematics, which differ in the last
+    bits, and the joint loads and their squared contractions with them)."""
     got, expected = np.asarray(got, dtype=float), np.asarray(expected, dtype=float)
     assert got.shape == expected.shape
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-11 * max(1.0, float(np.abs(expected).max())))
