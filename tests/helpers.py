@@ -55,6 +55,27 @@ def finite_difference(fun, x: np.ndarray, eps: float = 1e-6) -> np.ndarray:
     return np.array(cols).T
 
 
+def states_on_one_kinematics(problem, x: np.ndarray) -> tuple:
+    """(NumPy state, compiled-path state) of the full ``x`` on the same kinematics: the NumPy forward pass's arrays
+    (strided views, as that path makes them) and contiguous copies of them (as the forward kernel makes them). The
+    statics and comfort kernels are compared on these; the forward kernel agrees with NumPy's only to rounding."""
+    import pytest
+
+    from solver import kernels
+    from solver.body.model import Kinematics
+
+    with kernels.using(True):
+        if not kernels.active():  # both paths would be NumPy's, on arrays laid out differently
+            pytest.skip("compiled kernels are off in this process (MANIKIN_KERNELS=numpy)")
+    with kernels.using(False):
+        reference = problem.state_of_x(x)
+        kin = reference.kin
+    compiled = problem.state_of_x(x)
+    copies = (np.ascontiguousarray(a) for a in (kin.rotation, kin.position, kin.axis, kin.com))
+    compiled.__dict__["kin"] = Kinematics(kin.model, kin.theta, *copies)
+    return reference, compiled
+
+
 def same_frames(a: Frame, b: Frame) -> None:
     """Equal up to the quaternion round trip of the TCP rotations (the file holds quaternions)."""
     assert (a.number, a.converged, a.joint_names, a.link_names) == (b.number, b.converged, b.joint_names, b.link_names)

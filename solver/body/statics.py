@@ -80,16 +80,24 @@ class StaticsLayout:
         self.supporting_edge_acts = self.edge_acts[self.supporting]
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
         self.has_prismatic = bool(model.prismatic.any())
-        # the compiled kernels' constants: links parents first (preorder), then the point forces' links and places
-        ints = (model.tree_sums.order, model.parent, extra_links, contacts.var_corner, self.supporting)
-        order, parent, point_link, var_corner, supporting = (np.ascontiguousarray(a, dtype=np.int64) for a in ints)
-        floats = (self.gravity_force, contacts.var_direction, self.load_force, self.supporting_edge_acts)
-        gravity_force, var_direction, load_force, acts = (np.ascontiguousarray(a, dtype=float) for a in floats)
+        # the compiled kernels' constants: links in preorder, the tree sums' tables, the point forces' links and places
+        tree = model.tree_sums
+        ints = (tree.order, model.parent, extra_links, contacts.var_corner, tree.start, tree.end, tree.after)
+        ints += (tree.by_end, tree.closed_before)
+        order, parent, point_link, var_corner, start, end, after, by_end, closed_before = (
+            np.ascontiguousarray(a, dtype=np.int64) for a in ints
+        )
+        floats = (self.gravity_force, contacts.var_direction, self.load_force)
+        gravity_force, var_direction, load_force = (np.ascontiguousarray(a, dtype=float) for a in floats)
         point_local = np.ascontiguousarray(np.concatenate([contacts.corner_local, self.load_local]), dtype=float)
-        prismatic = np.ascontiguousarray(model.prismatic, dtype=np.bool_)
-        self.point_tables = (order, parent, prismatic, gravity_force, point_link, point_local, var_corner)
-        self.point_tables += (var_direction, load_force)
-        self.contraction_tables = (order, parent, np.ascontiguousarray(self.revolute), supporting, acts, var_direction)
+        gravity = np.concatenate([self.gravity_total, GRAVITY]).astype(float)  # the totals' gravity terms
+        self.prismatic = np.ascontiguousarray(model.prismatic, dtype=np.bool_)
+        self.point_tables = (order, parent, gravity_force, point_link, point_local, var_corner, var_direction)
+        by_link = np.argsort(point_link, kind="stable")  # each link's extra points, in their order
+        link_first = np.searchsorted(point_link[by_link], np.arange(n + 1)).astype(np.int64)
+        self.point_tables += (load_force, start, end, gravity, link_first, np.ascontiguousarray(by_link, np.int64))
+        revolute = np.ascontiguousarray(self.revolute)
+        self.contraction_tables = (order, revolute, start, end, after, by_end, closed_before)
 
     def subtree_sums(self, values: np.ndarray) -> np.ndarray:
         """(n, k): per joint, the sum of per-point ``values`` (link COMs, sole corners, loads; (points, k))
@@ -139,9 +147,22 @@ class Statics:
         n, c = len(kin.com), len(layout.contacts.corner_link)
         points, forces = np.empty((len(layout.point_tables[4]), 3)), np.empty((len(layout.point_tables[4]), 3))
         totals, wrench, loads = np.empty(6), np.empty((n, 6)), np.empty(n)
-        w = np.ascontiguousarray(self.w, dtype=float)
+        corner_forces = layout.contacts.corner_forces(self.w)  # BLAS's sums, as the NumPy path's
+        body_com = layout.model.mass @ kin.com
+        tables = layout.point_tables
         loops.point_loads(
-            kin.rotation, kin.position, kin.axis, kin.com, w, layout.point_tables, points, forces, totals, wrench, loads
+            kin.rotation,
+            kin.position,
+            kin.com,
+            corner_forces,
+            body_com,
+            tables,
+            points,
+            forces,
+            totals,
+            wrench,
+            loads,
+            kin.twist,
         )
         self._kernel_points, self._kernel_forces = points, forces
         self.corner_points, self.load_points, self._corner_forces = points[:c], points[c:], forces[:c]
@@ -164,6 +185,7 @@ class Statics:
             self._kernel_forces,
             self._subtree_wrench,
             layout.point_tables,
+            layout.prismatic,
             outer,
             g,
             arms,
@@ -281,22 +303,17 @@ class Statics:
         done as subtree and ancestor sums.
         """
         layout = self.layout
-        if self._compiled:
+        if self._compiled:  # the joints' part in one loop; the forces' part below, as BLAS sums it
             n, size = len(coef), len(coef) + layout.contacts.n_vars
             g, linear, squared = self.moment_derivatives(), np.empty(size), np.empty(size)
             coef, weight = (np.ascontiguousarray(v, dtype=float) for v in (coef, weight))
-            loops.load_contractions(
-                self.kin.position,
-                self.kin.axis,
-                g,
-                self.edge_moment_arms,
-                coef,
-                weight,
-                layout.contraction_tables,
-                np.empty((2, n, 9)),
-                linear,
-                squared,
-            )
+            work = np.empty((3, n + 1, 9))
+            loops.load_contractions(self.kin.axis, g, coef, weight, layout.contraction_tables, work, linear, squared)
+            if size > n:
+                rows = layout.supporting
+                d_w = self._axis_load_force_jacobian(rows, layout.supporting_edge_acts)
+                coef_rev, weight_rev = coef[rows] * layout.revolute[rows], weight[rows] * layout.revolute[rows]
+                linear[n:], squared[n:] = coef_rev @ d_w, weight_rev @ (d_w * d_w)
             return linear, squared
         coef, weight = coef * layout.revolute, weight * layout.revolute
         # rows [a, s(a)], [g, s(g)]: on A, J_ij = g_i.a_j and J_ij^2 = s(g_i).s(a_j); on D, a and g swap

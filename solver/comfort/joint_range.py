@@ -15,7 +15,7 @@ import numpy as np
 from .. import kernels
 from ..body.model import Model
 from ..body.state import State
-from ..kernels.comfort import range_per_joint, weighted_pair
+from ..kernels.comfort import range_angles, range_per_joint, weighted_pair
 from .base import ComfortTerm
 
 U_MAX = 0.48 * np.pi
@@ -91,8 +91,10 @@ class JointRange(ComfortTerm):
     def per_joint(self, theta: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
         """tan^2(u) per joint (unweighted) and, with ``derivatives``, its first and second derivative (per rad or m)."""
         if kernels.active():
-            theta, out = np.asarray(theta, dtype=float), np.empty((3, len(theta)))
-            range_per_joint(theta, self.neutral, self.span_up, self.span_down, float(U_MAX), out[0], out[1], out[2])
+            theta, out, work = np.asarray(theta, dtype=float), np.empty((3, len(theta))), np.empty((3, len(theta)))
+            range_angles(theta, self.neutral, self.span_up, self.span_down, float(U_MAX), work)
+            np.tan(work[1], out=work[1])  # NumPy's tan (its own vector code), as below
+            range_per_joint(work, float(U_MAX), out[0], out[1], out[2])
             return (out[0], out[1], out[2]) if derivatives else (out[0],)
         d = theta - self.neutral
         span = np.where(d >= 0.0, self.span_up, self.span_down)

@@ -47,7 +47,9 @@ class TrunkTilt(ComfortTerm):
     def derivatives(self, state: State, weight: float) -> tuple[np.ndarray, np.ndarray]:
         if kernels.active() and self.link >= 0:
             kin = state.kin
-            return trunk_derivatives(kin.rotation, kin.axis, self.link, self.chain, weight * self.scale, state.n_x)
+            along = kin.axis[self.chain] @ self._up(state)  # BLAS's products, as below
+            factor = weight * self.scale
+            return trunk_derivatives(kin.rotation, kin.axis, self.link, self.chain, along, factor, state.n_x)
         grad, curv = np.zeros(state.n_x), np.zeros(state.n_x)
         if self.link < 0:
             return grad, curv

@@ -1,11 +1,12 @@
 """The statics' compiled loops over the tree equal the NumPy prefix-sum version to rounding: subtree wrenches, axis
-loads, balance error and Jacobian, moment derivatives, load Jacobian and contractions, and the joints' twists."""
+loads, balance error and Jacobian, moment derivatives, load Jacobian and contractions, and the joints' twists; on the
+same kinematics they sum in the NumPy path's order, so they give its numbers to the bit (asserted to 1e-15)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import random_tree
+from helpers import random_tree, states_on_one_kinematics
 
 from solver import kernels
 from solver.body.spatial import exp_so3
@@ -78,6 +79,45 @@ def _compare(problem: Problem, rng: np.random.Generator, poses: int = 4) -> None
             assert got.shape == expected.shape, name
             scale = max(1.0, float(np.abs(expected).max(initial=0.0)))
             np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12 * scale, err_msg=name)
+
+
+def _statics_outputs(state, coef: np.ndarray, weight: np.ndarray) -> dict[str, np.ndarray]:
+    statics = state.statics
+    out = dict(
+        axis_loads=statics.axis_loads(),
+        balance_error=statics.balance_error(),
+        sub_force=statics.sub_force,
+        sub_outer=statics.sub_outer,
+        corner_points=statics.corner_points,
+        load_points=statics.load_points,
+        moment_derivatives=statics.moment_derivatives(),
+        balance_rows=statics.balance_rows(),
+        edge_moment_arms=statics.edge_moment_arms,
+    )
+    out["contraction_linear"], out["contraction_squared"] = statics.axis_load_contractions(coef, weight)
+    return out
+
+
+@pytest.mark.parametrize("case", ["tree0", "tree1", "tree2", "male_50", "female_5"])
+def test_on_the_same_kinematics_the_kernels_give_the_numpy_numbers(case: str) -> None:
+    """The numbers that steer a solve (balance rows, joint loads, the comfort's contractions) equal the NumPy path's
+    to 1e-15 of their size (here, to the bit), so the two paths' iterates do not drift apart on rounding."""
+    rng = np.random.default_rng(60)
+    problem = _random_tree_problem(int(case[-1]), rng, True) if case.startswith("tree") else _box_lift(case)
+    model = problem.model
+    for _ in range(4):
+        theta = np.clip(rng.uniform(-1.0, 1.0, model.n), model.lower, model.upper)
+        x = np.concatenate([theta, rng.uniform(0.0, 300.0, problem.contacts.n_vars)])
+        coef, weight = rng.normal(size=model.n), rng.random(model.n)
+        reference, compiled = states_on_one_kinematics(problem, x)
+        with kernels.using(False):
+            expected = _statics_outputs(reference, coef, weight)
+        with kernels.using(True):
+            got = _statics_outputs(compiled, coef, weight)
+        for name, value in expected.items():
+            assert got[name].shape == value.shape, name
+            scale = max(1.0, float(np.abs(value).max(initial=0.0)))
+            np.testing.assert_allclose(got[name], value, rtol=0, atol=1e-15 * scale, err_msg=name)
 
 
 @pytest.mark.parametrize("seed", range(3))
