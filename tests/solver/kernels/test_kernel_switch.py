@@ -53,7 +53,7 @@ def test_the_kernels_command_says_which_and_compile_solves_the_box_lift() -> Non
 
 def test_compiling_is_timed_and_a_cached_kernel_is_not(tmp_path: Path) -> None:
     pytest.importorskip("numba")
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), PYTHONPATH=str(ROOT))
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), PYTHONPATH=str(ROOT), MANIKIN_KERNELS="auto")
     code = ("import numpy as np; from solver import kernels; from solver.io.scenario.bodies import load_body; "
             "m = load_body(preset='male_50'); m.forward(np.zeros(m.n)); print(kernels.compile_seconds())")  # fmt: skip
     first, again = (
