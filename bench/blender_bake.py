@@ -30,7 +30,7 @@ from . import one_core
 ROOT = Path(__file__).resolve().parents[1]  # the repository root
 PRESET = ROOT / "presets" / "scenarios" / "box_lift_motion.toml"
 FRAMES = 240
-TARGET_FPS = 60.0
+TARGET_FPS = 150.0  # issue 37: the demo's motion baked at >= 150 frames/s
 SETTINGS = (("default (comfort re-optimised every frame)", True), ("constraints only (comfort off)", False))
 PATTERN = (0, 1, 2, 1)  # key indices of one up-down cycle: floor, middle, table, middle, (floor again)
 
@@ -128,7 +128,7 @@ def run(output: Path, runs: int = 3) -> str:
     verdict = "met" if met else "not met"
     lines += [
         "",
-        f"Target: >= {TARGET_FPS:.0f} frames/s on one core with the default settings: **{verdict}** "
+        f"Target (issue 37): >= {TARGET_FPS:.0f} frames/s on one core with the default settings: **{verdict}** "
         f"({rows[0][1]:.1f} frames/s).",
         f"The solver's warm solve (comfort re-optimised) is {share:.0%} of a frame; setting the frame and reading",
         "the scene into a problem are the rest, and keying all frames at the end takes milliseconds. With comfort",
