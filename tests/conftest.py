@@ -9,6 +9,7 @@ import pytest
 from helpers import random_tree
 from hypothesis import settings
 
+from solver import kernels
 from solver.body.model import Model
 
 # Property tests draw the same examples on every run, so a verdict never depends on the run's luck (CI gets one
@@ -26,6 +27,18 @@ def pytest_configure(config: pytest.Config) -> None:
     end before it stopped)."""
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
+def _children_on_numpy_kernels() -> None:
+    """This process uses the kernels MANIKIN_KERNELS asks for (Numba where it imports: the kernel tests compare
+    both paths here); the processes tests start (a CLI command, a study's workers, Blender sessions) solve on the
+    NumPy kernels unless a test asks for others: each would spend ~0.6 s importing Numba and loading the compiled
+    kernels, and the kernels' own subprocess tests set MANIKIN_KERNELS themselves."""
+    kernels.active()  # decided now, from the environment as it was
+    os.environ.setdefault("MANIKIN_KERNELS", "numpy")
+
+
+_children_on_numpy_kernels()
 
 
 @pytest.fixture(params=[0, 1, 2])

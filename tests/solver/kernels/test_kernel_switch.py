@@ -40,15 +40,24 @@ def test_using_switches_within_a_block_and_restores() -> None:
     assert kernels.active() == before
 
 
-def test_the_kernels_command_says_which_and_compile_solves_the_box_lift() -> None:
-    env = dict(os.environ, MANIKIN_KERNELS="numpy", PYTHONPATH=str(ROOT))
+@pytest.mark.parametrize("choice", ["numpy", "auto"])
+def test_the_kernels_command_says_which_and_compile_solves_the_box_lift(choice: str) -> None:
+    if choice == "auto":
+        pytest.importorskip("numba")
+    env = dict(os.environ, MANIKIN_KERNELS=choice, PYTHONPATH=str(ROOT))
     done = subprocess.run(
-        [sys.executable, "-m", "solver", "kernels", "--compile"], env=env, capture_output=True, text=True, timeout=120
+        [sys.executable, "-m", "solver", "kernels", "--compile"], env=env, capture_output=True, text=True, timeout=300
     )
     assert done.returncode == 0, done.stderr
     lines = done.stdout.splitlines()
-    assert lines[0] == "kernels: NumPy (MANIKIN_KERNELS=numpy)"
+    assert lines[0] == ("kernels: NumPy (MANIKIN_KERNELS=numpy)" if choice == "numpy" else f"kernels: {_numba_line()}")
     assert lines[1].startswith("box_lift solved (converged) in ")
+
+
+def _numba_line() -> str:
+    import numba
+
+    return f"Numba {numba.__version__} (cache {kernels.cache_folder()})"
 
 
 def test_compiling_is_timed_and_a_cached_kernel_is_not(tmp_path: Path) -> None:
