@@ -6,6 +6,7 @@ CLI again. The documentation's page on the solver from Python (docs/guide/python
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -14,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import read_result
+from solver import kernels, read_result
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIO_PATH = re.compile(r'"(presets/scenarios/\w+\.toml)"')
@@ -41,9 +42,10 @@ def cli_result(scenario: Path, folder: Path) -> Path:
     """``python -m solver solve SCENARIO -o folder/cli.json -q``, run from ``folder``; the file it wrote."""
     folder.mkdir()
     out = folder / "cli.json"
+    env = dict(os.environ, MANIKIN_KERNELS="auto" if kernels.active() else "numpy")  # the example's kernels
     done = subprocess.run(
         [sys.executable, "-m", "solver", "solve", str(scenario), "-o", str(out), "-q"],
-        cwd=ROOT, capture_output=True, text=True, timeout=300,
+        cwd=ROOT, capture_output=True, text=True, timeout=300, env=env,
     )  # fmt: skip
     assert done.returncode in (0, 3) and out.is_file(), done.stderr
     return out
