@@ -15,6 +15,7 @@ import numpy as np
 
 from . import kernel
 
+# copies, not imports: Numba's cache of this file's kernels would not see a change made in another file
 TINY = 1e-24  # m^2: as solver.collision.closest.TINY
 PARALLEL = 1e-12  # as solver.collision.closest.PARALLEL
 

@@ -41,23 +41,10 @@ def _box_lift(preset: str) -> Problem:
 
 def _everything(problem: Problem, x: np.ndarray, coef: np.ndarray, weight: np.ndarray) -> dict[str, np.ndarray]:
     state = problem.state(x)
-    statics, kin = state.statics, state.kin
-    out = dict(
-        axis_loads=statics.axis_loads(),
-        balance_error=statics.balance_error(),
-        sub_force=statics.sub_force,
-        sub_outer=statics.sub_outer,
-        corner_points=statics.corner_points,
-        load_points=statics.load_points,
-        moment_derivatives=statics.moment_derivatives(),
-        balance_rows=statics.balance_rows(),
-        edge_moment_arms=statics.edge_moment_arms,
-        twist=kin.twist,
-        origin_velocity=kin.origin_velocity,
-    )
-    out["balance_d_theta"], out["balance_d_w"] = statics.balance_jacobian()
-    out["load_d_theta"], out["load_d_w"] = statics.axis_load_jacobian()
-    out["contraction_linear"], out["contraction_squared"] = statics.axis_load_contractions(coef, weight)
+    out = _statics_outputs(state, coef, weight)
+    out["twist"], out["origin_velocity"] = state.kin.twist, state.kin.origin_velocity
+    out["balance_d_theta"], out["balance_d_w"] = state.statics.balance_jacobian()
+    out["load_d_theta"], out["load_d_w"] = state.statics.axis_load_jacobian()
     fresh = problem.state(x)  # the contractions and the twist first, as the comfort term and the frames ask
     out["contraction_linear_fresh"] = fresh.statics.axis_load_contractions(coef, weight)[0]
     out["origin_velocity_first"] = fresh.kin.origin_velocity
