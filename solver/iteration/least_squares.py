@@ -63,6 +63,21 @@ class LeastSquares:
             self._eig = (np.clip(lam, 0.0, None), u)
             self.basis = (u[:, keep] / np.sqrt(lam[keep])).T @ jac  # undamped; J J^T gives s >= 1e-7 s_max accurately
 
+    @classmethod
+    def from_factors(
+        cls, jac: np.ndarray, basis: np.ndarray, active: np.ndarray, factor: np.ndarray, damp2: float, total: int
+    ) -> LeastSquares:
+        """The least squares a compiled step has factored (``solver.kernels.bounded_step``): ``jac`` holds the rows
+        ``active`` (indices among ``total``) that take part, ``basis`` = L^-1 J, ``factor`` the lower Cholesky factor
+        of J J^T + ``damp2`` I."""
+        self = cls.__new__(cls)
+        self._rows, self._active, self._jac, self.basis = total, active, jac, basis
+        self._gram = None  # built when another damping than damp2 is asked for
+        self._damp2 = damp2
+        self._eig = None if len(jac) else (np.zeros(0), np.zeros((0, 0)))  # no rows: as __init__ makes it
+        self._factors = {damp2: factor}
+        return self
+
     def _solve(self, rhs: np.ndarray, extra2: float = 0.0) -> np.ndarray:
         """(G + (d^2 + extra2) I)^-1 rhs."""
         shift = self._damp2 + extra2
@@ -72,6 +87,8 @@ class LeastSquares:
             return u @ np.divide(u.T @ rhs, denom, out=np.zeros_like(lam), where=denom > 0)
         factor = self._factors.get(shift)
         if factor is None:
+            if self._gram is None:
+                self._gram = self._jac @ self._jac.T
             shifted = self._gram.copy()
             shifted.flat[:: len(shifted) + 1] += shift
             factor, info = lapack.dpotrf(shifted, lower=1, overwrite_a=1)

@@ -15,6 +15,7 @@ import numpy as np
 
 from .. import kernels
 from ..body.state import computed_once
+from ..kernels import bounded_step as fused
 from ..kernels import step as compiled
 from ..problem.problem import Problem
 from . import lapack
@@ -183,8 +184,13 @@ def _bounded_step_compiled(
     tuning: Tuning,
     memory: CurvatureMemory | None,
 ) -> Step:
-    """:func:`_bounded_step` with its element-wise stages in the loops of :mod:`solver.kernels.step` (the same
-    numbers to rounding; the matrix products and LAPACK calls are the NumPy path's)."""
+    """:func:`_bounded_step` in one kernel (:mod:`solver.kernels.bounded_step`); where J J^T needs an
+    eigendecomposition, with its element-wise stages in the loops of :mod:`solver.kernels.step` (the matrix products
+    and LAPACK calls are the NumPy path's). The same numbers to rounding."""
+    compact = _curvature_model(memory, lin) if memory is not None else None
+    whole = _fused_step(problem, at, lin, mu, radius, tuning, compact)
+    if whole is not None:
+        return whole
     x, bounds, grad_f = at.x, problem.bounds, lin.grad_f
     n = len(x)
     lo, hi, root, free = np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool)
@@ -196,7 +202,6 @@ def _bounded_step_compiled(
         lin.curv_f, mu * max(level, 1e-12), lin.comfort_on, x, bounds.scale, bounds.is_joint, tuning.force_floor,
         tuning.force_barrier, root,
     )  # fmt: skip
-    compact = _curvature_model(memory, lin) if memory is not None else None
     fixed = np.zeros(n)
     for round_ in range(tuning.clamping_rounds):
         task, comfort, lsq = _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning)
@@ -215,6 +220,34 @@ def _bounded_step_compiled(
         saturated = (~free) & (fixed != 0.0)
         saturated_gain = max(-float(grad_f[saturated] @ fixed[saturated]), 0.0)
     return Step(task, comfort, gain, free, lsq, r_free, g_free, saturated_gain)
+
+
+def _fused_step(problem: Problem, at: Trial, lin: Linearization, mu: float, radius: float, tuning: Tuning, compact):
+    """The whole bounded step from :func:`solver.kernels.bounded_step.bounded_step`; None when J J^T is too
+    ill-conditioned for Cholesky."""
+    bounds, n, m = problem.bounds, len(at.x), len(lin.live)
+    columns, middle = compact if compact is not None else (np.zeros((n, 0)), np.zeros((0, 0)))
+    controls = np.array(
+        (mu, radius, tuning.max_damping, tuning.max_comfort_step, tuning.fraction_near, tuning.force_floor,
+         tuning.force_barrier, tuning.clamping_rounds), dtype=float,
+    )  # fmt: skip
+    task, comfort, root, r_free, g_free = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    free, lsq_jac, basis = np.empty(n, dtype=bool), np.empty((n, m)), np.empty((n, m))  # transposed: J^T, basis^T
+    active, factor, results, counts = np.empty(m, dtype=np.int64), np.empty((m, m)), np.empty(3), np.empty(2, np.int64)
+    status = fused.bounded_step(
+        np.ascontiguousarray(lin.jac), at.err[lin.live], lin.grad_f, lin.curv_f, lin.comfort_on, bounds.lower,
+        bounds.upper, bounds.scale, bounds.is_joint, at.x, controls, np.ascontiguousarray(columns),
+        np.ascontiguousarray(middle), task, comfort, free, root, r_free, g_free, lsq_jac, basis, active, factor,
+        results, counts,
+    )  # fmt: skip
+    if status != fused.OK:
+        return None
+    k, rows = int(counts[0]), int(counts[1])
+    lsq = LeastSquares.from_factors(
+        lsq_jac[:k, :rows].T, basis[:k, :rows].T, lin.live[active[:rows]], factor[:rows, :rows], float(results[0]),
+        len(at.err),
+    )  # fmt: skip
+    return Step(task, comfort, float(results[1]), free, lsq, r_free[:k], g_free[:k], float(results[2]))
 
 
 def _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning):

@@ -10,9 +10,11 @@ compiling again.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import sys
 import time
+import types
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -88,11 +90,13 @@ def using(compiled: bool) -> Iterator[None]:
 
 
 class Kernel:
-    """A loop function compiled by Numba on its first call (``njit``, no Python objects, cached on disk)."""
+    """A loop function compiled by Numba on its first call (``njit``, no Python objects, cached on disk). It may call
+    other kernels by their names: compiled, they call each other's machine code."""
 
     def __init__(self, function: Callable) -> None:
         self.python = function
         self._compiled: Callable | None = None
+        self._dispatcher: Callable | None = None
         self.__name__ = function.__name__
         self.__doc__ = function.__doc__
 
@@ -101,16 +105,45 @@ class Kernel:
             return self._first_call(*args)
         return self._compiled(*args)
 
-    def _first_call(self, *args):
-        import numba
+    def callees(self) -> dict[str, Kernel]:
+        """The kernels this one calls, by the names it calls them."""
+        names = self.python.__globals__
+        return {name: names[name] for name in self.python.__code__.co_names if isinstance(names.get(name), Kernel)}
 
+    def sources(self) -> set[str]:
+        """The files of this kernel and of every kernel it calls, directly or not."""
+        found = {self.python.__code__.co_filename}
+        for callee in self.callees().values():
+            found |= callee.sources()
+        return found
+
+    def dispatcher(self) -> Callable:
+        """Numba's dispatcher of this kernel (compiled on its first call), the kernels it calls bound to theirs."""
+        if self._dispatcher is None:
+            import numba
+
+            function, folder = self.python, cache_folder()
+            callees = self.callees()
+            if callees:
+                names = {**function.__globals__, **{name: k.dispatcher() for name, k in callees.items()}}
+                function = types.FunctionType(function.__code__, names, function.__name__, function.__defaults__)
+                function.__qualname__, function.__module__ = self.python.__qualname__, self.python.__module__
+                # Numba checks only the caller's file before loading its cache: the callees' files name the folder
+                others = sorted(self.sources() - {self.python.__code__.co_filename})
+                if others:
+                    digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in others)).hexdigest()[:16]
+                    folder = folder / f"calls-{digest}"
+            # Numba takes its cache folder from its config as the dispatcher is made: ours, only for our kernels
+            saved, numba.config.CACHE_DIR = numba.config.CACHE_DIR, str(folder)
+            try:
+                self._dispatcher = numba.njit(cache=True, nogil=True, error_model="numpy")(function)
+            finally:
+                numba.config.CACHE_DIR = saved
+        return self._dispatcher
+
+    def _first_call(self, *args):
         start = time.perf_counter()
-        # Numba takes its cache folder from its config as the dispatcher is made: ours, only for our kernels
-        saved, numba.config.CACHE_DIR = numba.config.CACHE_DIR, str(cache_folder())
-        try:
-            compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.python)
-        finally:
-            numba.config.CACHE_DIR = saved
+        compiled = self.dispatcher()
         out = compiled(*args)  # compiles (or loads the cache) for these argument types
         self._compiled = compiled
         if sum(compiled.stats.cache_misses.values()):

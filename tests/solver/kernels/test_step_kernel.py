@@ -1,4 +1,12 @@
-"""The step's compiled loops (solver/kernels/step.py) give the NumPy path's step: on the iterates of real solves."""
+"""The compiled step (solver/kernels/bounded_step.py, and the loops of solver/kernels/step.py where it needs an
+eigendecomposition) gives the NumPy path's step: on the iterates of real solves.
+
+The whole-step kernel factors with its own loops and Numba's BLAS, so its sums run in another order than LAPACK's:
+it agrees to what the step's conditioning allows. Measured on these calls: the NumPy path's own step moves by up to
+1e-11 (task), 2e-10 (comfort) and 9e-9 relative (predicted gain) when the Jacobian is perturbed by 1e-15 relative;
+the kernel differs from it by 6e-12, 7e-11 and 1e-8. The tolerances below sit one decade above; the element-wise
+loops (the fallback) agree to 1e-12.
+"""
 
 from __future__ import annotations
 
@@ -60,35 +68,74 @@ def _both(call: tuple, tuning=None) -> tuple:
     return reference, compiled
 
 
-def _assert_same(reference, compiled) -> None:
+WHOLE = {"task": 1e-10, "comfort": 1e-9, "multipliers": 1e-10, "predicted_gain": 1e-7, "penalty": 1e-9}  # see above
+
+
+def _assert_same(reference, compiled, tolerances: dict | None = None) -> None:
+    tolerances = tolerances or {}
     for name in FIELDS:
         want, got = getattr(reference, name), getattr(compiled, name)
         assert got.shape == want.shape, name
         size = max(float(np.abs(want).max(initial=0.0)), 1.0)
-        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * size, err_msg=name)
+        np.testing.assert_allclose(got, want, rtol=0, atol=tolerances.get(name, 1e-12) * size, err_msg=name)
     for name in ("predicted_gain", "saturated_gain", "penalty"):
         want, got = getattr(reference, name), getattr(compiled, name)
-        assert abs(got - want) <= 1e-12 * max(abs(want), 1.0), name
+        floor = 1e-6 if name in tolerances else 1.0  # the whole step's gains: relative, down to small ones
+        assert abs(got - want) <= tolerances.get(name, 1e-12) * max(abs(want), floor), name
 
 
-def test_compiled_step_is_the_numpy_step(step_calls) -> None:
+@pytest.fixture
+def whole_step_statuses(monkeypatch) -> list[int]:
+    """What each call of the whole-step kernel returned (OK, or NEEDS_EIGEN: the element-wise loops took over)."""
+    statuses: list[int] = []
+    kernel = step_module.fused.bounded_step
+
+    def counted(*args):
+        statuses.append(kernel(*args))
+        return statuses[-1]
+
+    monkeypatch.setattr(step_module.fused, "bounded_step", counted)
+    return statuses
+
+
+def test_compiled_step_is_the_numpy_step(step_calls, whole_step_statuses) -> None:
     assert len(step_calls) > 20
     assert any(call[2].comfort_on for call in step_calls) and not all(call[2].comfort_on for call in step_calls)
-    saturated = watched = 0
+    saturated = watched = trust = 0
     for call in step_calls:
         reference, compiled = _both(call)
-        _assert_same(reference, compiled)
+        _assert_same(reference, compiled, WHOLE)
         saturated += reference.saturated_gain > 0.0
-        problem, at, lin = call[:3]
+        problem, at, lin, _, radius = call[:5]
         watched += bool((problem.one_sided[lin.live] & (at.err[lin.live] == 0.0)).any())
-    assert saturated and watched  # the saturation on bounds and the watched clearance rows were exercised
+        trust += float(np.linalg.norm(reference.task[reference.free])) > 0.99 * radius
+    assert saturated and watched and trust  # saturation on bounds, watched clearance rows, the trust region bound
+    assert whole_step_statuses.count(step_module.fused.OK) >= 0.9 * len(whole_step_statuses) > 0
+
+
+def test_elementwise_loops_are_the_numpy_step(step_calls, monkeypatch) -> None:
+    """Where the whole-step kernel needs an eigendecomposition, the element-wise loops give the NumPy step to 1e-12."""
+    monkeypatch.setattr(step_module.fused, "bounded_step", lambda *args: step_module.fused.NEEDS_EIGEN)
+    for call in step_calls[::2]:
+        _assert_same(*_both(call))
+
+
+def test_whole_step_without_rows_or_with_an_empty_row(step_calls) -> None:
+    """No constraint rows at all (the step is comfort alone), and a row without any entry (it takes no part)."""
+    for call in step_calls[:: max(len(step_calls) // 6, 1)]:
+        problem, at, lin, *rest = call
+        empty = dataclasses.replace(lin, jac=lin.jac[:0], live=lin.live[:0])
+        _assert_same(*_both((problem, at, empty, *rest)), WHOLE)
+        jac = lin.jac.copy()
+        jac[0] = 0.0
+        _assert_same(*_both((problem, at, dataclasses.replace(lin, jac=jac), *rest)), WHOLE)
 
 
 def test_compiled_step_out_of_clamping_rounds(step_calls) -> None:
     """With one clamping round every step that leaves the bounds has its comfort part shortened instead."""
     tuning = dataclasses.replace(TUNING, clamping_rounds=1)
     for call in step_calls[::3]:
-        _assert_same(*_both(call, tuning))
+        _assert_same(*_both(call, tuning), WHOLE)
 
 
 def test_comfort_scatter_follows_numpy_on_nan() -> None:
