@@ -71,3 +71,35 @@ def test_compiling_is_timed_and_a_cached_kernel_is_not(tmp_path: Path) -> None:
     )
     assert first > 0.0 and again == 0.0
     assert (tmp_path / "solver").is_dir()  # the cache folder of this import name
+
+
+CALLEE = "from solver.kernels import kernel\n\n\n@kernel\ndef part(x: float) -> float:\n    return x * {factor}\n"
+CALLER = (
+    "from solver.kernels import kernel\n\nfrom .callee import part\n\n\n"
+    "@kernel\ndef whole(x: float) -> float:\n    return part(x) + 1.0\n"
+)
+
+
+def test_a_kernel_calls_another_modules_kernel_and_its_cache_follows_that_file(tmp_path: Path) -> None:
+    """A kernel calling a kernel of another file: loaded from the cache by the next process (not compiled again), and
+    compiled again when the callee's file changes (Numba itself checks only the caller's file)."""
+    pytest.importorskip("numba")
+    package = tmp_path / "code" / "nested"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "caller.py").write_text(CALLER)
+    env = dict(
+        os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), MANIKIN_KERNELS="auto",
+        PYTHONPATH=os.pathsep.join((str(ROOT), str(tmp_path / "code"))),
+    )  # fmt: skip
+    code = "from solver import kernels; from nested.caller import whole; print(whole(2.0), kernels.compile_seconds())"
+
+    def run(factor: int) -> tuple[float, float]:
+        (package / "callee.py").write_text(CALLEE.format(factor=factor))
+        done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+        value, seconds = done.stdout.split()
+        return float(value), float(seconds)
+
+    first, again, changed = run(3), run(3), run(5)
+    assert first[0] == again[0] == 7.0 and first[1] > 0.0 and again[1] == 0.0
+    assert changed[0] == 11.0 and changed[1] > 0.0
