@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from . import kernel
-from .dense import cholesky, cholesky_solve, gauss_solve, lower_inverse
+from .dense import cholesky, cholesky_solve, copy_into, gauss_solve, lower_inverse
 from .step import bound_start, root_metric, saturate, scatter_scaled, step_tail
 
 OK, NEEDS_EIGEN = 0, 1  # what the kernels return
@@ -63,7 +63,9 @@ def bounded_step(
     n = x.shape[0]
     mu, radius, max_damping, max_comfort = controls[0], controls[1], controls[2], controls[3]
     fraction_near, rounds = controls[4], int(controls[7])
-    outward = np.dot(jac.T, err_live) + grad_f  # descent of both pushes along -outward
+    outward = np.dot(jac.T, err_live)  # + grad f: the descent of both pushes is along -outward
+    for j in range(n):
+        outward[j] += grad_f[j]
     lo, hi = np.empty(n), np.empty(n)
     count = bound_start(lower, upper, scale, x, outward, lo, hi, free)
     level = 0.0
@@ -137,8 +139,8 @@ def free_step(
     bt, step = np.empty((k, rows)), np.empty(k)
     if task_step(jt, err_eff, active[:rows], r_f[:k], radius, max_damping, factor, bt, results, step) != OK:
         return NEEDS_EIGEN
-    lsq_jac[:k, :rows] = jt
-    basis[:k, :rows] = bt
+    copy_into(jt, lsq_jac)
+    copy_into(bt, basis)
     c = 0
     for j in range(n):
         task[j] = step[c] if free[j] else fixed[j]
@@ -184,7 +186,8 @@ def task_step(
     damp2 = max_damping * max_damping * math.sqrt(size2)
     results[0] = damp2
     if rows == 0:
-        out[:] = 0.0
+        for c in range(k):
+            out[c] = 0.0
         return OK
     low, inverse = np.empty((rows, rows)), np.empty((rows, rows))
     if not cholesky(gram, 0.0, low):
@@ -196,10 +199,11 @@ def task_step(
             spread += inverse[i, j] * inverse[i, j]
     if not trace * spread < MAX_CONDITION:
         return NEEDS_EIGEN
-    bt[:, :] = np.dot(jt, np.ascontiguousarray(inverse.T))  # (L^-1 J)^T
-    damped = factor[:rows, :rows]
+    copy_into(np.dot(jt, np.ascontiguousarray(inverse.T)), bt)  # (L^-1 J)^T
+    damped = np.empty((rows, rows))
     if not cholesky(gram, damp2, damped):
         return NEEDS_EIGEN
+    copy_into(damped, factor)
     err = np.empty(rows)
     for i in range(rows):
         err[i] = err_eff[active[i]]
@@ -286,16 +290,25 @@ def null_space_newton(stacked: np.ndarray, bt: np.ndarray, middle: np.ndarray) -
     ``bt`` = basis^T has orthonormal columns. ``stacked`` is projected in place."""
     k, width = stacked.shape
     rows, c = bt.shape[1], width - 1
-    grad = stacked[:, 0].copy()
+    grad = np.empty(k)
+    for p in range(k):
+        grad[p] = stacked[p, 0]
     if rows:  # [q | A] = (I - P) [g | V]
-        stacked -= np.dot(bt, np.dot(np.ascontiguousarray(bt.T), stacked))
+        part = np.dot(bt, np.dot(np.ascontiguousarray(bt.T), stacked))
+        for p in range(k):
+            for q in range(width):
+                stacked[p, q] -= part[p, q]
     z = np.empty(k)
     for p in range(k):
         z[p] = -stacked[p, 0]
     if c == 0:
         return z
     products = np.dot(stacked.T, stacked)  # [q | A]^T [q | A]: A^T q and A^T A
-    system, rhs = products[1:, 1:] - middle, products[1:, 0].copy()
+    system, rhs = np.empty((c, c)), np.empty(c)
+    for i in range(c):
+        rhs[i] = products[i + 1, 0]
+        for j in range(c):
+            system[i, j] = products[i + 1, j + 1] - middle[i, j]
     inner = np.empty(c)
     if not gauss_solve(system, rhs, np.empty((c, c)), inner):
         return z

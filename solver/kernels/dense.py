@@ -114,3 +114,12 @@ def gram_of_transposed(at: np.ndarray, out: np.ndarray) -> None:
             a = at[c, i]
             for j in range(m):
                 out[i, j] += a * at[c, j]
+
+
+@kernel
+def copy_into(source: np.ndarray, target: np.ndarray) -> None:
+    """``target``[:m, :k] = ``source`` (m, k), as a loop: Numba compiles a slice assignment for seconds."""
+    m, k = source.shape
+    for i in range(m):
+        for j in range(k):
+            target[i, j] = source[i, j]
