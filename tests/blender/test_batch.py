@@ -1,6 +1,6 @@
 """The headless batch script as a user runs it (``python blender_manikin/batch.py ...`` with the bpy module, each
-in a subprocess): every output written, exit codes 0 / 3 / 2, one line for bad input, and the copy inside an
-installed extension running from its own folder.
+in a subprocess): every output written, exit codes 0 / 3 / 2, one line for bad input (found before bpy is imported
+when it needs no scene), and the copy inside an installed extension running from its own folder.
 """
 
 from __future__ import annotations
@@ -40,12 +40,20 @@ def user(installed_user: Path, tmp_path_factory) -> Path:
     return copy_user(installed_user, tmp_path_factory.mktemp("user") / "user")
 
 
+# The script as __main__ in a Python where ``import bpy`` fails: what it finds before it imports bpy (no Blender start).
+NO_BPY = (
+    "import runpy, sys; sys.modules['bpy'] = None; sys.argv.pop(0); runpy.run_path(sys.argv[0], run_name='__main__')"
+)
+
+
 @pytest.fixture
 def run(blender_python: Path, user: Path):
-    """``batch.py ARGS`` (or another script) by the Blender environment's Python in ``cwd``."""
+    """``batch.py ARGS`` (or another script) by the Blender environment's Python in ``cwd``; ``bpy=False``: with
+    ``import bpy`` failing (:data:`NO_BPY`)."""
 
-    def batch(args: list, cwd: Path, script: Path = BATCH) -> subprocess.CompletedProcess:
-        return run_python(blender_python, [script, *args], user, cwd=cwd)
+    def batch(args: list, cwd: Path, script: Path = BATCH, bpy: bool = True) -> subprocess.CompletedProcess:
+        head = [script] if bpy else ["-c", NO_BPY, script]
+        return run_python(blender_python, [*head, *args], user, cwd=cwd)
 
     return batch
 
@@ -99,23 +107,29 @@ def test_batch_reports_frames_that_do_not_converge(tmp_path: Path, run) -> None:
 
 
 @pytest.mark.parametrize(
-    "args, says",
+    "args, says, scene",
     [
-        (["--scenario", "missing.toml"], "missing.toml: file not found"),
-        (["--scenario", "broken.toml"], "malformed TOML"),
-        (["--scenario", SNAKE, "--export", "motion.obj"], "cannot export .obj"),
-        (["--scenario", SNAKE, "--frames", 5, 2], "end comes before the start"),
-        (["--scenario", SNAKE, "--frames", "one", 2], "invalid int value"),
-        (["--bogus"], "unrecognized arguments: --bogus"),
-        (["--blend", "missing.blend"], "missing.blend: file not found"),
-        ([], "no manikin in the scene"),
-        (["--scenario", LIFT, "--retarget", "nosuch"], "--retarget nosuch: no shipped rig or object of that name"),
-        (["--scenario", SNAKE, "--retarget", "mixamo"], "--retarget mixamo: 'snake' is not a human manikin"),
+        (["--scenario", "missing.toml"], "missing.toml: file not found", False),
+        (["--scenario", "broken.toml"], "malformed TOML", False),
+        (["--scenario", SNAKE, "--export", "motion.obj"], "cannot export .obj", False),
+        (["--scenario", SNAKE, "--frames", 5, 2], "end comes before the start", False),
+        (["--scenario", SNAKE, "--frames", "one", 2], "invalid int value", False),
+        (["--bogus"], "unrecognized arguments: --bogus", False),
+        (["--blend", "missing.blend"], "missing.blend: file not found", False),
+        ([], "no manikin in the scene", True),
+        (
+            ["--scenario", LIFT, "--retarget", "nosuch"],
+            "--retarget nosuch: no shipped rig or object of that name",
+            True,
+        ),
+        (["--scenario", SNAKE, "--retarget", "mixamo"], "--retarget mixamo: 'snake' is not a human manikin", True),
     ],
 )
-def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str, run) -> None:
+def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str, scene: bool, run) -> None:
+    """Bad input is one line and exit 2; what needs no scene (``scene`` False) is found before bpy is imported
+    (run where ``import bpy`` fails: it costs no Blender start)."""
     (tmp_path / "broken.toml").write_text("[manikin\npreset = 1", encoding="utf-8")
-    done = run(args, tmp_path)
+    done = run(args, tmp_path, bpy=scene)
     assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
@@ -140,14 +154,15 @@ LONG = "a" * 300 + ".json"  # longer than any file system's names
     ids=["report_dir", "export_dir", "long_name", "same_twice", "onto_input", "proc", "plots_long", "stdout", "frames"],
 )
 def test_batch_refuses_bad_output_paths_before_the_bake(tmp_path: Path, args: list, says: str, run) -> None:
-    """A bad output path is one line and exit 2 before anything is baked; the .blend the run would have replaced and
-    every input stay as they were (the issue: --report to a bad path failed after the bake and lost the .blend)."""
+    """A bad output path is one line and exit 2 before anything is baked, before bpy is even imported (run where
+    ``import bpy`` fails); the .blend the run would have replaced and every input stay as they were (the issue:
+    --report to a bad path failed after the bake and lost the .blend)."""
     (tmp_path / "adir").mkdir()
     (tmp_path / "adir.fbx").mkdir()
     (tmp_path / "s.toml").write_bytes(SNAKE.read_bytes())
     (tmp_path / "keep.blend").write_bytes(b"keep me")
     before = {p.name: p.read_bytes() if p.is_file() else None for p in tmp_path.iterdir()}
-    done = run(["--scenario", "s.toml", "--frames", 1, 3, "--out", "keep.blend", *args], tmp_path)
+    done = run(["--scenario", "s.toml", "--frames", 1, 3, "--out", "keep.blend", *args], tmp_path, bpy=False)
     assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
