@@ -17,9 +17,10 @@ of the manikin), -q.
 Exit codes: 0 every frame converged, 3 some frame did not (all outputs are still written), 2 bad input or a file
 that cannot be written (one line on stderr; each file is written beside its name, checked and renamed, so a full
 disk leaves the old file), 130 Ctrl-C (the frames solved so far are keyed and kept in the result, the report and
-the .blend). Run as a script, this file loads the extension it belongs to from its own location (a checkout or an
-installed extension) under the package name ``manikin`` and registers it, unless Blender already has that copy
-enabled.
+the .blend). Bad input that needs no scene (the arguments, the output paths, the input files) is found before bpy
+is imported: it costs no Blender start. Run as a script, this file loads the extension it belongs to from its own
+location (a checkout or an installed extension) under the package name ``manikin`` and registers it, unless Blender
+already has that copy enabled.
 """
 
 from __future__ import annotations
@@ -30,8 +31,10 @@ import importlib.util
 import os
 import shutil
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]  # the extension root: blender_manifest.toml, __init__.py, solver/, ...
 PACKAGE = "manikin"
@@ -108,6 +111,19 @@ def script_args(argv: list[str]) -> list[str]:
     return [] if Path(argv[0]).stem.lower().startswith("blender") else argv[1:]
 
 
+def extension_package() -> ModuleType:
+    """The extension package at ROOT imported as ``manikin``, not registered: its ``__init__`` imports nothing, so
+    this needs no bpy (its modules that use bpy import it when they are imported)."""
+    init = ROOT / "__init__.py"
+    module = sys.modules.get(PACKAGE)
+    if module is None or Path(getattr(module, "__file__", "") or "").resolve() != init:
+        spec = importlib.util.spec_from_file_location(PACKAGE, init, submodule_search_locations=[str(ROOT)])
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[PACKAGE] = module
+        spec.loader.exec_module(module)
+    return module
+
+
 def load_extension() -> tuple[ModuleType, bool]:
     """The extension package at ROOT, registered: an enabled add-on of that folder, else imported as ``manikin``;
     and whether this call registered it (then :func:`main` unregisters it before exit: bpy 4.5 hangs at exit
@@ -128,12 +144,7 @@ def load_extension() -> tuple[ModuleType, bool]:
         if Path(getattr(module, "__file__", "") or "").resolve() == init:
             return module, False
         addon_utils.disable(name, refresh_handled=True)
-    module = sys.modules.get(PACKAGE)
-    if module is None or Path(getattr(module, "__file__", "") or "").resolve() != init:
-        spec = importlib.util.spec_from_file_location(PACKAGE, init, submodule_search_locations=[str(ROOT)])
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[PACKAGE] = module
-        spec.loader.exec_module(module)
+    module = extension_package()
     if hasattr(bpy.types, "MANIKIN_OT_bake_motion"):
         return module, False
     module.register()
@@ -155,50 +166,71 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
-def run_job(extension: ModuleType, args: argparse.Namespace) -> int:
-    """Bake and write with the loaded extension; its exit code (bad input: one line on stderr, 2)."""
-    job = importlib.import_module(f"{extension.__name__}.blender_manikin.motion.job")
+def job_of(extension: ModuleType, args: argparse.Namespace) -> Any:
+    """The extension's ``Job`` (``blender_manikin.motion.job_input``, no bpy) for the parsed arguments."""
+    job_input = importlib.import_module(f"{extension.__name__}.blender_manikin.motion.job_input")
+    return job_input.Job(
+        scenario=args.scenario,
+        blend=args.blend,
+        manikin=args.manikin,
+        frames=tuple(args.frames) if args.frames else None,
+        out=args.out,
+        exports=args.export,
+        report=args.report,
+        result=args.result,
+        picture=args.picture,
+        plots=args.plots,
+        retarget=args.retarget,
+        quiet=args.quiet,
+        operations=args.operations,
+    )
+
+
+def guarded(extension: ModuleType, step: Callable[[], int | None]) -> int | None:
+    """``step()``; a user error (the extension's ManikinError, an OSError) one line on stderr and EXIT_BAD_INPUT,
+    Ctrl-C outside the bake (which keeps its frames and says so itself) EXIT_INTERRUPTED."""
     errors = importlib.import_module(f"{extension.__name__}.solver.errors")
-    run = job.run
-    if args.operations is not None:  # generated from the operations, not baked from targets
-        run = importlib.import_module(f"{extension.__name__}.blender_manikin.operations.headless").run
     try:
-        return run(
-            job.Job(
-                scenario=args.scenario,
-                blend=args.blend,
-                manikin=args.manikin,
-                frames=tuple(args.frames) if args.frames else None,
-                out=args.out,
-                exports=args.export,
-                report=args.report,
-                result=args.result,
-                picture=args.picture,
-                plots=args.plots,
-                retarget=args.retarget,
-                quiet=args.quiet,
-                operations=args.operations,
-            )
-        )
+        return step()
     except (errors.ManikinError, OSError) as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:  # outside the bake (which keeps its frames and says so itself)
+    except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
 
 
+def run_job(extension: ModuleType, job: Any) -> int:
+    """Bake (or generate, for ``--operations``) and write with the loaded extension; its exit code."""
+    if job.operations is not None:  # generated from the operations, not baked from targets
+        run = importlib.import_module(f"{extension.__name__}.blender_manikin.operations.headless").run
+    else:
+        run = importlib.import_module(f"{extension.__name__}.blender_manikin.motion.job").run
+    return guarded(extension, lambda: run(job))
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run with this script's arguments (default: from sys.argv); the exit code."""
+    """Run with this script's arguments (default: from sys.argv); the exit code. What needs no scene (the
+    arguments, the output paths, the input files) is checked before bpy is imported: a bad input costs no Blender
+    start."""
     try:
         args = parse(script_args(sys.argv) if argv is None else argv)
     except ERRORS.UsageError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    registered = False
+    extension, registered = None, False
     try:
-        extension, registered = load_extension()
-        return run_job(extension, args)
+        if sys.modules.get("bpy") is not None:  # inside Blender: check with the copy that runs the job
+            extension, registered = load_extension()
+        package = extension or extension_package()
+        job = job_of(package, args)
+        checks = importlib.import_module(f"{package.__name__}.blender_manikin.motion.job_input")
+        failed = guarded(package, lambda: checks.check_inputs(job))
+        if failed is not None:
+            return failed
+        if extension is None:
+            extension, registered = load_extension()
+        return run_job(extension, job)
     except ImportError as exc:
         print(f"error: {missing_dependency(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -29,21 +29,12 @@ import numpy as np
 from ...solver.errors import ManikinError
 from ..scene.compat import call_known, object_fcurves
 from ..scene.schema import CARRIED_KEY
+from .job_input import FORMATS, check_path
 from .written import written_by_path
 
-FORMATS = {".fbx": "FBX", ".bvh": "BVH", ".glb": "glTF binary", ".gltf": "glTF (separate .bin)"}
 FBX_IMPORT_OFFSET = 1  # frames Blender's FBX import adds by default ("Animation Offset")
 GLTF = {".glb", ".gltf"}
 WITH_BOX = {".fbx", ".glb", ".gltf"}  # formats that hold more than one skeleton: the carried box goes along
-
-
-def check_path(path: str | Path) -> Path:
-    """``path`` if its suffix is an export format, else ManikinError naming the formats."""
-    path = Path(path)
-    if path.suffix.lower() not in FORMATS:
-        known = ", ".join(FORMATS)
-        raise ManikinError(f"{path}: cannot export {path.suffix or 'a file without suffix'} (use {known})")
-    return path
 
 
 def _fbx(path: Path, start: int, end: int) -> set[str]:
@@ -65,6 +56,7 @@ def _bvh(path: Path, start: int, end: int) -> set[str]:
 
 
 def _gltf(path: Path, start: int, end: int) -> set[str]:
+    # the armature's and the box's actions as one glTF animation: an import plays both
     return call_known(
         bpy.ops.export_scene.gltf,
         filepath=str(path), check_existing=False, export_format="GLB" if path.suffix.lower() == ".glb" else
@@ -72,7 +64,7 @@ def _gltf(path: Path, start: int, end: int) -> set[str]:
         export_force_sampling=True, export_anim_single_armature=True, export_skins=True, export_yup=True,
         export_optimize_animation_size=False, export_animation_mode="ACTIVE_ACTIONS",
         export_nla_strips_merged_animation_name="Manikin motion",
-    )  # fmt: skip  (the armature's and the box's actions as one glTF animation: an import plays both)
+    )  # fmt: skip
 
 
 @contextmanager

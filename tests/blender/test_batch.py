@@ -1,6 +1,6 @@
 """The headless batch script as a user runs it (``python blender_manikin/batch.py ...`` with the bpy module, each
-in a subprocess): every output written, exit codes 0 / 3 / 2, one line for bad input, and the copy inside an
-installed extension running from its own folder.
+in a subprocess): every output written, exit codes 0 / 3 / 2, one line for bad input (found before bpy is imported
+when it needs no scene), and the copy inside an installed extension running from its own folder.
 """
 
 from __future__ import annotations
@@ -40,29 +40,53 @@ def user(installed_user: Path, tmp_path_factory) -> Path:
     return copy_user(installed_user, tmp_path_factory.mktemp("user") / "user")
 
 
+# The script as __main__ in a Python where ``import bpy`` fails: what it finds before it imports bpy (no Blender start).
+NO_BPY = (
+    "import runpy, sys; sys.modules['bpy'] = None; sys.argv.pop(0); runpy.run_path(sys.argv[0], run_name='__main__')"
+)
+
+
 @pytest.fixture
 def run(blender_python: Path, user: Path):
-    """``batch.py ARGS`` (or another script) by the Blender environment's Python in ``cwd``."""
+    """``batch.py ARGS`` (or another script) by the Blender environment's Python in ``cwd``; ``bpy=False``: with
+    ``import bpy`` failing (:data:`NO_BPY`)."""
 
-    def batch(args: list, cwd: Path, script: Path = BATCH) -> subprocess.CompletedProcess:
-        return run_python(blender_python, [script, *args], user, cwd=cwd)
+    def batch(args: list, cwd: Path, script: Path = BATCH, bpy: bool = True) -> subprocess.CompletedProcess:
+        head = [script] if bpy else ["-c", NO_BPY, script]
+        return run_python(blender_python, [*head, *args], user, cwd=cwd)
 
     return batch
 
 
+BLENDER_SAYS = ("Info:", "INFO", "Exported", "export", "bpy.data", "Saved", "Read blend", "Draco", "| ")
+OUR_LINES = re.compile(
+    r"(baking |  frame |baked |wrote |  \S|rendering frames |exporting \S+ \(\d+ frames\) \.\.\.$|done in )"
+)
+
+
 def test_batch_writes_every_output(tmp_path: Path, run) -> None:
+    """Every output written; Blender's exporters, saving and rendering print their own lines (glTF log, FBX debug
+    tuple, "Info: Saved copy", "BVH Exported", "Saved: ...png"): a normal run shows only what we did and wrote (-q:
+    :func:`test_batch_prints_only_its_own_lines`)."""
     out = tmp_path / "out"
     done = run(
         ["--scenario", SNAKE, "--frames", 1, 6, "--out", out / "snake.blend", "--export", out / "snake.bvh",
-         "--export", out / "snake.glb", "--export", out / "snake.fbx", "--report", out / "report.json",
-         "--result", out / "result.json", "--picture", out / "poses.png", "--plots", out / "ergo"],
+         "--export", out / "snake.glb", "--export", out / "snake.gltf", "--export", out / "snake.fbx",
+         "--report", out / "report.json", "--result", out / "result.json", "--picture", out / "poses.png",
+         "--plots", out / "ergo"],
         tmp_path,
     )  # fmt: skip
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    assert "Traceback" not in done.stdout + done.stderr
-    for name in ("snake.blend", "snake.bvh", "snake.glb", "snake.fbx", "report.json", "result.json", "poses.png",
-                 "ergo_loads.png", "ergo_scores.png", "ergo_back.png"):  # fmt: skip
+    assert "Traceback" not in done.stdout + done.stderr and done.stderr == ""
+    names = ["snake.blend", "snake.bvh", "snake.glb", "snake.gltf", "snake.fbx", "report.json", "result.json",
+             "poses.png", "ergo_loads.png", "ergo_scores.png", "ergo_back.png"]  # fmt: skip
+    for name in names:
         assert (out / name).stat().st_size > 1000, name
+    lines = done.stdout.splitlines()
+    assert [line for line in lines if not OUR_LINES.match(line)] == [], done.stdout
+    theirs = [line for line in lines if not line.startswith("exporting ")]
+    assert [line for line in theirs if any(s in line for s in BLENDER_SAYS)] == [], done.stdout
+    assert {Path(line.removeprefix("wrote ")).name for line in lines if line.startswith("wrote ")} == set(names)
     report = json.loads((out / "report.json").read_text(encoding="utf-8"))
     assert report["converged"] and report["not_converged"] == [] and report["manikin"] == "snake"
     assert [f["frame"] for f in report["frames"]] == list(range(1, 7))
@@ -99,23 +123,29 @@ def test_batch_reports_frames_that_do_not_converge(tmp_path: Path, run) -> None:
 
 
 @pytest.mark.parametrize(
-    "args, says",
+    "args, says, scene",
     [
-        (["--scenario", "missing.toml"], "missing.toml: file not found"),
-        (["--scenario", "broken.toml"], "malformed TOML"),
-        (["--scenario", SNAKE, "--export", "motion.obj"], "cannot export .obj"),
-        (["--scenario", SNAKE, "--frames", 5, 2], "end comes before the start"),
-        (["--scenario", SNAKE, "--frames", "one", 2], "invalid int value"),
-        (["--bogus"], "unrecognized arguments: --bogus"),
-        (["--blend", "missing.blend"], "missing.blend: file not found"),
-        ([], "no manikin in the scene"),
-        (["--scenario", LIFT, "--retarget", "nosuch"], "--retarget nosuch: no shipped rig or object of that name"),
-        (["--scenario", SNAKE, "--retarget", "mixamo"], "--retarget mixamo: 'snake' is not a human manikin"),
+        (["--scenario", "missing.toml"], "missing.toml: file not found", False),
+        (["--scenario", "broken.toml"], "malformed TOML", False),
+        (["--scenario", SNAKE, "--export", "motion.obj"], "cannot export .obj", False),
+        (["--scenario", SNAKE, "--frames", 5, 2], "end comes before the start", False),
+        (["--scenario", SNAKE, "--frames", "one", 2], "invalid int value", False),
+        (["--bogus"], "unrecognized arguments: --bogus", False),
+        (["--blend", "missing.blend"], "missing.blend: file not found", False),
+        ([], "no manikin in the scene", True),
+        (
+            ["--scenario", LIFT, "--retarget", "nosuch"],
+            "--retarget nosuch: no shipped rig or object of that name",
+            True,
+        ),
+        (["--scenario", SNAKE, "--retarget", "mixamo"], "--retarget mixamo: 'snake' is not a human manikin", True),
     ],
 )
-def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str, run) -> None:
+def test_batch_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list, says: str, scene: bool, run) -> None:
+    """Bad input is one line and exit 2; what needs no scene (``scene`` False) is found before bpy is imported
+    (run where ``import bpy`` fails: it costs no Blender start)."""
     (tmp_path / "broken.toml").write_text("[manikin\npreset = 1", encoding="utf-8")
-    done = run(args, tmp_path)
+    done = run(args, tmp_path, bpy=scene)
     assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
@@ -140,14 +170,15 @@ LONG = "a" * 300 + ".json"  # longer than any file system's names
     ids=["report_dir", "export_dir", "long_name", "same_twice", "onto_input", "proc", "plots_long", "stdout", "frames"],
 )
 def test_batch_refuses_bad_output_paths_before_the_bake(tmp_path: Path, args: list, says: str, run) -> None:
-    """A bad output path is one line and exit 2 before anything is baked; the .blend the run would have replaced and
-    every input stay as they were (the issue: --report to a bad path failed after the bake and lost the .blend)."""
+    """A bad output path is one line and exit 2 before anything is baked, before bpy is even imported (run where
+    ``import bpy`` fails); the .blend the run would have replaced and every input stay as they were (the issue:
+    --report to a bad path failed after the bake and lost the .blend)."""
     (tmp_path / "adir").mkdir()
     (tmp_path / "adir.fbx").mkdir()
     (tmp_path / "s.toml").write_bytes(SNAKE.read_bytes())
     (tmp_path / "keep.blend").write_bytes(b"keep me")
     before = {p.name: p.read_bytes() if p.is_file() else None for p in tmp_path.iterdir()}
-    done = run(["--scenario", "s.toml", "--frames", 1, 3, "--out", "keep.blend", *args], tmp_path)
+    done = run(["--scenario", "s.toml", "--frames", 1, 3, "--out", "keep.blend", *args], tmp_path, bpy=False)
     assert done.returncode == 2, done.stdout[-3000:] + done.stderr[-3000:]
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0], done.stderr
@@ -166,31 +197,15 @@ def test_batch_runs_from_an_installed_extension(tmp_path: Path, run, user: Path)
     assert report["converged"] and len(report["frames"]) == 3
 
 
-BLENDER_SAYS = ("Info:", "INFO", "Exported", "export", "bpy.data", "Saved", "Read blend", "Draco", "| ")
-OUR_LINES = re.compile(
-    r"(baking |  frame |baked |wrote |  \S|rendering frames |exporting \S+ \(\d+ frames\) \.\.\.$|done in )"
-)
-
-
-@pytest.mark.parametrize("quiet", [True, False], ids=["quiet", "normal"])
-def test_batch_prints_only_its_own_lines(tmp_path: Path, run, quiet: bool) -> None:
-    """Blender's exporters, saving and rendering print their own lines (glTF log, FBX debug tuple, "Info: Saved
-    copy", "BVH Exported", "Saved: ...png"); -q shows nothing at all, a normal run only what we did and wrote."""
+def test_batch_prints_only_its_own_lines(tmp_path: Path, run) -> None:
+    """With -q, not a line from us nor from Blender's exporters, saving and rendering (a normal run's lines:
+    :func:`test_batch_writes_every_output`)."""
     names = ["s.glb", "s.gltf", "s.bvh", "s.fbx"]
     args = ["--scenario", SNAKE, "--frames", 1, 3, "--out", "s.blend", "--report", "r.json", "--picture", "p.png"]
-    done = run(args + [a for name in names for a in ("--export", name)] + (["-q"] if quiet else []), tmp_path)
+    done = run(args + [a for name in names for a in ("--export", name)] + ["-q"], tmp_path)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert all((tmp_path / name).is_file() for name in [*names, "s.blend", "r.json", "p.png"])
-    assert done.stderr == ""
-    if quiet:
-        assert done.stdout == ""
-        return
-    lines = done.stdout.splitlines()
-    assert [line for line in lines if not OUR_LINES.match(line)] == [], done.stdout
-    theirs = [line for line in lines if not line.startswith("exporting ")]
-    assert [line for line in theirs if any(s in line for s in BLENDER_SAYS)] == [], done.stdout
-    written = {Path(line.removeprefix("wrote ")).name for line in lines if line.startswith("wrote ")}
-    assert written == {*names, "s.blend", "r.json", "p.png"}
+    assert (done.stdout, done.stderr) == ("", "")
 
 
 def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: Path) -> None:
