@@ -42,6 +42,11 @@ NOTES = (  # what was measured once, by profiling: kept with the figures
     "problem (about 1.2 ms, mostly `Problem`) and the report's ergonomics (about 1.5 ms). Keying the 10,000 frames",
     "takes about 1 s; keys inside runs of equal values are left out (same curves), since Blender holds every key",
     "twice once the scene is evaluated (about 220 MB for 160 channels x 10,000 keys).",
+    "The solver's compiled kernels (Numba, issue 37) add a fixed ~135 MB to every process that solves (measured",
+    "2026-11-27: importing llvmlite's LLVM 51 MB and numba 17 MB, setting up its compiled target 57 MB, the cached",
+    "kernels ~13 MB): `solve` peaks at ~193 MB (64 MB on the NumPy kernels) and `batch.py` at 524-613 MB, above",
+    "the 500 MB target; `MANIKIN_KERNELS=numpy` keeps `batch.py` at 392 MB and takes 50.7 s where the kernels take",
+    "36.8 s (one run each, 2026-11-27).",
 )
 
 
