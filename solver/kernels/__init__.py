@@ -126,7 +126,10 @@ class Kernel:
             callees = self.callees()
             if callees:
                 names = {**function.__globals__, **{name: k.dispatcher() for name, k in callees.items()}}
-                function = types.FunctionType(function.__code__, names, function.__name__, function.__defaults__)
+                function = types.FunctionType(
+                    function.__code__, names, function.__name__, function.__defaults__, function.__closure__
+                )
+                function.__kwdefaults__ = self.python.__kwdefaults__
                 function.__qualname__, function.__module__ = self.python.__qualname__, self.python.__module__
                 # Numba checks only the caller's file before loading its cache: the callees' files name the folder
                 others = sorted(self.sources() - {self.python.__code__.co_filename})

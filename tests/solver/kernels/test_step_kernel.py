@@ -78,6 +78,7 @@ def _assert_same(reference, compiled, tolerances: dict | None = None) -> None:
         assert got.shape == want.shape, name
         size = max(float(np.abs(want).max(initial=0.0)), 1.0)
         np.testing.assert_allclose(got, want, rtol=0, atol=tolerances.get(name, 1e-12) * size, err_msg=name)
+    assert compiled.least_squares.uses_eigendecomposition == reference.least_squares.uses_eigendecomposition
     for name in ("predicted_gain", "saturated_gain", "penalty"):
         want, got = getattr(reference, name), getattr(compiled, name)
         floor = 1e-6 if name in tolerances else 1.0  # the whole step's gains: relative, down to small ones
@@ -173,3 +174,38 @@ def test_turn_share_is_the_line_search_turn_limit(step_calls) -> None:
     change = np.ones(problem.n_var)
     change[int(problem.joint_supports()[0].max())] = np.nan
     assert np.isnan(turn_share(change, problem.scale, *problem.joint_supports(), limit))
+
+
+def test_nearly_dependent_rows_take_the_eigendecomposition(step_calls, whole_step_statuses) -> None:
+    """Two nearly equal rows make J J^T too ill-conditioned for Cholesky: the kernel says so, and the element-wise
+    loops around LAPACK's eigendecomposition give the NumPy step to 1e-12."""
+    for problem, at, lin, *rest in step_calls[::4]:
+        jac = lin.jac.copy()
+        jac[1] = jac[0] * (1.0 + 1e-4) + 1e-4 * jac[1]
+        reference, compiled = _both((problem, at, dataclasses.replace(lin, jac=jac), *rest))
+        assert reference.least_squares.uses_eigendecomposition
+        _assert_same(reference, compiled)
+    assert step_module.fused.NEEDS_EIGEN in whole_step_statuses
+
+
+def test_null_space_newton_kernel_is_the_numpy_one() -> None:
+    """The kernel's null-space Newton step against solver.iteration.curvature_memory's, with quasi-Newton columns
+    whose Woodbury system is well posed, indefinite (some fall back to -q: not a descent direction) or singular."""
+    from solver.iteration.curvature_memory import null_space_newton as reference
+    from solver.kernels.bounded_step import null_space_newton
+
+    rng = np.random.default_rng(38)
+    fallbacks = 0
+    for draw in range(200):
+        k, rows = 40, 8
+        basis = np.linalg.qr(rng.normal(size=(k, rows)))[0].T  # (rows, k), orthonormal rows
+        grad, v = rng.normal(size=k), rng.normal(size=(k, 4))
+        middle = np.diag(rng.uniform(0.05, 50.0, 4) * rng.choice((-1.0, 1.0), 4))
+        if draw == 0:  # a singular Woodbury system: the plain projected gradient
+            v, middle = np.zeros((k, 4)), np.zeros((4, 4))
+        want = reference(grad, basis, (v, middle))
+        q = grad - basis.T @ (basis @ grad)
+        fallbacks += bool(np.allclose(want, -q, rtol=0, atol=1e-13))
+        got = null_space_newton(np.ascontiguousarray(np.column_stack((grad, v))), np.ascontiguousarray(basis.T), middle)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * max(float(np.abs(want).max()), 1.0))
+    assert 1 < fallbacks < 100  # the -q fallback and the Woodbury step both taken
