@@ -5,13 +5,16 @@ Numba keeps a cache folder per import name of the solver (:data:`solver.kernels.
 ``bl_ext.<repo>.manikin.solver``. :func:`start_if_cold` (called by ``addon.register``) starts ONE detached process
 with Blender's Python (the environment of :mod:`.background`: the extension's wheels, numba included) that runs
 this file as a script: it imports the solver under that same name (the ``bl_ext`` packages made by hand as Blender
-makes them, no bpy) and solves the box_lift preset as ``python -m solver kernels --compile`` does, which reaches
-every kernel, so Numba writes the cache the add-on's own solves then load. Its output goes to ``warmup.log`` in the
-cache folder; while it runs, ``warmup.pid`` there holds its process id. A solve that starts before it ends compiles
-in Blender as before (Numba writes each cache file to a temporary name and renames it: readers never see half a
-file). Nothing starts when the cache already has kernels newer than the solver's files, under
-MANIKIN_KERNELS=numpy, or while another warm-up lives. Only the standard library at module level: the script runs
-without bpy, and enabling stays fast (numba and the solver's heavy modules load in the child only).
+makes them, no bpy) and solves the presets ``python -m solver kernels --compile`` solves (box_lift and two more:
+the kernels a Solve Pose uses), so Numba writes the cache the add-on's own solves then load. Its output goes to
+``warmup.log`` in the cache folder; while it runs, ``warmup.pid`` there holds its process id.
+
+A solve that starts before the warm-up ends compiles in Blender as before, both processes writing the same cache
+files: Numba writes each to a temporary name and renames it (a reader never sees half a file), and both compile the
+same argument types of each kernel, so the two write the same entries. Nothing starts when the cache already holds
+kernels newer than the solver's files, under MANIKIN_KERNELS=numpy, or while another warm-up lives. Only the
+standard library at module level: the script runs without bpy, and enabling stays fast (numba and the solver's
+heavy modules load in the child only).
 """
 
 from __future__ import annotations
@@ -151,7 +154,7 @@ def import_as(package: str, extension: Path) -> types.ModuleType:
 
 
 def warm(package: str, extension: Path) -> int:
-    """The child: compile (or load) every kernel under ``package`` by solving box_lift once; its exit code."""
+    """The child: compile (or load) the kernels under ``package`` as ``kernels --compile`` does; its exit code."""
     if os.name == "posix":
         os.nice(10)  # Blender's own work first
     import_as(package, extension)
