@@ -115,7 +115,7 @@ def last_decision() -> str:
 
 
 def start() -> subprocess.Popen:
-    """Start the warm-up process (detached: it outlives a Blender that quits) and write its marker."""
+    """Start the warm-up process (it outlives a Blender that quits, at a lower priority) and write its marker."""
     from .background import ROOT, child_env
 
     kernels = _solver()
@@ -123,7 +123,9 @@ def start() -> subprocess.Popen:
     folder.mkdir(parents=True, exist_ok=True)
     # -P: the script's folder stays off sys.path (its modules are no top-level names)
     command = [sys.executable, "-P", str(Path(__file__).resolve()), kernels.PACKAGE, str(ROOT)]
-    detached = dict(start_new_session=True) if os.name == "posix" else dict(creationflags=_WINDOWS_FLAGS)
+    # a process group of its own (Ctrl-C in Blender's terminal does not reach it) in Blender's session: on Linux a
+    # new session is a scheduler group of its own, where its lower priority (warm) would not count against Blender
+    detached = dict(process_group=0) if os.name == "posix" else dict(creationflags=_WINDOWS_FLAGS)
     with open(folder / LOG, "wb") as log:  # the child keeps its own handle
         process = subprocess.Popen(
             command, cwd=str(folder), env=child_env(), stdin=subprocess.DEVNULL, stdout=log, stderr=log, **detached
@@ -133,8 +135,11 @@ def start() -> subprocess.Popen:
     return process
 
 
-# no console window, and Ctrl-C in Blender's console does not reach it
-_WINDOWS_FLAGS = getattr(subprocess, "CREATE_NO_WINDOW", 0) | getattr(subprocess, "CREATE_NEW_PROCESS_GROUP", 0)
+# no console window, Ctrl-C in Blender's console does not reach it, and Blender's own work first
+_WINDOWS_FLAGS = sum(
+    getattr(subprocess, flag, 0)
+    for flag in ("CREATE_NO_WINDOW", "CREATE_NEW_PROCESS_GROUP", "BELOW_NORMAL_PRIORITY_CLASS")
+)
 
 
 def import_as(package: str, extension: Path) -> types.ModuleType:
