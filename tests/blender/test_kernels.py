@@ -123,6 +123,7 @@ def test_no_warm_up_on_a_warm_cache_nor_with_numpy_kernels(session: dict) -> Non
     later process loads it); later starts on its cache, or with MANIKIN_KERNELS=numpy, start none."""
     assert session["warmup"]["decision"].startswith("started ")
     assert session["warmup"]["running"] is None and "box_lift solved" in session["warmup"]["log"]
+    assert WARMING in session["main_panel"] and WARMING not in session["main_panel_after"]  # below Solve Pose
     assert _later(session, "again")["warmup"]["decision"] == "cache warm"
     assert _later(session, "blocked")["warmup"]["decision"] == "cache warm"
     assert _later(session, "numpy")["warmup"]["decision"] == "MANIKIN_KERNELS=numpy"
