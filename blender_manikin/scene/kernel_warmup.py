@@ -12,7 +12,8 @@ the kernels a Solve Pose uses), so Numba writes the cache the add-on's own solve
 A solve that starts before the warm-up ends compiles in Blender as before, both processes writing the same cache
 files: Numba writes each to a temporary name and renames it (a reader never sees half a file), and both compile the
 same argument types of each kernel, so the two write the same entries. Nothing starts when the cache already holds
-kernels newer than the solver's files, under MANIKIN_KERNELS=numpy, or while another warm-up lives. Only the
+kernels newer than the solver's files, under MANIKIN_KERNELS=numpy or MANIKIN_WARMUP=0 (``batch.py`` and the
+demo set it: a headless run compiles what it solves itself), or while another warm-up lives. Only the
 standard library at module level: the script runs without bpy, and enabling stays fast (numba and the solver's
 heavy modules load in the child only).
 """
@@ -29,6 +30,7 @@ import types
 from pathlib import Path
 
 MARKER, LOG = "warmup.pid", "warmup.log"  # in the kernels' cache folder
+SWITCH = "MANIKIN_WARMUP"  # "0": no warm-up (a headless batch compiles what it solves; a second process would too)
 STALE_S = 600.0  # s: a marker this old is ignored whatever its process (a warm-up takes ~20-60 s)
 _state: dict = {"process": None, "decision": ""}  # the warm-up this process started; what register decided
 
@@ -87,6 +89,8 @@ def decide() -> str:
     choice = os.environ.get("MANIKIN_KERNELS", "auto").strip().lower() or "auto"
     if choice not in ("auto", "numba"):
         return f"MANIKIN_KERNELS={choice}"
+    if os.environ.get(SWITCH, "").strip().lower() in ("0", "off", "no"):
+        return f"{SWITCH}=0"  # batch.py and the demo: they compile what they solve themselves
     kernels = _solver()
     folder = kernels.cache_folder()
     if not is_cold(folder, Path(kernels.__file__).parents[1]):

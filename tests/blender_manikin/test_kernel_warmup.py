@@ -71,6 +71,9 @@ def test_no_warm_up_under_numpy_kernels_on_a_warm_cache_or_beside_a_live_one(tmp
     monkeypatch.setenv("MANIKIN_KERNELS", "numpy")
     assert warmup.decide() == "MANIKIN_KERNELS=numpy"
     monkeypatch.setenv("MANIKIN_KERNELS", "auto")
+    monkeypatch.setenv("MANIKIN_WARMUP", "0")  # as batch.py sets it: a headless run compiles what it solves
+    assert warmup.decide() == "MANIKIN_WARMUP=0"
+    monkeypatch.delenv("MANIKIN_WARMUP")
     folder = warmup._solver().cache_folder()
     assert folder == tmp_path / "manikin_checkout.solver"
     assert warmup.decide() == ""  # empty: one is needed
