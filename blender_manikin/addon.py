@@ -64,6 +64,9 @@ def register() -> None:
     for module in found:
         if hasattr(module, "register"):
             module.register()
+    from .scene import kernel_warmup  # standard library only; numba loads in the process it starts
+
+    kernel_warmup.start_if_cold()  # the first solve after installing loads the kernels instead of compiling them
 
 
 def unregister() -> None:

@@ -219,6 +219,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     extension, registered = None, False
+    os.environ.setdefault("MANIKIN_WARMUP", "0")  # registering starts no background compile: this run compiles itself
     try:
         if sys.modules.get("bpy") is not None:  # inside Blender: check with the copy that runs the job
             extension, registered = load_extension()

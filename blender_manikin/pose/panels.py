@@ -10,6 +10,7 @@ import math
 import bpy
 
 from ...solver.options import AXES
+from ..scene import kernel_warmup
 from ..scene.help import draw_help
 from ..scene.registries import comfort_settings
 from ..scene.schema import (
@@ -99,6 +100,13 @@ class _SidebarPanel(bpy.types.Panel):
     draw_header_preset = draw_help  # the help button (scene/help.py)
 
 
+def _draw_warmup(layout: bpy.types.UILayout) -> None:
+    """A line while the kernels compile in the background after installing (a solve meanwhile may wait for them)."""
+    line = kernel_warmup.status_line()
+    if line:
+        layout.label(text=line, icon="SORTTIME")
+
+
 class MANIKIN_PT_main(_SidebarPanel):
     bl_idname = "MANIKIN_PT_main"
     bl_label = "Manikin"
@@ -124,6 +132,7 @@ class MANIKIN_PT_main(_SidebarPanel):
         row.scale_y = 1.4
         row.operator("manikin.solve_pose", icon="PLAY")
         row.prop(arm.manikin, "live", toggle=True, icon="REC")
+        _draw_warmup(layout)
         row = layout.row(align=True)
         row.operator("manikin.reset_pose", icon="LOOP_BACK")
         row.prop(arm.manikin, "show_overlay", toggle=True, icon="OVERLAY")
@@ -282,6 +291,7 @@ class MANIKIN_PT_result(_SidebarPanel):
             layout.label(text=f"{c['tcp']}: {c['force'][2]:.0f} N up")
         if data.get("kernels"):  # a solve's (not a baked frame's, nor an older version's): which kernels solved it
             layout.label(text=f"Solver kernels: {data['kernels']}")
+            _draw_warmup(layout)
 
 
 class MANIKIN_PT_settings(_SidebarPanel):

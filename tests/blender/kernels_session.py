@@ -4,10 +4,12 @@ tests/blender/test_kernels.py in a subprocess):
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/kernels_session.py <zip> <out.json> <work dir> [mode]
 
 ``first`` (the default) installs the zip, imports numba after bpy and solves a moved hand through Solve Pose twice
-(the first solve compiles the kernels into the cache folder), then runs itself again as three more Blender processes
-on the installed extension: ``again`` (loads the cached kernels), ``numpy`` (MANIKIN_KERNELS=numpy) and ``blocked``
-(numba cannot import: the add-on falls back to NumPy and says so once). The kernels' cache goes to <work>/cache
-(XDG_CACHE_HOME), so the first process compiles whatever the user's own cache holds. bpy is imported here only.
+(the first solve compiles the kernels into the cache folder while the warm-up that enabling started compiles them
+too), then runs itself again as four more Blender processes on the installed extension: ``again`` (loads the cached
+kernels), ``numpy`` (MANIKIN_KERNELS=numpy), ``blocked`` (numba cannot import: the add-on falls back to NumPy and
+says so once) and ``warm`` (an empty cache folder of its own: waits for the warm-up enabling starts, then solves,
+then enables the add-on again). The kernels' cache goes to <work>/cache (XDG_CACHE_HOME; <work>/cache_warm for
+``warm``), so the first process compiles whatever the user's own cache holds. bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -31,7 +33,8 @@ from blender_manikin.dev.build import install  # noqa: E402
 
 ZIP, OUT, WORK = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
 MODE = sys.argv[4] if len(sys.argv) > 4 else "first"
-os.environ["XDG_CACHE_HOME"] = str(WORK / "cache")  # read when the kernels decide (the first solve)
+# read when the add-on is enabled (the background warm-up) and when the kernels decide (the first solve)
+os.environ["XDG_CACHE_HOME"] = str(WORK / ("cache_warm" if MODE == "warm" else "cache"))
 seen: dict = {"mode": MODE}
 
 
@@ -60,6 +63,22 @@ else:  # a later Blender start: the extension is installed, its wheels extracted
 seen["enable_s"] = time.perf_counter() - t0
 kernels = importlib.import_module(module + ".solver.kernels")
 panels = importlib.import_module(module + ".blender_manikin.pose.panels")
+warmup = importlib.import_module(module + ".blender_manikin.scene.kernel_warmup")
+seen["warmup"] = dict(decision=warmup.last_decision(), line=warmup.status_line())
+
+
+def wait_for_warmup() -> None:
+    """Poll until the background warm-up the enabling started (if any) ends (at most 120 s); its time and log."""
+    t0 = time.perf_counter()
+    while warmup.running() and time.perf_counter() - t0 < 120:
+        time.sleep(0.2)
+    seen["warmup"].update(wait_s=time.perf_counter() - t0, running=warmup.running(), line_after=warmup.status_line())
+    log = kernels.cache_folder() / warmup.LOG
+    seen["warmup"]["log"] = log.read_text(encoding="utf-8", errors="replace") if log.is_file() else None
+
+
+if MODE == "warm":  # wait before anything compiles a kernel here: then every kernel is loaded from the cache
+    wait_for_warmup()
 t0 = time.perf_counter()
 seen["active"], seen["status"], seen["cache"] = kernels.active(), kernels.status(), str(kernels.cache_folder())
 seen["decide_s"] = time.perf_counter() - t0  # numba imported (when it imports)
@@ -85,6 +104,10 @@ bpy.ops.manikin.add_manikin(preset="male_50")  # the first forward kinematics: t
 seen["add_s"] = time.perf_counter() - t0
 arm = bpy.context.active_object
 bpy.ops.manikin.add_target(tcp="hand_r")
+if MODE == "first":  # the warm-up enabling started runs (~20 s): the main panel says so below Solve Pose
+    bpy.context.view_layer.objects.active = arm
+    seen["main_panel"] = []
+    draw_panels([panels.MANIKIN_PT_main], seen["main_panel"])
 print("== first solve ==", flush=True)
 seen["solves"] = [solve(-0.25)]
 print("== second solve ==", flush=True)
@@ -92,11 +115,21 @@ seen["solves"].append(solve(-0.05))
 bpy.context.view_layer.objects.active = arm
 seen["panel"] = []
 draw_panels([panels.MANIKIN_PT_result], seen["panel"])
+seen["compile_s"] = kernels.compile_seconds()
+if MODE == "first":  # the warm-up compiled beside these solves: it ends before the cache is looked at
+    wait_for_warmup()
+    seen["main_panel_after"] = []
+    draw_panels([panels.MANIKIN_PT_main], seen["main_panel_after"])
 seen["cached"] = {p.name: p.stat().st_mtime_ns for p in Path(seen["cache"]).rglob("*") if p.is_file()}
+if MODE == "warm":  # enabled again, the cache warm now: no second warm-up
+    addon_utils.disable(module, default_set=True)
+    addon_utils.enable(module, default_set=True, refresh_handled=True)
+    again = importlib.import_module(module + ".blender_manikin.scene.kernel_warmup")
+    seen["warmup"]["decision_again"] = again.last_decision()
 
-if MODE == "first":  # three later Blender starts on the installed extension, the same cache folder
+if MODE == "first":  # four later Blender starts on the installed extension, the same cache folder but for "warm"
     seen["later"] = {}
-    for mode in ("again", "numpy", "blocked"):
+    for mode in ("again", "numpy", "blocked", "warm"):
         env = dict(os.environ, MANIKIN_KERNELS="numpy" if mode == "numpy" else "auto")
         out = WORK / f"seen_{mode}.json"
         t0 = time.perf_counter()

@@ -49,7 +49,7 @@ def test_solve_pose_gives_the_numpy_pose(session: dict) -> None:
     """The same kernels give the same pose; NumPy's gives the same pose to the comfort phase's own tolerance: the
     statics kernels sum the joint loads in tree order, and where comfort's optimum is flat that rounding can end a
     solve at another point of the plateau (``python -m bench.kernels_ab`` counts them: ~1 in 6 random trials)."""
-    for mode, exact in (("again", True), ("numpy", False), ("blocked", False)):
+    for mode, exact in (("again", True), ("warm", True), ("numpy", False), ("blocked", False)):
         for mine, theirs in zip(session["solves"], _later(session, mode)["solves"], strict=True):
             assert mine["done"] == theirs["done"] == ["FINISHED"] and mine["summary"]["converged"]
             a, b = mine["summary"], theirs["summary"]
@@ -94,3 +94,36 @@ def test_the_first_solve_says_how_long_compiling_took_and_a_cached_start_does_no
     assert "the solver's kernels were compiled for this machine first (" in first, first
     assert "kernels" not in second
     assert not any("kernels" in line for line in _reports(_later(session, "again")))
+
+
+WARMING = "Compiling the solver's kernels in the background"  # the panels' line while the warm-up runs
+
+
+def test_enabling_compiles_the_kernels_in_the_background_and_the_first_solve_loads_them(session: dict) -> None:
+    """Enabling the add-on on an empty cache starts one process that compiles the kernels under the add-on's own
+    import name (kernel_warmup.py); a Solve Pose after it ended compiles nothing and says nothing of kernels."""
+    warm = _later(session, "warm")
+    w = warm["warmup"]
+    assert w["decision"].startswith("started "), w
+    assert w["line"] == WARMING  # the panels say it while it runs ...
+    assert w["running"] is None and w["line_after"] == "" and w["wait_s"] < 120, w  # ... and not once it ended
+    assert "box_lift solved (converged)" in w["log"], w["log"]
+    assert Path(warm["cache"]).parent == Path(session["work"], "cache_warm", "manikin", "numba")
+    assert Path(warm["cache"]).name == Path(session["cache"]).name  # bl_ext.<repo>.manikin.solver, as Blender's
+    assert any(name.endswith(".nbi") for name in warm["cached"]), warm["cached"]
+    assert warm["compile_s"] == 0  # every kernel loaded from what the warm-up wrote
+    assert [s["done"] for s in warm["solves"]] == [["FINISHED"]] * 2
+    assert not any("kernels" in line for line in _reports(warm))
+    assert WARMING not in warm["panel"]
+    assert w["decision_again"] == "cache warm"  # enabled again: no second warm-up
+
+
+def test_no_warm_up_on_a_warm_cache_nor_with_numpy_kernels(session: dict) -> None:
+    """The first Blender started one (it compiled beside that Blender's first solve: both wrote the cache, and every
+    later process loads it); later starts on its cache, or with MANIKIN_KERNELS=numpy, start none."""
+    assert session["warmup"]["decision"].startswith("started ")
+    assert session["warmup"]["running"] is None and "box_lift solved" in session["warmup"]["log"]
+    assert WARMING in session["main_panel"] and WARMING not in session["main_panel_after"]  # below Solve Pose
+    assert _later(session, "again")["warmup"]["decision"] == "cache warm"
+    assert _later(session, "blocked")["warmup"]["decision"] == "cache warm"
+    assert _later(session, "numpy")["warmup"]["decision"] == "MANIKIN_KERNELS=numpy"
