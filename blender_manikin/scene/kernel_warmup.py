@@ -70,7 +70,10 @@ def running(folder: Path | None = None) -> int | None:
 
 
 def status_line() -> str:
-    """What the panels say while a warm-up runs, else ""."""
+    """What the panels say while a warm-up runs, else "". Only where enabling started one or found one running: a
+    panel draws often, and otherwise there is no marker to read."""
+    if not _state["decision"].startswith(("started", "already running")):
+        return ""
     try:
         return "Compiling the solver's kernels in the background" if running() else ""
     except Exception:  # a panel's draw must not fail on it

@@ -1,5 +1,5 @@
 """Small dense linear algebra as loops, for kernels that call them: Cholesky factors and their solves, the inverse of
-a lower triangle, Gaussian elimination, a Gram matrix.
+a lower triangle, Gaussian elimination, a copy into a larger array.
 
 The matrices are small (a step's ~24 rows, a quasi-Newton memory's ~12 columns), where a loop costs less than a call
 into LAPACK or BLAS; the numbers are LAPACK's to rounding (the order of the sums differs).
@@ -99,21 +99,6 @@ def gauss_solve(a: np.ndarray, rhs: np.ndarray, work: np.ndarray, out: np.ndarra
             value -= work[i, p] * out[p]
         out[i] = value / work[i, i]
     return True
-
-
-@kernel
-def gram_of_transposed(at: np.ndarray, out: np.ndarray) -> None:
-    """``out`` (m, m) = A A^T from ``at`` = A^T (k, m); each entry summed over k in order (the inner loop runs along
-    a row of ``out``, so it is vectorised without reordering any sum)."""
-    k, m = at.shape
-    for i in range(m):
-        for j in range(m):
-            out[i, j] = 0.0
-    for c in range(k):
-        for i in range(m):
-            a = at[c, i]
-            for j in range(m):
-                out[i, j] += a * at[c, j]
 
 
 @kernel
