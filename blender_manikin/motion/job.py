@@ -26,7 +26,7 @@ from ...solver.io.result.write import ResultWriter
 from ...solver.progress import Progress
 from ..scenario.keys import target_empties
 from ..scenario.read import apply_scenario
-from ..scene import keyframes
+from ..scene import display, keyframes
 from ..scene.schema import FILE_KEY, PRESET_KEY, is_manikin, members, rig_of
 from . import exports
 from .bake import Baker, FrameRecord
@@ -237,6 +237,7 @@ def run(job: Job) -> int:
     arm = open_scene(job)
     if arm is None or rig_of(arm) is None:
         raise ManikinError("the scenario did not create a manikin")
+    display.forget_skins()  # the human is in the scene now: its fitting data would stay through the whole bake
     scene = bpy.context.scene
     start, end = job.frames or (scene.frame_start, scene.frame_end)
     if job.retarget is not None:

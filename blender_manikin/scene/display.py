@@ -39,6 +39,15 @@ def clear_cache() -> None:
     _skins.clear()
 
 
+def forget_skins() -> None:
+    """Drop the built skins and the body data they were fitted from (~30 MB; the scene's meshes stay): a headless
+    job calls it before a long bake. A later manikin fits its skin again (~0.3 s)."""
+    from ...solver.bodymesh import forget_loaded
+
+    _skins.clear()
+    forget_loaded()
+
+
 def human_mesh(model: Model, layout: RigLayout) -> SkinMesh | None:
     """The skinned human of ``model`` (built once per model), or None for a model without one (the snake)."""
     if id(model) not in _skins:

@@ -7,6 +7,7 @@
     body.fit_error                       # landmark -> m: the MPFB joints' distance from ours after the fit
     body.eye_centres, body.eye_radius    # where eyeballs go (the mesh has sockets, no eyes)
     body.rig("mixamo")                   # a shipped rig's bones (head, tail) placed on this body
+    solver.bodymesh.forget_loaded()      # drop the data read for fits (~30 MB), e.g. before a long bake
 
 Modules: :mod:`.data` (the shipped files), :mod:`.macros` (MakeHuman's macro blending), :mod:`.landmarks` (the
 joint correspondence), :mod:`.fit` (segment affines, skinning), :mod:`.transfer` (weights onto our bones),
@@ -14,7 +15,7 @@ joint correspondence), :mod:`.fit` (segment affines, skinning), :mod:`.transfer`
 well it fits: ``docs/BODY_MESH.md``.
 """
 
-from .body import FittedBody, calibrate, fit_body, fit_points
+from .body import FittedBody, calibrate, fit_body, fit_points, forget_loaded
 from .data import BodyData, load_body_data, rig_rest
 from .macros import Macros, shape, target_weights
 
@@ -25,6 +26,7 @@ __all__ = [
     "calibrate",
     "fit_body",
     "fit_points",
+    "forget_loaded",
     "load_body_data",
     "rig_rest",
     "shape",

@@ -137,3 +137,10 @@ def fit_body(model: Model, data: BodyData | None = None, macros: Macros | None =
         fit_error=errors, joint_names=our_joint_names(), mass=mass(vertices, data.faces), cross_side_removed=removed,
         eye_centres=eyes, eye_radius=float(data.eye_radius * eye_scale), data=data,
     )  # fmt: skip
+
+
+def forget_loaded() -> None:
+    """Drop the body-mesh data and fit weights kept after the first fit (~30 MB): for a process that has built its
+    manikins' skins and goes on with other work (a long headless bake); the next fit reads them again (~0.2 s)."""
+    _fit_weights.cache_clear()
+    load_body_data.cache_clear()
