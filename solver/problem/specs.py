@@ -165,6 +165,35 @@ def _check_frame(what: str, position, rotation, lock, operator, weight: float) -
         raise ManikinError(f"{what}: weight must be a number in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {weight!r}")
 
 
+def same_supports(enabled: list[Target], targets: list[Target]) -> bool:
+    """Whether ``targets``' enabled supports are those of ``enabled`` (TCP, rotation, friction and sole alike)."""
+
+    def key(t: Target) -> tuple:
+        rot = None if t.rotation is None else np.asarray(t.rotation).tobytes()
+        sole = None if t.sole is None else np.asarray(t.sole).tobytes()
+        return (t.tcp, rot, t.friction, sole)
+
+    return [key(t) for t in enabled if t.support] == [key(t) for t in targets if t.enabled and t.support]
+
+
+def same_but_frames(old: Target, new: Target) -> bool:
+    """Whether ``new`` is ``old`` with another position or rotation only (None stays None): a keyed target's move."""
+    if (old.rotation is None) != (new.rotation is None):
+        return False
+    for name in ("tcp", "lock", "weight", "support", "friction", "enabled", "priority"):
+        if getattr(old, name) != getattr(new, name):
+            return False
+    return all(a is b or (a is not None and b is not None and np.array_equal(a, b))
+               for a, b in ((old.operator, new.operator), (old.sole, new.sole)))  # fmt: skip
+
+
+def validate_frames(targets) -> None:
+    """:func:`validate` of the positions and rotations alone (the rest of each target checked before)."""
+    for t in targets:
+        _check_vector(f"target {t.tcp} position", t.position, 3, MAX_DISTANCE)
+        _check_rotation(f"target {t.tcp} rotation", t.rotation)
+
+
 def validate(model: Model, targets, loops, loads) -> None:
     """Refuse bad specifications with a ManikinError that names the item and what was expected."""
     for t in targets:

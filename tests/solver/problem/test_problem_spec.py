@@ -93,3 +93,30 @@ def test_the_scenario_writer_reads_the_spec(male50) -> None:
     own = Problem(male50, problem.spec.replace(comfort=Comfort([])))
     with pytest.raises(ScenarioError, match="comfort"):
         scenario_to_dict(own, {"preset": "male_50"})
+
+
+@pytest.mark.parametrize("kernels_on", [True, False])
+def test_moving_targets_gives_the_rows_of_a_problem_built_with_them(male50, kernels_on, monkeypatch) -> None:
+    """A motion's next frame moves its targets only (with_targets keeps every constraint and moves the frame group):
+    the rows and Jacobian are those of a problem built afresh with the moved targets, the loop's too; a changed lock
+    builds the target rows again."""
+    from solver import kernels
+
+    monkeypatch.setattr(kernels, "active", lambda: kernels_on)
+    targets, loops, _, _ = _pieces(male50)
+    problem = Problem(male50, ProblemSpec(targets, loops))
+    x = problem.to_x(problem.start())
+    problem.scaled_jacobian(problem.state_of_x(x))  # the group's kernel tables exist before the move
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    hand = dataclasses.replace(targets[2], position=np.array([-0.25, -0.45, 1.05]), rotation=turn)
+    foot = dataclasses.replace(targets[0], position=targets[0].position + [0.01, 0.02, 0.0])
+    for moved_targets in ([foot, targets[1], hand], [targets[0], targets[1], dataclasses.replace(hand, lock=("x",))]):
+        moved = problem.with_targets(moved_targets)
+        fresh = Problem(male50, ProblemSpec(moved_targets, loops))
+        state, state_fresh = moved.state_of_x(x), fresh.state_of_x(x)
+        np.testing.assert_allclose(moved.scaled_error(state), fresh.scaled_error(state_fresh), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(moved.scaled_jacobian(state), fresh.scaled_jacobian(state_fresh), rtol=0, atol=1e-9)
+        assert moved.residuals(state) == pytest.approx(fresh.residuals(state_fresh), abs=1e-12)
+    again = problem.with_targets(targets)  # back where it was: the first problem's rows
+    np.testing.assert_allclose(again.scaled_error(again.state_of_x(x)), problem.scaled_error(problem.state_of_x(x)),
+                               rtol=0, atol=1e-12)  # fmt: skip
