@@ -104,6 +104,7 @@ def test_moving_targets_gives_the_rows_of_a_problem_built_with_them(male50, kern
 
     monkeypatch.setattr(kernels, "active", lambda: kernels_on)
     targets, loops, _, _ = _pieces(male50)
+    targets[2] = dataclasses.replace(targets[2], rotation=np.eye(3))
     problem = Problem(male50, ProblemSpec(targets, loops))
     x = problem.to_x(problem.start())
     problem.scaled_jacobian(problem.state_of_x(x))  # the group's kernel tables exist before the move
@@ -112,6 +113,7 @@ def test_moving_targets_gives_the_rows_of_a_problem_built_with_them(male50, kern
     foot = dataclasses.replace(targets[0], position=targets[0].position + [0.01, 0.02, 0.0])
     for moved_targets in ([foot, targets[1], hand], [targets[0], targets[1], dataclasses.replace(hand, lock=("x",))]):
         moved = problem.with_targets(moved_targets)
+        assert (moved.frames.loops is problem.frames.loops) == (moved_targets[2].lock == targets[2].lock)  # shared
         fresh = Problem(male50, ProblemSpec(moved_targets, loops))
         state, state_fresh = moved.state_of_x(x), fresh.state_of_x(x)
         np.testing.assert_allclose(moved.scaled_error(state), fresh.scaled_error(state_fresh), rtol=0, atol=1e-12)
