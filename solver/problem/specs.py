@@ -140,8 +140,14 @@ def _check_rotation(what: str, value) -> None:
         return
     r = np.asarray(value, dtype=float)
     ok = r.shape == (3, 3) and np.isfinite(r).all()
-    if not ok or (np.abs(r.T @ r - _EYE3) > 1e-6 + 1e-5 * _EYE3).any() or np.linalg.det(r) < 0:
+    if not ok or (np.abs(r.T @ r - _EYE3) > 1e-6 + 1e-5 * _EYE3).any() or _determinant(r.tolist()) < 0:
         raise ManikinError(f"{what}: expected a rotation matrix (orthonormal, det +1)")
+
+
+def _determinant(r: list[list[float]]) -> float:
+    """det of a 3x3 matrix given as rows (its sign is certain here: the matrix is orthonormal, det +-1)."""
+    (a, b, c), (d, e, f), (g, h, i) = r
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
 def _check_relaxation(what: str, lock, operator) -> None:

@@ -122,3 +122,17 @@ def test_moving_targets_gives_the_rows_of_a_problem_built_with_them(male50, kern
     again = problem.with_targets(targets)  # back where it was: the first problem's rows
     np.testing.assert_allclose(again.scaled_error(again.state_of_x(x)), problem.scaled_error(problem.state_of_x(x)),
                                rtol=0, atol=1e-12)  # fmt: skip
+
+
+def test_a_mirror_or_a_skewed_target_rotation_is_refused_when_built_and_when_moved(male50) -> None:
+    from solver.errors import ManikinError
+
+    targets, _, _, _ = _pieces(male50)
+    targets[2] = dataclasses.replace(targets[2], rotation=np.eye(3))
+    problem = Problem(male50, ProblemSpec(targets))
+    for bad in (np.diag([1.0, 1.0, -1.0]), np.array([[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])):
+        wrong = [*targets[:2], dataclasses.replace(targets[2], rotation=bad)]
+        with pytest.raises(ManikinError, match=r"target hand_r rotation: expected a rotation matrix"):
+            Problem(male50, ProblemSpec(wrong))
+        with pytest.raises(ManikinError, match=r"target hand_r rotation: expected a rotation matrix"):
+            problem.with_targets(wrong)  # only the frame moved: checked all the same
