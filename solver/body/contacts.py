@@ -90,18 +90,19 @@ def support_polygon(points: np.ndarray) -> np.ndarray:
     if len(pts) < 3:
         return pts
 
-    def half(seq: np.ndarray) -> list[np.ndarray]:
-        out: list[np.ndarray] = []
+    def half(seq: list[list[float]]) -> list[list[float]]:  # Python floats: the same sums, no array per point
+        out: list[list[float]] = []
         for p in seq:
             while len(out) >= 2:
-                a, b = out[-1] - out[-2], p - out[-2]
-                if a[0] * b[1] - a[1] * b[0] > 0:
+                (x0, y0), (x1, y1) = out[-2], out[-1]
+                if (x1 - x0) * (p[1] - y0) - (y1 - y0) * (p[0] - x0) > 0:
                     break
                 out.pop()
             out.append(p)
         return out
 
-    lower, upper = half(pts), half(pts[::-1])
+    rows = pts.tolist()
+    lower, upper = half(rows), half(rows[::-1])
     return np.array(lower[:-1] + upper[:-1])
 
 
