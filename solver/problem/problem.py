@@ -115,7 +115,7 @@ class Problem:
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
         same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
-        if same and self.frames is not None:
+        if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
             validate_frames(targets)  # only the frames moved (a motion's next frame): the constraints follow them
             members = [c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
                        for c, t in zip(self.target_constraints, moved.targets, strict=True)]  # fmt: skip
