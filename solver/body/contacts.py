@@ -86,22 +86,22 @@ def support_polygon(points: np.ndarray) -> np.ndarray:
 
     Andrew's monotone chain; collinear points are dropped. Fewer than three distinct points come back as given.
     """
-    pts = np.unique(np.asarray(points, dtype=float).reshape(-1, 3)[:, :2].round(12), axis=0)
-    if len(pts) < 3:
-        return pts
+    rows = sorted(set(map(tuple, np.asarray(points, dtype=float).reshape(-1, 3)[:, :2].round(12).tolist())))
+    if len(rows) < 3:  # the distinct points, sorted as np.unique sorts rows
+        return np.array(rows).reshape(-1, 2)
 
-    def half(seq: np.ndarray) -> list[np.ndarray]:
-        out: list[np.ndarray] = []
+    def half(seq: list[tuple]) -> list[tuple]:  # Python floats: the same sums, no array per point
+        out: list[tuple] = []
         for p in seq:
             while len(out) >= 2:
-                a, b = out[-1] - out[-2], p - out[-2]
-                if a[0] * b[1] - a[1] * b[0] > 0:
+                (x0, y0), (x1, y1) = out[-2], out[-1]
+                if (x1 - x0) * (p[1] - y0) - (y1 - y0) * (p[0] - x0) > 0:
                     break
                 out.pop()
             out.append(p)
         return out
 
-    lower, upper = half(pts), half(pts[::-1])
+    lower, upper = half(rows), half(rows[::-1])
     return np.array(lower[:-1] + upper[:-1])
 
 

@@ -102,20 +102,21 @@ def quat_to_matrix(q: np.ndarray) -> np.ndarray:
 
 def matrix_to_quat(r: np.ndarray) -> np.ndarray:
     """Quaternion (w, x, y, z) with w >= 0 of a rotation matrix."""
-    r = np.asarray(r, dtype=float)
-    trace = np.trace(r)
+    r = np.asarray(r, dtype=float).tolist()  # Python floats: the same IEEE arithmetic, no array per number
+    trace = r[0][0] + r[1][1] + r[2][2]
     if trace > 0.0:
-        s = 2.0 * np.sqrt(trace + 1.0)
-        q = np.array([0.25 * s, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s])
+        s = 2.0 * math.sqrt(trace + 1.0)
+        q = np.array([0.25 * s, (r[2][1] - r[1][2]) / s, (r[0][2] - r[2][0]) / s, (r[1][0] - r[0][1]) / s])
     else:
-        i = int(np.argmax(np.diag(r)))
+        diagonal = [r[0][0], r[1][1], r[2][2]]
+        i = diagonal.index(max(diagonal))  # the first of equal ones, as np.argmax
         j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * np.sqrt(max(1.0 + r[i, i] - r[j, j] - r[k, k], _SMALL))
+        s = 2.0 * math.sqrt(max(1.0 + r[i][i] - r[j][j] - r[k][k], _SMALL))
         q = np.zeros(4)
-        q[0] = (r[k, j] - r[j, k]) / s
+        q[0] = (r[k][j] - r[j][k]) / s
         q[1 + i] = 0.25 * s
-        q[1 + j] = (r[j, i] + r[i, j]) / s
-        q[1 + k] = (r[k, i] + r[i, k]) / s
+        q[1 + j] = (r[j][i] + r[i][j]) / s
+        q[1 + k] = (r[k][i] + r[i][k]) / s
     q /= np.linalg.norm(q)
     return q if q[0] >= 0.0 else -q
 

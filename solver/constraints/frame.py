@@ -19,6 +19,7 @@ on its own is evaluated as a group of one; grouping never changes a member, so m
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 
@@ -95,6 +96,15 @@ class FrameConstraint(Constraint):
 
     def tolerance(self) -> np.ndarray:
         return self._tolerance
+
+    def moved(self, rotation: np.ndarray, position: np.ndarray) -> FrameConstraint:
+        """This constraint with another target frame (``rotation`` (3, 3), ``position`` (3,) m): a keyed target's
+        next frame, without building the rest again."""
+        out = copy.copy(self)
+        out.target_rotation = np.asarray(rotation, dtype=float)
+        out.target_position = np.asarray(position, dtype=float)
+        out._alone = None
+        return out
 
     @property
     def _group(self) -> FrameGroup:
@@ -203,6 +213,20 @@ class FrameGroup(Constraint):
 
     def row_weight(self) -> np.ndarray:
         return self._row_weight
+
+    def moved(self, members: list[FrameConstraint]) -> FrameGroup:
+        """This group with ``members``: the same constraints in the same order but for their target frames
+        (:meth:`FrameConstraint.moved`). What depends on the TCPs, operators and the model is shared."""
+        group = copy.copy(self)
+        group.members = list(members)
+        group.target_rotation = np.array([c.target_rotation for c in members]).reshape(-1, 3, 3)
+        group.target_position = np.array([c.target_position for c in members]).reshape(-1, 3)
+        if self._compiled_tables is not None:
+            links, local, operator, row_member = self._compiled_tables
+            local = local.copy()
+            local[:, 1, :, :3], local[:, 1, :, 3] = group.target_rotation, group.target_position
+            group._compiled_tables = (links, local, operator, row_member)
+        return group
 
     def error(self, state: State) -> np.ndarray:
         return self.evaluate(state).errors

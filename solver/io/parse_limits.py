@@ -61,6 +61,8 @@ def too_deep(path: Path | str, text: str, error: type[ManikinError], offset: int
 
 def check_depth(data: Any, path: Path | str, error: type[ManikinError], prefix: str = "") -> None:
     """Refuse ``data`` nested more than :data:`MAX_DEPTH` levels, naming the key path of the first too deep value."""
+    if _depth_within(data):  # the usual case, told without building a key path per value
+        return
     stack = [(data, prefix, 0)]
     while stack:  # iterative: the point is a depth Python's recursion cannot take
         value, key, depth = stack.pop()
@@ -71,3 +73,15 @@ def check_depth(data: Any, path: Path | str, error: type[ManikinError], prefix: 
             stack += [(v, f"{key}.{k}" if key else str(k), depth + 1) for k, v in value.items()]
         elif isinstance(value, list):
             stack += [(v, f"{key}[{i}]", depth + 1) for i, v in enumerate(value)]
+
+
+def _depth_within(data: Any) -> bool:
+    """Whether no value of ``data`` is nested more than :data:`MAX_DEPTH` levels (as :func:`check_depth` counts)."""
+    stack = [(data, 0)]
+    while stack:
+        value, depth = stack.pop()
+        items = value.values() if isinstance(value, dict) else value if isinstance(value, list) else ()
+        if items and depth >= MAX_DEPTH:  # its values are one level deeper
+            return False
+        stack += [(v, depth + 1) for v in items if isinstance(v, dict | list)]
+    return True

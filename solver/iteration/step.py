@@ -266,7 +266,7 @@ def _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning):
     task[free] = lsq.step_within(err_eff, 1.0 / r_f, radius)
     comfort = np.zeros(n)
     if lin.comfort_on:
-        columns = compact[0] if compact is not None else np.zeros((n, 0))
+        columns = np.ascontiguousarray(compact[0]) if compact is not None else np.zeros((n, 0))  # one signature
         g_w, v = np.empty(k), np.empty((k, columns.shape[1]))
         compiled.gather_scaled(lin.grad_f, columns, free, r_f, g_w, v)
         z = null_space_newton(g_w, lsq.basis, None if compact is None else (v, compact[1]))

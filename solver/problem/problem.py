@@ -30,7 +30,7 @@ from ..errors import ManikinError
 from ..kernels.reduction import comfort_model, reduce_and_scale
 from ..kernels.trial import linear_phi, scale_rows
 from .bounds import Bounds
-from .specs import ExternalLoad, Loop, ProblemSpec, Target, validate
+from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
@@ -108,14 +108,23 @@ class Problem:
         shared with this problem instead of being built again.
         """
         targets = list(targets)
-        if not self._same_supports(targets):  # built again, with this problem's comfort terms
+        if self.balance and not same_supports(self.targets, targets):  # built again, with this problem's comfort terms
             return Problem(self.model, self.spec.replace(targets=targets, comfort=self.comfort))
-        validate(self.model, targets, (), ())
         moved = copy.copy(self)
         moved.spec = self.spec.replace(targets=targets)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
-        moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
+        same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
+        if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
+            validate_frames(targets)  # only the frames moved (a motion's next frame): the constraints follow them
+            members = [c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
+                       for c, t in zip(self.target_constraints, moved.targets, strict=True)]  # fmt: skip
+            moved.target_constraints = members
+            moved.frames = self.frames.moved([*members, *self.loop_constraints])
+            moved.constraints = [moved.frames if c is self.frames else c for c in self.constraints]
+        else:
+            validate(self.model, targets, (), ())
+            moved._set_constraints([self._target_constraint(t, self._zero_kin) for t in moved.targets])
         moved.comfort = self.comfort.with_targets(moved.targets)
         return moved
 
@@ -137,16 +146,6 @@ class Problem:
     def scale(self) -> np.ndarray:
         """Scaled-variable unit of each solver variable (see :class:`Bounds`)."""
         return self.bounds.scale
-
-    def _same_supports(self, targets: list[Target]) -> bool:
-        def key(t: Target) -> tuple:
-            rot = None if t.rotation is None else np.asarray(t.rotation).tobytes()
-            sole = None if t.sole is None else np.asarray(t.sole).tobytes()
-            return (t.tcp, rot, t.friction, sole)
-
-        mine = [key(t) for t in self.targets if t.support] if self.balance else []
-        theirs = [key(t) for t in targets if t.enabled and t.support] if self.balance else []
-        return mine == theirs
 
     def _target_constraint(self, t: Target, zero_pose_kin) -> FrameConstraint:
         op = t.operator if t.operator is not None else lock_operator(t.lock)

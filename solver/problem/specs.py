@@ -140,8 +140,14 @@ def _check_rotation(what: str, value) -> None:
         return
     r = np.asarray(value, dtype=float)
     ok = r.shape == (3, 3) and np.isfinite(r).all()
-    if not ok or (np.abs(r.T @ r - _EYE3) > 1e-6 + 1e-5 * _EYE3).any() or np.linalg.det(r) < 0:
+    if not ok or (np.abs(r.T @ r - _EYE3) > 1e-6 + 1e-5 * _EYE3).any() or _determinant(r.tolist()) < 0:
         raise ManikinError(f"{what}: expected a rotation matrix (orthonormal, det +1)")
+
+
+def _determinant(r: list[list[float]]) -> float:
+    """det of a 3x3 matrix given as rows (its sign is certain here: the matrix is orthonormal, det +-1)."""
+    (a, b, c), (d, e, f), (g, h, i) = r
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
 def _check_relaxation(what: str, lock, operator) -> None:
@@ -163,6 +169,35 @@ def _check_frame(what: str, position, rotation, lock, operator, weight: float) -
     _check_relaxation(what, lock, operator)
     if not (np.isfinite(weight) and MIN_WEIGHT <= weight <= MAX_WEIGHT):
         raise ManikinError(f"{what}: weight must be a number in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {weight!r}")
+
+
+def same_supports(enabled: list[Target], targets: list[Target]) -> bool:
+    """Whether ``targets``' enabled supports are those of ``enabled`` (TCP, rotation, friction and sole alike)."""
+
+    def key(t: Target) -> tuple:
+        rot = None if t.rotation is None else np.asarray(t.rotation).tobytes()
+        sole = None if t.sole is None else np.asarray(t.sole).tobytes()
+        return (t.tcp, rot, t.friction, sole)
+
+    return [key(t) for t in enabled if t.support] == [key(t) for t in targets if t.enabled and t.support]
+
+
+def same_but_frames(old: Target, new: Target) -> bool:
+    """Whether ``new`` is ``old`` with another position or rotation only (None stays None): a keyed target's move."""
+    if (old.rotation is None) != (new.rotation is None):
+        return False
+    for name in ("tcp", "lock", "weight", "support", "friction", "enabled", "priority"):
+        if getattr(old, name) != getattr(new, name):
+            return False
+    return all(a is b or (a is not None and b is not None and np.array_equal(a, b))
+               for a, b in ((old.operator, new.operator), (old.sole, new.sole)))  # fmt: skip
+
+
+def validate_frames(targets) -> None:
+    """:func:`validate` of the positions and rotations alone (the rest of each target checked before)."""
+    for t in targets:
+        _check_vector(f"target {t.tcp} position", t.position, 3, MAX_DISTANCE)
+        _check_rotation(f"target {t.tcp} rotation", t.rotation)
 
 
 def validate(model: Model, targets, loops, loads) -> None:

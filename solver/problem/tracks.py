@@ -6,6 +6,8 @@ interpolated linearly and rotations by slerp.
 
 from __future__ import annotations
 
+import bisect
+import functools
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -37,14 +39,23 @@ class Track:
             return keys[0].position, keys[0].rotation
         if frame >= keys[-1].frame:
             return keys[-1].position, keys[-1].rotation
-        i = int(np.searchsorted([k.frame for k in keys], frame, side="right")) - 1
+        i = bisect.bisect_right(self._frames, frame) - 1
         a, b = keys[i], keys[i + 1]
         t = (frame - a.frame) / (b.frame - a.frame)
         position = (1.0 - t) * a.position + t * b.position
         if a.rotation is None or b.rotation is None:
             return position, a.rotation if b.rotation is None else b.rotation
-        q = slerp(matrix_to_quat(a.rotation), matrix_to_quat(b.rotation), t)
-        return position, quat_to_matrix(q)
+        quats = self._quaternions
+        return position, quat_to_matrix(slerp(quats[i], quats[i + 1], t))
+
+    @functools.cached_property
+    def _frames(self) -> list[int]:
+        return [k.frame for k in self.keys]
+
+    @functools.cached_property
+    def _quaternions(self) -> list[np.ndarray | None]:
+        """Each key's rotation as a quaternion (None where it has none), converted once for every frame."""
+        return [None if k.rotation is None else matrix_to_quat(k.rotation) for k in self.keys]
 
 
 def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list[Target]:

@@ -337,3 +337,27 @@ def test_load_body_missing_and_unknown(tmp_path):
     assert "giant" in str(err.value)
     with pytest.raises(ModelError):
         load_body()
+
+
+def test_the_support_polygon_is_the_convex_hull_counter_clockwise():
+    """The Result panel's support polygon (solver.body.contacts.support_polygon) against scipy's hull on random
+    corner sets, with repeated and collinear points; fewer than three distinct points come back as given."""
+    from solver.body.contacts import support_polygon
+
+    rng = np.random.default_rng(3)
+    for k in range(200):
+        points = rng.uniform(-0.3, 0.3, size=(int(rng.integers(3, 17)), 3))
+        if k % 3 == 0:  # a repeated corner and one halfway along an edge of two others
+            points = np.vstack([points, points[:1], 0.5 * (points[1] + points[2])])
+        polygon = support_polygon(points)
+        flat = points[:, :2].round(12)
+        hull = {tuple(p) for p in flat[ConvexHull(points[:, :2]).vertices]}
+        assert hull <= {tuple(p) for p in polygon} <= {tuple(p) for p in flat}  # scipy's corners, all input points
+        edges = np.roll(polygon, -1, axis=0) - polygon  # counter-clockwise: every point on the left of every edge
+        to_point = flat[:, None, :] - polygon[None, :, :]
+        assert (edges[None, :, 0] * to_point[:, :, 1] - edges[None, :, 1] * to_point[:, :, 0] >= -1e-12).all()
+        x, y = polygon[:, 0], polygon[:, 1]
+        assert 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0
+    line = np.array([[0.0, 0.0, 0.0], [0.1, 0.1, 0.0], [0.2, 0.2, 0.0]])  # collinear: the two ends
+    assert support_polygon(line).tolist() == [[0.0, 0.0], [0.2, 0.2]]
+    assert support_polygon(line[:2]).tolist() == [[0.0, 0.0], [0.1, 0.1]]

@@ -33,6 +33,12 @@ def test_quaternion_round_trip_and_slerp():
     for _ in range(50):
         r = exp_so3(rng.normal(size=3))
         np.testing.assert_allclose(quat_to_matrix(matrix_to_quat(r)), r, atol=1e-12)
+    for axis in np.eye(3):  # half turns and near them: a negative trace, each diagonal entry the largest in turn
+        for angle in (np.pi, np.pi - 1e-3, 2.5):
+            r = exp_so3(angle * (axis + 0.05 * rng.normal(size=3)))
+            q = matrix_to_quat(r)
+            assert q[0] >= 0 and abs(np.linalg.norm(q) - 1) < 1e-15
+            np.testing.assert_allclose(quat_to_matrix(q), r, atol=1e-12)
     q0, q1 = matrix_to_quat(np.eye(3)), matrix_to_quat(exp_so3([0, 0, 1.0]))
     np.testing.assert_allclose(log_so3(quat_to_matrix(slerp(q0, q1, 0.25))), [0, 0, 0.25], atol=1e-12)
 

@@ -93,3 +93,46 @@ def test_the_scenario_writer_reads_the_spec(male50) -> None:
     own = Problem(male50, problem.spec.replace(comfort=Comfort([])))
     with pytest.raises(ScenarioError, match="comfort"):
         scenario_to_dict(own, {"preset": "male_50"})
+
+
+@pytest.mark.parametrize("kernels_on", [True, False])
+def test_moving_targets_gives_the_rows_of_a_problem_built_with_them(male50, kernels_on, monkeypatch) -> None:
+    """A motion's next frame moves its targets only (with_targets keeps every constraint and moves the frame group):
+    the rows and Jacobian are those of a problem built afresh with the moved targets, the loop's too; a changed lock
+    builds the target rows again."""
+    from solver import kernels
+
+    monkeypatch.setattr(kernels, "active", lambda: kernels_on)
+    targets, loops, _, _ = _pieces(male50)
+    targets[2] = dataclasses.replace(targets[2], rotation=np.eye(3))
+    problem = Problem(male50, ProblemSpec(targets, loops))
+    x = problem.to_x(problem.start())
+    problem.scaled_jacobian(problem.state_of_x(x))  # the group's kernel tables exist before the move
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    hand = dataclasses.replace(targets[2], position=np.array([-0.25, -0.45, 1.05]), rotation=turn)
+    foot = dataclasses.replace(targets[0], position=targets[0].position + [0.01, 0.02, 0.0])
+    for moved_targets in ([foot, targets[1], hand], [targets[0], targets[1], dataclasses.replace(hand, lock=("x",))]):
+        moved = problem.with_targets(moved_targets)
+        assert (moved.frames.loops is problem.frames.loops) == (moved_targets[2].lock == targets[2].lock)  # shared
+        fresh = Problem(male50, ProblemSpec(moved_targets, loops))
+        state, state_fresh = moved.state_of_x(x), fresh.state_of_x(x)
+        np.testing.assert_allclose(moved.scaled_error(state), fresh.scaled_error(state_fresh), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(moved.scaled_jacobian(state), fresh.scaled_jacobian(state_fresh), rtol=0, atol=1e-9)
+        assert moved.residuals(state) == pytest.approx(fresh.residuals(state_fresh), abs=1e-12)
+    again = problem.with_targets(targets)  # back where it was: the first problem's rows
+    np.testing.assert_allclose(again.scaled_error(again.state_of_x(x)), problem.scaled_error(problem.state_of_x(x)),
+                               rtol=0, atol=1e-12)  # fmt: skip
+
+
+def test_a_mirror_or_a_skewed_target_rotation_is_refused_when_built_and_when_moved(male50) -> None:
+    from solver.errors import ManikinError
+
+    targets, _, _, _ = _pieces(male50)
+    targets[2] = dataclasses.replace(targets[2], rotation=np.eye(3))
+    problem = Problem(male50, ProblemSpec(targets))
+    for bad in (np.diag([1.0, 1.0, -1.0]), np.array([[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])):
+        wrong = [*targets[:2], dataclasses.replace(targets[2], rotation=bad)]
+        with pytest.raises(ManikinError, match=r"target hand_r rotation: expected a rotation matrix"):
+            Problem(male50, ProblemSpec(wrong))
+        with pytest.raises(ManikinError, match=r"target hand_r rotation: expected a rotation matrix"):
+            problem.with_targets(wrong)  # only the frame moved: checked all the same
