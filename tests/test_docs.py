@@ -28,8 +28,9 @@ def two_commands(document: str) -> list[str]:
 
 @pytest.mark.slow  # about 40 s: autodoc imports every solver module and each command prints its --help
 def test_the_docs_build_with_warnings_as_errors(tmp_path: Path) -> None:
-    build = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", "-d", str(tmp_path / "doctrees"),
-             "docs", str(tmp_path / "html")]  # fmt: skip
+    # -j auto: the pages are read in as many processes as there are cores (the extensions say they may be)
+    build = [sys.executable, "-m", "sphinx", "-j", "auto", "-W", "--keep-going", "-q", "-b", "html", "-d",
+             str(tmp_path / "doctrees"), "docs", str(tmp_path / "html")]  # fmt: skip
     done = subprocess.run(build, cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, f"sphinx-build failed (warnings are errors):\n{done.stderr[-6000:]}"
     api = (tmp_path / "html" / "api" / "iteration.html").read_text(encoding="utf-8")

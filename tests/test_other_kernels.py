@@ -31,12 +31,32 @@ SETTINGS = {
 }
 
 
-@pytest.mark.slow
-@pytest.mark.skipif(platform.machine().lower() not in ("x86_64", "amd64"), reason="x86-64 kernel names")
-@pytest.mark.parametrize("setting", list(SETTINGS))
-def test_a_sample_of_the_suite_passes_with_other_kernels(setting: str) -> None:
-    env = {k: v for k, v in os.environ.items() if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}
-    env |= SETTINGS[setting]
+X86 = platform.machine().lower() in ("x86_64", "amd64")
+
+
+@pytest.fixture(scope="module")
+def started(tmp_path_factory) -> dict[str, tuple[subprocess.Popen, Path]]:
+    """The sample under each setting, all started at once (on a second core where there is one: they take ~10 s
+    each); each process and the file its output goes to (a file: a full pipe would stop a process not yet read)."""
+    folder = tmp_path_factory.mktemp("other_kernels")
+    base = {k: v for k, v in os.environ.items() if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}
     command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "not slow", *SAMPLE]
-    done = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-2000:]
+    processes = {}
+    for setting, changes in SETTINGS.items():
+        with open(folder / f"{setting}.log", "wb") as log:
+            process = subprocess.Popen(command, cwd=ROOT, env=base | changes, stdout=log, stderr=subprocess.STDOUT)
+        processes[setting] = (process, folder / f"{setting}.log")
+    yield processes
+    for process, _ in processes.values():
+        if process.poll() is None:  # a test that failed early left it running
+            process.kill()
+            process.wait()
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not X86, reason="x86-64 kernel names")
+@pytest.mark.parametrize("setting", list(SETTINGS))
+def test_a_sample_of_the_suite_passes_with_other_kernels(setting: str, started) -> None:
+    process, log = started[setting]
+    code = process.wait(timeout=600)
+    assert code == 0, log.read_text(encoding="utf-8", errors="replace")[-6000:]

@@ -12,6 +12,7 @@ lights, camera, box, see-through copies) is removed again and the render setting
 
 from __future__ import annotations
 
+import os
 import tempfile
 import textwrap
 from pathlib import Path
@@ -41,6 +42,15 @@ HANDS = ("hand_l", "hand_r")  # the TCPs a picture must show (obstacles hiding t
 SKY = (0.85, 0.88, 0.92)
 SEE_THROUGH = (0.78, 0.80, 0.84, 0.2)  # colour and alpha of an obstacle that hides a hand from the camera
 _DATA = {"MESH": "meshes", "LIGHT": "lights", "CAMERA": "cameras"}  # bpy.data collections by ID type
+DRAFT = "MANIKIN_RENDER_DRAFT"  # "1": draft pictures (the tests that only check a picture is written)
+
+
+def quality(size: tuple[int, int], samples: int) -> tuple[tuple[int, int], int]:
+    """The tiles' ``size`` (px, w, h) and ``samples``, or under MANIKIN_RENDER_DRAFT=1 a draft's: a quarter of
+    each side (the same aspect, so the same layout) and one sample."""
+    if os.environ.get(DRAFT, "").strip().lower() in ("1", "on", "yes", "true"):
+        return (max(8, size[0] // 4), max(8, size[1] // 4)), 1
+    return size, samples
 
 
 def _material(name: str, color: tuple[float, float, float]) -> bpy.types.Material:
@@ -267,6 +277,7 @@ def render_key_poses(
     import matplotlib.image
     from matplotlib.figure import Figure
 
+    size, samples = quality(size, samples)
     scene = bpy.context.scene
     current = scene.frame_current
     stage = _Stage(scene, arm)

@@ -3,13 +3,16 @@ tests/blender/test_kernels.py in a subprocess):
 
     BLENDER_USER_RESOURCES=<empty dir> python tests/blender/kernels_session.py <zip> <out.json> <work dir> [mode]
 
-``first`` (the default) installs the zip, imports numba after bpy and solves a moved hand through Solve Pose twice
-(the first solve compiles the kernels into the cache folder while the warm-up that enabling started compiles them
-too), then runs itself again as four more Blender processes on the installed extension: ``again`` (loads the cached
-kernels), ``numpy`` (MANIKIN_KERNELS=numpy), ``blocked`` (numba cannot import: the add-on falls back to NumPy and
-says so once) and ``warm`` (an empty cache folder of its own: waits for the warm-up enabling starts, then solves,
-then enables the add-on again). The kernels' cache goes to <work>/cache (XDG_CACHE_HOME; <work>/cache_warm for
-``warm``), so the first process compiles whatever the user's own cache holds. bpy is imported here only.
+``first`` (the default) installs the zip with MANIKIN_WARMUP=0 (no background compile beside its own: every
+kernel compiles once here), checks that enabling on this cold cache would start a warm-up and that the panels
+say so while one runs (a live ``sleep`` child's id in the warm-up's marker), imports numba after bpy and solves a
+moved hand through Solve Pose twice (the first solve compiles the kernels into the cache folder). It runs itself
+again as four more Blender processes on the installed extension: ``warm`` (started before those solves, beside
+them: an empty cache folder of its own; waits for the real warm-up enabling starts, then solves, then enables the
+add-on again), and after them ``again`` (loads the cached kernels), ``numpy`` (MANIKIN_KERNELS=numpy) and
+``blocked`` (numba cannot import: the add-on falls back to NumPy and says so once). The kernels' cache goes to
+<work>/cache (XDG_CACHE_HOME; <work>/cache_warm for ``warm``), so the first process compiles whatever the user's
+own cache holds. bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -36,6 +39,8 @@ MODE = sys.argv[4] if len(sys.argv) > 4 else "first"
 # read when the add-on is enabled (the background warm-up) and when the kernels decide (the first solve)
 os.environ["XDG_CACHE_HOME"] = str(WORK / ("cache_warm" if MODE == "warm" else "cache"))
 seen: dict = {"mode": MODE}
+if MODE == "first":  # this process compiles in the foreground; the real warm-up is tested in ``warm``
+    os.environ["MANIKIN_WARMUP"] = "0"
 
 
 class NoNumba(importlib.abc.MetaPathFinder):
@@ -65,6 +70,39 @@ kernels = importlib.import_module(module + ".solver.kernels")
 panels = importlib.import_module(module + ".blender_manikin.pose.panels")
 warmup = importlib.import_module(module + ".blender_manikin.scene.kernel_warmup")
 seen["warmup"] = dict(decision=warmup.last_decision(), line=warmup.status_line())
+
+
+def start_later(mode: str) -> tuple[str, subprocess.Popen, float]:
+    """Start this script in ``mode`` as a later Blender (output to a file: a full pipe would stop it)."""
+    env = dict(os.environ, MANIKIN_KERNELS="numpy" if mode == "numpy" else "auto")
+    with open(WORK / f"log_{mode}.txt", "wb") as log:
+        process = subprocess.Popen([sys.executable, __file__, ZIP, WORK / f"seen_{mode}.json", WORK, mode], env=env,
+                                   stdout=log, stderr=subprocess.STDOUT)  # fmt: skip
+    return mode, process, time.perf_counter()
+
+
+def finish(mode: str, process: subprocess.Popen, t0: float) -> dict:
+    """What the later Blender in ``mode`` saw, its exit code, log and wall time (s)."""
+    code = process.wait(timeout=300)
+    out = WORK / f"seen_{mode}.json"
+    later = json.loads(out.read_text(encoding="utf-8")) if code == 0 else {}
+    log = (WORK / f"log_{mode}.txt").read_text(encoding="utf-8", errors="replace")
+    later.update(code=code, log=log[-8000:], process_s=time.perf_counter() - t0)
+    return later
+
+
+sleeper = None
+if MODE == "first":  # the user's default again, for the checks below and the later processes
+    del os.environ["MANIKIN_WARMUP"]
+    seen["warmup"]["would"] = warmup.decide()  # "" on this cold cache: enabling would start one
+    # a warm-up under way, as another Blender's: a live process's id in the marker; enabling finds it
+    sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(300)"])
+    marker = kernels.cache_folder() / warmup.MARKER
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    marker.write_text(f"{sleeper.pid}\n", encoding="utf-8")
+    seen["warmup"]["found"] = warmup.start_if_cold()
+    # its own cache folder and its own compile (the warm-up's): beside this one's, on a second core if there is one
+    warm = start_later("warm")
 
 
 def wait_for_warmup() -> None:
@@ -104,7 +142,7 @@ bpy.ops.manikin.add_manikin(preset="male_50")  # the first forward kinematics: t
 seen["add_s"] = time.perf_counter() - t0
 arm = bpy.context.active_object
 bpy.ops.manikin.add_target(tcp="hand_r")
-if MODE == "first":  # the warm-up enabling started runs (~20 s): the main panel says so below Solve Pose
+if MODE == "first":  # the warm-up enabling found runs: the main panel says so below Solve Pose
     bpy.context.view_layer.objects.active = arm
     seen["main_panel"] = []
     draw_panels([panels.MANIKIN_PT_main], seen["main_panel"])
@@ -116,10 +154,13 @@ bpy.context.view_layer.objects.active = arm
 seen["panel"] = []
 draw_panels([panels.MANIKIN_PT_result], seen["panel"])
 seen["compile_s"] = kernels.compile_seconds()
-if MODE == "first":  # the warm-up compiled beside these solves: it ends before the cache is looked at
-    wait_for_warmup()
+if sleeper is not None:  # that warm-up ends (reaped: a zombie still answers kill 0); its marker stays behind
+    sleeper.kill()
+    sleeper.wait()
+    seen["warmup"]["running"] = warmup.running()
     seen["main_panel_after"] = []
     draw_panels([panels.MANIKIN_PT_main], seen["main_panel_after"])
+    marker.unlink()  # as the warm-up's own exit removes it
 seen["cached"] = {p.name: p.stat().st_mtime_ns for p in Path(seen["cache"]).rglob("*") if p.is_file()}
 if MODE == "warm":  # enabled again, the cache warm now: no second warm-up
     addon_utils.disable(module, default_set=True)
@@ -127,18 +168,9 @@ if MODE == "warm":  # enabled again, the cache warm now: no second warm-up
     again = importlib.import_module(module + ".blender_manikin.scene.kernel_warmup")
     seen["warmup"]["decision_again"] = again.last_decision()
 
-if MODE == "first":  # four later Blender starts on the installed extension, the same cache folder but for "warm"
-    seen["later"] = {}
-    for mode in ("again", "numpy", "blocked", "warm"):
-        env = dict(os.environ, MANIKIN_KERNELS="numpy" if mode == "numpy" else "auto")
-        out = WORK / f"seen_{mode}.json"
-        t0 = time.perf_counter()
-        done = subprocess.run([sys.executable, __file__, ZIP, out, WORK, mode], env=env, capture_output=True,
-                              text=True, timeout=300)  # fmt: skip
-        later = json.loads(out.read_text(encoding="utf-8")) if done.returncode == 0 else {}
-        later.update(code=done.returncode, log=done.stdout[-4000:] + done.stderr[-4000:])
-        later["process_s"] = time.perf_counter() - t0
-        seen["later"][mode] = later
+if MODE == "first":  # three later Blender starts on the installed extension and its cache ("warm" runs already)
+    seen["later"] = {mode: finish(*start_later(mode)) for mode in ("again", "numpy", "blocked")}
+    seen["later"]["warm"] = finish(*warm)
 
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

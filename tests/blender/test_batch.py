@@ -197,9 +197,10 @@ def test_batch_runs_from_an_installed_extension(tmp_path: Path, run, user: Path)
     assert report["converged"] and len(report["frames"]) == 3
 
 
-def test_batch_prints_only_its_own_lines(tmp_path: Path, run) -> None:
+def test_batch_prints_only_its_own_lines(tmp_path: Path, run, monkeypatch) -> None:
     """With -q, not a line from us nor from Blender's exporters, saving and rendering (a normal run's lines:
-    :func:`test_batch_writes_every_output`)."""
+    :func:`test_batch_writes_every_output`, which renders at the default quality: here a draft does)."""
+    monkeypatch.setenv("MANIKIN_RENDER_DRAFT", "1")
     names = ["s.glb", "s.gltf", "s.bvh", "s.fbx"]
     args = ["--scenario", SNAKE, "--frames", 1, 3, "--out", "s.blend", "--report", "r.json", "--picture", "p.png"]
     done = run(args + [a for name in names for a in ("--export", name)] + ["-q"], tmp_path)
@@ -208,10 +209,11 @@ def test_batch_prints_only_its_own_lines(tmp_path: Path, run) -> None:
     assert (done.stdout, done.stderr) == ("", "")
 
 
-def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: Path) -> None:
+def test_demo_quiet_prints_nothing(tmp_path: Path, blender_python: Path, user: Path, monkeypatch) -> None:
     """``python -m blender_manikin.demo -q``: every file written, not a line printed. The box lift is generated
     from presets/operations/box_lift.toml alone (issues 35, 36): the knees bend at the low shelf, the worker steps
-    toward the table, the box is keyed from the shelf onto the table."""
+    toward the table, the box is keyed from the shelf onto the table. Its pictures are drafts (~10 s less)."""
+    monkeypatch.setenv("MANIKIN_RENDER_DRAFT", "1")
     args = ["-m", "blender_manikin.demo", "--out-dir", tmp_path, "-q"]
     done = run_python(blender_python, args, user, cwd=ROOT)
     assert (done.returncode, done.stdout, done.stderr) == (0, "", "")
@@ -391,10 +393,15 @@ inside = sorted(ob.name for ob in picture.obstacles_hiding([hand]))
 open_air = [ob.name for ob in picture.obstacles_hiding([Vector((0.0, 0.6, 1.0))])]
 arm = next(ob for ob in bpy.data.objects if ob.type == "ARMATURE")
 picture.render_key_poses(arm, [1], Path(sys.argv[2]), size=(60, 80), samples=1)
+import os
+qualities = []
+for draft in ("1", ""):  # what MANIKIN_RENDER_DRAFT makes of the batch's default tiles
+    os.environ["MANIKIN_RENDER_DRAFT"] = draft
+    qualities.append(picture.quality((300, 400), 8))
 left = [ob.name for ob in bpy.data.objects if ob.name.startswith("picture.")]
 hidden = [ob.name for ob in bpy.data.objects if ob.hide_render]
 import json
-print("RESULT", json.dumps([inside, open_air, left, hidden]))
+print("RESULT", json.dumps([inside, open_air, left, hidden, qualities]))
 from blender_manikin.batch import exit_process
 exit_process(0)  # as batch.py ends: bpy 4.2 / 4.5 modules crash at a normal exit after a render
 """
@@ -409,7 +416,8 @@ def test_an_obstacle_hiding_a_hand_is_drawn_see_through(tmp_path: Path, blender_
     done = run_python(blender_python, ["-c", SEE_THROUGH, tmp_path / "c.blend", tmp_path / "c.png"], user, cwd=ROOT)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     line = next(line for line in done.stdout.splitlines() if line.startswith("RESULT"))
-    inside, open_air, left, hidden = json.loads(line.removeprefix("RESULT"))
+    inside, open_air, left, hidden, qualities = json.loads(line.removeprefix("RESULT"))
     assert "cabinet side right" in inside and "cabinet shelf" not in inside
     assert (open_air, left, hidden) == ([], [], [])
+    assert qualities == [[[75, 100], 1], [[300, 400], 8]]  # a draft: a quarter of each side, one sample
     assert (tmp_path / "c.png").is_file()

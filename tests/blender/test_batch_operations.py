@@ -72,7 +72,9 @@ def user(installed_user: Path, tmp_path_factory) -> Path:
     return copy_user(installed_user, tmp_path_factory.mktemp("user") / "user")
 
 
-def test_batch_generates_operations_and_writes_every_output(tmp_path: Path, blender_python: Path, user: Path):
+def test_batch_generates_operations_and_writes_every_output(tmp_path: Path, blender_python: Path, user: Path,
+                                                            monkeypatch):  # fmt: skip
+    monkeypatch.setenv("MANIKIN_RENDER_DRAFT", "1")  # a picture is written: a draft will do (test_batch renders one)
     (tmp_path / "ops.toml").write_text(OPS, encoding="utf-8")
     args = [BATCH, "--operations", "ops.toml", "--out", "o.blend", "--export", "o.glb", "--report", "r.json",
             "--result", "res.json", "--picture", "p.png"]  # fmt: skip
