@@ -7,7 +7,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ... import kernels
 from ...errors import ScenarioError
+from ...kernels.clearance_boxes import boxes_near_rows
 from ..boxes import box_edges, box_rows
 from ..distance import as_batch
 from ..generate import box_mesh
@@ -78,6 +80,13 @@ class BoxGroup(ShapeGroup):
     def distances(self, p0, p1, radii, margins) -> list[Proximity]:
         return boxes_distance(p0, p1, radii, self.stacked, margins)
 
+    def flat_rows(self, p0, p1, radii, margins, far) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(distance (m k,) m, point (m k, 3) m, normal (m k, 3)) of capsules p0-p1 (k, 3) vs the m boxes, box by
+        box, as :meth:`distances` gives them but ``far[i]`` (m) where box i's distance is not finite (by the kernels:
+        one loop, no per-box arrays)."""
+        got = _compiled_distances(p0, p1, radii, self.stacked, margins, np.asarray(far, dtype=float), True)
+        return got.distance.reshape(-1), got.point.reshape(-1, 3), got.normal.reshape(-1, 3)
+
 
 def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) -> Proximity:
     """Capsules (k rows) vs one oriented box, exact for every row."""
@@ -111,8 +120,35 @@ def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: Box
     :func:`~solver.collision.proximity.near_only_many`)."""
     center, rotation, half, extent = boxes
     margins = np.broadcast_to(np.asarray(margins, dtype=float), (len(center),))
+    if kernels.active():
+        got = _compiled_distances(p0, p1, radii, boxes, margins, np.full(len(center), np.inf), False)
+        return [Proximity(*(field[i] for field in got)) for i in range(len(center))]
 
     def exact(box: np.ndarray, cap: np.ndarray) -> Proximity:
         return box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
 
     return near_only_many(p0, p1, radii, margins, center - extent, center + extent, exact)
+
+
+def _compiled_distances(p0, p1, radii, boxes: BoxSet, margins, far: np.ndarray, finite: bool) -> Proximity:
+    """:func:`boxes_distance` by the kernels, as one Proximity of (m, k) fields (``far``, ``finite``: as
+    :func:`~solver.kernels.clearance_boxes.boxes_near_rows`); rows whose axis meets or touches a box by
+    :func:`box_rows`."""
+    center, rotation, half, extent = boxes
+    p0, p1, radii = (np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii))
+    margins = np.ascontiguousarray(margins, dtype=float)
+    m, k = len(center), len(p0)
+    distance, t, rare = np.empty(m * k), np.empty(m * k), np.empty(m * k, dtype=np.int64)
+    point, normal, closest = np.empty((m * k, 3)), np.empty((m * k, 3)), np.empty((m * k, 3))
+    if boxes_near_rows(p0, p1, radii, margins, center - extent, center + extent, center, rotation, half, far, finite,
+                       distance, t, point, normal, closest, rare):  # fmt: skip
+        rows = np.flatnonzero(rare)
+        box, cap = np.divmod(rows, k)
+        got = box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
+        keep = got.distance <= margins[box]
+        for mine, theirs in zip((distance, t, point, normal, closest), got, strict=True):
+            mine[rows[keep]] = theirs[keep]
+        if finite:
+            distance[rows] = np.where(np.isfinite(distance[rows]), distance[rows], far[box])
+    return Proximity(distance.reshape(m, k), t.reshape(m, k), point.reshape(m, k, 3), normal.reshape(m, k, 3),
+                     closest.reshape(m, k, 3))  # fmt: skip
