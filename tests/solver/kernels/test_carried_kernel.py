@@ -10,6 +10,7 @@ import pytest
 from solver import kernels
 from solver.collision.carried import Carried, box_motion_jacobian, box_motion_terms, carried_frame
 from solver.collision.kinds.box import Box, BoxGroup, box_set, boxes_distance
+from solver.collision.kinds.plane import HalfSpace, halfspace_distance
 from solver.io.scenario.bodies import load_body
 from solver.problem.problem import Problem, ProblemSpec, Target
 
@@ -152,3 +153,23 @@ def test_carried_jacobian_with_the_hands_one_above_the_other(model):
         links, where, along = box_motion_terms(state, c.tcps, on_box, normal)
         moved = state.kin.jacobian_rows(where, along, np.zeros_like(along), model.descendant[:, links].T.astype(float))
     close(got[:, : model.n], moved[:6] + moved[6:])
+
+
+def test_halfspace_distance():
+    """Capsules and points (a box's corners: p1 is p0) vs a tilted half-space: ends level (a tie: p0), one radius
+    for all and one each, a capsule lying in the plane."""
+    rng = np.random.default_rng(11)
+    plane = HalfSpace(np.array([0.1, -0.2, 0.3]), np.array([0.2, -0.1, 1.0]))
+    p0, p1 = rng.normal(scale=0.5, size=(40, 3)), rng.normal(scale=0.5, size=(40, 3))
+    side = np.cross(plane.normal, [1.0, 0.0, 0.0])
+    p1[::5] = p0[::5] + 0.3 * side  # level ends
+    p0[1::5] = plane.point + 0.2 * side  # in the plane
+    p1[1::5] = plane.point - 0.1 * side
+    for ends, radii in (((p0, p1), rng.uniform(0.0, 0.1, 40)), ((p0, p0), 0.0), ((p0, p1), 0.05)):
+        got = {}
+        for compiled in (False, True):
+            with kernels.using(compiled):
+                got[compiled] = halfspace_distance(*ends, radii, plane)
+        np.testing.assert_array_equal(got[True].t, got[False].t)
+        for a, b in zip(got[True], got[False], strict=True):
+            close(a, b)
