@@ -92,7 +92,8 @@ def held_frame(state: State, tcps: tuple[Tcp, Tcp]) -> tuple[np.ndarray, np.ndar
     key = ("carried box", tcps[0].name, tcps[1].name)
     got = state.cache.get(key)
     if got is None:
-        held = np.array([state.kin.tcp_frame(tcp)[1] for tcp in tcps])
+        kin = state.kin  # the positions of Kinematics.tcp_frame (its rotations are not needed here)
+        held = np.array([kin.position[tcp.link] + kin.rotation[tcp.link] @ tcp.position for tcp in tcps])
         got = state.cache[key] = (held, *carried_frame(held[0], held[1]))
     return got
 

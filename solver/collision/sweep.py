@@ -31,7 +31,8 @@ import numpy as np
 from ..body.model import Model
 from .body import BodyCapsules, capsules_of
 from .distance import capsule_pairs
-from .kinds import Obstacle
+from .kinds import Box, Obstacle
+from .kinds.box import box_set, boxes_distance
 from .self_pairs import SelfPairs
 
 TOLERANCE = 1e-3  # m: a sample this deep (or less) into an obstacle is not a crossing
@@ -109,6 +110,10 @@ class SweptBody:
         if self.own is not None:
             self.pairs[self.own.first, m + np.arange(p)] = True
             self.partner[self.own.first, m + np.arange(p)] = self.own.second
+        boxes = [o for o, ob in enumerate(self.obstacles) if type(ob) is Box]  # asked together in distances()
+        self._boxes, self._others = np.array(boxes, dtype=int), [o for o in range(m) if o not in boxes]
+        self._box_set = box_set([self.obstacles[o] for o in boxes])
+        self._partner_or_none = np.where(self.partner >= 0, self.partner, k)  # k: the appended 0 of relative()
         self.weights = path_weights_of(model)
         self.turns = ((self.weights > 0) & ~model.prismatic).astype(float)  # (k, n) the rotations above capsule k
         self._stacked = np.concatenate([self.weights, self.turns]).T  # (n, 2k)
@@ -152,8 +157,12 @@ class SweptBody:
         bound; the mesh search stops there); entries of no pair are +inf."""
         m = len(self.obstacles)
         out = np.full(self.pairs.shape, np.inf)
-        for o, obstacle in enumerate(self.obstacles):
-            got = obstacle.distance(pose.p0, pose.p1, self.capsules.radius, margin).distance
+        if self._boxes.size:  # the boxes in one query (each row is what the box's own distance gives)
+            got = boxes_distance(pose.p0, pose.p1, self.capsules.radius, self._box_set, margin)
+            box_rows = np.array([g.distance for g in got]).T
+            out[:, self._boxes] = np.where(np.isinf(box_rows), margin, box_rows)
+        for o in self._others:
+            got = self.obstacles[o].distance(pose.p0, pose.p1, self.capsules.radius, margin).distance
             out[:, o] = np.where(np.isinf(got), margin, got)
         if self.own is not None:
             own = self.own
@@ -164,10 +173,8 @@ class SweptBody:
     def relative(self, motion: np.ndarray) -> np.ndarray:
         """(k, m + p): how far each entry's distance can change when capsule k moves at most ``motion`` (k,) m: its
         own motion, plus its partner's for a self pair."""
-        out = np.repeat(motion[:, None], self.pairs.shape[1], axis=1)
-        own = self.partner >= 0
-        out[own] += motion[self.partner[own]]
-        return out
+        # the partner's motion gathered from the motions with a 0 appended (index k: no partner); adding 0 is exact
+        return motion[:, None] + np.append(motion, 0.0)[self._partner_or_none]
 
     def uncertain(self, d_a: np.ndarray, d_b: np.ndarray, motion: np.ndarray) -> np.ndarray:
         """(k, m + p) pairs that two end distances (m, lower bounds will do) and the bound ``motion`` (k,) do not

@@ -22,7 +22,7 @@ from .. import kernels
 from ..body.model import Model
 from ..body.state import State
 from ..collision.body import BodyCapsules
-from ..collision.boxes import box_rows
+from ..collision.boxes import box_rows, box_rows_one
 from ..collision.carried import CLEARANCE, Carried, box_motion_jacobian, box_motion_terms, held_frame
 from ..kernels.clearance_boxes import carried_capsule_rows
 from .clearance import ClearanceRows
@@ -83,9 +83,7 @@ class CarriedClearance(ClearanceRows):
         box = (centre.reshape(1, 3), np.ascontiguousarray(rotation).reshape(1, 3, 3), self._half.reshape(1, 3))
         if carried_capsule_rows(p0, p1, caps.radius, *box, self.margin, distance, t, point, normal, closest, rare):
             rows = np.flatnonzero(rare)
-            m = len(rows)
-            got = box_rows(p0[rows], p1[rows], caps.radius[rows], *(np.broadcast_to(x[0], (m, *x.shape[1:]))
-                                                                     for x in box))  # fmt: skip
+            got = box_rows_one(p0[rows], p1[rows], caps.radius[rows], centre, rotation, self._half)
             distance[rows], point[rows], normal[rows] = got.distance, got.point, got.normal
         return distance, point, normal, self._index
 

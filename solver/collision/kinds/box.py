@@ -10,7 +10,7 @@ import numpy as np
 from ... import kernels
 from ...errors import ScenarioError
 from ...kernels.clearance_boxes import boxes_near_rows
-from ..boxes import box_edges, box_rows
+from ..boxes import box_edges, box_rows, box_rows_one
 from ..distance import as_batch
 from ..generate import box_mesh
 from ..proximity import Proximity, near_only_many
@@ -90,9 +90,7 @@ class BoxGroup(ShapeGroup):
 
 def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) -> Proximity:
     """Capsules (k rows) vs one oriented box, exact for every row."""
-    k = len(p0)
-    return box_rows(p0, p1, radii, np.broadcast_to(box.center, (k, 3)), np.broadcast_to(box.rotation, (k, 3, 3)),
-                    np.broadcast_to(box.half, (k, 3)))  # fmt: skip
+    return box_rows_one(p0, p1, radii, box.center, box.rotation, box.half)
 
 
 class BoxSet(NamedTuple):
