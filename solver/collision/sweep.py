@@ -28,7 +28,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
+from ..kernels.sweep import any_uncertain
 from .body import BodyCapsules, capsules_of
 from .distance import capsule_pairs
 from .kinds import Box, Obstacle
@@ -180,6 +182,16 @@ class SweptBody:
         """(k, m + p) pairs that two end distances (m, lower bounds will do) and the bound ``motion`` (k,) do not
         certify: some point of the way might be deeper than the tolerance."""
         return self.pairs & (d_a + d_b - self.relative(motion) < -2.0 * self.tolerance)
+
+    def any_uncertain(self, d_p: np.ndarray, first: np.ndarray, second: np.ndarray, way: np.ndarray) -> bool:
+        """Whether :meth:`uncertain` leaves any pair of the way whose ends' distances are at least ``d_p`` (k, m + p)
+        m less the motions ``first`` and ``second`` (k,) m, the way's own bound being ``way`` (k,) m (by the kernels:
+        one loop that stops at the first)."""
+        if kernels.active():
+            return bool(any_uncertain(self.pairs, self.partner, np.ascontiguousarray(d_p, dtype=float),
+                                      *(np.ascontiguousarray(m, dtype=float) for m in (first, second, way)),
+                                      self.tolerance))  # fmt: skip
+        return bool(self.uncertain(d_p - self.relative(first), d_p - self.relative(second), way).any())
 
     def check(self, a: Pose, b: Pose, d_a: np.ndarray, d_b: np.ndarray, margin: float) -> SweepReport:
         """Crossings on the way from ``a`` to ``b``, given the exact (k, m) :meth:`distances` at both ends (queried
