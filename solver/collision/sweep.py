@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import kernels
 from ..body.model import Model
-from ..kernels.sweep import any_uncertain
+from ..kernels.sweep import any_uncertain, way_bound
 from .body import BodyCapsules, capsules_of
 from .distance import capsule_pairs
 from .kinds import Box, Obstacle
@@ -144,6 +144,11 @@ class SweptBody:
     def bounds(self, ways: list[tuple[Pose, Pose]]) -> np.ndarray:
         """(q, k): :meth:`bound` of each of q ways (a, b), in one product."""
         k = len(self.capsules)
+        if kernels.active():  # a loop per way: no (q, 2, k, 3) stack of the ends' moves
+            out = np.empty((len(ways), k))
+            for i, (a, b) in enumerate(ways):
+                way_bound(a.theta, b.theta, a.p0, a.p1, b.p0, b.p1, self.weights, self.turns, out[i])
+            return out
         both = np.abs(np.array([b.theta - a.theta for a, b in ways])) @ self._stacked
         ends = np.array([(b.p0 - a.p0, b.p1 - a.p1) for a, b in ways])  # (q, 2, k, 3)
         chord = np.sqrt(np.einsum("qekx,qekx->qek", ends, ends).max(axis=1))

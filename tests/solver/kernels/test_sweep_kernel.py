@@ -42,3 +42,21 @@ def test_any_uncertain():
             assert got[True] == got[False]
             seen.add(got[True])
     assert seen == {False, True}
+
+
+def test_way_bounds():
+    """SweptBody.bounds of ways from small to large joint steps, one of no move at all."""
+    model = load_body(preset="male_50")
+    caps = capsules_of(model)
+    body = SweptBody(model, [FLOOR], np.ones((len(caps), 1), dtype=bool))
+    rng = np.random.default_rng(4)
+    start = body.pose(np.zeros(model.n))
+    ways = [(start, start)]
+    for scale in (1e-4, 1e-2, 0.3, 2.0):
+        ways.append((start, body.pose(rng.uniform(-scale, scale, model.n))))
+    got = {}
+    for compiled in (False, True):
+        with kernels.using(compiled):
+            got[compiled] = body.bounds(ways)
+    assert np.all(got[False][0] == 0.0) and np.all(got[False][-1] > 0.0)
+    np.testing.assert_allclose(got[True], got[False], rtol=1e-12, atol=1e-15)
