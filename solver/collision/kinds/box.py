@@ -133,8 +133,9 @@ def _compiled_distances(p0, p1, radii, boxes: BoxSet, margins, far: np.ndarray, 
     :func:`~solver.kernels.clearance_boxes.boxes_near_rows`); rows whose axis meets or touches a box by
     :func:`box_rows`."""
     center, rotation, half, extent = boxes
-    p0, p1, radii = (np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii))
-    margins = np.ascontiguousarray(margins, dtype=float)
+    # writable C arrays: one compiled version of the kernel (a read-only argument is another type to Numba)
+    p0, p1, radii, margins = (x if x.flags.writeable else x.copy() for x in (
+        np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii, margins)))  # fmt: skip
     m, k = len(center), len(p0)
     distance, t, rare = np.empty(m * k), np.empty(m * k), np.empty(m * k, dtype=np.int64)
     point, normal, closest = np.empty((m * k, 3)), np.empty((m * k, 3)), np.empty((m * k, 3))
