@@ -113,6 +113,18 @@ def box_rows(p0, p1, radii, center, rotation, half) -> Proximity:
     return _numpy_rows(p0, p1, radii, center, rotation, half)
 
 
+def box_rows_one(p0, p1, radii, center, rotation, half) -> Proximity:
+    """:func:`box_rows` of capsules p0-p1 (k, 3) m against the one box ``center`` (3,) m, ``rotation`` (3, 3),
+    ``half`` (3,) m (the kernels take it as one row: no arrays broadcast per call)."""
+    if kernels.active():
+        # writable C copies: the array types the kernels were compiled for (a read-only or F-ordered rotation
+        # would compile them once more on a cold cache)
+        one = (np.array(x, dtype=float, order="C")[None] for x in (center, rotation, half))
+        return _compiled_rows(p0, p1, radii, *one)
+    k = len(p0)
+    return _numpy_rows(p0, p1, radii, *(np.broadcast_to(x, (k, *np.shape(x))) for x in (center, rotation, half)))
+
+
 def _numpy_rows(p0, p1, radii, center, rotation, half) -> Proximity:
     """:func:`box_rows` by NumPy (the reference path)."""
     a = np.einsum("ki,kij->kj", p0 - center, rotation)

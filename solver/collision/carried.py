@@ -17,6 +17,7 @@ import numpy as np
 
 from ..body.model import Tcp
 from ..body.state import State
+from ..kernels.carried import carried_jacobian
 from . import Box
 from .closest import cross, dot
 
@@ -91,7 +92,8 @@ def held_frame(state: State, tcps: tuple[Tcp, Tcp]) -> tuple[np.ndarray, np.ndar
     key = ("carried box", tcps[0].name, tcps[1].name)
     got = state.cache.get(key)
     if got is None:
-        held = np.array([state.kin.tcp_frame(tcp)[1] for tcp in tcps])
+        kin = state.kin  # the positions of Kinematics.tcp_frame (its rotations are not needed here)
+        held = np.array([kin.position[tcp.link] + kin.rotation[tcp.link] @ tcp.position for tcp in tcps])
         got = state.cache[key] = (held, *carried_frame(held[0], held[1]))
     return got
 
@@ -105,3 +107,23 @@ def box_motion_terms(state: State, tcps: tuple[Tcp, Tcp], on_box: np.ndarray,
     n1, n2 = carried_point_rows(held[0], held[1], rotation, (on_box - centre) @ rotation, normal)
     k = len(on_box)
     return np.repeat([t.link for t in tcps], k), np.repeat(held, k, axis=0), np.concatenate([n1, n2])
+
+
+def box_motion_jacobian(state: State, tcps: tuple[Tcp, Tcp], on_box: np.ndarray, normal: np.ndarray, n_x: int,
+                        own: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:  # fmt: skip
+    """(k, n_x) by the kernels: row i is n . (velocity of the box's material point at ``on_box[i]`` (world m)), n =
+    ``normal[i]``, as :func:`box_motion_terms` gives it to :meth:`~solver.body.model.Kinematics.jacobian_rows`, plus
+    with ``own`` = (points (k, 3) m, normals (k, 3), links (k,)) each point's n . velocity on its link (a body part's
+    witness); zeros beyond the joints."""
+    held, centre, rotation = held_frame(state, tcps)
+    length = max(float(np.linalg.norm(np.subtract(held[1], held[0]))), 1e-12)
+    k = len(on_box)
+    out = np.zeros((k, n_x))
+    links = np.array([t.link for t in tcps], dtype=np.int64)
+    point, along, link = own if own is not None else (on_box, normal, np.full(k, -1, dtype=np.int64))
+    flat = (np.ascontiguousarray(a, dtype=float) for a in (on_box, normal, point, along))
+    box_on, box_normal, own_point, own_normal = flat
+    carried_jacobian(held, centre, np.ascontiguousarray(rotation), length, box_on, box_normal, links, own_point,
+                     own_normal, np.asarray(link, dtype=np.int64), state.kin.model.descendant, state.kin.twist,
+                     out)  # fmt: skip
+    return out

@@ -28,10 +28,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
+from ..kernels.sweep import any_uncertain, way_bound
 from .body import BodyCapsules, capsules_of
 from .distance import capsule_pairs
-from .kinds import Obstacle
+from .kinds import Box, Obstacle
+from .kinds.box import box_set, boxes_distance
 from .self_pairs import SelfPairs
 
 TOLERANCE = 1e-3  # m: a sample this deep (or less) into an obstacle is not a crossing
@@ -109,6 +112,10 @@ class SweptBody:
         if self.own is not None:
             self.pairs[self.own.first, m + np.arange(p)] = True
             self.partner[self.own.first, m + np.arange(p)] = self.own.second
+        boxes = [o for o, ob in enumerate(self.obstacles) if type(ob) is Box]  # asked together in distances()
+        self._boxes, self._others = np.array(boxes, dtype=int), [o for o in range(m) if o not in boxes]
+        self._box_set = box_set([self.obstacles[o] for o in boxes])
+        self._partner_or_none = np.where(self.partner >= 0, self.partner, k)  # k: the appended 0 of relative()
         self.weights = path_weights_of(model)
         self.turns = ((self.weights > 0) & ~model.prismatic).astype(float)  # (k, n) the rotations above capsule k
         self._stacked = np.concatenate([self.weights, self.turns]).T  # (n, 2k)
@@ -137,6 +144,11 @@ class SweptBody:
     def bounds(self, ways: list[tuple[Pose, Pose]]) -> np.ndarray:
         """(q, k): :meth:`bound` of each of q ways (a, b), in one product."""
         k = len(self.capsules)
+        if kernels.active():  # a loop per way: no (q, 2, k, 3) stack of the ends' moves
+            out = np.empty((len(ways), k))
+            for i, (a, b) in enumerate(ways):
+                way_bound(a.theta, b.theta, a.p0, a.p1, b.p0, b.p1, self.weights, self.turns, out[i])
+            return out
         both = np.abs(np.array([b.theta - a.theta for a, b in ways])) @ self._stacked
         ends = np.array([(b.p0 - a.p0, b.p1 - a.p1) for a, b in ways])  # (q, 2, k, 3)
         chord = np.sqrt(np.einsum("qekx,qekx->qek", ends, ends).max(axis=1))
@@ -152,8 +164,12 @@ class SweptBody:
         bound; the mesh search stops there); entries of no pair are +inf."""
         m = len(self.obstacles)
         out = np.full(self.pairs.shape, np.inf)
-        for o, obstacle in enumerate(self.obstacles):
-            got = obstacle.distance(pose.p0, pose.p1, self.capsules.radius, margin).distance
+        if self._boxes.size:  # the boxes in one query (each row is what the box's own distance gives)
+            got = boxes_distance(pose.p0, pose.p1, self.capsules.radius, self._box_set, margin)
+            box_rows = np.array([g.distance for g in got]).T
+            out[:, self._boxes] = np.where(np.isinf(box_rows), margin, box_rows)
+        for o in self._others:
+            got = self.obstacles[o].distance(pose.p0, pose.p1, self.capsules.radius, margin).distance
             out[:, o] = np.where(np.isinf(got), margin, got)
         if self.own is not None:
             own = self.own
@@ -164,15 +180,23 @@ class SweptBody:
     def relative(self, motion: np.ndarray) -> np.ndarray:
         """(k, m + p): how far each entry's distance can change when capsule k moves at most ``motion`` (k,) m: its
         own motion, plus its partner's for a self pair."""
-        out = np.repeat(motion[:, None], self.pairs.shape[1], axis=1)
-        own = self.partner >= 0
-        out[own] += motion[self.partner[own]]
-        return out
+        # the partner's motion gathered from the motions with a 0 appended (index k: no partner); adding 0 is exact
+        return motion[:, None] + np.append(motion, 0.0)[self._partner_or_none]
 
     def uncertain(self, d_a: np.ndarray, d_b: np.ndarray, motion: np.ndarray) -> np.ndarray:
         """(k, m + p) pairs that two end distances (m, lower bounds will do) and the bound ``motion`` (k,) do not
         certify: some point of the way might be deeper than the tolerance."""
         return self.pairs & (d_a + d_b - self.relative(motion) < -2.0 * self.tolerance)
+
+    def any_uncertain(self, d_p: np.ndarray, first: np.ndarray, second: np.ndarray, way: np.ndarray) -> bool:
+        """Whether :meth:`uncertain` leaves any pair of the way whose ends' distances are at least ``d_p`` (k, m + p)
+        m less the motions ``first`` and ``second`` (k,) m, the way's own bound being ``way`` (k,) m (by the kernels:
+        one loop that stops at the first)."""
+        if kernels.active():
+            return bool(any_uncertain(self.pairs, self.partner, np.ascontiguousarray(d_p, dtype=float),
+                                      *(np.ascontiguousarray(m, dtype=float) for m in (first, second, way)),
+                                      self.tolerance))  # fmt: skip
+        return bool(self.uncertain(d_p - self.relative(first), d_p - self.relative(second), way).any())
 
     def check(self, a: Pose, b: Pose, d_a: np.ndarray, d_b: np.ndarray, margin: float) -> SweepReport:
         """Crossings on the way from ``a`` to ``b``, given the exact (k, m) :meth:`distances` at both ends (queried

@@ -18,11 +18,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
 from ..collision.body import BodyCapsules
-from ..collision.boxes import box_rows
-from ..collision.carried import CLEARANCE, Carried, box_motion_terms, held_frame
+from ..collision.boxes import box_rows, box_rows_one
+from ..collision.carried import CLEARANCE, Carried, box_motion_jacobian, box_motion_terms, held_frame
+from ..kernels.clearance_boxes import carried_capsule_rows
 from .clearance import ClearanceRows
 
 
@@ -45,6 +47,7 @@ class CarriedClearance(ClearanceRows):
         self._pairs = [f"{name} vs {carried.name}" for name in names]
         self.floor = np.full(len(names), CLEARANCE)
         self._half = np.asarray(carried.size, dtype=float) / 2.0
+        self._index = np.arange(len(names))
 
     def frame(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """(centre (3,) m, rotation (3, 3)) of the box at ``state``."""
@@ -55,6 +58,8 @@ class CarriedClearance(ClearanceRows):
         k = len(caps)
         p0, p1 = caps.world(state.kin)
         centre, rotation = self.frame(state)
+        if kernels.active():
+            return self._compiled_distances(p0, p1, centre, rotation)
         # only capsules whose box-frame bounds, grown by radius + margin, meet the box are measured; the rest are
         # met by more than the margin and get margin + 1 m and a zero normal (no Jacobian), as obstacles' rows do
         a, b = (p0 - centre) @ rotation, (p1 - centre) @ rotation
@@ -68,6 +73,20 @@ class CarriedClearance(ClearanceRows):
             distance[near], point[near], normal[near] = got.distance, got.point, got.normal
         return distance, point, normal, np.arange(k)
 
+    def _compiled_distances(self, p0: np.ndarray, p1: np.ndarray, centre: np.ndarray,
+                            rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+        """:meth:`_distances` by the kernels: the bounds test and the rows apart in one loop, a row whose axis meets
+        or touches the box by :func:`box_rows`."""
+        caps, k = self.capsules, len(self.capsules)
+        distance, t, rare = np.empty(k), np.empty(k), np.empty(k, dtype=np.int64)
+        point, normal, closest = np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3))
+        box = (centre.reshape(1, 3), np.ascontiguousarray(rotation).reshape(1, 3, 3), self._half.reshape(1, 3))
+        if carried_capsule_rows(p0, p1, caps.radius, *box, self.margin, distance, t, point, normal, closest, rare):
+            rows = np.flatnonzero(rare)
+            got = box_rows_one(p0[rows], p1[rows], caps.radius[rows], centre, rotation, self._half)
+            distance[rows], point[rows], normal[rows] = got.distance, got.point, got.normal
+        return distance, point, normal, self._index
+
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
         out = np.zeros((len(rows), self.n_x))
         if not rows.size:
@@ -75,6 +94,9 @@ class CarriedClearance(ClearanceRows):
         distance, points, normals, capsule = self._evaluate(state)
         normal, k = normals[rows], len(rows)
         on_box = points[rows] - (distance[rows] + self.capsules.radius[capsule[rows]])[:, None] * normal
+        if kernels.active():  # the three terms per joint in one loop
+            own = (points[rows], normal, self._row_link(capsule)[rows])
+            return box_motion_jacobian(state, self.tcps, on_box, -normal, self.n_x, own)
         # one call for the three points: the witness on the capsule, and each TCP moving the box's point
         links, where, along = box_motion_terms(state, self.tcps, on_box, -normal)
         links = np.concatenate([self.capsules.link[capsule[rows]], links])

@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..body.model import Model
 from ..body.state import State
 from ..collision import Obstacle, Proximity
-from ..collision.boxes import box_corners, box_edges, box_rows, edges_of_corners
-from ..collision.carried import Carried, box_motion_terms, held_frame
+from ..collision.boxes import box_corners, box_edges, box_rows_one, edges_of_corners
+from ..collision.carried import Carried, box_motion_jacobian, box_motion_terms, held_frame
 from ..constraints.clearance import ClearanceRows, Closeness
 
 __all__ = ["CarriedObstacles", "box_corners", "box_edges"]
@@ -116,9 +117,7 @@ class CarriedObstacles(ClearanceRows):
         if skeleton is None:
             return None
         s0, s1, radii = skeleton
-        k = len(radii)
-        got = box_rows(s0, s1, radii, np.broadcast_to(centre, (k, 3)), np.broadcast_to(rotation, (k, 3, 3)),
-                       np.broadcast_to(self.half, (k, 3)))  # fmt: skip
+        got = box_rows_one(s0, s1, radii, centre, rotation, self.half)
         if ranked:  # the nearest first: row j holds the j-th smallest distance (continuous)
             keep = np.argsort(got.distance, kind="stable")[: ob.nearest_edges]
             got, radii = Proximity(*(field[keep] for field in got)), radii[keep]
@@ -149,6 +148,8 @@ class CarriedObstacles(ClearanceRows):
         if not rows.size:
             return out
         _, on_box, normal, _ = self._evaluate(state)
+        if kernels.active():  # the two TCPs' terms per joint in one loop
+            return box_motion_jacobian(state, self.tcps, on_box[rows], normal[rows], self.n_x)
         links, where, along = box_motion_terms(state, self.tcps, on_box[rows], normal[rows])
         mask = self.model.descendant[:, links].T.astype(float)
         moved = state.kin.jacobian_rows(where, along, np.zeros_like(along), mask)

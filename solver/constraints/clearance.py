@@ -284,6 +284,11 @@ class Clearance(ClearanceRows):
                 self._pairs += [f"{name} vs {ob.name}" for name in capsules.names]
                 floors.append(np.full(k, ob.clearance))
         self.floor = np.concatenate(floors) if floors else np.zeros(0)
+        # every obstacle of one kind (boxes), in order, with a row per capsule: its group's flat rows, by the kernels
+        # (group, far value per obstacle, capsule per row)
+        self._flat = None
+        if len(self._groups) == 1 and not self._groups[0][0] and hasattr(self._groups[0][3], "flat_rows"):
+            self._flat = (self._groups[0][3], self._groups[0][2] + 1.0, np.tile(np.arange(k), len(self.obstacles)))
         self._plane = None  # one half-space (the floor): measured inline, as halfspace_distance does, in 3 calls
         if len(self.obstacles) == 1 and isinstance(self.obstacles[0], HalfSpace):
             self._plane = self.obstacles[0]
@@ -302,6 +307,9 @@ class Clearance(ClearanceRows):
                        self._reach[0] + 1.0, h, ends)  # fmt: skip
             return h, ends, self._plane_normal, self._row_capsule
         p0, p1 = self._ends(state)
+        if self._flat is not None and kernels.active():  # one kind answering every obstacle's rows in one array
+            distance, point, normal = self._flat[0].flat_rows(p0, p1, caps.radius, self._groups[0][2], self._flat[1])
+            return distance, point, normal, self._flat[2]
         if self._plane is not None:  # a row per capsule end, starts first; the end is its own witness
             ends = np.concatenate([p0, p1])
             h = (ends - self._plane.point) @ self._plane.normal - self._plane_radius

@@ -208,3 +208,32 @@ def clearance_jacobian(
             if b >= 0 and descendant[j, b]:
                 value = value - (u0 * twist[j, 3] + u1 * twist[j, 4] + u2 * twist[j, 5] + along)
             out[m, j] = value
+
+
+@kernel
+def plane_distance(
+    p0: np.ndarray,
+    p1: np.ndarray,
+    radii: np.ndarray,
+    point: np.ndarray,
+    normal: np.ndarray,
+    distance: np.ndarray,
+    t_out: np.ndarray,
+    w_out: np.ndarray,
+    n_out: np.ndarray,
+    closest: np.ndarray,
+) -> None:
+    """Capsules p0-p1 (k, 3) m of ``radii`` (k,, or (1,) for all) vs the half-space through ``point`` with unit
+    ``normal``: the lower end along the normal (p0 on a tie), as ``halfspace_distance``: fill ``distance`` (k,),
+    ``t_out`` (0 or 1), the end ``w_out``, the normal ``n_out`` and ``closest`` (k, 3) m."""
+    for k in range(p0.shape[0]):
+        h0 = (p0[k, 0] - point[0]) * normal[0] + (p0[k, 1] - point[1]) * normal[1] + (p0[k, 2] - point[2]) * normal[2]
+        h1 = (p1[k, 0] - point[0]) * normal[0] + (p1[k, 1] - point[1]) * normal[1] + (p1[k, 2] - point[2]) * normal[2]
+        lower = h1 < h0
+        h = h1 if lower else h0
+        distance[k] = h - radii[0 if radii.shape[0] == 1 else k]
+        t_out[k] = 1.0 if lower else 0.0
+        for j in range(3):
+            w = p1[k, j] if lower else p0[k, j]
+            w_out[k, j], n_out[k, j] = w, normal[j]
+            closest[k, j] = w - h * normal[j]

@@ -92,12 +92,12 @@ class MotionSweep:
         if anchored:  # first the path bounds alone, which need no forward kinematics
             _, p, d_p = self._anchor
             length = body.length(np.array([p.theta, p.theta, theta_a]), np.array([theta_a, theta_b, theta_b]))
-            if not body.uncertain(d_p - body.relative(length[0]), d_p - body.relative(length[1]), length[2]).any():
+            if not body.any_uncertain(d_p, length[0], length[1], length[2]):
                 return SweepReport(None, [], 0, 0)
         a, b = self._pose(body, theta_a), self._pose(body, theta_b)
         if anchored:
             bound = body.bounds([(p, a), (p, b), (a, b)])
-            if not body.uncertain(d_p - body.relative(bound[0]), d_p - body.relative(bound[1]), bound[2]).any():
+            if not body.any_uncertain(d_p, bound[0], bound[1], bound[2]):
                 return SweepReport(b, [], 0, 0)
         margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
         report = body.check(a, b, self._exact(body, a, margin), self._exact(body, b, margin), margin)
@@ -282,7 +282,8 @@ def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | 
 
 def _placed(rows: CarriedObstacles, kin) -> tuple[np.ndarray, np.ndarray]:
     """(centre m, rotation) of the box that ``rows`` keep out of obstacles, with the body at kinematics ``kin``."""
-    return carried_frame(*(kin.tcp_frame(tcp)[1] for tcp in rows.tcps))
+    # the positions of Kinematics.tcp_frame (its rotations are not needed here)
+    return carried_frame(*(kin.position[tcp.link] + kin.rotation[tcp.link] @ tcp.position for tcp in rows.tcps))
 
 
 def mark_carried(result: Result, frames: tuple[int, int], found: list[tuple[str, float]]) -> Result:

@@ -7,8 +7,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ... import kernels
 from ...errors import ScenarioError
-from ..boxes import box_edges, box_rows
+from ...kernels.clearance_boxes import boxes_near_rows
+from ..boxes import box_edges, box_rows, box_rows_one
 from ..distance import as_batch
 from ..generate import box_mesh
 from ..proximity import Proximity, near_only_many
@@ -78,12 +80,17 @@ class BoxGroup(ShapeGroup):
     def distances(self, p0, p1, radii, margins) -> list[Proximity]:
         return boxes_distance(p0, p1, radii, self.stacked, margins)
 
+    def flat_rows(self, p0, p1, radii, margins, far) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(distance (m k,) m, point (m k, 3) m, normal (m k, 3)) of capsules p0-p1 (k, 3) vs the m boxes, box by
+        box, as :meth:`distances` gives them but ``far[i]`` (m) where box i's distance is not finite (by the kernels:
+        one loop, no per-box arrays)."""
+        got = _compiled_distances(p0, p1, radii, self.stacked, margins, np.asarray(far, dtype=float), True)
+        return got.distance.reshape(-1), got.point.reshape(-1, 3), got.normal.reshape(-1, 3)
+
 
 def box_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, box: Box) -> Proximity:
     """Capsules (k rows) vs one oriented box, exact for every row."""
-    k = len(p0)
-    return box_rows(p0, p1, radii, np.broadcast_to(box.center, (k, 3)), np.broadcast_to(box.rotation, (k, 3, 3)),
-                    np.broadcast_to(box.half, (k, 3)))  # fmt: skip
+    return box_rows_one(p0, p1, radii, box.center, box.rotation, box.half)
 
 
 class BoxSet(NamedTuple):
@@ -111,8 +118,36 @@ def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: Box
     :func:`~solver.collision.proximity.near_only_many`)."""
     center, rotation, half, extent = boxes
     margins = np.broadcast_to(np.asarray(margins, dtype=float), (len(center),))
+    if kernels.active():
+        got = _compiled_distances(p0, p1, radii, boxes, margins, np.full(len(center), np.inf), False)
+        return [Proximity(*(field[i] for field in got)) for i in range(len(center))]
 
     def exact(box: np.ndarray, cap: np.ndarray) -> Proximity:
         return box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
 
     return near_only_many(p0, p1, radii, margins, center - extent, center + extent, exact)
+
+
+def _compiled_distances(p0, p1, radii, boxes: BoxSet, margins, far: np.ndarray, finite: bool) -> Proximity:
+    """:func:`boxes_distance` by the kernels, as one Proximity of (m, k) fields (``far``, ``finite``: as
+    :func:`~solver.kernels.clearance_boxes.boxes_near_rows`); rows whose axis meets or touches a box by
+    :func:`box_rows`."""
+    center, rotation, half, extent = boxes
+    # writable C arrays: one compiled version of the kernel (a read-only argument is another type to Numba)
+    p0, p1, radii, margins = (x if x.flags.writeable else x.copy() for x in (
+        np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii, margins)))  # fmt: skip
+    m, k = len(center), len(p0)
+    distance, t, rare = np.empty(m * k), np.empty(m * k), np.empty(m * k, dtype=np.int64)
+    point, normal, closest = np.empty((m * k, 3)), np.empty((m * k, 3)), np.empty((m * k, 3))
+    if boxes_near_rows(p0, p1, radii, margins, center - extent, center + extent, center, rotation, half, far, finite,
+                       distance, t, point, normal, closest, rare):  # fmt: skip
+        rows = np.flatnonzero(rare)
+        box, cap = np.divmod(rows, k)
+        got = box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
+        keep = got.distance <= margins[box]
+        for mine, theirs in zip((distance, t, point, normal, closest), got, strict=True):
+            mine[rows[keep]] = theirs[keep]
+        if finite:
+            distance[rows] = np.where(np.isfinite(distance[rows]), distance[rows], far[box])
+    return Proximity(distance.reshape(m, k), t.reshape(m, k), point.reshape(m, k, 3), normal.reshape(m, k, 3),
+                     closest.reshape(m, k, 3))  # fmt: skip

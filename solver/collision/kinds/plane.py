@@ -6,7 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import kernels
 from ...errors import ScenarioError
+from ...kernels.clearance import plane_distance
 from ..distance import as_batch
 from ..generate import axis_frame
 from ..proximity import Proximity
@@ -66,6 +68,13 @@ def halfspace_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, plane:
     """Capsules vs a half-space: the lower end along the normal (p0 on a tie). Rows of points (p1 is p0: a capsule's
     ends, a box's corners) are measured once."""
     same = p1 is p0
+    if kernels.active():  # one loop: the NumPy code below is ~15 calls on a few rows (a box's 8 corners)
+        p0 = np.ascontiguousarray(np.atleast_2d(p0), dtype=float)
+        p1 = p0 if same else np.ascontiguousarray(np.atleast_2d(p1), dtype=float)
+        k = len(p0)
+        out = Proximity(np.empty(k), np.empty(k), np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3)))
+        plane_distance(p0, p1, np.atleast_1d(np.asarray(radii, dtype=float)), plane.point, plane.normal, *out)
+        return out
     p0, p1, radii = as_batch(p0, p1, radii)
     h0 = (p0 - plane.point) @ plane.normal
     h1 = h0 if same else (p1 - plane.point) @ plane.normal
