@@ -5,9 +5,10 @@ Numba keeps a cache folder per import name of the solver (:data:`solver.kernels.
 ``bl_ext.<repo>.manikin.solver``. :func:`start_if_cold` (called by ``addon.register``) starts ONE detached process
 with Blender's Python (the environment of :mod:`.background`: the extension's wheels, numba included) that runs
 this file as a script: it imports the solver under that same name (the ``bl_ext`` packages made by hand as Blender
-makes them, no bpy) and solves the presets ``python -m solver kernels --compile`` solves (box_lift and two more:
-the kernels a Solve Pose uses), so Numba writes the cache the add-on's own solves then load. Its output goes to
-``warmup.log`` in the cache folder; while it runs, ``warmup.pid`` there holds its process id.
+makes them, no bpy) and solves the presets ``python -m solver kernels --compile`` solves (box_lift, two more and a
+motion's first frames: the kernels a Solve Pose and a Bake Motion use), so Numba writes the cache the add-on's own
+solves then load. Its output goes to ``warmup.log`` in the cache folder; while it runs, ``warmup.pid`` there holds
+its process id.
 
 A solve that starts before the warm-up ends compiles in Blender as before, both processes writing the same cache
 files: Numba writes each to a temporary name and renames it (a reader never sees half a file), and both compile the

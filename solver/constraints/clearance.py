@@ -294,7 +294,8 @@ class Clearance(ClearanceRows):
             self._plane = self.obstacles[0]
             self._row_capsule = np.tile(np.arange(k), 2)
             self._plane_radius = np.concatenate([capsules.radius, capsules.radius])
-            self._plane_normal = np.broadcast_to(self._plane.normal, (2 * k, 3))  # read-only, shared by every state
+            # shared by every state (nothing writes to it; a read-only array would compile the Jacobian kernel twice)
+            self._plane_normal = np.tile(self._plane.normal, (2 * k, 1))
 
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         caps = self.capsules
