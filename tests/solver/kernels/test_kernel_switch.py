@@ -52,8 +52,10 @@ def test_the_kernels_command_says_which_and_compile_solves_the_box_lift(choice: 
     lines = done.stdout.splitlines()
     assert lines[0] == ("kernels: NumPy (MANIKIN_KERNELS=numpy)" if choice == "numpy" else f"kernels: {_numba_line()}")
     assert lines[1].startswith("box_lift solved (converged) in ")
-    # two more presets reach the kernels box_lift does not (the step's clamping rounds, a box obstacle)
-    assert [line.split()[0] for line in lines[1:]] == ["box_lift", "deep_squat", "cabinet_reach"]
+    # two more presets and a motion reach the kernels box_lift does not (the step's clamping rounds, a box obstacle,
+    # the check of the way between two frames)
+    assert [line.split()[0] for line in lines[1:]] == ["box_lift", "deep_squat", "cabinet_reach", "box_lift_motion"]
+    assert lines[-1].startswith("box_lift_motion 12 frames solved (converged) in ")
 
 
 def _numba_line() -> str:
