@@ -31,22 +31,23 @@ ROOT = PRESETS_DIR.parent
 TARGET_S, TARGET_MB = 60.0, 500.0
 NOTES = (  # what was measured once, by profiling: kept with the figures
     "Each frame is written as it is solved and nothing per frame is kept but a few numbers.",
-    "Where `batch.py --report`'s memory goes (resident set at each stage and tracemalloc, 2026-11-27, 10,000",
-    "frames): importing the bpy module takes 256 MB and the scene with its manikin 325 MB before the first frame",
-    "(the CLI's whole run peaks at 64 MB: bpy alone is four times that); the bake then adds 24 MB (2.4 kB a frame:",
-    "the joint values kept for keying, a few numbers per frame; each frame's residuals were kept too until",
-    "2026-11-27, 41 MB in all), keying 35 MB (Blender's F-curves) and saving the .blend 12 MB: 396 MB, was 414.",
-    "Where a frame's time goes (cProfile and timers, 2026-11-24): solving about 2 ms (the iteration about 55 %,",
-    "building the frame's problem with its moved targets about 35 %, the Result about 8 %); a result JSON frame",
-    "1.9 ms to build and 1.5 ms to encode (a compact line 0.45 ms); in `batch.py` also reading the scene into a",
-    "problem (about 1.2 ms, mostly `Problem`) and the report's ergonomics (about 1.5 ms). Keying the 10,000 frames",
-    "takes about 1 s; keys inside runs of equal values are left out (same curves), since Blender holds every key",
-    "twice once the scene is evaluated (about 220 MB for 160 channels x 10,000 keys).",
-    "The solver's compiled kernels (Numba, issue 37) add a fixed ~135 MB to every process that solves (measured",
-    "2026-11-27: importing llvmlite's LLVM 51 MB and numba 17 MB, setting up its compiled target 57 MB, the cached",
-    "kernels ~13 MB): `solve` peaks at ~193 MB (64 MB on the NumPy kernels) and `batch.py` at 524-613 MB, above",
-    "the 500 MB target; `MANIKIN_KERNELS=numpy` keeps `batch.py` at 392 MB and takes 50.7 s where the kernels take",
-    "36.8 s (one run each, 2026-11-27).",
+    "Where `batch.py`'s memory goes (resident set sampled every 20 ms, 2026-11-27, 10,000 frames, `--report`):",
+    "importing bpy, numpy, scipy and numba and registering the extension 391 MB (numba ~133 MB of it: llvmlite's",
+    "LLVM 51 MB, numba 17 MB, its compiled target ~57 MB once the first kernel loads, the cached kernels ~13 MB);",
+    "the scene with its manikin 427 MB before the first frame (460 MB until the body-mesh data the skin was fitted",
+    "from, ~32 MB, was kept through the bake); the bake then adds ~15 MB (the joint values kept for keying), keying",
+    "~17 MB (Blender's F-curves), evaluating the keyed scene ~19 MB (Blender holds every key twice once it is",
+    "evaluated) and writing the report and saving the .blend the rest. About half of the peak is the libraries'",
+    "code mapped from disk (RssFile ~251 MB: bpy's own library, LLVM), which processes share and the system can",
+    "drop; the process's own memory (RssAnon) peaks at ~260 MB. The peak moves by ~10 MB between otherwise equal",
+    "runs (from 501 to 514 MB for `--report` with another environment and working folder).",
+    "Where a frame's time goes (py-spy, 2026-11-27, 2,000 frames of `solve -o R.jsonl`): the iteration ~60 % (two",
+    "trial points and one linearisation a frame; the carried box's, the obstacles' and the floor's clearance rows in",
+    "compiled kernels since 2026-11-27), the Result ~13 %, the check of the way from the previous frame ~10 %, the",
+    "frame's problem with its moved targets ~6 % (its frame group moved, not built again, since 2026-11-27), the",
+    "compact line ~12 %; in `batch.py` also reading the scene into a problem (~25 % of a frame) and, with",
+    "`--report`, the report's ergonomics (~1.3 ms a frame). Keys inside runs of equal values are left out (same",
+    "curves): Blender holds every key twice once the scene is evaluated.",
 )
 
 
@@ -141,7 +142,7 @@ def section(frames: int, runs: int, done: dict, sizes: dict, host: str, loads: t
         f"The box-lift motion (presets/scenarios/box_lift_motion.toml) with its keys spread over {frames} frames; "
         f"{runs} runs per command, the commands taking turns. Wall time measured around each process, peak memory"
         " = the process's maximum resident set (`os.wait4`). Each command first ran once on 10 frames, untimed: the"
-        " compiled kernels are in their cache (a first run compiles them once, ~20 s: docs/BENCHMARKS.md, kernels).",
+        " compiled kernels are in their cache (a first run compiles them once, ~20 s: section 'Issue 37, sixth step').",
         "",
         "| command | wall median s | wall p95 s | peak memory median MB | peak p95 MB | target |",
         "|---|---:|---:|---:|---:|---|",
