@@ -233,12 +233,12 @@ class ClearanceRows(Inequality):
             return []
         distance, points, normals, capsule = self._evaluate(state)
         near = np.flatnonzero(distance - self.floor < self.margin)
-        out = []
-        for i in near[np.argsort(distance[near], kind="stable")]:
-            surface = points[i] - self.capsules.radius[capsule[i]] * normals[i]
-            out.append(Closeness(self._parts[i], self._others[i], float(distance[i]), float(self.floor[i]), surface,
-                                 surface - distance[i] * normals[i]))  # fmt: skip
-        return out
+        rows = near[np.argsort(distance[near], kind="stable")]
+        gap, normal = distance[rows], normals[rows]
+        surface = points[rows] - self.capsules.radius[capsule[rows]][:, None] * normal  # all rows at once
+        other = surface - gap[:, None] * normal
+        return [Closeness(self._parts[i], self._others[i], d, f, p, q) for i, d, f, p, q in
+                zip(rows.tolist(), gap.tolist(), self.floor[rows].tolist(), surface, other, strict=True)]  # fmt: skip
 
 
 class Clearance(ClearanceRows):
