@@ -9,6 +9,7 @@ whole or not at all.
 
 from __future__ import annotations
 
+import _signal  # the C functions behind signal.signal and getsignal, without their enum conversions (~2 us a call)
 import signal
 import threading
 from collections.abc import Iterator
@@ -83,20 +84,20 @@ def interrupts_held() -> Iterator[None]:
     Ctrl-C handler is replaced (in the main thread); with any other (ignored, an application's) Ctrl-C is left as
     it is, and without :func:`terminate` for SIGTERM the block runs as it is."""
     outer = _Held.depth == 0
-    own_int = outer and _main_thread() and signal.getsignal(signal.SIGINT) is signal.default_int_handler
-    own_term = outer and _main_thread() and signal.getsignal(signal.SIGTERM) is terminate
+    own_int = outer and _main_thread() and _signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    own_term = outer and _main_thread() and _signal.getsignal(signal.SIGTERM) is terminate
     if outer and not (own_int or own_term):
         yield
         return
     if own_int:
-        signal.signal(signal.SIGINT, _hold)
+        _signal.signal(signal.SIGINT, _hold)
     _Held.depth += 1
     try:
         yield
     finally:
         _Held.depth -= 1
         if own_int:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
+            _signal.signal(signal.SIGINT, signal.default_int_handler)
         if outer:
             pending, _Held.pending = _Held.pending, False
     if outer and pending:  # (an exception from the block goes on instead)
