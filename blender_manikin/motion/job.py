@@ -248,7 +248,7 @@ def run(job: Job) -> int:
     sinks = baker.on_frame = Sinks(job, arm, baker.model, len(baker.frames) <= STORE_MAX)
     try:
         stopped, seconds = bake(job, baker)
-        keyed = baker.write(thin=True, ergo=sinks.report)
+        keyed = baker.write(thin=True, ergo=sinks.report, release=job.picture is None)  # a picture needs them
         report_bake(job, baker, seconds + keyed)
         target = retarget_step(job, arm, baker) if job.retarget is not None and stopped is None else None
         written = write_outputs(job, arm, baker, sinks, stopped, target)

@@ -185,6 +185,14 @@ def test_modal_bake_runs_to_the_end(session: dict, model) -> None:
     np.testing.assert_allclose(keyed, np.array(session["modal_thetas"]), atol=FLOAT32)  # keys = what it solved
 
 
+def test_a_bake_that_releases_its_joint_values_keys_the_same(session: dict, model) -> None:
+    """Baker.write(release=True) (batch.py without --picture) keys what a bake that keeps them keys, then drops them."""
+    released = session["released"]
+    assert released["rows"] == 0
+    keyed = _thetas(released["keys"], RigLayout(model), session["frames"], model.n)
+    np.testing.assert_allclose(keyed, np.array(released["thetas"]), atol=FLOAT32)
+
+
 def test_rebaked_keys_equal_the_baker_values(session: dict, model) -> None:
     assert all(session["converged"]) and session["finite"]
     keyed = _thetas(session["rebaked"], RigLayout(model), session["frames"], model.n)
