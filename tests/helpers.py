@@ -140,3 +140,10 @@ name = "cube"
 kind = "mesh"
 file = "cube.obj"
 """  # a scenario's obstacles of every kind (appended to a scenario TOML)
+
+
+def close_to_rounding(a, b) -> None:
+    """``a`` equals ``b`` to 1e-12 relative to ``b``'s size (a compiled kernel against its NumPy twin)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    assert a.shape == b.shape
+    np.testing.assert_allclose(a, b, rtol=0.0, atol=1e-12 * max(1.0, float(np.max(np.abs(b), initial=0.0))))

@@ -6,27 +6,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import close_to_rounding
 
 from solver import kernels
 from solver.collision.carried import Carried, box_motion_jacobian, box_motion_terms, carried_frame
 from solver.collision.kinds.box import Box, BoxGroup, box_set, boxes_distance
 from solver.collision.kinds.plane import HalfSpace, halfspace_distance
-from solver.io.scenario.bodies import load_body
 from solver.problem.problem import Problem, ProblemSpec, Target
 
 pytest.importorskip("numba")
-
-
-def close(a, b) -> None:
-    """Equal to 1e-12 relative to the array's size."""
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    assert a.shape == b.shape
-    np.testing.assert_allclose(a, b, rtol=0.0, atol=1e-12 * max(1.0, float(np.max(np.abs(b), initial=0.0))))
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_body(preset="male_50")
 
 
 def _boxes(rng: np.random.Generator, m: int) -> list[Box]:
@@ -80,7 +68,7 @@ def test_boxes_distance_and_flat_rows(seed):
     for mine, theirs in zip(got[True], got[False], strict=True):
         np.testing.assert_array_equal(np.isinf(mine.distance), np.isinf(theirs.distance))
         for a, b in zip(mine, theirs, strict=True):
-            close(np.where(np.isinf(a), 0.0, a), np.where(np.isinf(b), 0.0, b))
+            close_to_rounding(np.where(np.isinf(a), 0.0, a), np.where(np.isinf(b), 0.0, b))
     far = margins + 1.0
     with kernels.using(True):
         flat = BoxGroup(boxes, ()).flat_rows(p0, p1, radii, margins, far)
@@ -88,7 +76,7 @@ def test_boxes_distance_and_flat_rows(seed):
     want = [np.concatenate(kept), np.concatenate([g.point for g in got[False]]),
             np.concatenate([g.normal for g in got[False]])]  # fmt: skip
     for a, b in zip(flat, want, strict=True):
-        close(a, b)
+        close_to_rounding(a, b)
 
 
 def _held(model) -> Problem:
@@ -119,7 +107,7 @@ def test_carried_rows_and_jacobian(model, size):
                 state = problem.state_of_x(x)
                 seen[compiled] = (*c._distances(state), c._jacobian_of(state, np.arange(c.rows)))
         for a, b in zip(seen[True], seen[False], strict=True):
-            close(a, b)
+            close_to_rounding(a, b)
         inside += int(np.sum(seen[False][0] < 0.0))
         on_box, normal = rng.normal(scale=0.3, size=(9, 3)), rng.normal(size=(9, 3))
         for compiled in (False, True):
@@ -133,7 +121,7 @@ def test_carried_rows_and_jacobian(model, size):
                                                     model.descendant[:, links].T.astype(float))  # fmt: skip
                     want = np.zeros((9, problem.n_x))
                     want[:, : model.n] = moved[:9] + moved[9:]
-        close(got, want)
+        close_to_rounding(got, want)
     assert inside or size < 0.4
 
 
@@ -152,7 +140,7 @@ def test_carried_jacobian_with_the_hands_one_above_the_other(model):
     with kernels.using(False):
         links, where, along = box_motion_terms(state, c.tcps, on_box, normal)
         moved = state.kin.jacobian_rows(where, along, np.zeros_like(along), model.descendant[:, links].T.astype(float))
-    close(got[:, : model.n], moved[:6] + moved[6:])
+    close_to_rounding(got[:, : model.n], moved[:6] + moved[6:])
 
 
 def test_halfspace_distance():
@@ -172,4 +160,4 @@ def test_halfspace_distance():
                 got[compiled] = halfspace_distance(*ends, radii, plane)
         np.testing.assert_array_equal(got[True].t, got[False].t)
         for a, b in zip(got[True], got[False], strict=True):
-            close(a, b)
+            close_to_rounding(a, b)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import close_to_rounding
 
 from solver import kernels
 from solver.collision import Box, Capsule, Sphere
@@ -14,22 +15,9 @@ from solver.collision.body import capsules_of
 from solver.collision.boxes import box_rows
 from solver.collision.carried import Carried
 from solver.collision.distance import capsule_pairs, closest_on_axes
-from solver.io.scenario.bodies import load_body
 from solver.problem.problem import Problem, ProblemSpec, Target
 
 pytest.importorskip("numba")
-
-
-def close(a, b) -> None:
-    """Equal to 1e-12 relative to the array's size."""
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    assert a.shape == b.shape
-    np.testing.assert_allclose(a, b, rtol=0.0, atol=1e-12 * max(1.0, float(np.max(np.abs(b), initial=0.0))))
-
-
-@pytest.fixture(scope="module")
-def model():
-    return load_body(preset="male_50")
 
 
 def _segments(rng: np.random.Generator, m: int) -> tuple[np.ndarray, ...]:
@@ -72,9 +60,9 @@ def test_axes_and_pairs(seed):
     for a, b in zip(
         got[True][0] + got[True][1] + got[True][3], got[False][0] + got[False][1] + got[False][3], strict=True
     ):
-        close(a, b)
+        close_to_rounding(a, b)
     normal = got[True][0][4]
-    close(np.linalg.norm(normal, axis=1), np.ones(64))  # unit, the crossing rows too
+    close_to_rounding(np.linalg.norm(normal, axis=1), np.ones(64))  # unit, the crossing rows too
 
 
 def _problem(model) -> Problem:
@@ -134,7 +122,7 @@ def test_clearance_rows(model, size):
             assert got["clear"] == want["clear"] and got["pairs"] == want["pairs"], name
             np.testing.assert_array_equal(got["rows"], want["rows"])
             for key in ("bound", "error", "value", "jac", "distance", "points"):
-                close(got[key], want[key])
+                close_to_rounding(got[key], want[key])
         for name in near:
             near[name] += len(seen[True][name]["pairs"])
         skipped += seen[True]["self_collision"]["clear"]
@@ -153,8 +141,8 @@ def test_capsule_ends(model):
             want = capsules.world(kin)
         with kernels.using(True):
             got = capsules.world(kin)
-        close(got[0], want[0])
-        close(got[1], want[1])
+        close_to_rounding(got[0], want[0])
+        close_to_rounding(got[1], want[1])
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -180,4 +168,4 @@ def test_box_rows(seed):
                 got[compiled] = box_rows(p0, p1, radii, *box)
         assert np.any(got[False].distance + radii < 0.0) and np.any(got[False].distance > 0.0)
         for a, b in zip(got[True], got[False], strict=True):
-            close(a, b)
+            close_to_rounding(a, b)
