@@ -44,7 +44,7 @@ def forget_skins() -> None:
     job calls it before a long bake. A later manikin fits its skin again (~0.3 s)."""
     from ...solver.bodymesh import forget_loaded
 
-    _skins.clear()
+    clear_cache()
     forget_loaded()
 
 

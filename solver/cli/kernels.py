@@ -45,7 +45,6 @@ def run(args: argparse.Namespace) -> int:
             results = [result for _, result in solve_motion(scenario)]
             state = "converged" if all(r.converged for r in results) else "not converged"
             took = time.perf_counter() - start
-            what = f"{len(results)} frames" if frames is not None else ""
-            print(f"{name} {what}{' ' if what else ''}solved ({state}) in {took:.2f} s, kernels compiled or loaded"
-                  " included", flush=True)  # fmt: skip
+            label = name if frames is None else f"{name} {len(results)} frames"
+            print(f"{label} solved ({state}) in {took:.2f} s, kernels compiled or loaded included", flush=True)
     return EXIT_OK
