@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -53,11 +54,24 @@ class State:
     def statics(self) -> Statics:
         return self._layout.evaluate(self.kin, self.w)
 
+    def once(self, owner: object, what: str, compute: Callable[[], Any]) -> Any:
+        """``compute()``, kept in the cache under ``(owner, what)``: a value that depends on ``owner`` (a constraint,
+        a comfort) and this state alone."""
+        key = (owner, what)
+        found = self.cache.get(key)
+        if found is None:
+            found = self.cache[key] = compute()
+        return found
+
     def adopt(self, other: State) -> State:
-        """This state, with the kinematics and statics ``other`` computed already when it is the same point of the
-        same problem layout (a result keeps its solve's last evaluation instead of repeating it)."""
+        """This state, with what ``other`` computed already when it is the same point of the same problem layout:
+        its kinematics and statics, and the values its cache keeps by object (a constraint's, a comfort term's, a
+        comfort's: each depends on its object and the point alone, so a problem sharing the object shares them; a
+        motion's next frame starts where the last one ended, with other targets)."""
         if other._layout is self._layout and other.n_joints == self.n_joints and np.array_equal(other.x, self.x):
             for name in ("kin", "statics"):
                 if name in other.__dict__:  # computed (computed_once keeps it there)
                     self.__dict__.setdefault(name, other.__dict__[name])
+            for key, value in other.cache.items():
+                self.cache.setdefault(key, value)
         return self

@@ -10,6 +10,8 @@ problem has unless it brings its own, are registered by name in :mod:`.standard`
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from ..body.model import Model
@@ -65,7 +67,10 @@ class Comfort:
 
     def derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """dh/dx (n_x,) and a positive diagonal curvature model of -h (n_x,), which the solver uses as the metric
-        of its steps."""
+        of its steps; once per state (not to be written to)."""
+        return state.once(self, "derivatives", partial(self._derivatives, state))
+
+    def _derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         grad = np.zeros(state.n_x)
         curv = np.zeros(state.n_x)
         for weight, term in self.terms:

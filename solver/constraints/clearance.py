@@ -129,10 +129,10 @@ class ClearanceRows(Inequality):
         """World ends (m) of every capsule of ``_source`` (else ``capsules``) at ``state``, once per state."""
         source = self._source if self._source is not None else self.capsules
         key = ("capsule ends", id(source))
-        ends = state.cache.get(key)
-        if ends is None:
-            ends = state.cache[key] = source.world(state.kin)
-        return ends
+        found = state.cache.get(key)
+        if found is None or found[0] is not source:  # the source kept with them: its id is not another's
+            found = state.cache[key] = (source, source.world(state.kin))
+        return found[1]
 
     def _clear_by(self, state: State, band: float) -> bool:
         """True when no row can be within ``band`` (m) of its floor at ``state``, known without a query from how its

@@ -6,6 +6,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..body.state import State
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from .curvature_memory import CurvatureMemory
@@ -47,13 +48,15 @@ def run_phase(
     comfort_on: bool,
     budget: int,
     keep_off_limits: bool = False,
+    warm: State | None = None,
 ) -> PhaseEnd:
     """Up to ``budget`` iterations from solver variables x.
 
     Without comfort, ``keep_off_limits`` still steps in the comfort's curvature metric (no comfort part), so
-    restoring the constraints after the comfort phase does not drive joints onto their limits.
+    restoring the constraints after the comfort phase does not drive joints onto their limits. ``warm``: a state
+    x may be (the previous frame's end), whose values x shares (:meth:`State.adopt`).
     """
-    evaluate = Evaluator(problem, comfort_on)
+    evaluate = Evaluator(problem, comfort_on, warm)
     at = evaluate(x)
     f = evaluate.cost(at.state)
     ctl = _Controls(tuning.initial_mu, tuning.max_step)

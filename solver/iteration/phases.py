@@ -6,6 +6,7 @@ import time
 
 import numpy as np
 
+from ..body.state import State
 from ..options import DEFAULT_OPTIONS, SolverOptions
 from ..problem.priorities import ranked, soft_shortfall
 from ..problem.problem import Problem
@@ -22,6 +23,7 @@ def solve(
     x0: np.ndarray | None = None,
     options: SolverOptions = DEFAULT_OPTIONS,
     tuning: Tuning = TUNING,
+    warm: State | None = None,
 ) -> Result:
     """Find x meeting the constraints and maximising comfort, warm-started from ``x0`` (any earlier pose).
 
@@ -34,11 +36,12 @@ def solve(
     unranked end (and from the start if that does not hold priority 1): supports, loops and balance held, reach
     targets as close as they get. The result is the first that meets everything, else
     the one that holds the most of priority 1 and then comes closest to the rest, with the iterations and
-    time of all attempts and the reason its last phase stopped (``Result.stop``).
+    time of all attempts and the reason its last phase stopped (``Result.stop``). ``warm``: the state of the
+    previous solve's end (the previous frame's ``Result.state``), whose values a start at the same point shares.
     """
     t0 = time.perf_counter()
     start = problem.start(x0)
-    best, used = _with_restarts(problem, start, options, tuning)
+    best, used = _with_restarts(problem, start, options, tuning, warm)
     was_ranked = False
     fallback = ranked(problem) if best.trial.worst > 1.0 else None
     # on from where reaching stopped (closer, fewer iterations); from the start again if that broke priority 1
@@ -59,9 +62,10 @@ def solve(
     return result
 
 
-def _with_restarts(problem: Problem, start: np.ndarray, options: SolverOptions, tuning: Tuning):
+def _with_restarts(problem: Problem, start: np.ndarray, options: SolverOptions, tuning: Tuning,
+                   warm: State | None = None):  # fmt: skip
     """(the best attempt, iterations of all) from ``start`` and up to ``options.restarts`` restart poses."""
-    best = attempt(problem, start, options, tuning)
+    best = attempt(problem, start, options, tuning, warm)
     used = best.iterations
     for _ in range(options.restarts):
         if best.trial.worst <= 1.0:
@@ -82,19 +86,21 @@ def _ranking_key(ranked_problem: Problem, end: PhaseEnd) -> tuple[float, float]:
     return max(trial.worst, 1.0), soft_shortfall(ranked_problem, trial.state)
 
 
-def attempt(problem: Problem, x: np.ndarray, options: SolverOptions, tuning: Tuning = TUNING) -> PhaseEnd:
+def attempt(problem: Problem, x: np.ndarray, options: SolverOptions, tuning: Tuning = TUNING,
+            warm: State | None = None) -> PhaseEnd:  # fmt: skip
     """One solve from solver variables x: the comfort phase, then the restoring phase if the constraints are not
-    met; the end of the last phase that ran, with the iterations of both."""
+    met; the end of the last phase that ran, with the iterations of both (``warm``: see :func:`solve`)."""
     budget = options.max_iterations
     end: PhaseEnd | None = None
     if options.optimize_comfort:
         polish = min(tuning.polish_iterations, budget // 3)
-        end = run_phase(problem, x, options, tuning, True, budget - polish)
+        end = run_phase(problem, x, options, tuning, True, budget - polish, warm=warm)
     used = end.iterations if end is not None else 0
     if (end is None or end.trial.worst > 1.0) and used < budget:
         x = end.trial.x if end is not None else x
         keep = options.optimize_comfort
-        restored = run_phase(problem, x, options, tuning, False, budget - used, keep_off_limits=keep)
+        first = warm if end is None else None
+        restored = run_phase(problem, x, options, tuning, False, budget - used, keep_off_limits=keep, warm=first)
         end = PhaseEnd(restored.trial, used + restored.iterations, restored.reason)
     if end is None:  # no iteration ran: the start itself
         end = PhaseEnd(Evaluator(problem, False)(x), 0, StopReason.NOT_RUN)

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..constraints.clearance import ClearanceRows
 from ..problem.priorities import hard_unmet, shortfalls
-from .trial import PARTS_KEY
+from .trial import PARTS
 
 if TYPE_CHECKING:
     from ..body.state import State
@@ -46,8 +46,8 @@ class Result:
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
         unmet = problem.unmet(state)
-        kept = state.cache.get(PARTS_KEY)  # the last trial's, when it was evaluated with this comfort
-        parts = dict(kept[1]) if kept is not None and kept[0] is problem.comfort else problem.comfort.parts(state)
+        kept = state.cache.get((problem.comfort, PARTS))  # the last trial's, when it was evaluated with comfort
+        parts = dict(kept) if kept is not None else problem.comfort.parts(state)
         residuals = problem.residuals(state)
         result = cls(
             problem=problem,
@@ -65,7 +65,7 @@ class Result:
             shortfall=shortfalls(problem, unmet, residuals),
             closest=problem.closest(state),
         )
-        result.state.adopt(state)
+        result._state = (problem, result.x, state)  # the solve's last evaluation: what it computed is kept
         return result
 
     @property

@@ -9,8 +9,8 @@ import numpy as np
 from ..body.state import State
 from ..problem.problem import Problem
 
-COST_KEY = "iteration cost"  # where f = -h of a state is kept in its cache
-PARTS_KEY = "comfort parts"  # where (the comfort, its parts) are kept: the result of a solve reuses them
+COST = "iteration cost"  # f = -h of a state and its relative size, kept under (the comfort, COST)
+PARTS = "comfort parts"  # the comfort's parts, kept under (the comfort, PARTS): the result of a solve reuses them
 
 
 @dataclass(slots=True)
@@ -28,19 +28,23 @@ class Evaluator:
     """Evaluates x once into a :class:`Trial`; f = -h on demand (:meth:`cost`), since trial points rejected on
     their error never need it."""
 
-    def __init__(self, problem: Problem, comfort_on: bool) -> None:
+    def __init__(self, problem: Problem, comfort_on: bool, warm: State | None = None) -> None:
         self.problem = problem
         self.comfort_on = comfort_on
         self.unweight = 1.0 / problem.row_weight if problem.n_rows else np.zeros(0)
+        self.warm = warm  # a state the first point may be (:meth:`State.adopt`): the previous frame's end
 
     def __call__(self, x: np.ndarray) -> Trial:
         state = self.problem.state(x)
+        if self.warm is not None:
+            state.adopt(self.warm)
+            self.warm = None
         err, worst = self.problem.scaled_error_and_worst(state, self.unweight)
         return Trial(x, state, err, float(err @ err), worst)
 
     def cost(self, state: State) -> float:
         """f = -h at ``state`` (0 without comfort), computed once per state."""
-        both = state.cache.get(COST_KEY)  # asked ~40 times a solve: the kept value without a second call
+        both = state.cache.get((self.problem.comfort, COST))  # asked ~40 times a solve: no second call
         return self._cost_and_size(state)[0] if both is None or not self.comfort_on else both[0]
 
     def size(self, state: State) -> float:
@@ -50,10 +54,9 @@ class Evaluator:
     def _cost_and_size(self, state: State) -> tuple[float, float]:
         if not self.comfort_on:
             return 0.0, 0.0
-        both = state.cache.get(COST_KEY)
+        comfort = self.problem.comfort
+        both = state.cache.get((comfort, COST))
         if both is None:
-            comfort = self.problem.comfort
-            parts = comfort.parts(state)
-            state.cache[PARTS_KEY] = (comfort, parts)
-            both = state.cache[COST_KEY] = (-comfort.total(parts), comfort.relative_size(parts))
+            parts = state.cache[comfort, PARTS] = comfort.parts(state)
+            both = state.cache[comfort, COST] = (-comfort.total(parts), comfort.relative_size(parts))
         return both

@@ -71,13 +71,14 @@ def solve_frames(
     sweep = MotionSweep() if sweep is None else sweep
     x = start
     previous: tuple[int, Problem, np.ndarray] | None = None  # the previous frame, its problem and solution
+    warm = None  # the previous frame's end state: where this frame starts, what it computed there is shared
     for frame in frames:
         full = problem_at(frame)
         x = as_x(full, x)
         if previous is not None and len(previous[2]) != full.n_x:  # the supports changed: forces shared again
             previous = (previous[0], previous[1], as_x(full, previous[2]))
         problem = full if (limits is None or previous is None) else bounded(full, previous[2], limits)
-        result = solve(problem, x, options)
+        result = solve(problem, x, options, warm=warm)
         if not result.converged and problem is not full:
             v = problem.to_variables(result.x)
             held = problem.bounds.held(v, full.bounds)
@@ -96,7 +97,7 @@ def solve_frames(
         annotate(result)  # the steps taken, or that planted feet kept a target out of reach
         if previous is not None:  # a stepping foot that moved since the last frame slid there: say so
             result.notes.extend(frame_moves(full, previous[1].state_of_x(previous[2]), result.state))
-        x = result.x
+        x, warm = result.x, result.state
         previous = (frame, full, result.x)
         yield frame, result
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Sequence
+from functools import partial
 
 import numpy as np
 
@@ -318,7 +319,7 @@ class Problem:
         watch band (most clearance rows, far from anything) are left out instead of carried as zeros."""
         if not self.constraints:
             return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
-        got = [c.jacobian_rows(state) for c in self.constraints]
+        got = [state.once(c, "jacobian rows", partial(c.jacobian_rows, state)) for c in self.constraints]
         if all(len(rows) == size for (rows, _), size in zip(got, self._sizes, strict=True)):
             live = self._all_rows  # every row (the rows of each are sorted and distinct): no new index array
         else:
