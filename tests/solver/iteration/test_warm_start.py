@@ -1,0 +1,81 @@
+"""A motion's next frame starts where the last one ended: its start state adopts what that end state computed
+(State.adopt). What it adopts must be what computing it again gives, and only what does not depend on the
+targets that moved."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from solver import load_scenario
+from solver.io.scenario.bodies import PRESETS_DIR
+from solver.iteration import solve
+from solver.iteration.trial import Evaluator
+from solver.motion.frames import bounded
+from solver.options import DEFAULT_LIMITS
+from tests.helpers import close_to_rounding
+
+
+@pytest.fixture(scope="module")
+def lift():
+    """The box lift (floor, obstacles, self-collision, carried box, balance) and two of its frames, the second's
+    problem sharing all but its frame group with the first's."""
+    scenario = load_scenario(PRESETS_DIR / "scenarios" / "box_lift_motion.toml")
+    first = scenario.problem_at(scenario.frames[0])
+    result = solve(first, scenario.start, scenario.options)
+    second = bounded(scenario.problem_at(scenario.frames[3]), result.x, DEFAULT_LIMITS)
+    return scenario, first, result, second
+
+
+def _linearized(problem, state):
+    """Everything a linearisation asks of ``state``: errors, live Jacobian rows, comfort model."""
+    err, worst = problem.scaled_error_and_worst(state, 1.0 / problem.row_weight)
+    live, jac = problem.live_jacobian(state)
+    grad, curv = problem.comfort_model(state)
+    return err, worst, live, jac, grad, curv
+
+
+def test_adopted_values_are_those_computed_again(lift):
+    _, first, result, second = lift
+    end = result.state  # the solve's last evaluation, kept by the Result
+    assert any(key[0] is c for c in first.constraints for key in end.cache if isinstance(key, tuple))
+    warm = second.state_of_x(end.x.copy()).adopt(end)
+    shared = [c for c in second.constraints if c in first.constraints]
+    assert shared and second.frames not in shared  # the moved targets' group is new, the rest shared
+    for c in shared:  # carried over where the first frame computed it
+        if (c, "jacobian rows") in end.cache:
+            assert (c, "jacobian rows") in warm.cache
+    assert (second.frames, "jacobian rows") not in warm.cache
+    cold = second.state_of_x(end.x.copy())
+    moved = first.scaled_error(end) - second.scaled_error(cold)  # the targets moved: what depends on them differs
+    assert np.abs(moved).max() > 1e-3
+    for got, expected in zip(_linearized(second, warm), _linearized(second, cold), strict=True):
+        close_to_rounding(got, expected)
+
+
+def test_adopt_takes_nothing_from_another_point(lift):
+    _, _, result, second = lift
+    moved = result.state.x.copy()
+    moved[10] += 1e-3
+    other = second.state_of_x(moved).adopt(result.state)
+    assert not other.cache and "kin" not in other.__dict__
+
+
+def test_a_warm_solve_gives_the_cold_one(lift):
+    _, _, result, second = lift
+    cold = solve(second, result.x)
+    warm = solve(second, result.x, warm=result.state)
+    assert (warm.converged, warm.iterations, warm.unmet) == (cold.converged, cold.iterations, cold.unmet)
+    close_to_rounding(warm.x, cold.x)
+    close_to_rounding(list(warm.residuals.values()), list(cold.residuals.values()))
+    assert warm.comfort == pytest.approx(cold.comfort, rel=1e-12)
+
+
+def test_cached_derivatives_are_not_written_to(lift):
+    _, _, result, second = lift
+    state = Evaluator(second, True)(second.to_variables(result.x)).state
+    grad, curv = (a.copy() for a in second.comfort.derivatives(state))
+    second.comfort_model(state)
+    second.comfort_derivatives(state)
+    again = second.comfort.derivatives(state)
+    assert np.array_equal(again[0], grad) and np.array_equal(again[1], curv)
