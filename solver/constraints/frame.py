@@ -86,9 +86,8 @@ class FrameConstraint(Constraint):
         position, rotation = locked * _FIRST_THREE, locked * ~_FIRST_THREE
         # (residual name, the unrelaxed components it measures: a slice when adjacent, else their indices) for the
         # locked translation / rotation (a slice's view has the values and order of a mask's copy)
-        self._locked_parts = [
-            (f"{name}.{part}", _components(m)) for part, m in (("position", position), ("rotation", rotation)) if m.any()
-        ]
+        parts = (("position", position), ("rotation", rotation))
+        self._locked_parts = [(f"{name}.{part}", _components(m)) for part, m in parts if m.any()]
         self._alone: FrameGroup | None = None  # the group of one that evaluates this constraint on its own
 
     @property
