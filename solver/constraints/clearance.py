@@ -233,9 +233,12 @@ class ClearanceRows(Inequality):
     def _lowest(self, state: State) -> float:
         """min(0, least g - floor) (m): the largest shortfall below a clearance, negated; NaN if a row is NaN; 0 when
         the rows are known clear without a query. The error's least row, without the error."""
-        if self._clear_by(state, 0.0):
-            return 0.0
-        return float(np.minimum.reduce(self.value(state) - self.floor, initial=0.0))
+        key = (self, "lowest")  # asked twice for a report (unmet, residuals)
+        lowest = state.cache.get(key)
+        if lowest is None:
+            gap = None if self._clear_by(state, 0.0) else self.value(state) - self.floor
+            lowest = state.cache[key] = 0.0 if gap is None else float(np.minimum.reduce(gap, initial=0.0))
+        return lowest
 
     def residuals(self, state: State) -> dict[str, float]:
         """The largest shortfall below the clearance (0 when met), m."""

@@ -134,11 +134,11 @@ class FrameConstraint(Constraint):
         out = {} if out is None else out
         if not self._is_selection:
             relaxed = self.operator @ err
-            out[self.name] = math.sqrt(float(relaxed @ relaxed))
+            out[self.name] = math.sqrt(relaxed.dot(relaxed))
             return out
         for part, components in self._locked_parts:
             kept = err[components]
-            out[part] = math.sqrt(float(kept @ kept))
+            out[part] = math.sqrt(kept.dot(kept))  # v @ v's number (matmul of two vectors calls dot), sooner
         return out
 
 
