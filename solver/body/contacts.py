@@ -10,6 +10,7 @@ no sole) and, at every corner, four cone edges ``d = R_T (mu cos(phi), mu sin(ph
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -65,19 +66,28 @@ class ContactSet:
         """Per support: total force (N), center of pressure (m) and moment about it (N*m), world frame."""
         points = self.corner_points(kin)
         forces = self.corner_forces(w)
+        out, cops = [], np.empty((len(self.supports), 3))
+        for s, (support, corners, normal) in enumerate(self._support_corners):
+            pts, fs = points[corners], forces[corners]
+            pressure = fs @ normal
+            load = float(np.add.reduce(pressure))  # ndarray.sum's own call, without its wrapper
+            cops[s] = (pressure @ pts) / load if load > 1e-9 else pts.mean(axis=0)
+            out.append(dict(tcp=support.tcp.name, point=cops[s], force=np.add.reduce(fs, axis=0)))
+        arms = cross(points - cops[self.corner_support], forces)  # every corner's moment about its COP at once
+        for wrench, (_, corners, _) in zip(out, self._support_corners, strict=True):
+            wrench["moment"] = np.add.reduce(arms[corners], axis=0)
+        return out
+
+    @cached_property
+    def _support_corners(self) -> list[tuple[Support, slice | np.ndarray, np.ndarray]]:
+        """Per support: itself, its corners (a slice when adjacent, as :func:`build_contacts` makes them) and its
+        normal (world, the z column of its frame)."""
         out = []
         for s, support in enumerate(self.supports):
-            sel = self.corner_support == s
-            pts, fs = points[sel], forces[sel]
-            total = fs.sum(axis=0)
-            normal = support.normal_frame[:, 2]
-            pressure = fs @ normal
-            if pressure.sum() > 1e-9:
-                cop = (pressure @ pts) / pressure.sum()
-            else:
-                cop = pts.mean(axis=0)
-            moment = cross(pts - cop, fs).sum(axis=0)
-            out.append(dict(tcp=support.tcp.name, point=cop, force=total, moment=moment))
+            index = np.flatnonzero(self.corner_support == s)
+            adjacent = len(index) and index[-1] - index[0] + 1 == len(index)
+            corners = slice(int(index[0]), int(index[-1]) + 1) if adjacent else index
+            out.append((support, corners, support.normal_frame[:, 2]))
         return out
 
 

@@ -8,11 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..body.spatial import length
 from ..body.state import State
 from .base import Constraint
 
 FORCE_TOLERANCE = 1.0  # N
 MOMENT_TOLERANCE = 0.1  # N*m
+# per row, Constraint.met_rows's bound: a row is met when |error| <= it (N, N*m)
+_MET = [tolerance * (1 + 1e-9) for tolerance in [FORCE_TOLERANCE] * 3 + [MOMENT_TOLERANCE] * 3]
 
 
 class BalanceConstraint(Constraint):
@@ -39,4 +42,9 @@ class BalanceConstraint(Constraint):
 
     def residuals(self, state: State) -> dict[str, float]:
         err = self.error(state)
-        return {"balance.force": float(np.linalg.norm(err[:3])), "balance.moment": float(np.linalg.norm(err[3:]))}
+        return {"balance.force": length(err[:3]), "balance.moment": length(err[3:])}  # np.linalg.norm's numbers
+
+    def unmet(self, state: State) -> list[str]:
+        """["balance"] when a row is outside its tolerance (NaN too); six rows compared as Python floats."""
+        met = all(abs(e) <= bound for e, bound in zip(self.error(state).tolist(), _MET, strict=True))
+        return [] if met else [self.name]

@@ -161,11 +161,11 @@ class CarriedObstacles(ClearanceRows):
         """The nearest row to each obstacle within the margin of its clearance, nearest first (part: the box; point:
         on the box)."""
         distance, on_box, _, on_other = self._evaluate(state)
-        near = np.flatnonzero(distance - self.floor < self.margin)
+        near = (distance - self.floor < self.margin).nonzero()[0].tolist()
         out, seen = [], set()
-        for i in near[np.argsort(distance[near], kind="stable")]:
+        for i in sorted(near, key=distance.item):  # a stable sort, as argsort(kind="stable")
             if self._others[i] not in seen:
                 seen.add(self._others[i])
-                out.append(Closeness(self._parts[i], self._others[i], float(distance[i]), float(self.floor[i]),
-                                     on_box[i], on_other[i]))  # fmt: skip
+                out.append(Closeness(self._parts[i], self._others[i], distance.item(i), self.floor.item(i), on_box[i],
+                                     on_other[i]))  # fmt: skip
         return out

@@ -29,6 +29,7 @@ TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 WATCH = 0.01  # m: a met row this close to its clearance gives the step its Jacobian (held if the step goes past)
 HOLD = 0.5e-3  # m: the watch band of the body's own pairs (an arm hangs against the trunk: docs/TUNING.md)
 SAFE = 1e-9  # m: what a movement bound keeps in hand against rounding
+MET = TOLERANCE * (1 + 1e-9)  # m: how far below its clearance a met row may be (Constraint.met_rows's bound)
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
 
 
@@ -222,23 +223,49 @@ class ClearanceRows(Inequality):
             kept = self._none = np.full(rows, -1, dtype=np.int64)
         return kept
 
+    def met_rows(self, state: State) -> np.ndarray:
+        """Per row: at most :data:`TOLERANCE` below its clearance (NaN unmet); |min(g - floor, 0)| <= MET is
+        g - floor >= -MET, without the error's two steps."""
+        if self._clear_by(state, 0.0):
+            return np.ones(self.rows, dtype=bool)
+        return self.value(state) - self.floor >= -MET
+
+    def _lowest(self, state: State) -> float:
+        """min(0, least g - floor) (m): the largest shortfall below a clearance, negated; NaN if a row is NaN; 0 when
+        the rows are known clear without a query. The error's least row, without the error."""
+        key = (self, "lowest")  # asked twice for a report (unmet, residuals)
+        lowest = state.cache.get(key)
+        if lowest is None:
+            gap = None if self._clear_by(state, 0.0) else self.value(state) - self.floor
+            lowest = state.cache[key] = 0.0 if gap is None else float(np.minimum.reduce(gap, initial=0.0))
+        return lowest
+
+    def residuals(self, state: State) -> dict[str, float]:
+        """The largest shortfall below the clearance (0 when met), m."""
+        return {f"{self.name}.shortfall": abs(self._lowest(state))}
+
     def unmet(self, state: State) -> list[str]:
         """One name per body part and what it keeps clear of, below the clearance, e.g. "hand_r vs floor"."""
+        if self._lowest(state) >= -MET:  # every row met (the usual answer): no per-row test
+            return []
         met = self.met_rows(state)
         return sorted({self._pairs[i] for i in np.flatnonzero(~met)})
 
     def closest(self, state: State) -> list[Closeness]:
-        """The rows within the margin of their clearance, nearest first."""
+        """The rows within the margin of their clearance, nearest first (a few rows: Python floats per row, the same
+        products and differences as arrays would give)."""
         if self._clear_by(state, self.margin):
             return []
         distance, points, normals, capsule = self._evaluate(state)
-        near = np.flatnonzero(distance - self.floor < self.margin)
-        rows = near[np.argsort(distance[near], kind="stable")]
-        gap, normal = distance[rows], normals[rows]
-        surface = points[rows] - self.capsules.radius[capsule[rows]][:, None] * normal  # all rows at once
-        other = surface - gap[:, None] * normal
-        return [Closeness(self._parts[i], self._others[i], d, f, p, q) for i, d, f, p, q in
-                zip(rows.tolist(), gap.tolist(), self.floor[rows].tolist(), surface, other, strict=True)]  # fmt: skip
+        near = (distance - self.floor < self.margin).nonzero()[0].tolist()
+        out, radius = [], self.capsules.radius
+        for i in sorted(near, key=distance.item):  # a stable sort, as argsort(kind="stable")
+            d, r = distance.item(i), radius.item(capsule.item(i))
+            (px, py, pz), (nx, ny, nz) = points[i].tolist(), normals[i].tolist()
+            sx, sy, sz = px - r * nx, py - r * ny, pz - r * nz  # the part's surface point
+            other = np.array((sx - d * nx, sy - d * ny, sz - d * nz))
+            out.append(Closeness(self._parts[i], self._others[i], d, self.floor.item(i), np.array((sx, sy, sz)), other))
+        return out
 
 
 class Clearance(ClearanceRows):

@@ -84,10 +84,10 @@ class FrameConstraint(Constraint):
         self._is_selection = bool(np.all((self.operator == 0) | (self.operator == 1)))
         locked = self.operator.sum(axis=0) > 0
         position, rotation = locked * _FIRST_THREE, locked * ~_FIRST_THREE
-        # (residual name, mask of the unrelaxed components it measures) for the locked translation / rotation
-        self._locked_parts = [
-            (f"{name}.{part}", m) for part, m in (("position", position), ("rotation", rotation)) if m.any()
-        ]
+        # (residual name, the unrelaxed components it measures: a slice when adjacent, else their indices) for the
+        # locked translation / rotation (a slice's view has the values and order of a mask's copy)
+        parts = (("position", position), ("rotation", rotation))
+        self._locked_parts = [(f"{name}.{part}", _components(m)) for part, m in parts if m.any()]
         self._alone: FrameGroup | None = None  # the group of one that evaluates this constraint on its own
 
     @property
@@ -129,16 +129,23 @@ class FrameConstraint(Constraint):
     def residuals(self, state: State) -> dict[str, float]:
         return self.residuals_of(self.full_error(state))
 
-    def residuals_of(self, err: np.ndarray) -> dict[str, float]:
-        """Readable residuals (m, rad) of the 6 unrelaxed error components ``err``."""
+    def residuals_of(self, err: np.ndarray, out: dict[str, float] | None = None) -> dict[str, float]:
+        """Readable residuals (m, rad) of the 6 unrelaxed error components ``err``, added to ``out`` if given."""
+        out = {} if out is None else out
         if not self._is_selection:
             relaxed = self.operator @ err
-            return {self.name: math.sqrt(float(relaxed @ relaxed))}
-        out = {}
-        for part, mask in self._locked_parts:
-            kept = err[mask]
-            out[part] = math.sqrt(float(kept @ kept))
+            out[self.name] = math.sqrt(relaxed.dot(relaxed))
+            return out
+        for part, components in self._locked_parts:
+            kept = err[components]
+            out[part] = math.sqrt(kept.dot(kept))  # v @ v's number (matmul of two vectors calls dot), sooner
         return out
+
+
+def _components(mask: np.ndarray) -> slice | np.ndarray:
+    """The indices where ``mask`` is set: a slice when they are adjacent (a view, no copy), else an index array."""
+    index = np.flatnonzero(mask)
+    return slice(int(index[0]), int(index[-1]) + 1) if index[-1] - index[0] + 1 == len(index) else index
 
 
 class _FrameValues:
@@ -184,6 +191,7 @@ class FrameGroup(Constraint):
         offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.member_rows = [slice(int(offsets[i]), int(offsets[i + 1])) for i in range(len(self.members))]
         self._tolerance = np.concatenate([c.tolerance() for c in self.members]) if self.members else np.zeros(0)
+        self._met_bound = self._tolerance * (1 + 1e-9)  # Constraint.met_rows's, once
         self._row_weight = np.concatenate([np.full(c.rows, c.weight) for c in self.members]) if sizes else np.zeros(0)
         self.n_x = self.members[0].n_x if self.members else 0
         self.link = np.array([c.tcp.link for c in self.members], dtype=int)
@@ -235,11 +243,16 @@ class FrameGroup(Constraint):
         full = self.evaluate(state).full
         out: dict[str, float] = {}
         for i, c in enumerate(self.members):
-            out.update(c.residuals_of(full[i]))
+            c.residuals_of(full[i], out)
         return out
+
+    def met_rows(self, state: State) -> np.ndarray:
+        return np.abs(self.evaluate(state).errors) <= self._met_bound
 
     def unmet(self, state: State) -> list[str]:
         met = self.met_rows(state)
+        if met.all():  # the usual answer: no test per member
+            return []
         return [c.name for c, rows in zip(self.members, self.member_rows, strict=True) if not met[rows].all()]
 
     def target_frames(self, state: State) -> dict[str, tuple[np.ndarray, np.ndarray]]:

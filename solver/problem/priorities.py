@@ -89,6 +89,8 @@ def ranked(problem: Problem) -> Problem | None:
 
 def hard_unmet(problem: Problem, unmet: list[str]) -> list[str]:
     """The names in ``unmet`` that must hold (everything but the soft targets)."""
+    if not unmet:  # a converged result's: no set of names to build
+        return []
     soft = {t.tcp for t in problem.targets if t.effective_priority == SOFT}
     return [name for name in unmet if name not in soft]
 
@@ -102,6 +104,8 @@ def shortfalls(problem: Problem, unmet: list[str], residuals: dict[str, float]) 
     """Per unmet soft target: how far it is off on what its lock constrains, {"position_m": .., "rotation_deg": ..}
     (or {"combined": ..} in the units of a general operator's rows)."""
     out: dict[str, dict[str, float]] = {}
+    if not unmet:  # a converged result's: no target to look at
+        return out
     for t in problem.targets:
         if t.effective_priority != SOFT or t.tcp not in unmet:
             continue
