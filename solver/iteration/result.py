@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -59,7 +60,7 @@ class Result:
             unmet=unmet,
             comfort=problem.comfort.total(parts),
             comfort_parts=parts,
-            contacts=problem.contacts.wrenches(state.kin, state.w),
+            contacts=[dict(c) for c in state.once(problem.contacts, "wrenches", partial(_wrenches, problem, state))],
             com=state.kin.body_com(),
             broken=hard_unmet(problem, unmet),
             shortfall=shortfalls(problem, unmet, residuals),
@@ -125,6 +126,10 @@ class Result:
         lines.append(f"  comfort {self.comfort:.4f} ({parts})")
         lines.append(f"  center of mass [{self.com[0]:.3f} {self.com[1]:.3f} {self.com[2]:.3f}] m")
         return "\n".join(lines)
+
+
+def _wrenches(problem: Problem, state: State) -> list[dict]:
+    return problem.contacts.wrenches(state.kin, state.w)
 
 
 def shortfall_text(parts: dict[str, float]) -> str:

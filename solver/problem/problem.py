@@ -381,16 +381,18 @@ class Problem:
 
     def closest(self, state: State) -> list[Closeness]:
         """The clearance rows within their margin (the floor's, the obstacles', the body's own, the carried box's and
-        any extra :class:`~solver.constraints.clearance.Clearance`), nearest first."""
-        near = [pair for c in self.constraints if isinstance(c, ClearanceRows) for pair in c.closest(state)]
+        any extra :class:`~solver.constraints.clearance.Clearance`), nearest first. Each constraint's once per
+        state, as :meth:`residuals` and :meth:`unmet` (a motion's frame that keeps its pose shares them)."""
+        clearances = [c for c in self.constraints if isinstance(c, ClearanceRows)]
+        near = [pair for c in clearances for pair in state.once(c, "closest", partial(c.closest, state))]
         return sorted(near, key=lambda pair: pair.distance)
 
     def residuals(self, state: State) -> dict[str, float]:
         out: dict[str, float] = {}
         for c in self.constraints:
-            out.update(c.residuals(state))
+            out.update(state.once(c, "residuals", partial(c.residuals, state)))
         return out
 
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
-        return [name for c in self.constraints for name in c.unmet(state)]
+        return [name for c in self.constraints for name in state.once(c, "unmet", partial(c.unmet, state))]

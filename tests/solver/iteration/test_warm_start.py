@@ -10,6 +10,7 @@ import pytest
 from solver import load_scenario
 from solver.io.scenario.bodies import PRESETS_DIR
 from solver.iteration import solve
+from solver.iteration.result import Result
 from solver.iteration.trial import Evaluator
 from solver.motion.frames import bounded
 from solver.options import DEFAULT_LIMITS
@@ -79,3 +80,20 @@ def test_cached_derivatives_are_not_written_to(lift):
     second.comfort_derivatives(state)
     again = second.comfort.derivatives(state)
     assert np.array_equal(again[0], grad) and np.array_equal(again[1], curv)
+
+
+def test_a_result_from_an_adopted_state_reports_what_a_fresh_one_does(lift):
+    _, first, result, second = lift
+    end = result.state
+    for problem in (first, second):  # first: the values kept (closest, residuals, unmet, wrenches) are reused
+        Result.from_state(problem, end, 1, 0.0)
+    warm = Result.from_state(second, second.state_of_x(end.x.copy()).adopt(end), 1, 0.0)
+    cold = Result.from_state(second, second.state_of_x(end.x.copy()), 1, 0.0)
+    assert (warm.unmet, list(warm.residuals)) == (cold.unmet, list(cold.residuals))
+    close_to_rounding(list(warm.residuals.values()), list(cold.residuals.values()))
+    assert [(c.part, c.other) for c in warm.closest] == [(c.part, c.other) for c in cold.closest]
+    close_to_rounding([c.distance for c in warm.closest], [c.distance for c in cold.closest])
+    for got, expected in zip(warm.contacts, cold.contacts, strict=True):
+        assert got["tcp"] == expected["tcp"]
+        for key in ("point", "force", "moment"):
+            close_to_rounding(got[key], expected[key])
