@@ -104,11 +104,19 @@ def compact_frame_dict(result: Result, frame: int = 1, state: State | None = Non
     state = result.state if state is None else state
     status = frame_status(result, frame, state)
     status["joint_values"] = floats(result.theta)
-    status["contacts"] = {c["tcp"]: {"point": floats(c["point"]), "force": floats(c["force"]),
-                                     "moment": floats(c["moment"])} for c in result.contacts}  # fmt: skip
-    loads = zip(result.problem.loads, state.statics.load_points, strict=True)
-    status["loads"] = [{"tcp": ld.tcp.name, "point": floats(p), "force": floats(ld.force)} for ld, p in loads]
+    status.update(compact_wrenches(result, state))
     return status
+
+
+def compact_wrenches(result: Result, state: State) -> dict:
+    """The last keys of a compact frame: ``contacts`` {tcp: {point, force, moment}} and ``loads`` [{tcp, point,
+    force}] (m, N, N*m)."""
+    loads = zip(result.problem.loads, state.statics.load_points, strict=True)
+    return {
+        "contacts": {c["tcp"]: {"point": floats(c["point"]), "force": floats(c["force"]),
+                                "moment": floats(c["moment"])} for c in result.contacts},
+        "loads": [{"tcp": ld.tcp.name, "point": floats(p), "force": floats(ld.force)} for ld, p in loads],
+    }  # fmt: skip
 
 
 def compact_header(model: Model, scenario: str | Path | None) -> dict:
