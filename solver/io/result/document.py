@@ -68,7 +68,7 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
     return status
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=256)  # a body's TCPs, targets and carried box: the unchanged ones stay in
 def _quaternion_of_bits(bits: bytes) -> tuple[float, ...]:
     """:func:`~solver.io.values.quaternion` of the rotation matrix whose 9 float64 are ``bits``."""
     return tuple(quaternion(np.frombuffer(bits).reshape(3, 3)))

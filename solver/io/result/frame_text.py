@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..values import floats, quaternion
-from .document import compact_wrenches, contacts_dict, frame_status, frame_to_dict, loads_list
+from ..values import floats
+from .document import compact_wrenches, contacts_dict, frame_status, frame_to_dict, loads_list, rotation_quaternion
 from .frame import Frame, frame_of_result
 
 if TYPE_CHECKING:
@@ -106,7 +106,7 @@ class PoseText:
         texts = numbers.rows(np.concatenate(points))
         ends = np.cumsum([len(p) for p in points]).tolist()
         position, axis, com, tcp_position, start, end = (texts[a:b] for a, b in zip([0, *ends[:-1]], ends, strict=True))
-        rotation = np.array([quaternion(f.tcp_rotation[n]) for n in names], dtype=float).reshape(len(names), 4)
+        rotation = np.array([rotation_quaternion(f.tcp_rotation[n]) for n in names], dtype=float).reshape(len(names), 4)
         filled = (
             json.dumps(np.asarray(f.gravity, dtype=float).tolist()),
             *interleave(numbers.items(f.joint_value), position, axis),
