@@ -9,8 +9,11 @@ built in one place, :func:`frame_status`, for both.
 from __future__ import annotations
 
 from collections.abc import Iterable
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+import numpy as np
 
 from ...collision.carried import CLEARANCE
 from ...iteration.result import Result
@@ -34,34 +37,47 @@ def frame_status(result: Result, frame: int, state: State) -> dict:
     closest pairs within the clearance rows' margin (:meth:`~solver.constraints.clearance.Closeness.to_dict`: pair,
     part, other, distance, clearance, point, other_point; nearest first); with a carried box, ``carried``
     (:func:`carried_entry`); ``feet`` ("planted" or "step") and, stepping, ``steps`` (:mod:`solver.stance.report`)."""
+    problem = result.problem
     targets = {
-        name: dict(position=floats(pos), rotation=quaternion(rot))
-        for name, (rot, pos) in result.problem.target_frames(state).items()
+        name: {"position": floats(pos), "rotation": rotation_quaternion(rot)}
+        for name, (rot, pos) in problem.target_frames(state).items()
     }
-    status = dict(
-        frame=frame,
-        converged=result.converged,
-        stop=None if result.stop is None else result.stop.value,
-        iterations=result.iterations,
-        time_s=result.time_s,
-        unmet=list(result.unmet),
-        broken=list(result.broken),
-        shortfall=result.shortfall,
-        notes=list(result.notes),
-        targets=targets,
-        residuals=result.residuals,
-        comfort=result.comfort,
-        comfort_terms=result.comfort_parts,
-        com=floats(result.com),
-        closest=[pair.to_dict() for pair in result.closest],
-    )
-    if result.problem.carried_constraint is not None:
-        status["carried"] = carried_entry(result.problem.carried_constraint, state)
+    status = {
+        "frame": frame,
+        "converged": result.converged,
+        "stop": None if result.stop is None else result.stop.value,
+        "iterations": result.iterations,
+        "time_s": result.time_s,
+        "unmet": list(result.unmet),
+        "broken": list(result.broken),
+        "shortfall": result.shortfall,
+        "notes": list(result.notes),
+        "targets": targets,
+        "residuals": result.residuals,
+        "comfort": result.comfort,
+        "comfort_terms": result.comfort_parts,
+        "com": floats(result.com),
+        "closest": [pair.to_dict() for pair in result.closest],
+    }
+    if problem.carried_constraint is not None:
+        status["carried"] = carried_entry(problem.carried_constraint, state)
     steps = step_dicts(result)  # stepping feet: each step's foot, length (m), direction and turn (deg), start, end
     status["feet"] = "planted" if steps is None else "step"
     if steps is not None:
         status["steps"] = steps
     return status
+
+
+@lru_cache(maxsize=256)  # a body's TCPs, targets and carried box: the unchanged ones stay in
+def _quaternion_of_bits(bits: bytes) -> tuple[float, ...]:
+    """:func:`~solver.io.values.quaternion` of the rotation matrix whose 9 float64 are ``bits``."""
+    return tuple(quaternion(np.frombuffer(bits).reshape(3, 3)))
+
+
+def rotation_quaternion(rotation: np.ndarray) -> list[float]:
+    """:func:`~solver.io.values.quaternion` of a rotation matrix, remembered by its bits: a target holds its
+    rotation frame after frame (the same bits, the same quaternion)."""
+    return list(_quaternion_of_bits(np.asarray(rotation, dtype=float).tobytes()))
 
 
 def carried_entry(constraint: CarriedClearance, state: State) -> dict:
@@ -71,7 +87,7 @@ def carried_entry(constraint: CarriedClearance, state: State) -> dict:
     centre, rotation = constraint.frame(state)
     carried = constraint.carried
     return dict(name=carried.name, size=floats(carried.size), tcps=list(carried.tcps), center=floats(centre),
-                rotation=quaternion(rotation), clearance=CLEARANCE,
+                rotation=rotation_quaternion(rotation), clearance=CLEARANCE,
                 excluded=list(constraint.excluded))  # fmt: skip
 
 
@@ -86,13 +102,21 @@ def compact_frame_dict(result: Result, frame: int = 1, state: State | None = Non
     """One frame of the compact file: the status, ``joint_values`` (rad or m, in the header model's joint order),
     ``contacts`` and ``loads`` as in the result JSON."""
     state = result.state if state is None else state
+    status = frame_status(result, frame, state)
+    status["joint_values"] = floats(result.theta)
+    status.update(compact_wrenches(result, state))
+    return status
+
+
+def compact_wrenches(result: Result, state: State) -> dict:
+    """The last keys of a compact frame: ``contacts`` {tcp: {point, force, moment}} and ``loads`` [{tcp, point,
+    force}] (m, N, N*m)."""
     loads = zip(result.problem.loads, state.statics.load_points, strict=True)
-    return frame_status(result, frame, state) | dict(
-        joint_values=floats(result.theta),
-        contacts={c["tcp"]: dict(point=floats(c["point"]), force=floats(c["force"]), moment=floats(c["moment"]))
-                  for c in result.contacts},
-        loads=[dict(tcp=ld.tcp.name, point=floats(p), force=floats(ld.force)) for ld, p in loads],
-    )  # fmt: skip
+    return {
+        "contacts": {c["tcp"]: {"point": floats(c["point"]), "force": floats(c["force"]),
+                                "moment": floats(c["moment"])} for c in result.contacts},
+        "loads": [{"tcp": ld.tcp.name, "point": floats(p), "force": floats(ld.force)} for ld, p in loads],
+    }  # fmt: skip
 
 
 def compact_header(model: Model, scenario: str | Path | None) -> dict:

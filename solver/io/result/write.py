@@ -20,8 +20,8 @@ from ...errors import ManikinError, UsageError
 from ...iteration.result import Result
 from ..files import OutputFile
 from ..interrupts import interrupts_held
-from .document import compact_frame_dict, compact_header
-from .frame_text import PoseText
+from .document import compact_header
+from .frame_text import CompactText, PoseText
 
 if TYPE_CHECKING:
     from ...body.state import State
@@ -52,6 +52,7 @@ class ResultWriter:
         self.closed = False
         self.written: Path | None = None  # the file once closed with frames in it
         self._pose = PoseText()  # the result JSON's frames as text, the parts the frames share encoded once
+        self._compact = CompactText()  # the compact file's lines, joint values unchanged since the last keeping theirs
         if not self.compact:
             head = {} if self.scenario is None else {"scenario": self.scenario}
             self._file.write(json.dumps(head)[:-1] + (", " if head else "") + '"frames": [')
@@ -61,7 +62,7 @@ class ResultWriter:
         state if the caller has it."""
         if self.compact:
             head = "" if self.count else json.dumps(compact_header(result.problem.model, self.scenario)) + "\n"
-            text = head + json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":")) + "\n"
+            text = head + self._compact(result, frame, state) + "\n"
         else:
             text = ("\n" if self.count == 0 else ",\n") + self._pose.result_frame(result, frame, state)
         with interrupts_held():

@@ -19,8 +19,9 @@ from solver.ergonomics.manikin import working_area
 from solver.ergonomics.report import frame_parts, frame_report
 from solver.ergonomics.report_text import LoadsText, dumps_filled
 from solver.ergonomics.stream import PlotSeries
-from solver.io.result.document import frame_to_dict, result_to_dict
-from solver.io.result.frame_text import SLOT, Numbers, PoseText
+from solver.io.result.document import compact_frame_dict, frame_to_dict, result_to_dict, rotation_quaternion
+from solver.io.result.frame_text import SLOT, CompactText, Numbers, PoseText
+from solver.io.values import quaternion
 
 BOX_LIFT_MOTION = Path(__file__).resolve().parents[4] / "presets" / "scenarios" / "box_lift_motion.toml"
 
@@ -42,6 +43,49 @@ def test_result_frames_are_the_json_of_their_dicts(solved, frames) -> None:
         assert pose(f) == json.dumps(frame_to_dict(f))
         assert pose.result_frame(result, number) == json.dumps(result_to_dict(result, number))
     assert frames[0].contacts and frames[0].loads and solved[0][1].closest  # what the frames hold is covered
+
+
+def compact_json(result: solver.Result, number: int) -> str:
+    return json.dumps(compact_frame_dict(result, number), separators=(",", ":"))
+
+
+def test_compact_lines_are_the_json_of_their_dicts(solved) -> None:
+    text = CompactText()  # one writer: each frame's joint values that kept their bits keep their text
+    for number, result in [*solved, *solved[::-1]]:
+        assert text(result, number) == compact_json(result, number)
+
+
+def test_compact_joint_values_that_change_get_new_text() -> None:
+    """The texts kept from the frame before: a value that changes in its bits only (0.0 to -0.0), a value not finite
+    (then JSON's own NaN), and another count of joints (another model) each get the text JSON gives them."""
+    text = CompactText()
+    values = np.array([0.0, 1.5, -2.25, 1e-17, 1e16, 0.1])
+    for theta in (values, values * [-1.0, 1, 1, 1, 1, 1], values + [0, 0, 1e-16, 0, 0, 0], values[:4], values):
+        assert text.joint_values(theta) == json.dumps(theta.tolist(), separators=(",", ":"))
+    assert text.joint_values(values * np.nan) is None and text.joint_values(np.array([])) == "[]"
+    assert text.joint_values(values) == json.dumps(values.tolist(), separators=(",", ":"))
+
+
+def test_a_compact_line_with_a_value_not_finite_is_the_json_of_its_dict(solved) -> None:
+    text = CompactText()
+    number, result = solved[1]
+    text(solved[0][1], solved[0][0])
+    broken = dataclasses.replace(result, x=result.x.copy())
+    broken.x[3] = np.inf
+    line = text(broken, number, result.state)
+    assert line == json.dumps(compact_frame_dict(broken, number, result.state), separators=(",", ":"))
+    assert "Infinity" in line and text(result, number) == compact_json(result, number)
+
+
+def test_quaternions_remembered_by_their_bits_are_those_computed(solved) -> None:
+    signed = np.eye(3)
+    signed[0, 1] = signed[2, 0] = -0.0
+    for _, result in solved:
+        for rotation, _ in result.problem.target_frames(result.state).values():
+            for matrix in (rotation, rotation.T, signed, np.eye(3)):
+                assert rotation_quaternion(matrix) == quaternion(matrix) == rotation_quaternion(matrix.copy())
+    flipped = np.diag([-1.0, -1.0, 1.0])
+    assert rotation_quaternion(flipped) == quaternion(flipped) != rotation_quaternion(np.eye(3))
 
 
 def test_a_number_not_finite_goes_the_dicts_way(frames) -> None:
