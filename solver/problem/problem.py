@@ -110,15 +110,17 @@ class Problem:
         targets = list(targets)
         if self.balance and not same_supports(self.targets, targets):  # built again, with this problem's comfort terms
             return Problem(self.model, self.spec.replace(targets=targets, comfort=self.comfort))
-        moved = copy.copy(self)
+        moved = _copy(self)
         moved.spec = self.spec.replace(targets=targets)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
         same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
         if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
-            validate_frames(targets)  # only the frames moved (a motion's next frame): the constraints follow them
-            members = [c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
-                       for c, t in zip(self.target_constraints, moved.targets, strict=True)]  # fmt: skip
+            validate_frames(targets, self.all_targets)  # only the frames moved (a motion's next frame): the
+            # constraints follow them; a target that is the very object it was keeps its constraint as it is
+            pairs = zip(self.target_constraints, moved.targets, self.targets, strict=True)
+            members = [c if t is was else c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
+                       for c, t, was in pairs]  # fmt: skip
             moved.target_constraints = members
             moved.frames = self.frames.moved([*members, *self.loop_constraints])
             moved.constraints = [moved.frames if c is self.frames else c for c in self.constraints]
@@ -138,7 +140,7 @@ class Problem:
 
     def with_bounds(self, bounds: Bounds) -> Problem:
         """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
-        narrowed = copy.copy(self)
+        narrowed = _copy(self)
         narrowed.bounds = bounds
         return narrowed
 
@@ -393,3 +395,10 @@ class Problem:
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
         return [name for c in self.constraints for name in c.unmet(state)]
+
+
+def _copy(problem: Problem) -> Problem:
+    """A shallow copy of ``problem``: what ``copy.copy`` makes, without its reduce protocol (twice a motion frame)."""
+    out = object.__new__(type(problem))
+    out.__dict__.update(problem.__dict__)
+    return out
