@@ -99,14 +99,16 @@ class MotionSweep:
         self, body: SweptBody, theta_a: np.ndarray, theta_b: np.ndarray, at_b: State | None = None
     ) -> SweepReport:
         """The crossings of ``body`` on the way from joint values ``theta_a`` to ``theta_b`` (``at_b``: a state there,
-        whose kinematics serve if they are needed).
+        whose kinematics serve for the pose at ``theta_b``).
 
         Distances are queried only when lower bounds do not already certify the way: the distances d_P at the last
         pose queried, less the bound on the way from there (d >= d_P - M_P), which is all a long motion of small
         steps with nothing near needs."""
         anchored = self._anchor is not None and self._anchor[0] is body
-        if anchored:  # first the path bounds alone, which need no forward kinematics
+        if anchored:
             _, p, d_p = self._anchor
+        if anchored and at_b is None:  # first the path bounds alone, which need no forward kinematics (the
+            # tighter bounds below certify whatever they certify, and need none either with the state's at hand)
             length = body.length(np.array([p.theta, p.theta, theta_a]), np.array([theta_a, theta_b, theta_b]))
             if not body.any_uncertain(d_p, length[0], length[1], length[2]):
                 return SweepReport(None, [], 0, 0)
