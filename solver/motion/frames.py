@@ -27,7 +27,22 @@ if TYPE_CHECKING:
 
 
 def variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
-    """Largest per-frame change of each solver variable (inf for force variables)."""
+    """Largest per-frame change of each solver variable (inf for force variables); read-only. Kept for the next call
+    with the same model, reduction, variable count and limits (a motion's next frame)."""
+    model, last = problem.model, _last_steps[0]
+    key = (model, problem.reduction, problem.n_x, limits)
+    if last is not None and last[0] is model and last[1] is key[1] and last[2:4] == key[2:]:
+        return last[4]
+    steps = _variable_steps(problem, limits)
+    steps.flags.writeable = False
+    _last_steps[0] = (*key, steps)
+    return steps
+
+
+_last_steps: list[tuple | None] = [None]  # (model, reduction, n_x, limits, steps) of the last variable_steps
+
+
+def _variable_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
     model = problem.model
     step = np.full(problem.n_x, np.inf)
     step[: model.n] = np.where(model.prismatic, limits.max_root_shift, limits.max_joint_change)
