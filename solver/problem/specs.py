@@ -61,7 +61,7 @@ class Target:
         """This target moved to another frame (``position`` m, ``rotation`` 3x3 or None): what
         ``dataclasses.replace(self, position=..., rotation=...)`` gives, without its __init__ (a keyed target at each
         frame of a motion; Target has no __post_init__ to run)."""
-        moved = object.__new__(Target)
+        moved = object.__new__(type(self))
         moved.__dict__.update(self.__dict__, position=position, rotation=rotation)
         return moved
 
@@ -115,18 +115,28 @@ class ProblemSpec:
     carried: Carried | None = None
 
     def __post_init__(self) -> None:
-        for name in ("targets", "loops", "loads", "reduction", "extra_constraints", "obstacles"):
+        for name in _SEQUENCES:
             object.__setattr__(self, name, tuple(getattr(self, name)))
 
     def replace(self, **changes) -> ProblemSpec:
-        """This spec with ``changes`` (fields by name)."""
-        return dataclasses.replace(self, **changes)
+        """This spec with ``changes`` (fields by name): what ``dataclasses.replace`` gives, the fields not changed
+        shared instead of passed through __init__ again (a motion's every frame changes its targets)."""
+        if not changes.keys() <= _SPEC_FIELDS:
+            return dataclasses.replace(self, **changes)  # raises, naming the unknown field
+        out = object.__new__(type(self))
+        out.__dict__.update(self.__dict__)
+        for name, value in changes.items():
+            object.__setattr__(out, name, tuple(value) if name in _SEQUENCES else value)
+        return out
 
     @property
     def weights(self) -> ComfortWeights | None:
         """The standard comfort terms' weights this spec's comfort has (None: its own terms, not the standard)."""
         return self.comfort_weights if self.comfort is None else self.comfort.weights
 
+
+_SEQUENCES = ("targets", "loops", "loads", "reduction", "extra_constraints", "obstacles")  # kept as tuples
+_SPEC_FIELDS = frozenset(f.name for f in dataclasses.fields(ProblemSpec))
 
 MAX_DISTANCE = 1000.0  # m: targets and offsets farther than this from the origin are refused
 MAX_FORCE = 1e6  # N

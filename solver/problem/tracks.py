@@ -45,7 +45,8 @@ class Track:
         position = (1.0 - t) * a.position + t * b.position
         if a.rotation is None or b.rotation is None:
             return position, a.rotation if b.rotation is None else b.rotation
-        return position, quat_to_matrix(self._arcs[i].at(t))
+        held = self._held[i]
+        return position, held if held is not None else quat_to_matrix(self._arcs[i].at(t))
 
     @functools.cached_property
     def _frames(self) -> list[int]:
@@ -57,6 +58,12 @@ class Track:
         frame between them."""
         quats = [None if k.rotation is None else matrix_to_quat(k.rotation) for k in self.keys]
         return [None if a is None or b is None else Arc(a, b) for a, b in zip(quats[:-1], quats[1:], strict=True)]
+
+    @functools.cached_property
+    def _held(self) -> list[np.ndarray | None]:
+        """Per pair of keys, the rotation between them when both keys hold the same one (the slerp the same at every
+        t, to the bit: :attr:`Arc.still`), else None."""
+        return [quat_to_matrix(arc.at(0.5)) if arc is not None and arc.still else None for arc in self._arcs]
 
 
 def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list[Target]:
