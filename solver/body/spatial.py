@@ -157,7 +157,7 @@ class Arc:
         self.q0, self.q1 = q0, q1
         self.near = dot > 0.9995  # nearly the same: a normalised linear blend
         self.delta = q1 - q0
-        # the same ends: at(t) is q0 (-0.0 as +0.0) normalised for every t >= 0, each bit (q0 + t * 0.0)
+        # the same ends: at(t) is q0 + t * 0 normalised, the same bits for every t >= 0 (t * +-0.0 is +-0.0)
         self.still = self.near and not self.delta.any()
         self.angle = 0.0 if self.near else np.arccos(dot)  # (a dot a rounding above 1 has no arccos)
         self.sin = np.sin(self.angle)

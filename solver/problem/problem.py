@@ -110,7 +110,8 @@ class Problem:
         targets = list(targets)
         if self.balance and not same_supports(self.targets, targets):  # built again, with this problem's comfort terms
             return Problem(self.model, self.spec.replace(targets=targets, comfort=self.comfort))
-        moved = _copy(self)
+        moved = object.__new__(type(self))  # copy.copy(self) without its reduce protocol (a motion's every frame)
+        moved.__dict__.update(self.__dict__)
         moved.spec = self.spec.replace(targets=targets)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
@@ -140,7 +141,8 @@ class Problem:
 
     def with_bounds(self, bounds: Bounds) -> Problem:
         """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
-        narrowed = _copy(self)
+        narrowed = object.__new__(type(self))  # copy.copy(self), as in with_targets
+        narrowed.__dict__.update(self.__dict__)
         narrowed.bounds = bounds
         return narrowed
 
@@ -395,10 +397,3 @@ class Problem:
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
         return [name for c in self.constraints for name in c.unmet(state)]
-
-
-def _copy(problem: Problem) -> Problem:
-    """A shallow copy of ``problem``: what ``copy.copy`` makes, without its reduce protocol (twice a motion frame)."""
-    out = object.__new__(type(problem))
-    out.__dict__.update(problem.__dict__)
-    return out

@@ -247,10 +247,11 @@ def _fine_rotation(value) -> bool:
         return False
     rows = value.tolist()
     (a, b, c), (d, e, f), (g, h, i) = rows
-    diagonal = (a * a + d * d + g * g, b * b + e * e + h * h, c * c + f * f + i * i)
-    off = (a * b + d * e + g * h, a * c + d * f + g * i, b * c + e * f + h * i)
-    near = all(abs(v - 1.0) <= 1.1e-5 - 1e-9 for v in diagonal) and all(abs(v) <= 1e-6 - 1e-9 for v in off)
-    return near and _determinant(rows) >= 0
+    diagonal, off = 1.1e-5 - 1e-9, 1e-6 - 1e-9
+    return (abs(a * a + d * d + g * g - 1.0) <= diagonal and abs(b * b + e * e + h * h - 1.0) <= diagonal
+            and abs(c * c + f * f + i * i - 1.0) <= diagonal and abs(a * b + d * e + g * h) <= off
+            and abs(a * c + d * f + g * i) <= off and abs(b * c + e * f + h * i) <= off
+            and _determinant(rows) >= 0)  # fmt: skip
 
 
 def validate(model: Model, targets, loops, loads) -> None:

@@ -16,7 +16,7 @@ from solver.motion import frames
 from solver.options import MotionLimits
 from solver.problem.bounds import Bounds
 from solver.problem.problem import Problem, ProblemSpec, Target
-from solver.problem.specs import _check_rotation, _check_vector, validate_frames
+from solver.problem.specs import validate, validate_frames
 from solver.problem.tracks import Key, Track, targets_at
 
 
@@ -71,12 +71,6 @@ def test_a_spec_replaced_is_what_dataclasses_replace_makes(male50):
         spec.replace(colour="red")
 
 
-def _old_validate_frames(targets) -> None:
-    for t in targets:
-        _check_vector(f"target {t.tcp} position", t.position, 3, 1000.0)
-        _check_rotation(f"target {t.tcp} rotation", t.rotation)
-
-
 def _outcome(check, targets) -> str:
     try:
         check(targets)
@@ -85,7 +79,7 @@ def _outcome(check, targets) -> str:
     return "accepted"
 
 
-def test_the_frame_checks_accept_and_refuse_what_the_full_checks_do():
+def test_the_frame_checks_accept_and_refuse_what_the_full_checks_do(male50):
     """Positions and rotations checked in Python floats first: whatever they do not surely accept goes through the
     full checks, so the same targets are refused with the same message naming the first bad one (a rotation just
     within the tolerance, a list, float32 numbers: accepted as before)."""
@@ -101,7 +95,7 @@ def test_the_frame_checks_accept_and_refuse_what_the_full_checks_do():
         for rot in rotations:
             targets = [Target("hand_l", np.zeros(3)), Target("hand_r", p, rot), Target("head", [np.inf, 0.0, 0.0])]
             outcome = _outcome(validate_frames, targets)
-            assert outcome == _outcome(_old_validate_frames, targets), (p, rot)
+            assert outcome == _outcome(lambda ts: validate(male50, ts, (), ()), targets), (p, rot)
             outcomes.add(outcome.split(":")[0])
     assert outcomes == {"target hand_r position", "target hand_r rotation", "target head position"}
     assert _outcome(validate_frames, [Target("hand_r", np.zeros(3), edge)]) == "accepted"
@@ -149,8 +143,9 @@ def test_bounds_narrowed_are_read_only_and_leave_the_wider_bounds_alone():
 
 
 def test_the_per_frame_steps_kept_are_those_computed_afresh(male50):
-    """variable_steps keeps the last answer for the same model, reduction, variable count and limits: asked in turn
-    for problems with and without a reduction and for two limits, each answer is the one computed afresh."""
+    """kept_steps keeps the last answer for the same model, reduction, variable count and limits: asked in turn for
+    problems with and without a reduction and for two limits, each answer is the one computed afresh, and so are the
+    bounds of each bounded problem."""
     targets = _feet_and_hand(male50)
     plain = Problem(male50, ProblemSpec(targets))
     reduced = Problem(male50, ProblemSpec(targets, reduction=("lumbar", "thoracic", "shoulder")))
@@ -158,6 +153,11 @@ def test_the_per_frame_steps_kept_are_those_computed_afresh(male50):
     limits = MotionLimits(), MotionLimits(0.2, 0.05)
     for problem, limit in [(plain, limits[0]), (moved, limits[0]), (reduced, limits[0]), (reduced, limits[1]),
                            (plain, limits[1]), (plain, limits[1]), (plain, limits[0])]:  # fmt: skip
-        steps = frames.variable_steps(problem, limit)
-        np.testing.assert_array_equal(steps, frames._variable_steps(problem, limit))
+        steps = frames.kept_steps(problem, limit)
+        np.testing.assert_array_equal(steps, frames.variable_steps(problem, limit))
         assert not steps.flags.writeable and len(steps) == problem.n_var
+        x = problem.to_x(problem.start())
+        narrowed = frames.bounded(problem, x, limit).bounds
+        afresh = problem.bounds.around(problem.to_variables(x), frames.variable_steps(problem, limit))
+        np.testing.assert_array_equal(narrowed.lower, afresh.lower)
+        np.testing.assert_array_equal(narrowed.upper, afresh.upper)
