@@ -25,7 +25,7 @@ import numpy as np
 
 from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
 from ..collision.body import capsules_of
-from ..collision.carried import carried_frame, held_frame
+from ..collision.carried import carried_frame
 from ..collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
 from ..constraints.carried_obstacles import CarriedObstacles, box_corners
 from ..constraints.clearance import FLOOR, Clearance
@@ -174,7 +174,7 @@ class MotionSweep:
         n = problems[1].model.n
         theta_a, theta_b = previous_x[:n], result.x[:n]
         report = self.check(body, theta_a, theta_b, result.state)
-        boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state)
+        boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state.kin)
         if not (report.crossings or boxed) or not self.resolve:
             mark(result, report, frames)
             return mark_carried(result, frames, boxed)
@@ -202,19 +202,17 @@ class MotionSweep:
         self._planted = (after.model, supports, parts)
         return parts
 
-    def _box_at(self, problem: Problem, theta: np.ndarray, at: State | None = None) -> tuple[np.ndarray, ...]:
-        """(centre m, rotation, corners (8, 3) m) of ``problem``'s carried box at joint values ``theta`` (from the state
-        ``at`` there, if at hand: its rows placed the box already), kept: a frame's end is the next frame's start."""
+    def _box_at(self, problem: Problem, theta: np.ndarray, kin=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(centre m, rotation, corners (8, 3) m) of ``problem``'s carried box at joint values ``theta`` (``kin``: their
+        kinematics, if at hand), kept: a frame's end is the next frame's start."""
         rows = problem.carried_obstacle_constraint
         key = (rows.tcps[0].name, rows.tcps[1].name, theta.tobytes())
         found = self._boxes.get(key)
         if found is None or found[0] is not problem.model or not _same_array(found[1], rows.half):
             if len(self._boxes) >= self.KEPT:
                 self._boxes.pop(next(iter(self._boxes)))
-            if at is not None and at.kin.model is problem.model and at.theta.tobytes() == key[2]:
-                centre, rotation = held_frame(at, rows.tcps)[1:]  # the same numbers as _placed's
-            else:
-                centre, rotation = _placed(rows, problem.model.forward(theta))
+            kin = problem.model.forward(theta) if kin is None else kin
+            centre, rotation = _placed(rows, kin)
             placed = centre, rotation, box_corners(centre, rotation, rows.half)
             found = self._boxes[key] = (problem.model, rows.half, placed)
         return found[2]
@@ -230,9 +228,9 @@ class MotionSweep:
         return math.sqrt(np.add.reduce(move * move, axis=1).max())
 
     def carried_crossings(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray,
-                          at_b: State | None = None) -> list[tuple[str, float]]:  # fmt: skip
+                          kin_b=None) -> list[tuple[str, float]]:  # fmt: skip
         """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the
-        floor on the way from joint values ``theta_a`` to ``theta_b`` (``at_b``: a state there, if at hand;
+        floor on the way from joint values ``theta_a`` to ``theta_b`` (``kin_b``: the kinematics there, if at hand;
         both ends excluded: each frame's rows keep its own).
 
         The way is sampled (joint values linearly in between) so that no corner of the box moves more than about
@@ -242,7 +240,7 @@ class MotionSweep:
         rows = problem.carried_obstacle_constraint
         if rows is None:
             return []
-        self._box_at(problem, theta_b, at_b)
+        self._box_at(problem, theta_b, kin_b)
         moved = self._box_travel(problem, theta_a, theta_b)
         if moved <= BOX_STEP:
             return []
