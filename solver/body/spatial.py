@@ -87,10 +87,10 @@ def left_jacobian_inverse_so3(w: np.ndarray) -> np.ndarray:
 def quat_to_matrix(q: np.ndarray) -> np.ndarray:
     """Rotation matrix of a quaternion (w, x, y, z); the quaternion is normalised first."""
     q = np.asarray(q, dtype=float)
-    norm = np.linalg.norm(q)
-    if not np.isfinite(norm) or norm < _SMALL:
+    norm = length(q)  # np.linalg.norm's number
+    if not math.isfinite(norm) or norm < _SMALL:
         raise ValueError("a rotation quaternion must be finite and non-zero")
-    w, x, y, z = q / norm
+    w, x, y, z = (q / norm).tolist()  # Python floats: the same IEEE arithmetic, no numpy scalar per product
     return np.array(
         [
             [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
@@ -141,13 +141,31 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def slerp(q0: np.ndarray, q1: np.ndarray, t: float) -> np.ndarray:
     """Spherical linear interpolation of unit quaternions (w, x, y, z), t in [0, 1], along the short arc."""
-    q0 = np.asarray(q0, dtype=float) / np.linalg.norm(q0)
-    q1 = np.asarray(q1, dtype=float) / np.linalg.norm(q1)
-    dot = float(q0 @ q1)
-    if dot < 0.0:
-        q1, dot = -q1, -dot
-    if dot > 0.9995:
-        q = q0 + t * (q1 - q0)
-        return q / np.linalg.norm(q)
-    angle = np.arccos(dot)
-    return (np.sin((1.0 - t) * angle) * q0 + np.sin(t * angle) * q1) / np.sin(angle)
+    return Arc(q0, q1).at(t)
+
+
+class Arc:
+    """The short arc from quaternion ``q0`` to ``q1`` (w, x, y, z; normalised here), for :func:`slerp` at many t:
+    what does not depend on t (the ends, their angle and its sine) is computed once."""
+
+    def __init__(self, q0: np.ndarray, q1: np.ndarray) -> None:
+        q0 = np.asarray(q0, dtype=float) / np.linalg.norm(q0)
+        q1 = np.asarray(q1, dtype=float) / np.linalg.norm(q1)
+        dot = float(q0 @ q1)
+        if dot < 0.0:
+            q1, dot = -q1, -dot
+        self.q0, self.q1 = q0, q1
+        self.near = dot > 0.9995  # nearly the same: a normalised linear blend
+        self.delta = q1 - q0
+        # the same ends: at(t) is q0 + t * 0 normalised, the same bits for every t >= 0 (t * +-0.0 is +-0.0)
+        self.still = self.near and not self.delta.any()
+        self.angle = 0.0 if self.near else np.arccos(dot)  # (a dot a rounding above 1 has no arccos)
+        self.sin = np.sin(self.angle)
+
+    def at(self, t: float) -> np.ndarray:
+        """The unit quaternion ``t`` (0..1) of the way from ``q0`` to ``q1``."""
+        if self.near:
+            q = self.q0 + t * self.delta
+            return q / length(q)
+        angle = self.angle
+        return (np.sin((1.0 - t) * angle) * self.q0 + np.sin(t * angle) * self.q1) / self.sin

@@ -16,8 +16,10 @@ is not converged and its ``unmet`` names each crossing, e.g. "hand_r passes thro
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Callable
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -32,6 +34,9 @@ from ..iteration.result import Result
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from ..problem.specs import Target
+
+if TYPE_CHECKING:
+    from ..body.state import State
 
 MARGIN = 0.05  # m: the least margin of a mesh query (farther rows count as this far)
 MAX_SUBSTEPS = 64  # sub-steps of a re-solved frame at most
@@ -52,7 +57,10 @@ class MotionSweep:
         self._poses: dict[tuple, Pose] = {}
         self._distances: dict[tuple, np.ndarray] = {}
         self._anchor: tuple[SweptBody, Pose, np.ndarray] | None = None  # the last pose queried and its distances
-        self._boxes: dict[tuple, tuple] = {}  # a carried box's placements (centre, rotation) by joint values
+        self._boxes: dict[tuple, tuple] = {}  # a carried box's placements (centre, rotation, corners) by joint values
+        self._planted: tuple | None = None  # the last planted_parts: (model, the two problems' supports, parts)
+        self._body_key: tuple | None = None  # the last body's clearance rows, own pairs, planted parts and dict key
+        self._way: tuple | None = None  # the last anchored check's body, anchor, end pose and bound from one to other
         self.queries = 0  # poses whose distances were queried
         self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
         self.substeps = 0  # sub-step solves so far
@@ -64,7 +72,12 @@ class MotionSweep:
         own = problem.self_constraint.pairs if problem.self_constraint is not None else None
         if not rows and own is None:
             return None
-        key = (tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows), id(own), planted)
+        last = self._body_key  # the same rows as the last frame's (a motion's): their key without building it again
+        if last is not None and last[1] is own and last[2] == planted and _same_objects(last[0], rows):
+            key = last[3]
+        else:
+            key = (tuple((tuple(id(o) for o in c.obstacles), c.capsules.names) for c in rows), id(own), planted)
+            self._body_key = (rows, own, planted, key)
         body = self._bodies.get(key)
         if body is None:
             if len(self._bodies) >= self.KEPT:  # a scene read afresh every frame (Blender) brings new obstacles
@@ -82,21 +95,26 @@ class MotionSweep:
             body = self._bodies[key] = SweptBody(problem.model, obstacles, pairs, own=own)
         return body
 
-    def check(self, body: SweptBody, theta_a: np.ndarray, theta_b: np.ndarray) -> SweepReport:
-        """The crossings of ``body`` on the way from joint values ``theta_a`` to ``theta_b``.
+    def check(
+        self, body: SweptBody, theta_a: np.ndarray, theta_b: np.ndarray, at_b: State | None = None
+    ) -> SweepReport:
+        """The crossings of ``body`` on the way from joint values ``theta_a`` to ``theta_b`` (``at_b``: a state there,
+        whose kinematics serve for the pose at ``theta_b``).
 
         Distances are queried only when lower bounds do not already certify the way: the distances d_P at the last
         pose queried, less the bound on the way from there (d >= d_P - M_P), which is all a long motion of small
         steps with nothing near needs."""
         anchored = self._anchor is not None and self._anchor[0] is body
-        if anchored:  # first the path bounds alone, which need no forward kinematics
+        if anchored:
             _, p, d_p = self._anchor
+        if anchored and at_b is None:  # first the path bounds alone, which need no forward kinematics (the
+            # tighter bounds below certify whatever they certify, and need none either with the state's at hand)
             length = body.length(np.array([p.theta, p.theta, theta_a]), np.array([theta_a, theta_b, theta_b]))
             if not body.any_uncertain(d_p, length[0], length[1], length[2]):
                 return SweepReport(None, [], 0, 0)
-        a, b = self._pose(body, theta_a), self._pose(body, theta_b)
+        a, b = self._pose(body, theta_a), self._pose(body, theta_b, at_b)
         if anchored:
-            bound = body.bounds([(p, a), (p, b), (a, b)])
+            bound = self._bounds(body, p, a, b)
             if not body.any_uncertain(d_p, bound[0], bound[1], bound[2]):
                 return SweepReport(b, [], 0, 0)
         margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
@@ -104,14 +122,32 @@ class MotionSweep:
         self.samples += report.samples
         return report
 
-    def _pose(self, body: SweptBody, theta: np.ndarray) -> Pose:
-        """``body``'s pose at joint values ``theta``, kept for the next queries."""
+    def _bounds(self, body: SweptBody, p: Pose, a: Pose, b: Pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``body.bounds([(p, a), (p, b), (a, b)])``; the first the last call's (p, b) when ``a`` is that ``b`` (the
+        previous frame's end is this frame's start)."""
+        last = self._way
+        if last is not None and last[0] is body and last[1] is p and last[2] is a:
+            pb, ab = body.bounds([(p, b), (a, b)])
+            out = last[3], pb, ab
+        else:
+            out = tuple(body.bounds([(p, a), (p, b), (a, b)]))
+        self._way = (body, p, b, out[1])
+        return out
+
+    def _pose(self, body: SweptBody, theta: np.ndarray, at: State | None = None) -> Pose:
+        """``body``'s pose at joint values ``theta`` (from the kinematics of the state ``at`` when it is there: the
+        same numbers), kept for the next queries."""
         key = (body, np.asarray(theta, dtype=float).tobytes())  # the body itself: its id is not reused while kept
         found = self._poses.get(key)
         if found is None:
             if len(self._poses) >= self.KEPT:
                 self._poses.pop(next(iter(self._poses)))
-            found = self._poses[key] = body.pose(theta)
+            kin = None if at is None else at.kin
+            if kin is not None and kin.model is body.model and kin.theta.tobytes() == key[1]:
+                found = Pose(np.array(theta, dtype=float), *body.capsules.world(kin))  # body.pose without its FK
+            else:
+                found = body.pose(theta)
+            self._poses[key] = found
         return found
 
     def _exact(self, body: SweptBody, pose: Pose, margin: float) -> np.ndarray:
@@ -132,12 +168,13 @@ class MotionSweep:
         frame re-solved in sub-steps, and reported if that still crosses. ``problems``: the previous frame's, this
         frame's and this frame's within the per-frame bound (the one solved); ``steps()``: the per-frame bound per
         solver variable (rad or m), asked for only when the frame is re-solved."""
-        body = self.body(problems[1], planted_parts(problems[0], problems[1]))
+        body = self.body(problems[1], self.planted(problems[0], problems[1]))
         if body is None:
             return result
         n = problems[1].model.n
-        report = self.check(body, previous_x[:n], result.x[:n])
-        boxed = self.carried_crossings(problems[1], previous_x[:n], result.x[:n], result.state.kin)
+        theta_a, theta_b = previous_x[:n], result.x[:n]
+        report = self.check(body, theta_a, theta_b, result.state)
+        boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state.kin)
         if not (report.crossings or boxed) or not self.resolve:
             mark(result, report, frames)
             return mark_carried(result, frames, boxed)
@@ -154,27 +191,41 @@ class MotionSweep:
         mark(result, report, frames)
         return mark_carried(result, frames, boxed)
 
-    def _box_at(self, problem: Problem, theta: np.ndarray, kin=None) -> tuple[np.ndarray, np.ndarray]:
-        """(centre m, rotation) of ``problem``'s carried box at joint values ``theta`` (``kin``: their kinematics, if
-        at hand), kept: a frame's end is the next frame's start."""
+    def planted(self, before: Problem, after: Problem) -> tuple[str, ...]:
+        """:func:`planted_parts` of ``before`` and ``after``, kept while both hold the very same support targets as
+        the last two (a motion's feet: the same objects from frame to frame, so planted the same way)."""
+        supports = [t for t in before.all_targets if t.support], [t for t in after.all_targets if t.support]
+        last = self._planted
+        if last is not None and last[0] is after.model and all(map(_same_objects, last[1], supports)):
+            return last[2]
+        parts = planted_parts(before, after)
+        self._planted = (after.model, supports, parts)
+        return parts
+
+    def _box_at(self, problem: Problem, theta: np.ndarray, kin=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(centre m, rotation, corners (8, 3) m) of ``problem``'s carried box at joint values ``theta`` (``kin``: their
+        kinematics, if at hand), kept: a frame's end is the next frame's start."""
         rows = problem.carried_obstacle_constraint
         key = (rows.tcps[0].name, rows.tcps[1].name, theta.tobytes())
         found = self._boxes.get(key)
-        if found is None or found[0] is not problem.model:
+        if found is None or found[0] is not problem.model or not _same_array(found[1], rows.half):
             if len(self._boxes) >= self.KEPT:
                 self._boxes.pop(next(iter(self._boxes)))
             kin = problem.model.forward(theta) if kin is None else kin
-            found = self._boxes[key] = (problem.model, _placed(rows, kin))
-        return found[1]
+            centre, rotation = _placed(rows, kin)
+            placed = centre, rotation, box_corners(centre, rotation, rows.half)
+            found = self._boxes[key] = (problem.model, rows.half, placed)
+        return found[2]
 
     def _box_travel(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> float:
         """How far (m) the corner of ``problem``'s carried box that moves most moves from ``theta_a`` to ``theta_b``;
         0 without a box kept out of obstacles."""
-        rows = problem.carried_obstacle_constraint
-        if rows is None:
+        if problem.carried_obstacle_constraint is None:
             return 0.0
-        corners = [box_corners(*self._box_at(problem, theta), rows.half) for theta in (theta_a, theta_b)]
-        return float(np.linalg.norm(corners[1] - corners[0], axis=1).max())
+        start = self._box_at(problem, theta_a)[2]
+        move = self._box_at(problem, theta_b)[2] - start
+        # np.linalg.norm(move, axis=1).max(): its sums of squares, the square root (monotonic) of their largest
+        return math.sqrt(np.add.reduce(move * move, axis=1).max())
 
     def carried_crossings(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray,
                           kin_b=None) -> list[tuple[str, float]]:  # fmt: skip
@@ -191,8 +242,9 @@ class MotionSweep:
             return []
         self._box_at(problem, theta_b, kin_b)
         moved = self._box_travel(problem, theta_a, theta_b)
-        ends = self._box_at(problem, theta_a), self._box_at(problem, theta_b)
-        if moved <= BOX_STEP or not rows.near_way(*ends, moved):
+        if moved <= BOX_STEP:
+            return []
+        if not rows.near_way(self._box_at(problem, theta_a)[:2], self._box_at(problem, theta_b)[:2], moved):
             return []
         found = []
         for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
@@ -256,6 +308,16 @@ def planted_parts(before: Problem, after: Problem) -> tuple[str, ...]:
     return tuple(name for name, link in zip(caps.names, caps.link, strict=True) if link in links)
 
 
+def _same_objects(a: list, b: list) -> bool:
+    """Whether lists ``a`` and ``b`` hold the very same objects in the same order."""
+    return len(a) == len(b) and all(map(operator.is_, a, b))
+
+
+def _same_array(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether arrays ``a`` and ``b`` are equal (at once when they are the same object)."""
+    return a is b or np.array_equal(a, b)
+
+
 def _same_place(a: Target, b: Target) -> bool:
     """Whether targets ``a`` and ``b`` hold their TCP at the same place and orientation."""
     if np.linalg.norm(np.asarray(a.position, dtype=float) - np.asarray(b.position, dtype=float)) > PLANTED:
@@ -310,8 +372,8 @@ def mark(result: Result, report: SweepReport, frames: tuple[int, int]) -> None:
     """Name each crossing in ``result``'s unmet (held at priority 1) and notes; the frame is not converged. A capsule
     whose axis got inside (deeper than its radius) "passes through", a shallower one "cuts into"."""
     a, b = frames
-    caps = capsules_of(result.problem.model)
     for c in report.crossings:
+        caps = capsules_of(result.problem.model)
         verb = "passes through" if c.depth >= caps.radius[caps.names.index(c.part)] else "cuts into"
         name = f"{c.part} {verb} {c.obstacle} between frames {a} and {b}"
         result.unmet.append(name)

@@ -47,9 +47,25 @@ def as_x(problem: Problem, x: np.ndarray) -> np.ndarray:
     return problem.to_x(problem.start(x[: problem.model.n]))
 
 
+def kept_steps(problem: Problem, limits: MotionLimits) -> np.ndarray:
+    """:func:`variable_steps`, read-only, kept for the next call with the same model, reduction, variable count and
+    limits (a motion's next frame)."""
+    model, last = problem.model, _last_steps[0]
+    key = (model, problem.reduction, problem.n_x, limits)
+    if last is not None and last[0] is model and last[1] is key[1] and last[2:4] == key[2:]:
+        return last[4]
+    steps = variable_steps(problem, limits)
+    steps.flags.writeable = False
+    _last_steps[0] = (*key, steps)
+    return steps
+
+
+_last_steps: list[tuple | None] = [None]  # (model, reduction, n_x, limits, steps) of the last kept_steps
+
+
 def bounded(problem: Problem, previous_x: np.ndarray, limits: MotionLimits) -> Problem:
     """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``."""
-    step = variable_steps(problem, limits)
+    step = kept_steps(problem, limits)
     return problem.with_bounds(problem.bounds.around(problem.to_variables(previous_x), step))
 
 
@@ -91,7 +107,7 @@ def solve_frames(
                 )
         if previous is not None:
             step = limits or DEFAULT_LIMITS
-            steps = lambda: variable_steps(problem, step)  # noqa: E731, B023 (called at once, if at all)
+            steps = lambda: kept_steps(problem, step)  # noqa: E731, B023 (called at once, if at all)
             problems = previous[1], full, problem
             result = sweep.guard((previous[0], frame), problems, previous[2], result, options, steps)
         annotate(result)  # the steps taken, or that planted feet kept a target out of reach

@@ -62,7 +62,13 @@ class Bounds:
         """These bounds narrowed to within ``step`` of ``center`` (a motion's per-frame change)."""
         lower = np.maximum(self.lower, center - step)
         upper = np.minimum(self.upper, center + step)
-        return Bounds(lower, upper, self.scale, self.is_joint)
+        # Bounds(lower, upper, self.scale, self.is_joint) without its four copies: lower and upper are new float64
+        # arrays of no one else, scale and is_joint read-only copies already (a motion narrows its bounds every frame)
+        lower.flags.writeable = upper.flags.writeable = False
+        out = object.__new__(Bounds)
+        for name, value in (("lower", lower), ("upper", upper), ("scale", self.scale), ("is_joint", self.is_joint)):
+            object.__setattr__(out, name, value)
+        return out
 
     def held(self, v: np.ndarray, wider: Bounds) -> np.ndarray:
         """Variables at a bound of these bounds that ``wider`` does not have (held by the narrowing)."""

@@ -111,15 +111,18 @@ class Problem:
         targets = list(targets)
         if self.balance and not same_supports(self.targets, targets):  # built again, with this problem's comfort terms
             return Problem(self.model, self.spec.replace(targets=targets, comfort=self.comfort))
-        moved = copy.copy(self)
+        moved = object.__new__(type(self))  # copy.copy(self) without its reduce protocol (a motion's every frame)
+        moved.__dict__.update(self.__dict__)
         moved.spec = self.spec.replace(targets=targets)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
         same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
         if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
-            validate_frames(targets)  # only the frames moved (a motion's next frame): the constraints follow them
-            members = [c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
-                       for c, t in zip(self.target_constraints, moved.targets, strict=True)]  # fmt: skip
+            validate_frames(targets, self.all_targets)  # only the frames moved (a motion's next frame): the
+            # constraints follow them; a target that is the very object it was keeps its constraint as it is
+            pairs = zip(self.target_constraints, moved.targets, self.targets, strict=True)
+            members = [c if t is was else c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
+                       for c, t, was in pairs]  # fmt: skip
             moved.target_constraints = members
             moved.frames = self.frames.moved([*members, *self.loop_constraints])
             moved.constraints = [moved.frames if c is self.frames else c for c in self.constraints]
@@ -139,7 +142,8 @@ class Problem:
 
     def with_bounds(self, bounds: Bounds) -> Problem:
         """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
-        narrowed = copy.copy(self)
+        narrowed = object.__new__(type(self))  # copy.copy(self), as in with_targets
+        narrowed.__dict__.update(self.__dict__)
         narrowed.bounds = bounds
         return narrowed
 

@@ -8,6 +8,7 @@ line naming the item and what was expected.
 from __future__ import annotations
 
 import dataclasses
+import operator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -55,6 +56,14 @@ class Target:
     def effective_priority(self) -> int:
         """1 (must hold) or 2 (reach: as close as possible)."""
         return self.priority if self.priority is not None else default_priority(self.support)
+
+    def at(self, position: np.ndarray, rotation: np.ndarray | None) -> Target:
+        """This target moved to another frame (``position`` m, ``rotation`` 3x3 or None): what
+        ``dataclasses.replace(self, position=..., rotation=...)`` gives, without its __init__ (a keyed target at each
+        frame of a motion; Target has no __post_init__ to run)."""
+        moved = object.__new__(type(self))
+        moved.__dict__.update(self.__dict__, position=position, rotation=rotation)
+        return moved
 
 
 @dataclass(frozen=True)
@@ -106,18 +115,28 @@ class ProblemSpec:
     carried: Carried | None = None
 
     def __post_init__(self) -> None:
-        for name in ("targets", "loops", "loads", "reduction", "extra_constraints", "obstacles"):
+        for name in _SEQUENCES:
             object.__setattr__(self, name, tuple(getattr(self, name)))
 
     def replace(self, **changes) -> ProblemSpec:
-        """This spec with ``changes`` (fields by name)."""
-        return dataclasses.replace(self, **changes)
+        """This spec with ``changes`` (fields by name): what ``dataclasses.replace`` gives, the fields not changed
+        shared instead of passed through __init__ again (a motion's every frame changes its targets)."""
+        if not changes.keys() <= _SPEC_FIELDS:
+            return dataclasses.replace(self, **changes)  # raises, naming the unknown field
+        out = object.__new__(type(self))
+        out.__dict__.update(self.__dict__)
+        for name, value in changes.items():
+            object.__setattr__(out, name, tuple(value) if name in _SEQUENCES else value)
+        return out
 
     @property
     def weights(self) -> ComfortWeights | None:
         """The standard comfort terms' weights this spec's comfort has (None: its own terms, not the standard)."""
         return self.comfort_weights if self.comfort is None else self.comfort.weights
 
+
+_SEQUENCES = ("targets", "loops", "loads", "reduction", "extra_constraints", "obstacles")  # kept as tuples
+_SPEC_FIELDS = frozenset(f.name for f in dataclasses.fields(ProblemSpec))
 
 MAX_DISTANCE = 1000.0  # m: targets and offsets farther than this from the origin are refused
 MAX_FORCE = 1e6  # N
@@ -179,25 +198,60 @@ def same_supports(enabled: list[Target], targets: list[Target]) -> bool:
         sole = None if t.sole is None else np.asarray(t.sole).tobytes()
         return (t.tcp, rot, t.friction, sole)
 
-    return [key(t) for t in enabled if t.support] == [key(t) for t in targets if t.enabled and t.support]
+    old = [t for t in enabled if t.support]
+    new = [t for t in targets if t.enabled and t.support]
+    if len(old) == len(new) and all(map(operator.is_, old, new)):
+        return True  # the very same supports (a motion's unkeyed feet): their keys are equal (friction is not NaN)
+    return [key(t) for t in old] == [key(t) for t in new]
+
+
+_KEPT = operator.attrgetter("tcp", "lock", "weight", "support", "friction", "enabled", "priority")
 
 
 def same_but_frames(old: Target, new: Target) -> bool:
     """Whether ``new`` is ``old`` with another position or rotation only (None stays None): a keyed target's move."""
-    if (old.rotation is None) != (new.rotation is None):
+    if old is new:
+        return True
+    if (old.rotation is None) != (new.rotation is None) or _KEPT(old) != _KEPT(new):  # (validated: no NaN weight)
         return False
-    for name in ("tcp", "lock", "weight", "support", "friction", "enabled", "priority"):
-        if getattr(old, name) != getattr(new, name):
-            return False
     return all(a is b or (a is not None and b is not None and np.array_equal(a, b))
                for a, b in ((old.operator, new.operator), (old.sole, new.sole)))  # fmt: skip
 
 
-def validate_frames(targets) -> None:
-    """:func:`validate` of the positions and rotations alone (the rest of each target checked before)."""
-    for t in targets:
-        _check_vector(f"target {t.tcp} position", t.position, 3, MAX_DISTANCE)
-        _check_rotation(f"target {t.tcp} rotation", t.rotation)
+def validate_frames(targets, checked=()) -> None:
+    """:func:`validate` of the positions and rotations alone (the rest of each target checked before). A target that
+    is the very object at its index in ``checked`` (the targets of a problem, validated then) is not checked again."""
+    for i, t in enumerate(targets):
+        if i < len(checked) and t is checked[i]:
+            continue
+        if not (_fine_position(t.position) and _fine_rotation(t.rotation)):  # only then the checks that say why
+            _check_vector(f"target {t.tcp} position", t.position, 3, MAX_DISTANCE)
+            _check_rotation(f"target {t.tcp} rotation", t.rotation)
+
+
+def _fine_position(value) -> bool:
+    """Whether ``value`` is surely a target position :func:`_check_vector` accepts (False: ask it), in Python floats:
+    a float64 3-vector within +-MAX_DISTANCE (a NaN fails every comparison)."""
+    if type(value) is not np.ndarray or value.dtype != np.float64 or value.shape != (3,):
+        return False
+    (x, y, z), low, high = value.tolist(), -MAX_DISTANCE, MAX_DISTANCE
+    return low <= x <= high and low <= y <= high and low <= z <= high
+
+
+def _fine_rotation(value) -> bool:
+    """Whether ``value`` is surely a rotation :func:`_check_rotation` accepts (False: ask it), in Python floats: R^T R
+    within its tolerances less 1e-9 (far more than R^T R's rounding, however it is summed), det >= 0."""
+    if value is None:
+        return True
+    if type(value) is not np.ndarray or value.dtype != np.float64 or value.shape != (3, 3):
+        return False
+    rows = value.tolist()
+    (a, b, c), (d, e, f), (g, h, i) = rows
+    diagonal, off = 1.1e-5 - 1e-9, 1e-6 - 1e-9
+    return (abs(a * a + d * d + g * g - 1.0) <= diagonal and abs(b * b + e * e + h * h - 1.0) <= diagonal
+            and abs(c * c + f * f + i * i - 1.0) <= diagonal and abs(a * b + d * e + g * h) <= off
+            and abs(a * c + d * f + g * i) <= off and abs(b * c + e * f + h * i) <= off
+            and _determinant(rows) >= 0)  # fmt: skip
 
 
 def validate(model: Model, targets, loops, loads) -> None:

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import bisect
 import functools
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
+from ..body.spatial import Arc, matrix_to_quat, quat_to_matrix
 from .specs import Target
 
 
@@ -45,17 +45,25 @@ class Track:
         position = (1.0 - t) * a.position + t * b.position
         if a.rotation is None or b.rotation is None:
             return position, a.rotation if b.rotation is None else b.rotation
-        quats = self._quaternions
-        return position, quat_to_matrix(slerp(quats[i], quats[i + 1], t))
+        held = self._held[i]
+        return position, held if held is not None else quat_to_matrix(self._arcs[i].at(t))
 
     @functools.cached_property
     def _frames(self) -> list[int]:
         return [k.frame for k in self.keys]
 
     @functools.cached_property
-    def _quaternions(self) -> list[np.ndarray | None]:
-        """Each key's rotation as a quaternion (None where it has none), converted once for every frame."""
-        return [None if k.rotation is None else matrix_to_quat(k.rotation) for k in self.keys]
+    def _arcs(self) -> list[Arc | None]:
+        """The slerp arc from each key's rotation to the next's (None where either has none), built once for every
+        frame between them."""
+        quats = [None if k.rotation is None else matrix_to_quat(k.rotation) for k in self.keys]
+        return [None if a is None or b is None else Arc(a, b) for a, b in zip(quats[:-1], quats[1:], strict=True)]
+
+    @functools.cached_property
+    def _held(self) -> list[np.ndarray | None]:
+        """Per pair of keys, the rotation between them when both keys hold the same one (the slerp the same at every
+        t, to the bit: :attr:`Arc.still`), else None."""
+        return [quat_to_matrix(arc.at(0.5)) if arc is not None and arc.still else None for arc in self._arcs]
 
 
 def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list[Target]:
@@ -63,5 +71,5 @@ def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list
     out = list(targets)
     for track in tracks:
         position, rotation = track.pose_at(frame)
-        out[track.target] = replace(out[track.target], position=position, rotation=rotation)
+        out[track.target] = out[track.target].at(position, rotation)
     return out

@@ -7,6 +7,7 @@ import pytest
 from helpers import finite_difference
 
 from solver.body.spatial import (
+    Arc,
     cross,
     exp_so3,
     left_jacobian_inverse_so3,
@@ -68,3 +69,43 @@ def test_cross_and_length_are_numpys_numbers_bit_for_bit():
     assert np.array_equal(cross(a, b), np.cross(a, b))
     assert np.array_equal(cross(np.array([0.0, 0.0, 1.0]), b), np.cross([0.0, 0.0, 1.0], b))  # broadcast
     assert all(length(v) == np.linalg.norm(v) for v in np.vstack([a, b, np.zeros((1, 3)), [[-0.0, 3e-300, 1e300]]]))
+
+
+def _slerp_afresh(q0, q1, t):
+    """slerp as it was before :class:`Arc` (everything computed at each t)."""
+    q0, q1 = np.asarray(q0, dtype=float) / np.linalg.norm(q0), np.asarray(q1, dtype=float) / np.linalg.norm(q1)
+    dot = float(q0 @ q1)
+    if dot < 0.0:
+        q1, dot = -q1, -dot
+    if dot > 0.9995:
+        q = q0 + t * (q1 - q0)
+        return q / np.linalg.norm(q)
+    angle = np.arccos(dot)
+    return (np.sin((1.0 - t) * angle) * q0 + np.sin(t * angle) * q1) / np.sin(angle)
+
+
+def test_an_arc_gives_the_slerp_computed_afresh_bit_for_bit():
+    """A keyed target's rotation at every frame: the arc between two keys built once gives each t the numbers slerp
+    computed afresh gives (the same operations on the same numbers: exact on any CPU), and quat_to_matrix in Python
+    floats the numbers of the NumPy scalars; two keys of one rotation give one matrix at every t (zeros of either
+    sign)."""
+    rng = np.random.default_rng(5)
+    q = rng.normal(size=4)
+    pairs = [(rng.normal(size=4), rng.normal(size=4), False) for _ in range(40)]
+    pairs += [(q, q + 1e-4 * rng.normal(size=4), False), (q, q, True), (q, -q, True)]
+    pairs += [([-0.0, 1.0, -0.0, 0.0], [0.0, 2.0, 0.0, -0.0], True)]
+    for q0, q1, still in pairs:
+        arc = Arc(q0, q1)
+        held = set()
+        for t in (0.0, 1e-9, 0.25, 0.5, 0.999, 1.0):
+            q = arc.at(t)
+            assert np.array_equal(q, _slerp_afresh(q0, q1, t)) and np.array_equal(q, slerp(q0, q1, t))
+            w, x, y, z = q / np.linalg.norm(q)  # NumPy scalars, as quat_to_matrix computed them
+            expected = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]  # fmt: skip
+            assert np.array_equal(quat_to_matrix(q), np.array(expected))
+            held.add(q.tobytes())
+        assert arc.still == still and (len(held) == 1 or not still)
+    with pytest.raises(ValueError):
+        quat_to_matrix([np.nan, 0.0, 0.0, 1.0])

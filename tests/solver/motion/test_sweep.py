@@ -13,6 +13,8 @@ from bench.long_motion import long_motion
 from solver import load_scenario
 from solver.collision import Box, Mesh, Sphere, capsule_pairs, obstacle_distance
 from solver.collision.body import capsules_of
+from solver.collision.boxes import box_corners
+from solver.collision.carried import carried_frame
 from solver.collision.generate import box_mesh
 from solver.collision.self_pairs import self_pairs
 from solver.collision.sweep import TOLERANCE, SweptBody, path_weights_of
@@ -264,6 +266,7 @@ def squat_between(model, right_foot_y: float = 0.0) -> tuple[Problem, Problem]:
     """Two frames with the behaviour model (trunk 5): the hands at 0.25 m in front of the feet (solved from the
     crouched start: a squat), then standing with them at 1.0 m; the left foot planted in both, the right foot at
     ``right_foot_y`` m in the second."""
+
     def at(height: float, y_r: float) -> Problem:
         feet = [Target(f"foot_{s}", np.array([x, y, 0.0]), lock=("z", "rx", "ry"), support=True)
                 for s, x, y in (("r", -0.083, y_r), ("l", 0.083, 0.0))]  # fmt: skip
@@ -300,3 +303,61 @@ def test_a_leg_whose_foot_moves_is_still_checked_against_the_floor(male50):
     caps = capsules_of(male50).names
     assert all(body.pairs[caps.index(p), floor] for p in ("thigh_r", "shank_r", "pelvis", "hand_r"))
     assert not any(body.pairs[caps.index(p), floor] for p in ("thigh_l", "shank_l", "foot_l", "foot_r"))
+
+
+def test_what_the_sweep_keeps_from_frame_to_frame_is_what_it_computes_afresh(tmp_path, monkeypatch):
+    """MotionSweep keeps from the last frame the planted parts (the same support targets), the bound from the
+    anchor to this frame's start (the last frame's to its end), the carried box's corners; it takes a frame's end
+    pose from the result's kinematics. Over the 200-frame lift (a carried box, a cabinet) each is what computing it
+    afresh gives, the same numbers (the same functions of the same inputs), and each shortcut is taken."""
+    taken = {"bounds": 0, "pose": 0, "planted": 0}
+    bounds, pose, travel, planted = MotionSweep._bounds, MotionSweep._pose, MotionSweep._box_travel, MotionSweep.planted
+
+    def fresh_bounds(self, body, p, a, b):
+        taken["bounds"] += self._way is not None and self._way[1] is p and self._way[2] is a
+        got = bounds(self, body, p, a, b)
+        assert np.array_equal(np.array(got), body.bounds([(p, a), (p, b), (a, b)]))
+        return got
+
+    def fresh_pose(self, body, theta, at=None):
+        taken["pose"] += at is not None and (body, theta.tobytes()) not in self._poses
+        got, afresh = pose(self, body, theta, at), body.pose(theta)
+        assert all(np.array_equal(x, y) for x, y in zip(got, afresh, strict=True))
+        return got
+
+    def fresh_travel(self, problem, theta_a, theta_b):
+        rows = problem.carried_obstacle_constraint
+        got = travel(self, problem, theta_a, theta_b)
+        if rows is not None:
+            ends = [box_corners(*carried_frame(*(problem.model.forward(t).tcp_frame(tcp)[1] for tcp in rows.tcps)),
+                                rows.half) for t in (theta_a, theta_b)]  # fmt: skip
+            assert got == float(np.linalg.norm(ends[1] - ends[0], axis=1).max())
+        return got
+
+    def fresh_planted(self, before, after):
+        taken["planted"] += self._planted is not None
+        got = planted(self, before, after)
+        assert got == planted_parts(before, after)
+        return got
+
+    for name, spy in (("_bounds", fresh_bounds), ("_pose", fresh_pose), ("_box_travel", fresh_travel),
+                      ("planted", fresh_planted)):  # fmt: skip
+        monkeypatch.setattr(MotionSweep, name, spy)
+    results, sweep = lift_with_a_cabinet_behind(tmp_path, 0.0)
+    assert all(r.converged for _, r in results) and min(taken.values()) > len(results) / 2, taken
+    check = MotionSweep.check
+    monkeypatch.setattr(MotionSweep, "check", lambda self, body, a, b, at_b=None: check(self, body, a, b))
+    again, swept = lift_with_a_cabinet_behind(tmp_path, 0.0)  # no end state given: the path-bound pre-test first
+    assert (swept.queries, swept.samples) == (sweep.queries, sweep.samples)
+    assert all(np.array_equal(r.x, s.x) and r.unmet == s.unmet for (_, r), (_, s) in zip(results, again, strict=True))
+
+
+def test_the_planted_parts_kept_follow_the_supports(male50):
+    """The planted parts kept for the same support targets are those of the two problems asked for, as the feet
+    stay, step and come back."""
+    squat, step = squat_between(male50), squat_between(male50, right_foot_y=-0.2)
+    sweep = MotionSweep()
+    for before, after in (squat, squat, step, step, (step[1], squat[1]), squat, (squat[0], step[1])):
+        parts = sweep.planted(before, after)
+        assert parts == planted_parts(before, after)
+        np.testing.assert_array_equal(sweep.body(after, parts).pairs, MotionSweep().body(after, parts).pairs)
