@@ -7,7 +7,6 @@ newtons compare and "converged" means max |scaled error| <= 1.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
 from functools import partial
 
@@ -24,12 +23,13 @@ from ..comfort import Comfort
 from ..constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
 from ..constraints.carried_clearance import CarriedClearance
 from ..constraints.carried_obstacles import CarriedObstacles
-from ..constraints.clearance import FLOOR, Clearance, ClearanceRows, Closeness, floor_clearance
+from ..constraints.clearance import FLOOR, Clearance, Closeness, floor_clearance
 from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model, reduce_and_scale
 from ..kernels.trial import linear_phi, scale_rows
+from . import reports
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
@@ -111,8 +111,7 @@ class Problem:
         targets = list(targets)
         if self.balance and not same_supports(self.targets, targets):  # built again, with this problem's comfort terms
             return Problem(self.model, self.spec.replace(targets=targets, comfort=self.comfort))
-        moved = object.__new__(type(self))  # copy.copy(self) without its reduce protocol (a motion's every frame)
-        moved.__dict__.update(self.__dict__)
+        moved = self._twin()
         moved.spec = self.spec.replace(targets=targets)
         moved.all_targets = targets
         moved.targets = [t for t in targets if t.enabled]
@@ -134,7 +133,7 @@ class Problem:
 
     def with_frames(self, targets: list[FrameConstraint], comfort: Comfort) -> Problem:
         """The same problem with only ``targets`` (some of this one's target constraints) and another comfort."""
-        ranked = copy.copy(self)
+        ranked = self._twin()
         ranked.spec = self.spec.replace(comfort=comfort)
         ranked.comfort = comfort
         ranked._set_constraints(targets)
@@ -142,10 +141,15 @@ class Problem:
 
     def with_bounds(self, bounds: Bounds) -> Problem:
         """The same problem with other bounds on its solver variables (e.g. narrowed around the previous frame)."""
-        narrowed = object.__new__(type(self))  # copy.copy(self), as in with_targets
-        narrowed.__dict__.update(self.__dict__)
+        narrowed = self._twin()
         narrowed.bounds = bounds
         return narrowed
+
+    def _twin(self) -> Problem:
+        """A shallow copy: copy.copy(self) without its reduce protocol (a motion makes two a frame)."""
+        twin = object.__new__(type(self))
+        twin.__dict__.update(self.__dict__)
+        return twin
 
     @property
     def scale(self) -> np.ndarray:
@@ -385,18 +389,12 @@ class Problem:
 
     def closest(self, state: State) -> list[Closeness]:
         """The clearance rows within their margin (the floor's, the obstacles', the body's own, the carried box's and
-        any extra :class:`~solver.constraints.clearance.Clearance`), nearest first. Each constraint's once per
-        state, as :meth:`residuals` and :meth:`unmet` (a motion's frame that keeps its pose shares them)."""
-        clearances = [c for c in self.constraints if isinstance(c, ClearanceRows)]
-        near = [pair for c in clearances for pair in state.once(c, "closest", partial(c.closest, state))]
-        return sorted(near, key=lambda pair: pair.distance)
+        any extra :class:`~solver.constraints.clearance.Clearance`), nearest first (:mod:`.reports`)."""
+        return reports.closest(self.constraints, state)
 
     def residuals(self, state: State) -> dict[str, float]:
-        out: dict[str, float] = {}
-        for c in self.constraints:
-            out.update(state.once(c, "residuals", partial(c.residuals, state)))
-        return out
+        return reports.residuals(self.constraints, state)
 
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
-        return [name for c in self.constraints for name in state.once(c, "unmet", partial(c.unmet, state))]
+        return reports.unmet(self.constraints, state)
