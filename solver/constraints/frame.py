@@ -208,9 +208,10 @@ class FrameGroup(Constraint):
         self.operator = np.concatenate([c.operator for c in self.members]) if self.members else np.zeros((0, 6))
         self.operator_lin = self.operator[:, None, :3]  # (R, 1, 3)
         self.operator_ang = self.operator[:, None, 3:]
-        self._row_mask: np.ndarray | None = None
         self._compiled_tables: tuple | None = None  # the kernels' constant arrays, built on first use
-        self._moving: tuple | None = None  # per member, its moving joints and their signs (from the model)
+        # what depends on the TCPs, operators and model alone, built on first use and shared with the moved copies
+        # (a motion moves the first frame's group every frame): the row mask, the moving joints, the kernels' tables
+        self._shared: dict = {}
 
     @property
     def rows(self) -> int:
@@ -229,11 +230,7 @@ class FrameGroup(Constraint):
         group.members = list(members)
         group.target_rotation = np.array([c.target_rotation for c in members]).reshape(-1, 3, 3)
         group.target_position = np.array([c.target_position for c in members]).reshape(-1, 3)
-        if self._compiled_tables is not None:
-            links, local, operator, row_member = self._compiled_tables
-            local = local.copy()
-            local[:, 1, :, :3], local[:, 1, :, 3] = group.target_rotation, group.target_position
-            group._compiled_tables = (links, local, operator, row_member)
+        group._compiled_tables = None  # made from the shared ones with these targets
         return group
 
     def error(self, state: State) -> np.ndarray:
@@ -262,14 +259,15 @@ class FrameGroup(Constraint):
 
     def _mask(self, model: Model) -> np.ndarray:
         """(R, n): 1 where a joint moves a row's TCP, minus 1 where it moves the reference TCP (loops)."""
-        if self._row_mask is None:
+        mask = self._shared.get("row mask")
+        if mask is None:
             desc = model.descendant.astype(float)
             mask = desc[:, self.link[self.row_member]].T
             for c, rows in zip(self.members, self.member_rows, strict=True):
                 if c.reference is not None:
                     mask[rows] -= desc[:, c.reference.link]
-            self._row_mask = mask
-        return self._row_mask
+            self._shared["row mask"] = mask
+        return mask
 
     def evaluate(self, state: State) -> _FrameValues:
         """All members' errors at ``state``, computed once per state."""
@@ -329,32 +327,37 @@ class FrameGroup(Constraint):
         """The kernels' constants: links (C, 2) (TCP, reference TCP or -1), local frames (C, 3, 3, 4) [R | p] of the
         TCP, the target and the reference TCP, the operator rows (R, 6) and each row's member (R,)."""
         if self._compiled_tables is None:
-            count = len(self.members)
-            links = np.full((count, 2), -1, dtype=np.int64)
-            links[:, 0] = self.link
-            links[self.loops, 1] = self.reference_link
-            local = np.zeros((count, 3, 3, 4))
-            local[:, 2, :, :3] = np.eye(3)
-            for k, (rotation, position) in enumerate(
-                ((self.tcp_rotation, self.tcp_position), (self.target_rotation, self.target_position))
-            ):
-                local[:, k, :, :3], local[:, k, :, 3] = rotation, position
-            local[self.loops, 2, :, :3], local[self.loops, 2, :, 3] = self.reference_rotation, self.reference_position
-            operator = np.ascontiguousarray(self.operator, dtype=float)
-            self._compiled_tables = (links, local, operator, self.row_member.astype(np.int64))
+            shared = self._shared.get("tables")
+            if shared is None:  # all but the targets
+                count = len(self.members)
+                links = np.full((count, 2), -1, dtype=np.int64)
+                links[:, 0] = self.link
+                links[self.loops, 1] = self.reference_link
+                local = np.zeros((count, 3, 3, 4))
+                local[:, 2, :, :3] = np.eye(3)
+                local[:, 0, :, :3], local[:, 0, :, 3] = self.tcp_rotation, self.tcp_position
+                local[self.loops, 2, :, :3] = self.reference_rotation
+                local[self.loops, 2, :, 3] = self.reference_position
+                operator = np.ascontiguousarray(self.operator, dtype=float)
+                shared = self._shared["tables"] = (links, local, operator, self.row_member.astype(np.int64))
+            links, local, operator, row_member = shared
+            local = local.copy()
+            local[:, 1, :, :3], local[:, 1, :, 3] = self.target_rotation, self.target_position
+            self._compiled_tables = (links, local, operator, row_member)
         return self._compiled_tables
 
     def _moving_joints(self, model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Per member, the joints that move its TCP (sign 1) or only its reference TCP (sign -1): its rows' nonzeros in
         :meth:`_mask` (none for a member without rows), as (joint_start (C + 1,), joint, sign)."""
-        if self._moving is None:
+        moving = self._shared.get("moving")
+        if moving is None:
             first = np.array([rows.start if rows.stop > rows.start else -1 for rows in self.member_rows], dtype=int)
             per_member = self._mask(model)[np.maximum(first, 0)] * (first >= 0)[:, None]  # (C, n)
             member, joint = np.nonzero(per_member)
             start = np.searchsorted(member, np.arange(len(first) + 1)).astype(np.int64)
             joint, sign = joint.astype(np.int64), per_member[member, joint]
-            self._moving = (start, joint, sign)
-        return self._moving
+            moving = self._shared["moving"] = (start, joint, sign)
+        return moving
 
     def _evaluate_compiled(self, kin) -> _FrameValues:
         """:meth:`evaluate` by the compiled kernel."""

@@ -14,6 +14,7 @@ from solver.iteration.result import Result
 from solver.iteration.trial import Evaluator
 from solver.motion.frames import bounded
 from solver.options import DEFAULT_LIMITS
+from solver.problem.problem import Problem
 from tests.helpers import close_to_rounding
 
 
@@ -97,3 +98,15 @@ def test_a_result_from_an_adopted_state_reports_what_a_fresh_one_does(lift):
         assert got["tcp"] == expected["tcp"]
         for key in ("point", "force", "moment"):
             close_to_rounding(got[key], expected[key])
+
+
+def test_moved_frame_groups_share_what_does_not_depend_on_the_targets(lift):
+    scenario, first, result, _ = lift
+    later = [scenario.problem_at(frame) for frame in scenario.frames[5:8]]
+    base = scenario.problem.frames
+    assert all(p.frames._shared is base._shared for p in later)  # one row mask, moving joints and tables for all
+    for problem in later:
+        fresh = Problem(problem.model, problem.spec)  # built afresh with this frame's targets
+        state, again = problem.state_of_x(result.x.copy()), fresh.state_of_x(result.x.copy())
+        close_to_rounding(problem.frames.error(state), fresh.frames.error(again))
+        close_to_rounding(problem.frames.jacobian(state), fresh.frames.jacobian(again))
