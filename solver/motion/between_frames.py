@@ -33,7 +33,7 @@ from ..iteration import solve
 from ..iteration.result import Result
 from ..options import SolverOptions
 from ..problem.problem import Problem
-from ..problem.specs import Target
+from ..problem.specs import Target, same_frame
 
 if TYPE_CHECKING:
     from ..body.state import State
@@ -192,11 +192,12 @@ class MotionSweep:
         return mark_carried(result, frames, boxed)
 
     def planted(self, before: Problem, after: Problem) -> tuple[str, ...]:
-        """:func:`planted_parts` of ``before`` and ``after``, kept while both hold the very same support targets as
-        the last two (a motion's feet: the same objects from frame to frame, so planted the same way)."""
+        """:func:`planted_parts` of ``before`` and ``after``, kept while both hold the same support targets as the
+        last two (a motion's feet: the same objects from frame to frame, or read again at the same frames by a bake,
+        so planted the same way)."""
         supports = [t for t in before.all_targets if t.support], [t for t in after.all_targets if t.support]
         last = self._planted
-        if last is not None and last[0] is after.model and all(map(_same_objects, last[1], supports)):
+        if last is not None and last[0] is after.model and all(map(_same_supports, last[1], supports)):
             return last[2]
         parts = planted_parts(before, after)
         self._planted = (after.model, supports, parts)
@@ -311,6 +312,13 @@ def planted_parts(before: Problem, after: Problem) -> tuple[str, ...]:
 def _same_objects(a: list, b: list) -> bool:
     """Whether lists ``a`` and ``b`` hold the very same objects in the same order."""
     return len(a) == len(b) and all(map(operator.is_, a, b))
+
+
+def _same_supports(a: list[Target], b: list[Target]) -> bool:
+    """Whether support lists ``a`` and ``b`` hold the same TCPs, enabled alike, at the same frames."""
+    return len(a) == len(b) and all(
+        x is y or (x.tcp == y.tcp and x.enabled == y.enabled and same_frame(x, y)) for x, y in zip(a, b, strict=True)
+    )
 
 
 def _same_array(a: np.ndarray, b: np.ndarray) -> bool:

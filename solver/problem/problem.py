@@ -29,7 +29,7 @@ from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model, reduce_and_scale
 from ..kernels.trial import linear_phi, scale_rows
-from . import reports
+from . import reports, specs
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
@@ -117,10 +117,10 @@ class Problem:
         moved.targets = [t for t in targets if t.enabled]
         same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
         if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
-            validate_frames(targets, self.all_targets)  # only the frames moved (a motion's next frame): the
-            # constraints follow them; a target that is the very object it was keeps its constraint as it is
-            pairs = zip(self.target_constraints, moved.targets, self.targets, strict=True)
-            members = [c if t is was else c.moved(c.target_rotation if t.rotation is None else t.rotation, t.position)
+            validate_frames(targets, self.all_targets)  # only the frames moved (a motion's next frame)
+            pairs = zip(self.target_constraints, moved.targets, self.targets, strict=True)  # unmoved: kept as it is
+            members = [c if specs.same_frame(t, was) else c.moved(t.rotation if t.rotation is not None else
+                                                                  c.target_rotation, t.position)
                        for c, t, was in pairs]  # fmt: skip
             moved.target_constraints = members
             moved.frames = self.frames.moved([*members, *self.loop_constraints])

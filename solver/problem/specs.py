@@ -218,11 +218,22 @@ def same_but_frames(old: Target, new: Target) -> bool:
                for a, b in ((old.operator, new.operator), (old.sole, new.sole)))  # fmt: skip
 
 
+def same_frame(a: Target, b: Target) -> bool:
+    """Whether targets ``a`` and ``b`` hold their TCPs at the very same frame: the same object, or equal positions
+    and rotations (a target read again from a scene that did not move it, as a bake reads every frame)."""
+    if a is b:
+        return True
+    if (a.rotation is None) != (b.rotation is None) or not np.array_equal(a.position, b.position):
+        return False
+    return a.rotation is None or np.array_equal(a.rotation, b.rotation)
+
+
 def validate_frames(targets, checked=()) -> None:
-    """:func:`validate` of the positions and rotations alone (the rest of each target checked before). A target that
-    is the very object at its index in ``checked`` (the targets of a problem, validated then) is not checked again."""
+    """:func:`validate` of the positions and rotations alone (the rest of each target checked before). A target at
+    the frame of the one at its index in ``checked`` (the targets of a problem, validated then) is not checked
+    again."""
     for i, t in enumerate(targets):
-        if i < len(checked) and t is checked[i]:
+        if i < len(checked) and same_frame(t, checked[i]):
             continue
         if not (_fine_position(t.position) and _fine_rotation(t.rotation)):  # only then the checks that say why
             _check_vector(f"target {t.tcp} position", t.position, 3, MAX_DISTANCE)

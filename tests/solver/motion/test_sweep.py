@@ -4,6 +4,7 @@ is near."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,7 @@ from solver.collision.sweep import TOLERANCE, SweptBody, path_weights_of
 from solver.comfort import BEHAVIOUR
 from solver.io.scenario.bodies import load_body
 from solver.io.toml_write import dumps_toml
+from solver.motion import between_frames
 from solver.motion.between_frames import MotionSweep, planted_parts
 from solver.motion.frames import solve_frames
 from solver.problem.problem import Problem, ProblemSpec, Target
@@ -361,3 +363,21 @@ def test_the_planted_parts_kept_follow_the_supports(male50):
         parts = sweep.planted(before, after)
         assert parts == planted_parts(before, after)
         np.testing.assert_array_equal(sweep.body(after, parts).pairs, MotionSweep().body(after, parts).pairs)
+
+
+def test_the_planted_parts_kept_follow_supports_read_again(male50, monkeypatch):
+    """Support targets read again (new objects, as a bake reads the scene every frame) at the same frames keep the
+    planted parts; moved ones do not."""
+    squat, step = squat_between(male50), squat_between(male50, right_foot_y=-0.2)
+    asked = []
+    monkeypatch.setattr(between_frames, "planted_parts", lambda *a: asked.append(1) or planted_parts(*a))
+
+    def again(problem):  # the same targets as new objects with copied arrays
+        return problem.with_targets([dataclasses.replace(t, position=np.array(t.position, dtype=float))
+                                     for t in problem.all_targets])  # fmt: skip
+
+    sweep = MotionSweep()
+    for before, after in (squat, (again(squat[0]), again(squat[1])), step, (again(step[0]), again(step[1]))):
+        parts = sweep.planted(before, after)
+        assert parts == planted_parts(before, after)
+    assert len(asked) == 2  # the squat's and the step's: the targets read again were known

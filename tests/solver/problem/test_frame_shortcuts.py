@@ -161,3 +161,20 @@ def test_the_per_frame_steps_kept_are_those_computed_afresh(male50):
         afresh = problem.bounds.around(problem.to_variables(x), frames.variable_steps(problem, limit))
         np.testing.assert_array_equal(narrowed.lower, afresh.lower)
         np.testing.assert_array_equal(narrowed.upper, afresh.upper)
+
+
+def test_targets_read_again_at_the_same_frames_keep_their_constraints(male50):
+    """Equal positions and rotations in new target objects (a bake reads the scene every frame): the constraints
+    are kept; a moved one is moved, a bad one still refused."""
+    problem = Problem(male50, _feet_and_hand(male50))
+    again = [dataclasses.replace(t, position=np.array(t.position, dtype=float)) for t in problem.all_targets]
+    same = problem.with_targets(again)
+    assert all(a is b for a, b in zip(same.target_constraints, problem.target_constraints, strict=True))
+    moved = [*again[:2], dataclasses.replace(again[2], position=again[2].position + 0.01)]
+    shifted = problem.with_targets(moved)
+    assert shifted.target_constraints[:2] == problem.target_constraints[:2]
+    assert shifted.target_constraints[2] is not problem.target_constraints[2]
+    np.testing.assert_array_equal(shifted.target_constraints[2].target_position, moved[2].position)
+    bad = [*again[:2], dataclasses.replace(again[2], position=np.array([np.nan, 0.0, 1.0]))]
+    with pytest.raises(ManikinError, match="hand_r position"):
+        problem.with_targets(bad)
