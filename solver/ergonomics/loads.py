@@ -39,22 +39,39 @@ def subtree_sums(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
     """(L, 3) force and (L, 3) moment about the world origin of everything acting on each link's subtree."""
     points = [frame.link_com]
     forces = [frame.link_mass[:, None] * frame.gravity[None, :]]
-    on = [np.arange(len(frame.link_names))]
+    on: list[int] = []
     free = np.zeros((len(frame.link_names), 3))
     for tcp, point, force, moment in frame.contacts:
         points.append(point[None, :])
         forces.append(force[None, :])
-        on.append(np.array([frame.tcp_link[tcp]]))
+        on.append(frame.tcp_link[tcp])
         free[frame.tcp_link[tcp]] += moment
     for tcp, point, force in frame.loads:
         points.append(point[None, :])
         forces.append(force[None, :])
-        on.append(np.array([frame.tcp_link[tcp]]))
-    q, f, link = np.vstack(points), np.vstack(forces), np.concatenate(on)
-    acts = frame.below_weights[:, link]  # [j, k]: point force k acts inside the subtree of link j
+        on.append(frame.tcp_link[tcp])
+    q, f = np.vstack(points), np.vstack(forces)
+    acts = _acting(frame.below_weights, tuple(on))  # [j, k]: point force k acts inside the subtree of link j
     sub_force = acts @ f
     sub_moment = acts @ cross(q, f) + frame.below_weights @ free
     return sub_force, sub_moment
+
+
+_ACTING: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray]] = {}  # links of the point forces past the links' own
+
+
+def _acting(weights: np.ndarray, on: tuple[int, ...]) -> np.ndarray:
+    """``weights[:, links]`` for the links' own weights (every link) then forces on the links ``on``: the same
+    columns every frame of a motion, so taken once per subtree matrix (read-only, shared)."""
+    kept = _ACTING.get(on)
+    if kept is not None and kept[0] is weights:  # the subtree matrix itself held here: its identity is not reused
+        return kept[1]
+    acts = weights[:, np.concatenate([np.arange(len(weights)), np.array(on, dtype=int)])]
+    acts.setflags(write=False)
+    if len(_ACTING) >= 16:
+        _ACTING.clear()
+    _ACTING[on] = (weights, acts)
+    return acts
 
 
 def joint_moments(frame: Frame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

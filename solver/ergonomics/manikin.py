@@ -10,6 +10,7 @@ carry ``strength`` ([negative, positive] capacity, N*m, null = unlimited), else 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -41,12 +42,24 @@ class WorkingArea:
 
     def outside_by(self, p: np.ndarray) -> float:
         """Distance (m) of a feet-frame point outside the box; 0 inside."""
-        lo = np.array([-self.x_half, self.y_back, self.z_low])
-        hi = np.array([self.x_half, self.y_front, self.z_high])
+        lo, hi = self._bounds
         return length(np.maximum(lo - p, 0.0) + np.maximum(p - hi, 0.0))
+
+    @cached_property
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The low and high corners (m), made once: every frame of a motion asks (the box is frozen)."""
+        return np.array([-self.x_half, self.y_back, self.z_low]), np.array([self.x_half, self.y_front, self.z_high])
 
     def as_dict(self) -> dict:
         return dict(x=[-self.x_half, self.x_half], y=[self.y_back, self.y_front], z=[self.z_low, self.z_high])
+
+    def rounded(self) -> dict:
+        """:meth:`as_dict` rounded to mm, as each frame's worksheet shows it (a new dict; the numbers made once)."""
+        return {k: list(b) for k, b in self._rounded.items()}
+
+    @cached_property
+    def _rounded(self) -> dict[str, list[float]]:
+        return {k: [round(v, 3) for v in b] for k, b in self.as_dict().items()}
 
 
 def feet_frame(tcp_position: dict, tcp_rotation: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:

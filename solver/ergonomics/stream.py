@@ -14,12 +14,14 @@ import numpy as np
 
 from ..io.files import OutputFile
 from ..io.result.frame import Frame
+from ..io.result.frame_text import SLOT
 from ..io.result.read import ResultStream
 from .loads import JointLoads
 from .manikin import check_fits, resolve_model, strengths, working_area
 from .options import ErgoOptions
 from .registry import RANKING, SCORES, frame_scores, motion_scores
-from .report import csv_cells, csv_header, csv_row, end_positions, frame_report, report_head
+from .report import csv_cells, csv_header, csv_row, end_positions, frame_parts, report_head
+from .report_text import LoadsText, dumps_filled
 
 PLOTTED_ITEMS = ("back_bend", "neck", "shoulder_l", "shoulder_r")  # the worksheet items plots.plot_back draws
 SHOWN = 10  # frames a summary lists in full
@@ -73,6 +75,34 @@ def _rank(report: dict) -> tuple[bool, int]:
 
 def _number(v: float) -> float | None:
     return None if math.isnan(v) else float(v)
+
+
+class _Loads:
+    """A frame's joint loads kept as arrays until its report is kept for the summary."""
+
+    __slots__ = ("loads",)
+
+    def __init__(self, loads: JointLoads) -> None:
+        self.loads = loads
+
+
+def _frame_text(report: dict, loads: JointLoads, text: LoadsText) -> str:
+    """``json.dumps(report, allow_nan=False)`` of the report :func:`.report.frame_report` builds, its joint loads
+    written from their arrays (:mod:`.report_text`)."""
+    report["joint_loads"] = SLOT
+    written = dumps_filled(report, text(loads))
+    if written is None:  # a value holding the slot's text: the dicts as they are
+        report["joint_loads"] = loads.as_dict()
+        written = json.dumps(report, allow_nan=False)
+    return written
+
+
+def _csv_row(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
+    """:func:`.report.csv_row` of the report :func:`.report.frame_report` builds: the percent of strength of the
+    joints at ``shown_at`` read from the arrays."""
+    percent = loads.percent[shown_at].tolist()
+    row = csv_row(report | {"joint_loads": {"l4_l5": loads.l4_l5}}, [])
+    return row + [v if math.isfinite(v) else None for v in percent]
 
 
 def motion_of(stream: ResultStream, options: ErgoOptions) -> tuple[dict[str, dict], Frame]:
@@ -134,13 +164,15 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         out, table = json_out, csv_out  # their write names the file on a full disk
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
+        text = LoadsText()
         for f in stream:
-            report = frame_report(f, options, model, area, motion)[0]
+            report, loads, _ = frame_parts(f, options, model, area, motion)
             if count == 0:
                 rows.writerow(csv_header(report, joints))
-            out.write(("\n" if count == 0 else ",\n") + json.dumps(report, allow_nan=False))
-            rows.writerow(csv_cells(csv_row(report, joints)))
-            series.add(report)
+            out.write(("\n" if count == 0 else ",\n") + _frame_text(report, loads, text))
+            rows.writerow(csv_cells(_csv_row(report, loads, [f.index[j] for j in joints])))
+            series.add(report, loads)
+            report["joint_loads"] = _Loads(loads)  # a dict of them built only for the frames the summary keeps
             shown, last = shown + [report] if len(shown) < SHOWN else shown, report
             if report["converged"] is False:
                 missed.append(report["frame"])
@@ -166,6 +198,9 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
 
         written += write_plots(series.report(), output.with_suffix(""))
     shown = shown if count <= SHOWN else [shown[0], last]
+    for report in [*shown, last, highest]:
+        if report is not None and isinstance(report["joint_loads"], _Loads):
+            report["joint_loads"] = report["joint_loads"].loads.as_dict()
     summary = {"frames": shown, "frame_count": count, f"highest_{RANKING}": highest}
     summary["written"] = [str(p) for p in written]
     return head | flags | summary

@@ -89,7 +89,7 @@ def working_area_item(frame: Frame, area: WorkingArea | None) -> dict:
         round(worst, 3), "m outside", level,
         f"green: both palms inside the box; yellow: up to {AREA_MARGIN_M:.2f} m outside; red: farther",
         "box: Delfs 2012 §6.1.2 (manikin's zero pose); margin: project default",
-        box=dict((k, [round(v, 3) for v in b]) for k, b in area.as_dict().items()),
+        box=area.rounded(),
         outside={t: round(v, 3) for t, v in outside.items()},
     )  # fmt: skip
 
