@@ -63,15 +63,20 @@ class State:
             found = self.cache[key] = compute()
         return found
 
-    def adopt(self, other: State) -> State:
+    def adopt(self, other: State, owners: set[int] | None = None) -> State:
         """This state, with what ``other`` computed already when it is the same point of the same problem layout:
         its kinematics and statics, and the values its cache keeps by object (a constraint's, a comfort term's, a
         comfort's: each depends on its object and the point alone, so a problem sharing the object shares them; a
-        motion's next frame starts where the last one ended, with other targets)."""
+        motion's next frame starts where the last one ended, with other targets). ``owners``: the ids of the
+        objects whose values to take (those of the problem at hand; a key's object is the key or its first item,
+        and values kept under a name are always taken), so that a pose held for many frames does not carry every
+        earlier frame's moved targets along."""
         if other._layout is self._layout and other.n_joints == self.n_joints and np.array_equal(other.x, self.x):
             for name in ("kin", "statics"):
                 if name in other.__dict__:  # computed (computed_once keeps it there)
                     self.__dict__.setdefault(name, other.__dict__[name])
             for key, value in other.cache.items():
-                self.cache.setdefault(key, value)
+                owner = key[0] if type(key) is tuple else key
+                if owners is None or type(owner) is str or id(owner) in owners:
+                    self.cache.setdefault(key, value)
         return self

@@ -37,7 +37,9 @@ class Evaluator:
     def __call__(self, x: np.ndarray) -> Trial:
         state = self.problem.state(x)
         if self.warm is not None:
-            state.adopt(self.warm)
+            comfort = self.problem.comfort
+            users = (*self.problem.constraints, comfort, self.problem.contacts, *(term for _, term in comfort.terms))
+            state.adopt(self.warm, {id(o) for o in users})
             self.warm = None
         err, worst = self.problem.scaled_error_and_worst(state, self.unweight)
         return Trial(x, state, err, float(err @ err), worst)

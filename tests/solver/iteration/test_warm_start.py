@@ -12,7 +12,7 @@ from solver.io.scenario.bodies import PRESETS_DIR
 from solver.iteration import solve
 from solver.iteration.result import Result
 from solver.iteration.trial import Evaluator
-from solver.motion.frames import bounded
+from solver.motion.frames import bounded, solve_frames
 from solver.options import DEFAULT_LIMITS
 from solver.problem.problem import Problem
 from tests.helpers import close_to_rounding
@@ -110,3 +110,12 @@ def test_moved_frame_groups_share_what_does_not_depend_on_the_targets(lift):
         state, again = problem.state_of_x(result.x.copy()), fresh.state_of_x(result.x.copy())
         close_to_rounding(problem.frames.error(state), fresh.frames.error(again))
         close_to_rounding(problem.frames.jacobian(state), fresh.frames.jacobian(again))
+
+
+def test_a_held_pose_does_not_carry_every_earlier_frame_along(lift):
+    """After the last key the targets hold: each frame ends where it started, and its start takes only the values
+    of objects its own problem uses (not every earlier frame's moved frame group)."""
+    scenario = lift[0]
+    held = list(range(scenario.frames[-1], scenario.frames[-1] + 30))
+    sizes = [len(result.state.cache) for _, result in solve_frames(scenario.problem_at, held, scenario.start)]
+    assert max(sizes[10:]) <= max(sizes[:10])
