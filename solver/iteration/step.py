@@ -238,21 +238,20 @@ def _fused_step(problem: Problem, at: Trial, lin: Linearization, mu: float, radi
         (mu, radius, tuning.max_damping, tuning.max_comfort_step, tuning.fraction_near, tuning.force_floor,
          tuning.force_barrier, tuning.clamping_rounds), dtype=float,
     )  # fmt: skip
-    task, comfort, root, r_free, g_free = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    free, lsq_jac, basis = np.empty(n, dtype=bool), np.empty((n, m)), np.empty((n, m))  # transposed: J^T, basis^T
-    active, factor, results, counts = np.empty(m, dtype=np.int64), np.empty((m, m)), np.empty(3), np.empty(2, np.int64)
+    vectors, free, factors = np.empty((5, n)), np.empty(n, dtype=bool), np.empty((2, n, m))  # factors transposed
+    active, factor, results = np.empty(m, dtype=np.int64), np.empty((m, m)), np.empty(5)
     status = fused.bounded_step(
         np.ascontiguousarray(lin.jac), at.err[lin.live], lin.grad_f, lin.curv_f, lin.comfort_on, bounds.lower,
         bounds.upper, bounds.scale, bounds.is_joint, at.x, controls, np.ascontiguousarray(columns),
-        np.ascontiguousarray(middle), task, comfort, free, root, r_free, g_free, lsq_jac, basis, active, factor,
-        results, counts,
+        np.ascontiguousarray(middle), vectors, free, factors, factor, active, results,
     )  # fmt: skip
     if status != fused.OK:
         return None
-    k, rows = int(counts[0]), int(counts[1])
+    task, comfort, _, r_free, g_free = vectors
+    k, rows = int(results[3]), int(results[4])
     lsq = LeastSquares.from_factors(
-        lsq_jac[:k, :rows].T, basis[:k, :rows].T, lin.live[active[:rows]], factor[:rows, :rows], float(results[0]),
-        len(at.err),
+        factors[0, :k, :rows].T, factors[1, :k, :rows].T, lin.live[active[:rows]], factor[:rows, :rows],
+        float(results[0]), len(at.err),
     )  # fmt: skip
     return Step(task, comfort, float(results[1]), free, lsq, r_free[:k], g_free[:k], float(results[2]))
 

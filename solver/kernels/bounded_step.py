@@ -39,27 +39,24 @@ def bounded_step(
     controls: np.ndarray,
     columns: np.ndarray,
     middle: np.ndarray,
-    task: np.ndarray,
-    comfort: np.ndarray,
+    vectors: np.ndarray,
     free: np.ndarray,
-    root: np.ndarray,
-    r_free: np.ndarray,
-    g_free: np.ndarray,
-    lsq_jac: np.ndarray,
-    basis: np.ndarray,
-    active: np.ndarray,
+    factors: np.ndarray,
     factor: np.ndarray,
+    active: np.ndarray,
     results: np.ndarray,
-    counts: np.ndarray,
 ) -> int:
     """The step of ``solver.iteration.step._bounded_step`` for ``jac`` (m, n) and the errors of its rows
     ``err_live``; ``controls`` = (mu, radius, max_damping, max_comfort_step, fraction_near, force_floor,
     force_barrier, clamping_rounds); ``columns`` (n, c) and ``middle`` (c, c) the quasi-Newton model (c = 0: none).
-    Fills ``task``, ``comfort``, ``free``, ``root`` (the metric's square root), ``r_free`` / ``g_free`` (root and
-    grad f / root on the free variables) and the last round's least squares, transposed: ``lsq_jac`` (k, rows)
-    = J^T, ``basis`` (k, rows) = (L^-1 J)^T, ``active`` (its rows' positions in ``jac``), ``factor`` (the lower
-    Cholesky factor of J J^T + d^2 I), ``results`` = (d^2, predicted gain, saturated gain), ``counts`` = (k free
-    variables, rows). Returns OK or NEEDS_EIGEN."""
+    Fills ``vectors`` (5, n) = (task, comfort, root (the metric's square root), r_free, g_free (root and grad f /
+    root on the free variables)), ``free`` and the last round's least squares, transposed: ``factors`` (2, n, m) =
+    (J^T, (L^-1 J)^T) in their first (k, rows), ``active`` (its rows' positions in ``jac``), ``factor`` (the lower
+    Cholesky factor of J J^T + d^2 I), ``results`` = (d^2, predicted gain, saturated gain, k free variables, rows).
+    Outputs share a few arrays: Numba checks each argument's type on every call (~0.2 us each). Returns OK or
+    NEEDS_EIGEN."""
+    task, comfort, root, r_free, g_free = vectors[0], vectors[1], vectors[2], vectors[3], vectors[4]
+    lsq_jac, basis = factors[0], factors[1]
     n = x.shape[0]
     mu, radius, max_damping, max_comfort = controls[0], controls[1], controls[2], controls[3]
     fraction_near, rounds = controls[4], int(controls[7])
@@ -79,7 +76,7 @@ def bounded_step(
     for round_ in range(rounds):
         status = free_step(
             jac, err_live, free, fixed, root, radius, max_damping, comfort_on, grad_f, columns, middle, max_comfort,
-            task, comfort, lsq_jac, basis, active, factor, results, counts,
+            task, comfort, lsq_jac, basis, active, factor, results,
         )  # fmt: skip
         if status != OK:
             return status
@@ -105,10 +102,10 @@ def bounded_step(
 @kernel
 def free_step(
     jac, err_live, free, fixed, root, radius, max_damping, comfort_on, grad_f, columns, middle, max_comfort,
-    task, comfort, lsq_jac, basis, active, factor, results, counts,
+    task, comfort, lsq_jac, basis, active, factor, results,
 ) -> int:  # fmt: skip
     """One clamping round (``_free_step``): the task step of the free variables with the others held at ``fixed``,
-    and the comfort step in its null space, capped at ``max_comfort`` per entry."""
+    and the comfort step in its null space, capped at ``max_comfort`` per entry; results[3:5] = (k, rows)."""
     m, n = jac.shape
     k, rows = 0, 0
     r_f = np.empty(n)
@@ -117,25 +114,27 @@ def free_step(
             r_f[k] = root[j]
             k += 1
     err_eff = err_live.copy()  # held variables move by ``fixed``: the free ones make up the rest of the error
+    every = np.empty((k, m))  # J^T in the metric, every row: one pass over ``jac`` finds the rows that take part too
     for r in range(m):
         used, c = False, 0
         for j in range(n):
             if free[j]:
-                used = used or jac[r, j] / r_f[c] != 0.0
+                value = jac[r, j] / r_f[c]
+                every[c, r] = value
+                used = used or value != 0.0
                 c += 1
             elif fixed[j] != 0.0:
                 err_eff[r] += jac[r, j] * fixed[j]
         if used:  # a row without any entry (a met one-sided row) takes no part
             active[rows] = r
             rows += 1
-    counts[0], counts[1] = k, rows
-    jt = np.empty((k, rows))  # J^T of the rows that take part, in the metric: rows along the fast axis
-    for q in range(rows):
-        c = 0
-        for j in range(n):
-            if free[j]:
-                jt[c, q] = jac[active[q], j] / r_f[c]
-                c += 1
+    results[3], results[4] = k, rows
+    jt = every  # J^T of the rows that take part, in the metric: rows along the fast axis
+    if rows < m:
+        jt = np.empty((k, rows))
+        for c in range(k):
+            for q in range(rows):
+                jt[c, q] = every[c, active[q]]
     bt, step = np.empty((k, rows)), np.empty(k)
     if task_step(jt, err_eff, active[:rows], r_f[:k], radius, max_damping, factor, bt, results, step) != OK:
         return NEEDS_EIGEN
