@@ -63,7 +63,7 @@ def run_phase(
     memory = CurvatureMemory(tuning.memory) if comfort_on else None
     watch = StagnationWatch(tuning, comfort_on)
     previous: tuple[Trial, Linearization, Step] | None = None
-    move_limit = np.where(problem.model.prismatic, tuning.max_slide, tuning.max_turn)
+    move_limit = None  # per joint, the far steps' turn limit: made once a step is far (most frames: never)
     capped = tuning  # the tuning with the comfort part's current cap (ctl.comfort_cap; 0: uncapped)
     for iteration in range(1, budget + 1):
         lin = _linearize(problem, at, comfort_on, keep_off_limits)
@@ -81,6 +81,8 @@ def run_phase(
         if comfort_on and ctl.hovering > tuning.hover_limit:
             return PhaseEnd(at, iteration, StopReason.HOVERING)
         far = at.worst > tuning.comfort_slack
+        if move_limit is None and not at.worst <= tuning.comfort_slack:  # far, as LineSearch.near tells (NaN too)
+            move_limit = np.where(problem.model.prismatic, tuning.max_slide, tuning.max_turn)
         task_first = (tuning.task_first or (tuning.task_first_far and far)) and ctl.dropped
         outcome = LineSearch(evaluate, at, f, lin, step, tuning, move_limit, task_first).run()
         _adapt_comfort(ctl, outcome, step, tuning, task_first)
