@@ -238,7 +238,7 @@ def _fused_step(problem: Problem, at: Trial, lin: Linearization, mu: float, radi
         (mu, radius, tuning.max_damping, tuning.max_comfort_step, tuning.fraction_near, tuning.force_floor,
          tuning.force_barrier, tuning.clamping_rounds), dtype=float,
     )  # fmt: skip
-    vectors, free, factors = np.empty((5, n)), np.empty(n, dtype=bool), np.empty((2, n, m))  # factors transposed
+    vectors, free, factors = np.empty((5, n)), np.empty(n, dtype=bool), np.empty((2, n * m))  # factors transposed
     active, factor, results = np.empty(m, dtype=np.int64), np.empty((m, m)), np.empty(5)
     status = fused.bounded_step(
         np.ascontiguousarray(lin.jac), at.err[lin.live], lin.grad_f, lin.curv_f, lin.comfort_on, bounds.lower,
@@ -249,10 +249,10 @@ def _fused_step(problem: Problem, at: Trial, lin: Linearization, mu: float, radi
         return None
     task, comfort, _, r_free, g_free = vectors
     k, rows = int(results[3]), int(results[4])
+    jac_t, basis_t = factors[0, : k * rows].reshape(k, rows), factors[1, : k * rows].reshape(k, rows)  # views
     lsq = LeastSquares.from_factors(
-        factors[0, :k, :rows].T, factors[1, :k, :rows].T, lin.live[active[:rows]], factor[:rows, :rows],
-        float(results[0]), len(at.err),
-    )  # fmt: skip
+        jac_t.T, basis_t.T, lin.live[active[:rows]], factor[:rows, :rows], float(results[0]), len(at.err)
+    )
     return Step(task, comfort, float(results[1]), free, lsq, r_free[:k], g_free[:k], float(results[2]))
 
 

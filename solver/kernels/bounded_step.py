@@ -50,13 +50,13 @@ def bounded_step(
     ``err_live``; ``controls`` = (mu, radius, max_damping, max_comfort_step, fraction_near, force_floor,
     force_barrier, clamping_rounds); ``columns`` (n, c) and ``middle`` (c, c) the quasi-Newton model (c = 0: none).
     Fills ``vectors`` (5, n) = (task, comfort, root (the metric's square root), r_free, g_free (root and grad f /
-    root on the free variables)), ``free`` and the last round's least squares, transposed: ``factors`` (2, n, m) =
-    (J^T, (L^-1 J)^T) in their first (k, rows), ``active`` (its rows' positions in ``jac``), ``factor`` (the lower
-    Cholesky factor of J J^T + d^2 I), ``results`` = (d^2, predicted gain, saturated gain, k free variables, rows).
+    root on the free variables)), ``free`` and the last round's least squares, transposed: ``factors`` (2, n m) =
+    (J^T, (L^-1 J)^T), each in its first k rows C-contiguous (k, rows), ``active`` (its rows' positions in
+    ``jac``), ``factor`` (the lower Cholesky factor of J J^T + d^2 I), ``results`` = (d^2, predicted gain,
+    saturated gain, k free variables, rows).
     Outputs share a few arrays: Numba checks each argument's type on every call (~0.2 us each). Returns OK or
     NEEDS_EIGEN."""
     task, comfort, root, r_free, g_free = vectors[0], vectors[1], vectors[2], vectors[3], vectors[4]
-    lsq_jac, basis = factors[0], factors[1]
     n = x.shape[0]
     mu, radius, max_damping, max_comfort = controls[0], controls[1], controls[2], controls[3]
     fraction_near, rounds = controls[4], int(controls[7])
@@ -76,7 +76,7 @@ def bounded_step(
     for round_ in range(rounds):
         status = free_step(
             jac, err_live, free, fixed, root, radius, max_damping, comfort_on, grad_f, columns, middle, max_comfort,
-            task, comfort, lsq_jac, basis, active, factor, results,
+            task, comfort, factors, active, factor, results,
         )  # fmt: skip
         if status != OK:
             return status
@@ -102,10 +102,11 @@ def bounded_step(
 @kernel
 def free_step(
     jac, err_live, free, fixed, root, radius, max_damping, comfort_on, grad_f, columns, middle, max_comfort,
-    task, comfort, lsq_jac, basis, active, factor, results,
+    task, comfort, factors, active, factor, results,
 ) -> int:  # fmt: skip
     """One clamping round (``_free_step``): the task step of the free variables with the others held at ``fixed``,
-    and the comfort step in its null space, capped at ``max_comfort`` per entry; results[3:5] = (k, rows)."""
+    and the comfort step in its null space, capped at ``max_comfort`` per entry; results[3:5] = (k, rows). J^T and
+    (L^-1 J)^T are made in place in ``factors`` (no copies)."""
     m, n = jac.shape
     k, rows = 0, 0
     r_f = np.empty(n)
@@ -114,7 +115,7 @@ def free_step(
             r_f[k] = root[j]
             k += 1
     err_eff = err_live.copy()  # held variables move by ``fixed``: the free ones make up the rest of the error
-    every = np.empty((k, m))  # J^T in the metric, every row: one pass over ``jac`` finds the rows that take part too
+    every = factors[0, : k * m].reshape((k, m))  # J^T in the metric, every row: the pass finds the rows that count
     for r in range(m):
         used, c = False, 0
         for j in range(n):
@@ -131,15 +132,14 @@ def free_step(
     results[3], results[4] = k, rows
     jt = every  # J^T of the rows that take part, in the metric: rows along the fast axis
     if rows < m:
-        jt = np.empty((k, rows))
+        every = every.copy()
+        jt = factors[0, : k * rows].reshape((k, rows))
         for c in range(k):
             for q in range(rows):
                 jt[c, q] = every[c, active[q]]
-    bt, step = np.empty((k, rows)), np.empty(k)
+    bt, step = factors[1, : k * rows].reshape((k, rows)), np.empty(k)
     if task_step(jt, err_eff, active[:rows], r_f[:k], radius, max_damping, factor, bt, results, step) != OK:
         return NEEDS_EIGEN
-    copy_into(jt, lsq_jac)
-    copy_into(bt, basis)
     c = 0
     for j in range(n):
         task[j] = step[c] if free[j] else fixed[j]
@@ -198,7 +198,7 @@ def task_step(
             spread += inverse[i, j] * inverse[i, j]
     if not trace * spread < MAX_CONDITION:
         return NEEDS_EIGEN
-    copy_into(np.dot(jt, np.ascontiguousarray(inverse.T)), bt)  # (L^-1 J)^T
+    np.dot(jt, np.ascontiguousarray(inverse.T), bt)  # (L^-1 J)^T
     damped = np.empty((rows, rows))
     if not cholesky(gram, damp2, damped):
         return NEEDS_EIGEN

@@ -209,3 +209,42 @@ def test_null_space_newton_kernel_is_the_numpy_one() -> None:
         got = null_space_newton(np.ascontiguousarray(np.column_stack((grad, v))), np.ascontiguousarray(basis.T), middle)
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * max(float(np.abs(want).max()), 1.0))
     assert 1 < fallbacks < 100  # the -q fallback and the Woodbury step both taken
+
+
+def test_slack_is_measured_only_when_a_watched_row_is_pushed_that_far(step_calls, monkeypatch) -> None:
+    """compute_step measures the watched rows' slack (>= 0) only when the step pushes one of them past -overshoot:
+    where it skips, no row would have been held (what measuring gives), on both paths."""
+    counted: list[int] = []
+    measure = type(step_calls[0][0]).scaled_slack
+    monkeypatch.setattr(
+        type(step_calls[0][0]), "scaled_slack", lambda self, state: counted.append(1) or measure(self, state)
+    )
+    watched_calls = skipped = 0
+    for compiled in (False, True):
+        for problem, at, lin, mu, radius, tuning, memory in step_calls:
+            watched = problem.one_sided[lin.live] & (at.err[lin.live] == 0.0) & lin.jac.any(axis=1)
+            if not watched.any():
+                continue
+            watched_calls += 1
+            before = len(counted)
+            with kernels.using(compiled):
+                step = step_module.compute_step(problem, at, lin, mu, radius, tuning, copy.copy(memory))
+            if len(counted) > before:
+                continue
+            skipped += 1
+            reach = lin.jac @ (step.task + step.comfort)
+            slack = measure(problem, at.state)[lin.live]
+            assert not (watched & (reach < -(slack + tuning.hold_overshoot))).any()
+    assert watched_calls and skipped  # the shortcut taken (on main every watched call measured the slack)
+
+
+def test_without_keeps_every_other_field(step_calls) -> None:
+    """_without builds the Linearization itself (no dataclasses.replace): every field but the rows' is carried."""
+    lin = next(call[2] for call in step_calls if len(call[2].live) > 2)
+    rows = np.zeros(len(lin.live), dtype=bool)
+    rows[1] = True
+    kept = step_module._without(lin, rows)
+    want = dataclasses.replace(lin, jac=lin.jac[~rows], live=lin.live[~rows])
+    for field in dataclasses.fields(step_module.Linearization):
+        got, expected = getattr(kept, field.name), getattr(want, field.name)
+        assert (got is expected) or np.array_equal(got, expected), field.name
