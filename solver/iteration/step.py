@@ -105,14 +105,13 @@ def compute_step(
     """
     live = lin.live
     if kernels.active():
-        watched = np.empty(len(live), dtype=bool)
-        any_watched = compiled.watched_rows(problem.one_sided, at.err, live, lin.jac, watched) > 0
+        watched, released = _watched_compiled(problem, at, lin)
     else:
         watched = problem.one_sided[live] & (at.err[live] == 0.0) & lin.jac.any(axis=1)  # per row of lin.jac
-        any_watched = watched.any()
-    if not any_watched:
+        released = _without(lin, watched) if watched.any() else None
+    if released is None:
         return _bounded_step(problem, at, lin, mu, radius, tuning, memory)
-    step = _bounded_step(problem, at, _without(lin, watched), mu, radius, tuning, memory)
+    step = _bounded_step(problem, at, released, mu, radius, tuning, memory)
     reach = lin.jac @ (step.task + step.comfort)
     # slack >= 0 (or NaN, never pushed), so a row not pushed past -(0 + overshoot) is not pushed past its floor either:
     # most steps push no watched row that far, and skip measuring the slack
@@ -125,6 +124,18 @@ def compute_step(
     err = at.err.copy()
     err[live[pushed]] = slack[pushed]  # J dx = -slack: onto the floor
     return _bounded_step(problem, replace(at, err=err), _without(lin, watched & ~pushed), mu, radius, tuning, memory)
+
+
+def _watched_compiled(problem: Problem, at: Trial, lin: Linearization) -> tuple[np.ndarray, Linearization | None]:
+    """(the watched rows, ``lin`` without them or None when there are none), as compute_step's NumPy lines, by
+    :func:`solver.kernels.step.watched_rows`."""
+    m = len(lin.live)
+    watched, kept_jac, kept_live = np.empty(m, dtype=bool), np.empty(lin.jac.shape), np.empty(m, lin.live.dtype)
+    count = compiled.watched_rows(problem.one_sided, at.err, lin.live, lin.jac, watched, kept_jac, kept_live)
+    if not count:
+        return watched, None
+    rest = m - count
+    return watched, Linearization(kept_jac[:rest], kept_live[:rest], lin.grad_f, lin.curv_f, lin.comfort_on, lin.rows)
 
 
 def _without(lin: Linearization, rows: np.ndarray) -> Linearization:

@@ -170,9 +170,19 @@ def step_tail(
 
 
 @kernel
-def watched_rows(one_sided: np.ndarray, err: np.ndarray, live: np.ndarray, jac: np.ndarray, out: np.ndarray) -> int:
+def watched_rows(
+    one_sided: np.ndarray,
+    err: np.ndarray,
+    live: np.ndarray,
+    jac: np.ndarray,
+    out: np.ndarray,
+    kept_jac: np.ndarray,
+    kept_live: np.ndarray,
+) -> int:
     """``out`` per row of ``jac`` (rows ``live``): a one-sided row met with no error (a clearance within its watch
-    band) whose Jacobian row has an entry; return how many."""
+    band) whose Jacobian row has an entry; return how many. When there are any, the other rows of ``jac`` and ``live``
+    are copied, in order, to the first rows of ``kept_jac`` and ``kept_live`` (NumPy's ``jac[~out]``, without its
+    fancy-indexing overhead)."""
     count = 0
     for r in range(live.shape[0]):
         row = live[r]
@@ -184,6 +194,14 @@ def watched_rows(one_sided: np.ndarray, err: np.ndarray, live: np.ndarray, jac: 
                     break
         out[r] = watched
         count += watched
+    if count:
+        kept = 0
+        for r in range(live.shape[0]):
+            if not out[r]:
+                for j in range(jac.shape[1]):
+                    kept_jac[kept, j] = jac[r, j]
+                kept_live[kept] = live[r]
+                kept += 1
     return count
 
 

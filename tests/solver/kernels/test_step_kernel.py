@@ -239,12 +239,26 @@ def test_slack_is_measured_only_when_a_watched_row_is_pushed_that_far(step_calls
 
 
 def test_without_keeps_every_other_field(step_calls) -> None:
-    """_without builds the Linearization itself (no dataclasses.replace): every field but the rows' is carried."""
-    lin = next(call[2] for call in step_calls if len(call[2].live) > 2)
+    """_without and the compiled watched rows build the Linearization themselves (no dataclasses.replace): every
+    field but the rows' is carried, and the compiled one drops the rows NumPy's does."""
+    problem, at, lin = next(call[:3] for call in step_calls if len(call[2].live) > 2)
     rows = np.zeros(len(lin.live), dtype=bool)
     rows[1] = True
-    kept = step_module._without(lin, rows)
     want = dataclasses.replace(lin, jac=lin.jac[~rows], live=lin.live[~rows])
-    for field in dataclasses.fields(step_module.Linearization):
-        got, expected = getattr(kept, field.name), getattr(want, field.name)
-        assert (got is expected) or np.array_equal(got, expected), field.name
+    err = at.err.copy()
+    err[lin.live] = 1.0  # no row watched but row 1: one-sided, met, with an entry
+    err[lin.live[1]] = 0.0
+    one_sided = np.zeros_like(problem.one_sided)
+    one_sided[lin.live[1]] = True
+    jac = lin.jac.copy()
+    jac[1, 0] = 1.0
+    want_compiled = dataclasses.replace(lin, jac=jac[~rows], live=lin.live[~rows])
+    fake = type("Rows", (), {"one_sided": one_sided})()
+    watched, released = step_module._watched_compiled(
+        fake, dataclasses.replace(at, err=err), dataclasses.replace(lin, jac=jac)
+    )
+    np.testing.assert_array_equal(watched, rows)
+    for kept, expected in ((step_module._without(lin, rows), want), (released, want_compiled)):
+        for field in dataclasses.fields(step_module.Linearization):
+            got, value = getattr(kept, field.name), getattr(expected, field.name)
+            assert (got is value) or np.array_equal(got, value), field.name
