@@ -101,12 +101,12 @@ def run_phase(
 def _linearize(problem: Problem, at: Trial, comfort_on: bool, keep_off_limits: bool) -> Linearization:
     """The constraint Jacobian and the comfort model (or only its curvature, or nothing) at a trial."""
     live, jac = problem.live_jacobian(at.state)
-    zeros = np.zeros(problem.n_var)
     if comfort_on:
         grad_f, curv_f = problem.comfort_model(at.state)
         rows = problem.comfort_rows(at.state)
         rows = None if rows is None else rows * problem.scale
         return Linearization(jac, live, grad_f, curv_f, True, rows)
+    zeros = np.zeros(problem.n_var)  # no comfort gradient (made only here: most linearisations carry comfort)
     if keep_off_limits:
         return Linearization(jac, live, zeros, problem.comfort_model(at.state)[1], False)
     return Linearization(jac, live, zeros, np.zeros(problem.n_var), False)

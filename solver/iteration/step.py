@@ -294,7 +294,7 @@ def _free_step_compiled(at, lin, free, fixed, root, radius, compact, tuning):
 def _curvature_model(memory: CurvatureMemory, lin: Linearization) -> tuple[np.ndarray, np.ndarray] | None:
     """(U, M) with the model B = diag(curv_f) - U M^-1 U^T: the quasi-Newton pairs and the exact rows R
     (block M = -I, so that R^T R is added)."""
-    compact = memory.compact(lin.curv_f + 1e-12)
+    compact = memory.compact(lin.curv_f + 1e-12) if memory.steps else None  # an empty memory: no b0 to add
     if lin.rows is None or not len(lin.rows):
         return compact
     k = len(lin.rows)
