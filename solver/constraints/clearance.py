@@ -195,7 +195,7 @@ class ClearanceRows(Inequality):
     def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         if self._clear_by(state, self.watch):
             return np.zeros(0, dtype=np.intp), np.zeros((0, self.n_x))
-        rows = np.flatnonzero(self.value(state) - self.floor < self.watch)
+        rows = np.flatnonzero(self.gap(state) < self.watch)
         return rows, self._jacobian_of(state, rows)
 
     @abstractmethod
@@ -228,7 +228,7 @@ class ClearanceRows(Inequality):
         g - floor >= -MET, without the error's two steps."""
         if self._clear_by(state, 0.0):
             return np.ones(self.rows, dtype=bool)
-        return self.value(state) - self.floor >= -MET
+        return self.gap(state) >= -MET
 
     def _lowest(self, state: State) -> float:
         """min(0, least g - floor) (m): the largest shortfall below a clearance, negated; NaN if a row is NaN; 0 when
@@ -236,7 +236,7 @@ class ClearanceRows(Inequality):
         key = (self, "lowest")  # asked twice for a report (unmet, residuals)
         lowest = state.cache.get(key)
         if lowest is None:
-            gap = None if self._clear_by(state, 0.0) else self.value(state) - self.floor
+            gap = None if self._clear_by(state, 0.0) else self.gap(state)
             lowest = state.cache[key] = 0.0 if gap is None else float(np.minimum.reduce(gap, initial=0.0))
         return lowest
 

@@ -8,7 +8,6 @@ newtons compare and "converged" means max |scaled error| <= 1.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from functools import partial
 
 import numpy as np
 
@@ -193,6 +192,9 @@ class Problem:
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
         self._sizes = [c.rows for c in rows]
+        # per one-sided constraint (an Inequality): its index and its rows, for scaled_slack (kinds fixed per problem)
+        self._one_sided_at = [(i, slice(int(o), int(o) + c.rows)) for i, (c, o) in
+                              enumerate(zip(rows, self._row_offsets, strict=True)) if isinstance(c, Inequality)]  # fmt: skip
         # live_jacobian's rows when all may be nonzero, shared (nothing writes to it; read-only would mean new kernels)
         self._all_rows = np.arange(self.n_rows)
 
@@ -309,11 +311,17 @@ class Problem:
         return err, float(np.maximum.reduce(np.abs(err) * unweight, initial=0.0))
 
     def scaled_slack(self, state: State) -> np.ndarray:
-        """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
-        if not self.constraints:
-            return np.zeros(0)
-        parts = [c.slack(state) if isinstance(c, Inequality) else np.zeros(c.rows) for c in self.constraints]
-        return np.concatenate(parts) * self.row_weight / self.row_tolerance
+        """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere); once
+        per state (the step and the line search ask at the same point; not to be written to)."""
+        key = (self, "scaled slack")
+        out = state.cache.get(key)
+        if out is None:
+            out = state.cache[key] = np.zeros(self.n_rows)
+            for i, rows in self._one_sided_at:
+                out[rows] = self.constraints[i].slack(state)
+            out *= self.row_weight  # in place: slack * weight / tolerance, the same rounding
+            out /= self.row_tolerance
+        return out
 
     def scaled_jacobian(self, state: State) -> np.ndarray:
         """d scaled_error / d (v / scale)."""
@@ -327,7 +335,10 @@ class Problem:
         watch band (most clearance rows, far from anything) are left out instead of carried as zeros."""
         if not self.constraints:
             return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
-        got = [state.once(c, "jacobian rows", partial(c.jacobian_rows, state)) for c in self.constraints]
+        got, cache = [], state.cache  # each constraint's rows once per state (State.once, inline: asked per iteration)
+        for c in self.constraints:
+            found = cache.get((c, "jacobian rows"))
+            got.append(cache.setdefault((c, "jacobian rows"), c.jacobian_rows(state)) if found is None else found)
         if all(len(rows) == size for (rows, _), size in zip(got, self._sizes, strict=True)):
             live = self._all_rows  # every row (the rows of each are sorted and distinct): no new index array
         else:
