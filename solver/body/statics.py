@@ -79,6 +79,7 @@ class StaticsLayout:
         self.supporting = np.flatnonzero(self.edge_acts.any(axis=1))  # joints between the root and a support
         self.supporting_edge_acts = self.edge_acts[self.supporting]
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
+        self.supporting_revolute = self.revolute[self.supporting]  # the flags of the joints the forces move
         self.has_prismatic = bool(model.prismatic.any())
         # the compiled kernels' constants: links in preorder, the tree sums' tables, the point forces' links and places
         tree = model.tree_sums
@@ -312,7 +313,8 @@ class Statics:
             if size > n:
                 rows = layout.supporting
                 d_w = self._axis_load_force_jacobian(rows, layout.supporting_edge_acts)
-                coef_rev, weight_rev = coef[rows] * layout.revolute[rows], weight[rows] * layout.revolute[rows]
+                revolute = layout.supporting_revolute
+                coef_rev, weight_rev = coef[rows] * revolute, weight[rows] * revolute
                 linear[n:], squared[n:] = coef_rev @ d_w, weight_rev @ (d_w * d_w)
             return linear, squared
         coef, weight = coef * layout.revolute, weight * layout.revolute
