@@ -193,8 +193,9 @@ class Problem:
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
         self._sizes = [c.rows for c in rows]
         # per one-sided constraint (an Inequality): its index and its rows, for scaled_slack (kinds fixed per problem)
-        self._one_sided_at = [(i, slice(int(o), int(o) + c.rows)) for i, (c, o) in
-                              enumerate(zip(rows, self._row_offsets, strict=True)) if isinstance(c, Inequality)]  # fmt: skip
+        self._one_sided_at = [(i, slice(int(o), int(o) + c.rows))
+                              for i, (c, o) in enumerate(zip(rows, self._row_offsets, strict=True))
+                              if isinstance(c, Inequality)]  # fmt: skip
         # live_jacobian's rows when all may be nonzero, shared (nothing writes to it; read-only would mean new kernels)
         self._all_rows = np.arange(self.n_rows)
 
