@@ -26,16 +26,14 @@ from ..constraints.clearance import FLOOR, Clearance, Closeness, floor_clearance
 from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
-from ..kernels.reduction import comfort_model, reduce_and_scale
+from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
-from . import reports, specs
+from . import reports, specs, stacked
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
-
-_NO_REDUCTION = (np.zeros(0, dtype=np.int64), np.zeros(0))  # reduce_and_scale's supports for x itself: scaling only
 
 
 class Problem:
@@ -314,15 +312,7 @@ class Problem:
     def scaled_slack(self, state: State) -> np.ndarray:
         """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere); once
         per state (the step and the line search ask at the same point; not to be written to)."""
-        key = (self, "scaled slack")
-        out = state.cache.get(key)
-        if out is None:
-            out = state.cache[key] = np.zeros(self.n_rows)
-            for i, rows in self._one_sided_at:
-                out[rows] = self.constraints[i].slack(state)
-            out *= self.row_weight  # in place: slack * weight / tolerance, the same rounding
-            out /= self.row_tolerance
-        return out
+        return stacked.scaled_slack(self, state)
 
     def scaled_jacobian(self, state: State) -> np.ndarray:
         """d scaled_error / d (v / scale)."""
@@ -334,37 +324,7 @@ class Problem:
     def live_jacobian(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """(the rows that may be nonzero, their rows of :meth:`scaled_jacobian`): met one-sided rows beyond their
         watch band (most clearance rows, far from anything) are left out instead of carried as zeros."""
-        if not self.constraints:
-            return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
-        got, cache = [], state.cache  # each constraint's rows once per state (State.once, inline: asked per iteration)
-        for c in self.constraints:
-            found = cache.get((c, "jacobian rows"))
-            got.append(cache.setdefault((c, "jacobian rows"), c.jacobian_rows(state)) if found is None else found)
-        if all(len(rows) == size for (rows, _), size in zip(got, self._sizes, strict=True)):
-            live = self._all_rows  # every row (the rows of each are sorted and distinct): no new index array
-        else:
-            live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
-        jac = np.concatenate([jac for _, jac in got])
-        red = self.reduction
-        if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
-            out = np.empty((len(jac), self.n_var))
-            supports = _NO_REDUCTION if red is None else red.kernel_supports
-            reduce_and_scale(jac, live, self._row_scale[:, 0], self.scale, *supports, out)
-            return live, out
-        jac = self._in_solver_variables(jac, state)
-        jac *= self._row_scale[live]  # in place: a fresh temporary costs page faults, more than the product
-        jac *= self.scale
-        return live, jac
-
-    def _in_solver_variables(self, jac: np.ndarray, state: State) -> np.ndarray:
-        """d rows / dx (k, n_x) -> d rows / dv (k, n_var)."""
-        red = self.reduction
-        if red is None:
-            return jac
-        used = np.flatnonzero(jac.any(axis=1))  # met one-sided rows are zero: not worth carrying through phi
-        reduced = np.zeros((len(jac), self.n_var))
-        reduced[used] = red.times_basis(jac[used]) if red.linear else jac[used] @ self.reduction_jacobian(state)
-        return reduced
+        return stacked.live_jacobian(self, state)
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """d h / d v and the diagonal curvature model of -h in the solver variables v."""
