@@ -11,7 +11,6 @@ import pytest
 from helpers import close_to_rounding
 
 import solver
-from solver.body.state import State
 from solver.collision.carried import carried_frame
 from solver.constraints.carried_obstacles import CarriedObstacles
 from solver.constraints.inequality import Inequality
