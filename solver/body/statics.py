@@ -168,6 +168,7 @@ class Statics:
         self._kernel_points, self._kernel_forces = points, forces
         self.corner_points, self.load_points, self._corner_forces = points[:c], points[c:], forces[:c]
         self.total_force, self.total_moment = totals[:3], totals[3:]
+        self._totals = totals  # [force, moment]: the balance error's values, side by side already
         self.__dict__["_subtree_wrench"] = wrench  # what the cached property would compute
         self._axis_loads = loads
 
@@ -250,6 +251,8 @@ class Statics:
 
     def balance_error(self) -> np.ndarray:
         """(6,) total force (N) and total moment about the world origin (N*m)."""
+        if self._compiled:
+            return self._totals.copy()  # the concatenation's values, in one copy
         return np.concatenate([self.total_force, self.total_moment])
 
     def balance_jacobian(self) -> tuple[np.ndarray, np.ndarray]:

@@ -38,15 +38,19 @@ def live_jacobian(problem: Problem, state: State) -> tuple[np.ndarray, np.ndarra
     """(the rows of ``problem`` that may be nonzero, their rows of its scaled Jacobian (k, n_var))."""
     if not problem.constraints:
         return np.zeros(0, dtype=int), np.zeros((0, problem.n_var))
-    got, cache = [], state.cache  # each constraint's rows once per state (State.once inline: no closure per call)
+    rows, jacs, cache = [], [], state.cache  # each constraint's once per state (State.once inline: no closure)
     for c in problem.constraints:
         found = cache.get((c, ROWS))
-        got.append(cache.setdefault((c, ROWS), c.jacobian_rows(state)) if found is None else found)
-    if all(len(rows) == size for (rows, _), size in zip(got, problem._sizes, strict=True)):
+        found = cache.setdefault((c, ROWS), c.jacobian_rows(state)) if found is None else found
+        rows.append(found[0])
+        jacs.append(found[1])
+    sizes = [len(r) for r in rows]
+    if sizes == problem._sizes:
         live = problem._all_rows  # every row (the rows of each are sorted and distinct): no new index array
-    else:
-        live = np.concatenate([rows + offset for (rows, _), offset in zip(got, problem._row_offsets, strict=True)])
-    jac = np.concatenate([jac for _, jac in got])
+    else:  # each constraint's rows after the rows of those before it: one addition
+        live = np.concatenate(rows)
+        live += np.repeat(problem._row_offsets, sizes)
+    jac = np.concatenate(jacs)
     red = problem.reduction
     if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
         out = np.empty((len(jac), problem.n_var))
