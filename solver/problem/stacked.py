@@ -4,16 +4,36 @@ per state: the step and the line search ask for them at the same trial point."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
 from .. import kernels
+from ..body.reduction import Reduction
 from ..body.state import State
+from ..constraints import Constraint
 from ..kernels.reduction import reduce_and_scale
 
-if TYPE_CHECKING:
-    from .problem import Problem
+
+class Problem(Protocol):
+    """What these read of a :class:`~solver.problem.problem.Problem` (which imports this module): its stacked rows
+    and their tables (``Problem._set_constraints``), its solver variables."""
+
+    constraints: list[Constraint]
+    n_rows: int
+    n_var: int
+    row_weight: np.ndarray
+    row_tolerance: np.ndarray
+    reduction: Reduction | None
+    scale: np.ndarray
+    _one_sided_at: list[tuple[int, slice]]
+    _sizes: list[int]
+    _all_rows: np.ndarray
+    _row_offsets: np.ndarray
+    _row_scale: np.ndarray
+
+    def reduction_jacobian(self, state: State) -> np.ndarray: ...
+
 
 _NO_REDUCTION = (np.zeros(0, dtype=np.int64), np.zeros(0))  # reduce_and_scale's supports for x itself: scaling only
 SLACK = "scaled slack"  # the key of a problem's scaled slack in a state's cache: (problem, SLACK)
