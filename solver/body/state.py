@@ -75,8 +75,13 @@ class State:
             for name in ("kin", "statics"):
                 if name in other.__dict__:  # computed (computed_once keeps it there)
                     self.__dict__.setdefault(name, other.__dict__[name])
-            for key, value in other.cache.items():
-                owner = key[0] if type(key) is tuple else key
-                if owners is None or type(owner) is str or id(owner) in owners:
-                    self.cache.setdefault(key, value)
+            taken = other.cache.items()
+            if owners is not None:  # one comprehension: a frame's first point takes ~40 values
+                taken = [(key, value) for key, value in taken
+                         if type(owner := key[0] if type(key) is tuple else key) is str
+                         or id(owner) in owners]  # fmt: skip
+            mine = self.cache
+            if mine:  # what this state has already stays (as setdefault would keep it)
+                taken = [(key, value) for key, value in taken if key not in mine]
+            mine.update(taken)
         return self

@@ -79,6 +79,7 @@ class StaticsLayout:
         self.supporting = np.flatnonzero(self.edge_acts.any(axis=1))  # joints between the root and a support
         self.supporting_edge_acts = self.edge_acts[self.supporting]
         self.revolute = rev.astype(float)  # (n,) 1.0 for a revolute joint, 0.0 for a prismatic one
+        self.supporting_revolute = self.revolute[self.supporting]  # the flags of the joints the forces move
         self.has_prismatic = bool(model.prismatic.any())
         # the compiled kernels' constants: links in preorder, the tree sums' tables, the point forces' links and places
         tree = model.tree_sums
@@ -167,6 +168,7 @@ class Statics:
         self._kernel_points, self._kernel_forces = points, forces
         self.corner_points, self.load_points, self._corner_forces = points[:c], points[c:], forces[:c]
         self.total_force, self.total_moment = totals[:3], totals[3:]
+        self._totals = totals  # [force, moment]: the balance error's values, side by side already
         self.__dict__["_subtree_wrench"] = wrench  # what the cached property would compute
         self._axis_loads = loads
 
@@ -249,6 +251,8 @@ class Statics:
 
     def balance_error(self) -> np.ndarray:
         """(6,) total force (N) and total moment about the world origin (N*m)."""
+        if self._compiled:
+            return self._totals.copy()  # the concatenation's values, in one copy
         return np.concatenate([self.total_force, self.total_moment])
 
     def balance_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
@@ -312,7 +316,8 @@ class Statics:
             if size > n:
                 rows = layout.supporting
                 d_w = self._axis_load_force_jacobian(rows, layout.supporting_edge_acts)
-                coef_rev, weight_rev = coef[rows] * layout.revolute[rows], weight[rows] * layout.revolute[rows]
+                revolute = layout.supporting_revolute
+                coef_rev, weight_rev = coef[rows] * revolute, weight[rows] * revolute
                 linear[n:], squared[n:] = coef_rev @ d_w, weight_rev @ (d_w * d_w)
             return linear, squared
         coef, weight = coef * layout.revolute, weight * layout.revolute

@@ -109,6 +109,18 @@ def box_motion_terms(state: State, tcps: tuple[Tcp, Tcp], on_box: np.ndarray,
     return np.repeat([t.link for t in tcps], k), np.repeat(held, k, axis=0), np.concatenate([n1, n2])
 
 
+def _links_of(tcps: tuple[Tcp, Tcp]) -> np.ndarray:
+    """The two TCPs' links (2,) int64, kept per pair of links (never written to)."""
+    key = (tcps[0].link, tcps[1].link)
+    found = _LINKS.get(key)
+    if found is None:
+        found = _LINKS[key] = np.array(key, dtype=np.int64)
+    return found
+
+
+_LINKS: dict[tuple[int, int], np.ndarray] = {}
+
+
 def box_motion_jacobian(state: State, tcps: tuple[Tcp, Tcp], on_box: np.ndarray, normal: np.ndarray, n_x: int,
                         own: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:  # fmt: skip
     """(k, n_x) by the kernels: row i is n . (velocity of the box's material point at ``on_box[i]`` (world m)), n =
@@ -116,10 +128,11 @@ def box_motion_jacobian(state: State, tcps: tuple[Tcp, Tcp], on_box: np.ndarray,
     with ``own`` = (points (k, 3) m, normals (k, 3), links (k,)) each point's n . velocity on its link (a body part's
     witness); zeros beyond the joints."""
     held, centre, rotation = held_frame(state, tcps)
-    length = max(float(np.linalg.norm(np.subtract(held[1], held[0]))), 1e-12)
+    apart = held[1] - held[0]
+    length = max(math.sqrt(apart.dot(apart)), 1e-12)  # np.linalg.norm's number (its dot, a correctly rounded root)
     k = len(on_box)
     out = np.zeros((k, n_x))
-    links = np.array([t.link for t in tcps], dtype=np.int64)
+    links = _links_of(tcps)
     point, along, link = own if own is not None else (on_box, normal, np.full(k, -1, dtype=np.int64))
     flat = (np.ascontiguousarray(a, dtype=float) for a in (on_box, normal, point, along))
     box_on, box_normal, own_point, own_normal = flat

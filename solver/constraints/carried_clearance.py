@@ -88,9 +88,8 @@ class CarriedClearance(ClearanceRows):
         return distance, point, normal, self._index
 
     def _jacobian_of(self, state: State, rows: np.ndarray) -> np.ndarray:
-        out = np.zeros((len(rows), self.n_x))
         if not rows.size:
-            return out
+            return np.zeros((0, self.n_x))
         distance, points, normals, capsule = self._evaluate(state)
         normal, k = normals[rows], len(rows)
         on_box = points[rows] - (distance[rows] + self.capsules.radius[capsule[rows]])[:, None] * normal
@@ -103,5 +102,6 @@ class CarriedClearance(ClearanceRows):
         where, along = np.concatenate([points[rows], where]), np.concatenate([normal, along])
         mask = self.model.descendant[:, links].T.astype(float)
         moved = state.kin.jacobian_rows(where, along, np.zeros_like(along), mask)
+        out = np.zeros((k, self.n_x))
         out[:, : self.model.n] = moved[:k] + moved[k : 2 * k] + moved[2 * k :]
         return out

@@ -24,13 +24,14 @@ import numpy as np
 from .. import kernels
 from ..body.model import Model
 from ..body.state import State
-from ..collision import Obstacle, Proximity
+from ..collision import HalfSpace, Obstacle, Proximity
 from ..collision.boxes import box_corners, box_edges, box_rows_one, edges_of_corners
 from ..collision.carried import Carried, box_motion_jacobian, box_motion_terms, held_frame
 from ..constraints.clearance import ClearanceRows, Closeness
 
 __all__ = ["CarriedObstacles", "box_corners", "box_edges"]
 
+SURE = 1e-9  # m: what the float test of "near nothing" keeps in hand against rounding
 _NO_RADIUS = np.zeros(12)  # the box's edges are segments
 _CORNER_RADIUS = np.zeros(8)
 
@@ -63,6 +64,14 @@ class CarriedObstacles(ClearanceRows):
         self.floor = np.concatenate([np.full(k, ob.clearance) for ob, k in zip(self.obstacles, counts, strict=True)])
         self._starts = np.cumsum([0, *counts[:-1]]).astype(int)
         rows = len(self.floor)
+        # gaps' test of "near nothing" in Python floats (most poses of a motion; 3-vectors cost NumPy more than their
+        # sums): each bounded obstacle's grown bounds, each half-space's (point, normal, reach); None if another kind
+        # is measured at the corners (then the arrays decide)
+        boxes = [(*low, *high) for i, (low, high) in enumerate(zip(self._low.tolist(), self._high.tolist(),
+                                                                   strict=True)) if i not in self._corners]  # fmt: skip
+        planes = [(ob.point.tolist(), ob.normal.tolist(), self._reach[i]) for i, ob in enumerate(self.obstacles)
+                  if i in self._corners and isinstance(ob, HalfSpace)]  # fmt: skip
+        self._sure = (boxes, planes) if len(planes) == len(self._corners) else None
         self._far = (np.full(rows, margin + 1.0), np.zeros((rows, 3)), np.zeros((rows, 3)), np.zeros((rows, 3)))
         for array in self._far:
             array.flags.writeable = False
@@ -74,6 +83,8 @@ class CarriedObstacles(ClearanceRows):
         """With the box at ``centre`` (m), ``rotation``: (distance (rows,) m, the box's nearest point (rows, 3), unit
         normal away from the obstacle (rows, 3), the obstacle's nearest point (rows, 3)); rows not measured (farther
         than the margin): margin + 1 m, zero normal."""
+        if self._near_nothing(centre, rotation):
+            return self._far
         half = self.half
         extent = np.abs(rotation) @ half
         near = np.flatnonzero(np.all((centre - extent <= self._high) & (centre + extent >= self._low), axis=1))
@@ -104,6 +115,31 @@ class CarriedObstacles(ClearanceRows):
                 distance[part], on_box[part], normal[part] = got.distance, got.closest, -got.normal
                 on_other[part] = got.point - radii[:, None] * got.normal
         return distance, on_box, normal, on_other
+
+    def _near_nothing(self, centre: np.ndarray, rotation: np.ndarray) -> bool:
+        """True when the box at ``centre`` (m), ``rotation`` is surely farther than :data:`SURE` (m) beyond every
+        obstacle's bounds test and every half-space's corner test of :meth:`gaps` (which would then measure nothing):
+        the same sums in floats, the order of rounding aside. False when not sure (NaN too)."""
+        if self._sure is None:
+            return False
+        boxes, planes = self._sure
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rotation.tolist()
+        hx, hy, hz = self.half.tolist()
+        cx, cy, cz = centre.tolist()
+        ex = abs(r00) * hx + abs(r01) * hy + abs(r02) * hz  # the box's half extent along x, y, z
+        ey = abs(r10) * hx + abs(r11) * hy + abs(r12) * hz
+        ez = abs(r20) * hx + abs(r21) * hy + abs(r22) * hz
+        for lx, ly, lz, ux, uy, uz in boxes:  # apart along some axis: not near (NaN: not apart, not sure)
+            if not (cx - ex > ux + SURE or cx + ex < lx - SURE or cy - ey > uy + SURE or cy + ey < ly - SURE
+                    or cz - ez > uz + SURE or cz + ez < lz - SURE):  # fmt: skip
+                return False
+        for (px, py, pz), (nx, ny, nz), reach in planes:  # the lowest corner along n: centre's height less the extent
+            height = (cx - px) * nx + (cy - py) * ny + (cz - pz) * nz
+            lowest = height - (abs(r00 * nx + r10 * ny + r20 * nz) * hx + abs(r01 * nx + r11 * ny + r21 * nz) * hy
+                               + abs(r02 * nx + r12 * ny + r22 * nz) * hz)  # fmt: skip
+            if not lowest > reach + SURE:
+                return False
+        return True
 
     def _reverse_rows(self, i: int, centre: np.ndarray, rotation: np.ndarray,
                       reach: float) -> tuple[Proximity, np.ndarray] | None:  # fmt: skip

@@ -92,6 +92,7 @@ class ClearanceRows(Inequality):
     _row_other: np.ndarray | None = None
     _source: BodyCapsules | None = None  # the capsules whose world ends a state shares (the body's own)
     _subset: np.ndarray | None = None  # which of ``_source`` are ``capsules`` (None: all)
+    _whole = False  # ``_subset`` is every capsule of ``_source`` (their ends are the source's, not indexed again)
     _reference: tuple | None = None  # ((start, end) world ends (k, 3), distance - floor per row): last exact query
 
     @property
@@ -124,7 +125,7 @@ class ClearanceRows(Inequality):
         """World ends (m) of ``capsules`` at ``state``, computed once per state for all clearances of the same body
         capsules (the floor's and the body's own)."""
         ends = self._source_ends(state)
-        return ends if self._subset is None else (ends[0][self._subset], ends[1][self._subset])
+        return ends if self._subset is None or self._whole else (ends[0][self._subset], ends[1][self._subset])
 
     def _source_ends(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """World ends (m) of every capsule of ``_source`` (else ``capsules``) at ``state``, once per state."""
@@ -169,9 +170,9 @@ class ClearanceRows(Inequality):
         return float(np.min(slack - np.sqrt(change.max(axis=1)), initial=np.inf))
 
     def error(self, state: State) -> np.ndarray:
-        if self._clear_by(state, 0.0):
+        if self._bounded and self._clear_by(state, 0.0):  # only a bounded row has a reference to be clear by
             return np.zeros(self.rows)
-        return super().error(state)
+        return np.minimum(self.gap(state), 0.0)  # Inequality.error
 
     @abstractmethod
     def _distances(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -195,7 +196,7 @@ class ClearanceRows(Inequality):
     def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         if self._clear_by(state, self.watch):
             return np.zeros(0, dtype=np.intp), np.zeros((0, self.n_x))
-        rows = np.flatnonzero(self.value(state) - self.floor < self.watch)
+        rows = np.flatnonzero(self.gap(state) < self.watch)
         return rows, self._jacobian_of(state, rows)
 
     @abstractmethod
@@ -228,7 +229,7 @@ class ClearanceRows(Inequality):
         g - floor >= -MET, without the error's two steps."""
         if self._clear_by(state, 0.0):
             return np.ones(self.rows, dtype=bool)
-        return self.value(state) - self.floor >= -MET
+        return self.gap(state) >= -MET
 
     def _lowest(self, state: State) -> float:
         """min(0, least g - floor) (m): the largest shortfall below a clearance, negated; NaN if a row is NaN; 0 when
@@ -236,7 +237,7 @@ class ClearanceRows(Inequality):
         key = (self, "lowest")  # asked twice for a report (unmet, residuals)
         lowest = state.cache.get(key)
         if lowest is None:
-            gap = None if self._clear_by(state, 0.0) else self.value(state) - self.floor
+            gap = None if self._clear_by(state, 0.0) else self.gap(state)
             lowest = state.cache[key] = 0.0 if gap is None else float(np.minimum.reduce(gap, initial=0.0))
         return lowest
 
@@ -287,7 +288,7 @@ class Clearance(ClearanceRows):
         source = capsules
         capsules = BodyCapsules(tuple(n for n, k in zip(capsules.names, keep, strict=True) if k), capsules.link[keep],
                                 capsules.start[keep], capsules.end[keep], capsules.radius[keep])  # fmt: skip
-        self._source, self._subset = source, np.flatnonzero(keep)
+        self._source, self._subset, self._whole = source, np.flatnonzero(keep), bool(keep.all())
         self.model, self.capsules, self.n_x, self.margin = model, capsules, n_x, margin
         self.obstacles = list(obstacles)
         # nothing nearer than its reach (m) is left out of an obstacle's query

@@ -28,20 +28,29 @@ class Inequality(Constraint):
     def value_jacobian(self, state: State) -> np.ndarray:
         """dg/dx, (rows, n_x)."""
 
+    def gap(self, state: State) -> np.ndarray:
+        """g - floor per row (g's units), once per state: the error, the slack and the Jacobian's rows of a trial
+        point all read it (not to be written to)."""
+        key = (self, "gap")
+        found = state.cache.get(key)
+        if found is None:
+            found = state.cache[key] = self.value(state) - self.floor
+        return found
+
     def error(self, state: State) -> np.ndarray:
-        return np.minimum(self.value(state) - self.floor, 0.0)
+        return np.minimum(self.gap(state), 0.0)
 
     def slack(self, state: State) -> np.ndarray:
         """How far each met row is above its floor (0 on unmet rows), in g's units."""
-        return np.maximum(self.value(state) - self.floor, 0.0)
+        return np.maximum(self.gap(state), 0.0)
 
     def jacobian(self, state: State) -> np.ndarray:
         jac = np.array(self.value_jacobian(state), dtype=float)
-        jac[self.value(state) - self.floor > 0.0] = 0.0
+        jac[self.gap(state) > 0.0] = 0.0
         return jac
 
     def jacobian_rows(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        rows = np.flatnonzero(~(self.value(state) - self.floor > 0.0))  # NaN rows stay, as in jacobian
+        rows = np.flatnonzero(~(self.gap(state) > 0.0))  # NaN rows stay, as in jacobian
         return rows, np.asarray(self.value_jacobian(state), dtype=float)[rows]
 
     def residuals(self, state: State) -> dict[str, float]:

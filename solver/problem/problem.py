@@ -8,7 +8,6 @@ newtons compare and "converged" means max |scaled error| <= 1.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from functools import partial
 
 import numpy as np
 
@@ -27,16 +26,14 @@ from ..constraints.clearance import FLOOR, Clearance, Closeness, floor_clearance
 from ..constraints.inequality import Inequality
 from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
-from ..kernels.reduction import comfort_model, reduce_and_scale
+from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
-from . import reports, specs
+from . import reports, specs, stacked
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
-
-_NO_REDUCTION = (np.zeros(0, dtype=np.int64), np.zeros(0))  # reduce_and_scale's supports for x itself: scaling only
 
 
 class Problem:
@@ -193,6 +190,10 @@ class Problem:
         self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
         self._sizes = [c.rows for c in rows]
+        # per one-sided constraint (an Inequality): its index and its rows, for scaled_slack (kinds fixed per problem)
+        self._one_sided_at = [(i, slice(int(o), int(o) + c.rows))
+                              for i, (c, o) in enumerate(zip(rows, self._row_offsets, strict=True))
+                              if isinstance(c, Inequality)]  # fmt: skip
         # live_jacobian's rows when all may be nonzero, shared (nothing writes to it; read-only would mean new kernels)
         self._all_rows = np.arange(self.n_rows)
 
@@ -309,11 +310,9 @@ class Problem:
         return err, float(np.maximum.reduce(np.abs(err) * unweight, initial=0.0))
 
     def scaled_slack(self, state: State) -> np.ndarray:
-        """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere)."""
-        if not self.constraints:
-            return np.zeros(0)
-        parts = [c.slack(state) if isinstance(c, Inequality) else np.zeros(c.rows) for c in self.constraints]
-        return np.concatenate(parts) * self.row_weight / self.row_tolerance
+        """Per row, how far a met one-sided row is from its floor, scaled as :meth:`scaled_error` (0 elsewhere); once
+        per state (the step and the line search ask at the same point; not to be written to)."""
+        return stacked.scaled_slack(self, state)
 
     def scaled_jacobian(self, state: State) -> np.ndarray:
         """d scaled_error / d (v / scale)."""
@@ -325,34 +324,7 @@ class Problem:
     def live_jacobian(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """(the rows that may be nonzero, their rows of :meth:`scaled_jacobian`): met one-sided rows beyond their
         watch band (most clearance rows, far from anything) are left out instead of carried as zeros."""
-        if not self.constraints:
-            return np.zeros(0, dtype=int), np.zeros((0, self.n_var))
-        got = [state.once(c, "jacobian rows", partial(c.jacobian_rows, state)) for c in self.constraints]
-        if all(len(rows) == size for (rows, _), size in zip(got, self._sizes, strict=True)):
-            live = self._all_rows  # every row (the rows of each are sorted and distinct): no new index array
-        else:
-            live = np.concatenate([rows + offset for (rows, _), offset in zip(got, self._row_offsets, strict=True)])
-        jac = np.concatenate([jac for _, jac in got])
-        red = self.reduction
-        if (red is None or red.linear) and kernels.active():  # the basis product and the scaling in one loop
-            out = np.empty((len(jac), self.n_var))
-            supports = _NO_REDUCTION if red is None else red.kernel_supports
-            reduce_and_scale(jac, live, self._row_scale[:, 0], self.scale, *supports, out)
-            return live, out
-        jac = self._in_solver_variables(jac, state)
-        jac *= self._row_scale[live]  # in place: a fresh temporary costs page faults, more than the product
-        jac *= self.scale
-        return live, jac
-
-    def _in_solver_variables(self, jac: np.ndarray, state: State) -> np.ndarray:
-        """d rows / dx (k, n_x) -> d rows / dv (k, n_var)."""
-        red = self.reduction
-        if red is None:
-            return jac
-        used = np.flatnonzero(jac.any(axis=1))  # met one-sided rows are zero: not worth carrying through phi
-        reduced = np.zeros((len(jac), self.n_var))
-        reduced[used] = red.times_basis(jac[used]) if red.linear else jac[used] @ self.reduction_jacobian(state)
-        return reduced
+        return stacked.live_jacobian(self, state)
 
     def comfort_derivatives(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """d h / d v and the diagonal curvature model of -h in the solver variables v."""

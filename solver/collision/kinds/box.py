@@ -76,6 +76,8 @@ class BoxGroup(ShapeGroup):
     def __init__(self, shapes: list[Box], names: tuple[str, ...]) -> None:
         super().__init__(shapes, names)
         self.stacked = box_set(self.shapes)
+        center, _, _, extent = self.stacked
+        self._bounds = (center - extent, center + extent)  # the boxes' world bounds (m), asked at every evaluation
 
     def distances(self, p0, p1, radii, margins) -> list[Proximity]:
         return boxes_distance(p0, p1, radii, self.stacked, margins)
@@ -84,7 +86,8 @@ class BoxGroup(ShapeGroup):
         """(distance (m k,) m, point (m k, 3) m, normal (m k, 3)) of capsules p0-p1 (k, 3) vs the m boxes, box by
         box, as :meth:`distances` gives them but ``far[i]`` (m) where box i's distance is not finite (by the kernels:
         one loop, no per-box arrays)."""
-        got = _compiled_distances(p0, p1, radii, self.stacked, margins, np.asarray(far, dtype=float), True)
+        got = _compiled_distances(p0, p1, radii, self.stacked, margins, np.asarray(far, dtype=float), True,
+                                  self._bounds)  # fmt: skip
         return got.distance.reshape(-1), got.point.reshape(-1, 3), got.normal.reshape(-1, 3)
 
 
@@ -128,19 +131,21 @@ def boxes_distance(p0: np.ndarray, p1: np.ndarray, radii: np.ndarray, boxes: Box
     return near_only_many(p0, p1, radii, margins, center - extent, center + extent, exact)
 
 
-def _compiled_distances(p0, p1, radii, boxes: BoxSet, margins, far: np.ndarray, finite: bool) -> Proximity:
+def _compiled_distances(p0, p1, radii, boxes: BoxSet, margins, far: np.ndarray, finite: bool,
+                        bounds: tuple[np.ndarray, np.ndarray] | None = None) -> Proximity:  # fmt: skip
     """:func:`boxes_distance` by the kernels, as one Proximity of (m, k) fields (``far``, ``finite``: as
     :func:`~solver.kernels.clearance_boxes.boxes_near_rows`); rows whose axis meets or touches a box by
-    :func:`box_rows`."""
+    :func:`box_rows`. ``bounds``: the boxes' (center - extent, center + extent), when the caller keeps them."""
     center, rotation, half, extent = boxes
+    low, high = (center - extent, center + extent) if bounds is None else bounds
     # writable C arrays: one compiled version of the kernel (a read-only argument is another type to Numba)
     p0, p1, radii, margins = (x if x.flags.writeable else x.copy() for x in (
         np.ascontiguousarray(x, dtype=float) for x in (p0, p1, radii, margins)))  # fmt: skip
     m, k = len(center), len(p0)
     distance, t, rare = np.empty(m * k), np.empty(m * k), np.empty(m * k, dtype=np.int64)
     point, normal, closest = np.empty((m * k, 3)), np.empty((m * k, 3)), np.empty((m * k, 3))
-    if boxes_near_rows(p0, p1, radii, margins, center - extent, center + extent, center, rotation, half, far, finite,
-                       distance, t, point, normal, closest, rare):  # fmt: skip
+    if boxes_near_rows(p0, p1, radii, margins, low, high, center, rotation, half, far, finite, distance, t, point,
+                       normal, closest, rare):  # fmt: skip
         rows = np.flatnonzero(rare)
         box, cap = np.divmod(rows, k)
         got = box_rows(p0[cap], p1[cap], radii[cap], center[box], rotation[box], half[box])
