@@ -98,8 +98,9 @@ class Baker:
         self.original = (scene.frame_current, scene.frame_subframe)
         self.original_x = read_x(arm)
         scene.frame_set(frame_start)
-        try:
-            first = problem_io.read_problem(arm)  # raises ManikinError naming the empty at fault
+        try:  # what cannot change with the frame is read once, for this bake only
+            self.held = problem_io.Held(arm)
+            first = problem_io.read_problem(arm, held=self.held)  # raises ManikinError naming the empty at fault
         except ManikinError:
             scene.frame_set(self.original[0], subframe=self.original[1])
             raise
@@ -130,7 +131,7 @@ class Baker:
             problem, self._first = self._first, None
             return problem
         self.scene.frame_set(frame)
-        self._read = problem_io.read_problem(self.arm, start=False, reuse=self._read)
+        self._read = problem_io.read_problem(self.arm, start=False, reuse=self._read, held=self.held)
         problem = self._read.problem
         if problem.n_x != self.n_x:
             raise ManikinError(f"frame {frame}: the supports changed during the range; bake the parts separately")

@@ -27,15 +27,16 @@ from ...solver.iteration.result import shortfall_text
 from ...solver.stance import FEET, bounds_of, stepping, steps_of
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
-from .obstacles import scene_obstacles
-from .registries import comfort_weights
-from .schema import ERROR_KEY, RESULT_KEY, members
+from .obstacles import obstacle_sources, scene_obstacles
+from .registries import comfort_settings, comfort_weights
+from .schema import ERROR_KEY, RESULT_KEY, linked_objects, members
 from .supports import STEP, floor_notes, moved_supports, pushed_notes, solved_lock
 
 if TYPE_CHECKING:
     from ...solver.body.model import Model
     from ...solver.body.state import State
     from ...solver.collision.carried import Carried
+    from ...solver.comfort.standard import ComfortWeights
 
 TOP_LOADS = 5
 
@@ -89,27 +90,58 @@ class SceneProblem:
     setup: tuple = ()  # everything read but the targets' poses: the same setup can share the problem's parts
 
 
+class Held:
+    """What a bake reads of the scene once and keeps through its frames (nobody edits the scene then, but anything
+    may be animated): the model, the objects pointing at the armature (sorted; their roles and settings are read
+    every frame), the carried box (a text property, never animated), the comfort settings (their values are read
+    every frame) and the objects that may be obstacles (:class:`.obstacles.Source`: each frame reads their settings
+    and matrices, and their meshes unless nothing can change them). Solve Pose and live read a new one each time."""
+
+    def __init__(self, arm: bpy.types.Object) -> None:
+        self.model = model_of(arm)
+        self.linked = linked_objects(arm)
+        self.carried = _carried(arm, self.model)
+        self.sources = obstacle_sources(bpy.context.scene)
+        self.comfort = comfort_settings()
+        self._weights: tuple[tuple, ComfortWeights] | None = None  # the last settings' values and their weights
+
+    def weights(self, settings: object) -> ComfortWeights:
+        """The comfort weights ``settings`` hold now (made again when a value changed: they may be keyed)."""
+        values = tuple(getattr(settings, s.prop, s.default) for s in self.comfort)
+        if self._weights is None or self._weights[0] != values:
+            self._weights = values, comfort_weights(settings, self.comfort)
+        return self._weights[1]
+
+
 def read_problem(
-    arm: bpy.types.Object, live: bool = False, start: bool = True, reuse: SceneProblem | None = None
+    arm: bpy.types.Object,
+    live: bool = False,
+    start: bool = True,
+    reuse: SceneProblem | None = None,
+    held: Held | None = None,
 ) -> SceneProblem:
     """The targets, loops and loads of ``arm`` as a solver Problem; raises ManikinError naming the empty.
     ``start``: also read the pose as the start point (a bake, which starts each frame from the previous one's
     solution, does without: ``x0`` is then None). ``reuse``: the problem read before (a bake's previous frame);
-    when only the targets' poses changed, the new problem shares its constraints (what they built and keep)."""
-    return _read_problem(arm, live, start, reuse)
+    when only the targets' poses changed, the new problem shares its constraints (what they built and keep).
+    ``held``: what a bake read once (:class:`Held`, of this armature and scene); default: read now."""
+    return _read_problem(arm, live, start, reuse, held)
 
 
-def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: SceneProblem | None) -> SceneProblem:
+def _read_problem(
+    arm: bpy.types.Object, live: bool, start: bool, reuse: SceneProblem | None, held: Held | None
+) -> SceneProblem:
     """:func:`read_problem` without reuse."""
     _check_upright(arm)
-    model = model_of(arm)
+    held = Held(arm) if held is None else held
+    model = held.model
     settings = arm.manikin
     to_local = arm.matrix_world.inverted()
     arm_rot = np.array(arm.matrix_world.to_3x3())
     x0 = read_x(arm) if start else None
     kin0 = None  # the pose's kinematics, for loop offsets only
     targets, loops, loads, labels, numbers, fixed = [], [], [], [], [], []
-    for ob in members(arm):
+    for ob in members(arm, held.linked):
         s = ob.manikin_target
         for name in (s.tcp, s.other) if s.role == "LOOP" else (s.tcp,):
             if name not in model.tcps:
@@ -139,12 +171,12 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
             fixed.extend(np.ravel(v) for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
-    weights = comfort_weights(settings)  # one per registered standard comfort term
+    weights = held.weights(settings)  # one per registered standard comfort term
     try:
         groups = DEFAULT_GROUPS if settings.reduction else ()
-        obstacles, shapes = scene_obstacles(arm)
+        obstacles, shapes = scene_obstacles(arm, held.sources)
         numbers += shapes
-        carried = _carried(arm, model)
+        carried = held.carried
         options = SolverOptions(
             max_iterations=settings.live_iterations if live else settings.max_iterations,
             optimize_comfort=settings.comfort,
@@ -154,7 +186,8 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
         labels.append((settings.feet, settings.balance, settings.floor, settings.self_collision, settings.comfort,
                        settings.reduction, weights, options, box))  # fmt: skip
         # all but the targets' poses; obstacles by identity (unchanged shapes made from bounds are the same objects)
-        setup = (id(model), repr(labels), np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
+        text = repr(labels)
+        setup = (id(model), text, np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
                  tuple(id(o) for o in obstacles))  # fmt: skip
         if reuse is not None and reuse.setup == setup and settings.feet != STEP:  # stepping: from the feet's targets
             problem = reuse.problem.with_targets(targets)
@@ -164,7 +197,7 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
             problem = stepping(problem) if settings.feet == STEP else problem
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
-    inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
+    inputs = Inputs(text, np.concatenate(numbers) if numbers else np.zeros(0))
     warm = x0 if x0 is None or len(x0) == problem.n_x else x0[: model.n]  # remembered forces fit the same supports
     return SceneProblem(problem, warm, options, inputs, setup)
 
