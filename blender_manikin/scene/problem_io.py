@@ -7,6 +7,7 @@ any direction; the armature must stay upright and unscaled (gravity is its -z).
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -55,8 +56,8 @@ def _close(a: np.ndarray, b: np.ndarray) -> bool:
     return bool((np.abs(a - b) <= 1e-6 + 1e-5 * np.abs(b)).all())
 
 
-def _check_upright(arm: bpy.types.Object) -> None:
-    rot = np.array(arm.matrix_world.to_3x3())
+def _check_upright(arm: bpy.types.Object, rot: np.ndarray) -> None:
+    """ManikinError unless ``rot`` (the armature's world rotation) keeps it upright and unscaled."""
     if not _close(rot[:, 2], _UP) or not _close(rot.T @ rot, _EYE3):
         raise ManikinError(f"{arm.name}: the armature must stay upright and unscaled (turn it about z only)")
 
@@ -104,6 +105,8 @@ class Held:
         self.sources = obstacle_sources(bpy.context.scene)
         self.comfort = comfort_settings()
         self._weights: tuple[tuple, ComfortWeights] | None = None  # the last settings' values and their weights
+        self.upright = b""  # the armature's rotation last checked upright (it may be animated)
+        self._targets: dict[str, tuple[tuple, Target]] = {}  # by empty: the last Target read and what it came from
 
     def weights(self, settings: object) -> ComfortWeights:
         """The comfort weights ``settings`` hold now (made again when a value changed: they may be keyed)."""
@@ -111,6 +114,22 @@ class Held:
         if self._weights is None or self._weights[0] != values:
             self._weights = values, comfort_weights(settings, self.comfort)
         return self._weights[1]
+
+    def target(self, ob: bpy.types.Object, label: tuple, local: Matrix, feet: str) -> Target:
+        """The Target of the empty ``ob`` (its settings ``label``, its matrix ``local`` in the armature's space,
+        the manikin's Feet setting): the last frame's very Target when all of these are the same (the constraints
+        built for it are then kept without comparing numbers)."""
+        signs = tuple(math.copysign(1.0, v) for v in label[7:9])  # friction, weight: -0.0 == 0.0 but is another input
+        key = (label, signs, feet, np.array(local).tobytes())
+        last = self._targets.get(ob.name)
+        if last is not None and last[0] == key:
+            return last[1]
+        rot, pos = _frame(local)
+        s = ob.manikin_target
+        target = Target(s.tcp, pos, rot, solved_lock(s.locked_axes(), s.support, feet), None, s.weight, s.support,
+                        s.friction, None, s.enabled, s.priority_number())  # fmt: skip
+        self._targets[ob.name] = key, target
+        return target
 
 
 def read_problem(
@@ -132,12 +151,15 @@ def _read_problem(
     arm: bpy.types.Object, live: bool, start: bool, reuse: SceneProblem | None, held: Held | None
 ) -> SceneProblem:
     """:func:`read_problem` without reuse."""
-    _check_upright(arm)
+    world = arm.matrix_world  # a copy on each read: read once
+    arm_rot = np.array(world.to_3x3())
+    if held is None or held.upright != arm_rot.tobytes():  # a bake checks again when the armature turned
+        _check_upright(arm, arm_rot)
     held = Held(arm) if held is None else held
+    held.upright = arm_rot.tobytes()
     model = held.model
     settings = arm.manikin
-    to_local = arm.matrix_world.inverted()
-    arm_rot = np.array(arm.matrix_world.to_3x3())
+    to_local = world.inverted()
     x0 = read_x(arm) if start else None
     kin0 = None  # the pose's kinematics, for loop offsets only
     targets, loops, loads, labels, numbers, fixed = [], [], [], [], [], []
@@ -146,14 +168,14 @@ def _read_problem(
         for name in (s.tcp, s.other) if s.role == "LOOP" else (s.tcp,):
             if name not in model.tcps:
                 raise ManikinError(f"{ob.name}: unknown TCP {name!r} (known: {', '.join(sorted(model.tcps))})")
-        rot, pos = _frame(to_local @ ob.matrix_world)
+        label = (ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
+                 s.priority)  # fmt: skip
         if s.role == "TARGET":
-            targets.append(
-                Target(s.tcp, pos, rot, solved_lock(s.locked_axes(), s.support, settings.feet), None, s.weight,
-                       s.support, s.friction, None, s.enabled, s.priority_number())
-            )  # fmt: skip
-            given = (pos, rot)
+            target = held.target(ob, label, to_local @ ob.matrix_world, settings.feet)
+            targets.append(target)
+            given = (target.position, target.rotation)
         elif s.role == "LOOP" and s.enabled:
+            rot, pos = _frame(to_local @ ob.matrix_world)
             if kin0 is None:
                 kin0 = model.forward((read_x(arm) if x0 is None else x0)[: model.n])
             other_rot, other_pos = kin0.tcp_frame(model.tcp(s.other))
@@ -164,11 +186,10 @@ def _read_problem(
             loads.append(ExternalLoad(s.tcp, *given))
         else:
             continue
-        labels.append((ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
-                       s.priority))  # fmt: skip
-        numbers.extend(np.ravel(v) for v in given)
+        labels.append(label)
+        numbers.extend(v.ravel() for v in given)
         if s.role != "TARGET":
-            fixed.extend(np.ravel(v) for v in given)
+            fixed.extend(v.ravel() for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
     weights = held.weights(settings)  # one per registered standard comfort term
