@@ -91,6 +91,11 @@ class SceneProblem:
     setup: tuple = ()  # everything read but the targets' poses: the same setup can share the problem's parts
 
 
+def _same(a: object, b: object) -> bool:
+    """The same object, or equal texts (an enum setting is read as a new str each time)."""
+    return a is b or (type(a) is str and a == b)
+
+
 class Held:
     """What a bake reads of the scene once and keeps through its frames (nobody edits the scene then, but anything
     may be animated): the model, the objects pointing at the armature (sorted; their roles and settings are read
@@ -101,12 +106,15 @@ class Held:
     def __init__(self, arm: bpy.types.Object) -> None:
         self.model = model_of(arm)
         self.linked = linked_objects(arm)
-        self.carried = _carried(arm, self.model)
+        self.carried = carried = _carried(arm, self.model)
+        self.box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
         self.sources = obstacle_sources(bpy.context.scene)
         self.comfort = comfort_settings()
         self._weights: tuple[tuple, ComfortWeights] | None = None  # the last settings' values and their weights
         self.upright = b""  # the armature's rotation last checked upright (it may be animated)
         self._targets: dict[str, tuple[tuple, Target]] = {}  # by empty: the last Target read and what it came from
+        self._options: tuple[tuple, SolverOptions] | None = None  # the last options and the settings they came from
+        self._text: tuple[tuple, str] | None = None  # the last settings' labels and their text
 
     def weights(self, settings: object) -> ComfortWeights:
         """The comfort weights ``settings`` hold now (made again when a value changed: they may be keyed)."""
@@ -114,6 +122,23 @@ class Held:
         if self._weights is None or self._weights[0] != values:
             self._weights = values, comfort_weights(settings, self.comfort)
         return self._weights[1]
+
+    def options(self, settings: object, live: bool) -> SolverOptions:
+        """The solver options the manikin's settings ask for (``live``: a drag's), the last ones while unchanged."""
+        values = (settings.live_iterations if live else settings.max_iterations, settings.comfort,
+                  0 if live else settings.restarts)  # a live drag keeps the arm configuration it has  # fmt: skip
+        if self._options is None or self._options[0] != values:
+            self._options = values, SolverOptions(max_iterations=values[0], optimize_comfort=values[1],
+                                                  restarts=values[2])  # fmt: skip
+        return self._options[1]
+
+    def text(self, labels: tuple) -> str:
+        """``repr(labels)`` (the manikin's settings, the held weights, options and box), made again only when one
+        of them is another (a keyed setting)."""
+        last = self._text
+        if last is None or not all(map(_same, last[0], labels)) or len(last[0]) != len(labels):
+            last = self._text = labels, repr(labels)
+        return last[1]
 
     def target(self, ob: bpy.types.Object, label: tuple, local: Matrix, feet: str) -> Target:
         """The Target of the empty ``ob`` (its settings ``label``, its matrix ``local`` in the armature's space,
@@ -165,30 +190,31 @@ def _read_problem(
     targets, loops, loads, labels, numbers, fixed = [], [], [], [], [], []
     for ob in members(arm, held.linked):
         s = ob.manikin_target
-        for name in (s.tcp, s.other) if s.role == "LOOP" else (s.tcp,):
-            if name not in model.tcps:
-                raise ManikinError(f"{ob.name}: unknown TCP {name!r} (known: {', '.join(sorted(model.tcps))})")
         label = (ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
                  s.priority)  # fmt: skip
-        if s.role == "TARGET":
+        role, enabled = label[1], label[6]  # each property read costs: read once
+        for name in label[2:4] if role == "LOOP" else label[2:3]:
+            if name not in model.tcps:
+                raise ManikinError(f"{ob.name}: unknown TCP {name!r} (known: {', '.join(sorted(model.tcps))})")
+        if role == "TARGET":
             target = held.target(ob, label, to_local @ ob.matrix_world, settings.feet)
             targets.append(target)
             given = (target.position, target.rotation)
-        elif s.role == "LOOP" and s.enabled:
+        elif role == "LOOP" and enabled:
             rot, pos = _frame(to_local @ ob.matrix_world)
             if kin0 is None:
                 kin0 = model.forward((read_x(arm) if x0 is None else x0)[: model.n])
             other_rot, other_pos = kin0.tcp_frame(model.tcp(s.other))
             given = (other_rot.T @ (pos - other_pos), other_rot.T @ rot)  # the offset, unchanged by posing
             loops.append(Loop(s.tcp, s.other, *given, s.locked_axes(), None, s.weight))
-        elif s.role == "LOAD" and s.enabled:
+        elif role == "LOAD" and enabled:
             given = (arm_rot.T @ np.array(s.force),)
             loads.append(ExternalLoad(s.tcp, *given))
         else:
             continue
         labels.append(label)
         numbers.extend(v.ravel() for v in given)
-        if s.role != "TARGET":
+        if role != "TARGET":
             fixed.extend(v.ravel() for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
@@ -198,16 +224,11 @@ def _read_problem(
         obstacles, shapes = scene_obstacles(arm, held.sources)
         numbers += shapes
         carried = held.carried
-        options = SolverOptions(
-            max_iterations=settings.live_iterations if live else settings.max_iterations,
-            optimize_comfort=settings.comfort,
-            restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
-        )
-        box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
-        labels.append((settings.feet, settings.balance, settings.floor, settings.self_collision, settings.comfort,
-                       settings.reduction, weights, options, box))  # fmt: skip
+        options = held.options(settings, live)
+        tail = (settings.feet, settings.balance, settings.floor, settings.self_collision, settings.comfort,
+                settings.reduction, weights, options, held.box)  # fmt: skip
+        text = "[" + ", ".join([*map(repr, labels), held.text(tail)]) + "]"  # repr([*labels, tail])
         # all but the targets' poses; obstacles by identity (unchanged shapes made from bounds are the same objects)
-        text = repr(labels)
         setup = (id(model), text, np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
                  tuple(id(o) for o in obstacles))  # fmt: skip
         if reuse is not None and reuse.setup == setup and settings.feet != STEP:  # stepping: from the feet's targets
