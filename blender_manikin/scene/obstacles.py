@@ -47,10 +47,10 @@ class Source:
 
     __slots__ = ("ob", "collected", "fixed", "mesh", "last")
 
-    def __init__(self, ob: bpy.types.Object) -> None:
+    def __init__(self, ob: bpy.types.Object, scripted: bool = False) -> None:
         self.ob = ob
         self.collected = in_obstacles(ob)  # an obstacle whatever its settings
-        self.fixed = fixed_mesh(ob)
+        self.fixed = not scripted and fixed_mesh(ob)
         self.mesh: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None  # points, faces, low, high
         self.last: tuple[tuple, Obstacle, list[np.ndarray]] | None = None  # the last shape: its inputs, it, its numbers
 
@@ -74,8 +74,11 @@ def fixed_mesh(ob: bpy.types.Object) -> bool:
 
 
 def obstacle_sources(scene: bpy.types.Scene) -> list[Source]:
-    """``scene``'s objects that may be obstacles, in the scene's order."""
-    return [Source(ob) for ob in scene.objects if may_be_obstacle(ob)]
+    """``scene``'s objects that may be obstacles, in the scene's order. With a frame change handler (a script that
+    may edit a mesh on each frame) every mesh is read every frame."""
+    handlers = bpy.app.handlers
+    scripted = bool(handlers.frame_change_pre or handlers.frame_change_post)
+    return [Source(ob, scripted) for ob in scene.objects if may_be_obstacle(ob)]
 
 
 def scene_obstacles(

@@ -6,7 +6,8 @@ a manikin standing on its feet targets, reaching with a hand target whose weight
 from it) animated every way a bake must follow frame by frame: keyed location, a keyed Displace modifier, a keyed
 shape key, an animated parent, a keyed Obstacle toggle and clearance; and two that never move. Frames 1-6 are
 baked (a Baker reads what cannot change once); each frame's problem as the bake read it is recorded beside the one
-Solve Pose reads from scratch at that frame. bpy is imported here only.
+Solve Pose reads from scratch at that frame. Then a frame change handler reshapes a mesh each frame, and the same
+bake follows it. bpy is imported here only.
 """
 
 from __future__ import annotations
@@ -92,8 +93,10 @@ def described(problem) -> dict:
     """What a read problem holds of the scene: each obstacle's kind, bounds (m), clearance and identity, the hand
     target's weight and the identity of each target."""
     return dict(
-        obstacles={ob.name: dict(kind=ob.kind, bounds=[b.tolist() for b in ob.bounds()], clearance=ob.clearance,
-                                 id=id(ob)) for ob in problem.obstacles},  # fmt: skip
+        obstacles={
+            ob.name: dict(kind=ob.kind, bounds=[b.tolist() for b in ob.bounds()], clearance=ob.clearance, id=id(ob))
+            for ob in problem.obstacles
+        },  # fmt: skip
         weights={t.tcp: t.weight for t in problem.all_targets},
         targets={t.tcp: id(t) for t in problem.all_targets},
     )
@@ -112,5 +115,32 @@ for frame in range(FRAMES[0], FRAMES[1] + 1):
     scene.frame_set(frame)
     fresh[str(frame)] = described(problem_io.read_problem(arm, start=False).problem)
 seen["fresh"] = fresh
+
+# A script that edits a mesh on each frame change: with such a handler no mesh is read once.
+scripted = cube("scripted", "MESH", (3.0, -3.0, 0.5))
+
+
+def reshape(scene, *_args) -> None:
+    half = 0.2 + 0.05 * scene.frame_current  # m: the cube's top (and bottom) moves away from its centre
+    for vertex in scripted.data.vertices:
+        vertex.co.z = half if vertex.co.z > 0.0 else -half
+    scripted.data.update()
+
+
+bpy.app.handlers.frame_change_post.append(reshape)
+tops: dict[str, float] = {}
+
+
+def top(record, result) -> None:
+    """The scripted mesh's highest point (m, armature space) as the bake read it at this frame."""
+    shape = next(ob for ob in result.problem.obstacles if ob.name == "scripted")
+    tops[str(record.frame)] = float(shape.bounds()[1][2])
+
+
+baker = bake.Baker(scene, arm, *FRAMES, on_frame=top)
+baker.run()
+seen["scripted"] = dict(tops=tops, fixed=[s.fixed for s in baker.held.sources if s.ob == scripted])
+baker.cancel()
+bpy.app.handlers.frame_change_post.remove(reshape)
 OUT.write_text(json.dumps(seen), encoding="utf-8")
 exit_process(0)

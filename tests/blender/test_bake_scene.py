@@ -73,3 +73,11 @@ def test_what_does_not_move_is_the_same_object_every_frame(session: dict) -> Non
     assert len({baked[f]["obstacles"]["moved"]["id"] for f in FRAMES}) == len(FRAMES)
     for tcp in ("foot_l", "foot_r"):
         assert len({baked[f]["targets"][tcp] for f in FRAMES[1:]}) == 1, tcp
+
+
+def test_a_mesh_a_frame_change_handler_edits_is_read_every_frame(session: dict) -> None:
+    """With a frame change handler (a script may edit any mesh there) even a plain mesh is read every frame."""
+    scripted = session["scripted"]
+    assert scripted["fixed"] == [False]
+    for frame in FRAMES:
+        assert scripted["tops"][frame] == pytest.approx(0.5 + 0.2 + 0.05 * int(frame), abs=1e-5), frame
