@@ -13,7 +13,8 @@ Each frame is read from the scene, even after a scenario import whose Problem co
 directly: the scene is the truth (the user may have moved, re-keyed, parented or constrained an empty, moved an
 obstacle or changed a setting since), and Blender blends keyed rotations linearly (normalised) where the scenario
 slerps, so only the scene's empties are what the user sees. A frame's read shares the previous frame's constraints
-(``read_problem``'s ``reuse``): about 1 ms against a solve of several.
+(``read_problem``'s ``reuse``), and what cannot change with the frame is read once per bake (``problem_io.Held``:
+the model, the objects to read, meshes nothing animates): about 0.3 ms against a solve of about 1.
 """
 
 from __future__ import annotations
