@@ -7,6 +7,7 @@ any direction; the armature must stay upright and unscaled (gravity is its -z).
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -27,15 +28,16 @@ from ...solver.iteration.result import shortfall_text
 from ...solver.stance import FEET, bounds_of, stepping, steps_of
 from .armature import color_bones_by_load, model_of, read_x, write_pose
 from .carried_object import carried_spec, find_carried, follow_solve
-from .obstacles import scene_obstacles
-from .registries import comfort_weights
-from .schema import ERROR_KEY, RESULT_KEY, members
+from .obstacles import obstacle_sources, scene_obstacles
+from .registries import comfort_settings, comfort_weights
+from .schema import ERROR_KEY, RESULT_KEY, linked_objects, members
 from .supports import STEP, floor_notes, moved_supports, pushed_notes, solved_lock
 
 if TYPE_CHECKING:
     from ...solver.body.model import Model
     from ...solver.body.state import State
     from ...solver.collision.carried import Carried
+    from ...solver.comfort.standard import ComfortWeights
 
 TOP_LOADS = 5
 
@@ -54,8 +56,8 @@ def _close(a: np.ndarray, b: np.ndarray) -> bool:
     return bool((np.abs(a - b) <= 1e-6 + 1e-5 * np.abs(b)).all())
 
 
-def _check_upright(arm: bpy.types.Object) -> None:
-    rot = np.array(arm.matrix_world.to_3x3())
+def _check_upright(arm: bpy.types.Object, rot: np.ndarray) -> None:
+    """ManikinError unless ``rot`` (the armature's world rotation) keeps it upright and unscaled."""
     if not _close(rot[:, 2], _UP) or not _close(rot.T @ rot, _EYE3):
         raise ManikinError(f"{arm.name}: the armature must stay upright and unscaled (turn it about z only)")
 
@@ -89,72 +91,145 @@ class SceneProblem:
     setup: tuple = ()  # everything read but the targets' poses: the same setup can share the problem's parts
 
 
+def _same(a: object, b: object) -> bool:
+    """The same object, or equal texts (an enum setting is read as a new str each time)."""
+    return a is b or (type(a) is str and a == b)
+
+
+class Held:
+    """What a bake reads of the scene once and keeps through its frames (nobody edits the scene then, but anything
+    may be animated): the model, the objects pointing at the armature (sorted; their roles and settings are read
+    every frame), the carried box (a text property, never animated), the comfort settings (their values are read
+    every frame) and the objects that may be obstacles (:class:`.obstacles.Source`: each frame reads their settings
+    and matrices, and their meshes unless nothing can change them). Solve Pose and live read a new one each time."""
+
+    def __init__(self, arm: bpy.types.Object) -> None:
+        self.model = model_of(arm)
+        self.linked = linked_objects(arm)
+        self.carried = carried = _carried(arm, self.model)
+        self.box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
+        self.sources = obstacle_sources(bpy.context.scene)
+        self.comfort = comfort_settings()
+        self._weights: tuple[tuple, ComfortWeights] | None = None  # the last settings' values and their weights
+        self.upright = b""  # the armature's rotation last checked upright (it may be animated)
+        self._targets: dict[str, tuple[tuple, Target]] = {}  # by empty: the last Target read and what it came from
+        self._options: tuple[tuple, SolverOptions] | None = None  # the last options and the settings they came from
+        self._text: tuple[tuple, str] | None = None  # the last settings' labels and their text
+
+    def weights(self, settings: object) -> ComfortWeights:
+        """The comfort weights ``settings`` hold now (made again when a value changed: they may be keyed)."""
+        values = tuple(getattr(settings, s.prop, s.default) for s in self.comfort)
+        if self._weights is None or self._weights[0] != values:
+            self._weights = values, comfort_weights(settings, self.comfort)
+        return self._weights[1]
+
+    def options(self, settings: object, live: bool) -> SolverOptions:
+        """The solver options the manikin's settings ask for (``live``: a drag's), the last ones while unchanged."""
+        values = (settings.live_iterations if live else settings.max_iterations, settings.comfort,
+                  0 if live else settings.restarts)  # a live drag keeps the arm configuration it has  # fmt: skip
+        if self._options is None or self._options[0] != values:
+            self._options = values, SolverOptions(max_iterations=values[0], optimize_comfort=values[1],
+                                                  restarts=values[2])  # fmt: skip
+        return self._options[1]
+
+    def text(self, labels: tuple) -> str:
+        """``repr(labels)`` (the manikin's settings, the held weights, options and box), made again only when one
+        of them is another (a keyed setting)."""
+        last = self._text
+        if last is None or not all(map(_same, last[0], labels)) or len(last[0]) != len(labels):
+            last = self._text = labels, repr(labels)
+        return last[1]
+
+    def target(self, ob: bpy.types.Object, label: tuple, local: Matrix, feet: str) -> Target:
+        """The Target of the empty ``ob`` (its settings ``label``, its matrix ``local`` in the armature's space,
+        the manikin's Feet setting): the last frame's very Target when all of these are the same (the constraints
+        built for it are then kept without comparing numbers)."""
+        signs = tuple(math.copysign(1.0, v) for v in label[7:9])  # friction, weight: -0.0 == 0.0 but is another input
+        key = (label, signs, feet, np.array(local).tobytes())
+        last = self._targets.get(ob.name)
+        if last is not None and last[0] == key:
+            return last[1]
+        rot, pos = _frame(local)
+        s = ob.manikin_target
+        target = Target(s.tcp, pos, rot, solved_lock(s.locked_axes(), s.support, feet), None, s.weight, s.support,
+                        s.friction, None, s.enabled, s.priority_number())  # fmt: skip
+        self._targets[ob.name] = key, target
+        return target
+
+
 def read_problem(
-    arm: bpy.types.Object, live: bool = False, start: bool = True, reuse: SceneProblem | None = None
+    arm: bpy.types.Object,
+    live: bool = False,
+    start: bool = True,
+    reuse: SceneProblem | None = None,
+    held: Held | None = None,
 ) -> SceneProblem:
     """The targets, loops and loads of ``arm`` as a solver Problem; raises ManikinError naming the empty.
     ``start``: also read the pose as the start point (a bake, which starts each frame from the previous one's
     solution, does without: ``x0`` is then None). ``reuse``: the problem read before (a bake's previous frame);
-    when only the targets' poses changed, the new problem shares its constraints (what they built and keep)."""
-    return _read_problem(arm, live, start, reuse)
+    when only the targets' poses changed, the new problem shares its constraints (what they built and keep).
+    ``held``: what a bake read once (:class:`Held`, of this armature and scene); default: read now."""
+    return _read_problem(arm, live, start, reuse, held)
 
 
-def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: SceneProblem | None) -> SceneProblem:
+def _read_problem(
+    arm: bpy.types.Object, live: bool, start: bool, reuse: SceneProblem | None, held: Held | None
+) -> SceneProblem:
     """:func:`read_problem` without reuse."""
-    _check_upright(arm)
-    model = model_of(arm)
+    world = arm.matrix_world  # a copy on each read: read once
+    arm_rot = np.array(world.to_3x3())
+    if held is None or held.upright != arm_rot.tobytes():  # a bake checks again when the armature turned
+        _check_upright(arm, arm_rot)
+    held = Held(arm) if held is None else held
+    held.upright = arm_rot.tobytes()
+    model = held.model
     settings = arm.manikin
-    to_local = arm.matrix_world.inverted()
-    arm_rot = np.array(arm.matrix_world.to_3x3())
+    to_local = world.inverted()
     x0 = read_x(arm) if start else None
     kin0 = None  # the pose's kinematics, for loop offsets only
     targets, loops, loads, labels, numbers, fixed = [], [], [], [], [], []
-    for ob in members(arm):
+    for ob in members(arm, held.linked):
         s = ob.manikin_target
-        for name in (s.tcp, s.other) if s.role == "LOOP" else (s.tcp,):
+        label = (ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
+                 s.priority)  # fmt: skip
+        role, enabled = label[1], label[6]  # each property read costs: read once
+        for name in label[2:4] if role == "LOOP" else label[2:3]:
             if name not in model.tcps:
                 raise ManikinError(f"{ob.name}: unknown TCP {name!r} (known: {', '.join(sorted(model.tcps))})")
-        rot, pos = _frame(to_local @ ob.matrix_world)
-        if s.role == "TARGET":
-            targets.append(
-                Target(s.tcp, pos, rot, solved_lock(s.locked_axes(), s.support, settings.feet), None, s.weight,
-                       s.support, s.friction, None, s.enabled, s.priority_number())
-            )  # fmt: skip
-            given = (pos, rot)
-        elif s.role == "LOOP" and s.enabled:
+        if role == "TARGET":
+            target = held.target(ob, label, to_local @ ob.matrix_world, settings.feet)
+            targets.append(target)
+            given = (target.position, target.rotation)
+        elif role == "LOOP" and enabled:
+            rot, pos = _frame(to_local @ ob.matrix_world)
             if kin0 is None:
                 kin0 = model.forward((read_x(arm) if x0 is None else x0)[: model.n])
             other_rot, other_pos = kin0.tcp_frame(model.tcp(s.other))
             given = (other_rot.T @ (pos - other_pos), other_rot.T @ rot)  # the offset, unchanged by posing
             loops.append(Loop(s.tcp, s.other, *given, s.locked_axes(), None, s.weight))
-        elif s.role == "LOAD" and s.enabled:
+        elif role == "LOAD" and enabled:
             given = (arm_rot.T @ np.array(s.force),)
             loads.append(ExternalLoad(s.tcp, *given))
         else:
             continue
-        labels.append((ob.name, s.role, s.tcp, s.other, tuple(s.lock), s.support, s.enabled, s.friction, s.weight,
-                       s.priority))  # fmt: skip
-        numbers.extend(np.ravel(v) for v in given)
-        if s.role != "TARGET":
-            fixed.extend(np.ravel(v) for v in given)
+        labels.append(label)
+        numbers.extend(v.ravel() for v in given)
+        if role != "TARGET":
+            fixed.extend(v.ravel() for v in given)
     if not targets and not loops:
         raise ManikinError(f"{arm.name}: nothing to solve; add a target (Manikin > Add Target)")
-    weights = comfort_weights(settings)  # one per registered standard comfort term
+    weights = held.weights(settings)  # one per registered standard comfort term
     try:
         groups = DEFAULT_GROUPS if settings.reduction else ()
-        obstacles, shapes = scene_obstacles(arm)
+        obstacles, shapes = scene_obstacles(arm, held.sources)
         numbers += shapes
-        carried = _carried(arm, model)
-        options = SolverOptions(
-            max_iterations=settings.live_iterations if live else settings.max_iterations,
-            optimize_comfort=settings.comfort,
-            restarts=0 if live else settings.restarts,  # a live drag keeps the arm configuration it has
-        )
-        box = None if carried is None else (carried.name, carried.tcps, tuple(carried.size))
-        labels.append((settings.feet, settings.balance, settings.floor, settings.self_collision, settings.comfort,
-                       settings.reduction, weights, options, box))  # fmt: skip
+        carried = held.carried
+        options = held.options(settings, live)
+        tail = (settings.feet, settings.balance, settings.floor, settings.self_collision, settings.comfort,
+                settings.reduction, weights, options, held.box)  # fmt: skip
+        text = "[" + ", ".join([*map(repr, labels), held.text(tail)]) + "]"  # repr([*labels, tail])
         # all but the targets' poses; obstacles by identity (unchanged shapes made from bounds are the same objects)
-        setup = (id(model), repr(labels), np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
+        setup = (id(model), text, np.concatenate(fixed + shapes).tobytes() if fixed or shapes else b"",
                  tuple(id(o) for o in obstacles))  # fmt: skip
         if reuse is not None and reuse.setup == setup and settings.feet != STEP:  # stepping: from the feet's targets
             problem = reuse.problem.with_targets(targets)
@@ -164,7 +239,7 @@ def _read_problem(arm: bpy.types.Object, live: bool, start: bool, reuse: ScenePr
             problem = stepping(problem) if settings.feet == STEP else problem
     except ManikinError as exc:
         raise ManikinError(f"{arm.name}: {exc}") from None
-    inputs = Inputs(repr(labels), np.concatenate(numbers) if numbers else np.zeros(0))
+    inputs = Inputs(text, np.concatenate(numbers) if numbers else np.zeros(0))
     warm = x0 if x0 is None or len(x0) == problem.n_x else x0[: model.n]  # remembered forces fit the same supports
     return SceneProblem(problem, warm, options, inputs, setup)
 

@@ -63,13 +63,14 @@ def comfort_settings() -> list[ComfortSetting]:
             for name, term in STANDARD_TERMS.items()]  # fmt: skip
 
 
-def comfort_weights(settings: object) -> ComfortWeights:
+def comfort_weights(settings: object, terms: list[ComfortSetting] | None = None) -> ComfortWeights:
     """The comfort weights a manikin's settings hold (a term registered after the add-on has no setting: its
-    default)."""
+    default). ``terms``: :func:`comfort_settings` (default: made now)."""
     from ...solver.comfort.standard import ComfortWeights
 
     # a setting is single precision: 0.01 typed is 0.00999999978; its shortest decimal is what was meant
-    return ComfortWeights(**{s.term: float(f"{getattr(settings, s.prop, s.default):.7g}") for s in comfort_settings()})
+    return ComfortWeights(**{s.term: float(f"{getattr(settings, s.prop, s.default):.7g}")
+                             for s in (comfort_settings() if terms is None else terms)})  # fmt: skip
 
 
 def set_comfort_weights(settings: object, weights: ComfortWeights) -> None:

@@ -97,13 +97,15 @@ def orphan_hint(obj: bpy.types.Object | None) -> str:
     return f"{obj.name} belongs to the deleted manikin {arm.name}: remove what it left with Delete Manikin"
 
 
-def members(arm: bpy.types.Object) -> list[bpy.types.Object]:
-    """Target, loop and load empties of ``arm`` that are in some scene, sorted by name."""
-    found = [
-        ob
-        for ob in bpy.data.objects
-        if ob.manikin_target.role != "NONE" and ob.manikin_target.rig == arm and ob.users_scene
-    ]
+def members(arm: bpy.types.Object, linked: list[bpy.types.Object] | None = None) -> list[bpy.types.Object]:
+    """Target, loop and load empties of ``arm`` that are in some scene, sorted by name. ``linked``: the objects
+    :func:`linked_objects` found (a bake finds them once: its frames read only their roles)."""
+    return [ob for ob in (linked_objects(arm) if linked is None else linked) if ob.manikin_target.role != "NONE"]
+
+
+def linked_objects(arm: bpy.types.Object) -> list[bpy.types.Object]:
+    """The objects in some scene whose Manikin settings point at ``arm`` (any role, NONE too), sorted by name."""
+    found = [ob for ob in bpy.data.objects if ob.manikin_target.rig == arm and ob.users_scene]
     return sorted(found, key=lambda ob: ob.name)
 
 
@@ -119,10 +121,18 @@ def tcp_empty(arm: bpy.types.Object, tcp: str) -> bpy.types.Object | None:
 def is_obstacle(ob: bpy.types.Object) -> bool:
     """A mesh object marked as an obstacle, or in the "Obstacles" collection; never a carried box (it moves with the
     hands: as an obstacle it would push them away from itself)."""
-    if ob.type != "MESH" or CARRIED_KEY in ob:
+    if not may_be_obstacle(ob):
         return False
-    if ob.manikin_obstacle.enabled:
-        return True
+    return ob.manikin_obstacle.enabled or in_obstacles(ob)
+
+
+def may_be_obstacle(ob: bpy.types.Object) -> bool:
+    """What :func:`is_obstacle` needs besides the settings and the collections: a mesh object, no carried box."""
+    return ob.type == "MESH" and CARRIED_KEY not in ob
+
+
+def in_obstacles(ob: bpy.types.Object) -> bool:
+    """In an obstacle collection ("Obstacles", or one marked as a scene's): an obstacle whatever its settings."""
     return any(c.name == OBSTACLES or OBSTACLES_KEY in c for c in ob.users_collection)
 
 
