@@ -20,7 +20,8 @@ from solver.ergonomics.report import frame_parts, frame_report
 from solver.ergonomics.report_text import LoadsText, dumps_filled
 from solver.ergonomics.stream import PlotSeries
 from solver.io.result.document import compact_frame_dict, frame_to_dict, result_to_dict, rotation_quaternion
-from solver.io.result.frame_text import SLOT, CompactText, Numbers, PoseText
+from solver.io.result.frame_text import SLOT, Numbers, PoseText
+from solver.io.result.line_text import CompactText
 from solver.io.values import quaternion
 
 BOX_LIFT_MOTION = Path(__file__).resolve().parents[4] / "presets" / "scenarios" / "box_lift_motion.toml"
