@@ -24,31 +24,38 @@ from .frame_text import COMPACT_JSON, SLOT, template
 
 if TYPE_CHECKING:
     from ...body.state import State
+    from ...constraints.clearance import Closeness
     from ...iteration.result import Result
 
 _ENCODE = COMPACT_JSON.encode
 _STRING = json.encoder.encode_basestring_ascii  # what the encoder writes a str with (ensure_ascii)
 _HEAD = ("frame", "converged", "stop", "iterations", "time_s", "unmet", "broken", "shortfall", "notes")
-_TEXT = ("feet", "joint_values")  # slots filled with text as a whole; "steps" (when stepping) goes in feet's slot
-_TEMPLATES = 64  # layouts kept (the closest pairs come and go); more are made again as needed
+_FLOATS = {float, np.float64}  # the number types JSON writes as float.__repr__ does
+_TEMPLATES = 64  # layouts kept; more are made again as needed
 
 
 class TextCache:
-    """The JSON texts of a vector's numbers, each kept while its bits stay (-0.0 is not 0.0)."""
+    """The JSON texts of a vector's numbers, each kept while its bits stay (-0.0 is not 0.0); a vector of another
+    length keeps the texts of the numbers they share at the start."""
 
     def __init__(self) -> None:
         self._bits: np.ndarray | None = None
         self._texts: np.ndarray = np.array([], dtype=object)
 
-    def __call__(self, values: np.ndarray | list[float]) -> list[str] | None:
-        """The text of each number; None when one is not finite (JSON's NaN is not repr's nan)."""
-        a = np.array(values, dtype=float)  # a copy: the bits kept for the next call
-        bits = a.view(np.int64)
-        if self._bits is None or len(bits) != len(self._bits):
-            changed = np.ones(len(bits), dtype=bool)
-            self._texts = np.empty(len(bits), dtype=object)
+    def __call__(self, a: np.ndarray) -> list[str] | None:
+        """The text of each number of the float64 vector ``a`` (kept: not to be changed after); None when one is not
+        finite (JSON's NaN is not repr's nan)."""
+        bits, old = a.view(np.int64), self._bits
+        if old is not None and len(old) == len(bits):
+            changed = bits != old
         else:
-            changed = bits != self._bits
+            changed = np.ones(len(bits), dtype=bool)
+            texts = np.empty(len(bits), dtype=object)
+            if old is not None:
+                kept = min(len(old), len(bits))
+                changed[:kept] = bits[:kept] != old[:kept]
+                texts[:kept] = self._texts[:kept]
+            self._texts = texts
         text = repr(a[changed].tolist())
         if "n" in text:  # "nan", "inf": the only float reprs with an n
             self._bits = None
@@ -85,17 +92,27 @@ def _slotted(value: object) -> object:
     return SLOT if isinstance(value, float) else value
 
 
+def _count(value: object) -> int:
+    """How many floats ``value`` holds (the slots :func:`_slotted` puts in)."""
+    if isinstance(value, dict):
+        return sum(_count(v) for v in value.values())
+    if isinstance(value, list):
+        return sum(_count(v) for v in value)
+    return isinstance(value, float)
+
+
 class CompactText:
     """``json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":"))`` of frame after frame."""
 
     def __init__(self) -> None:
         self._joints = TextCache()  # the joint values
-        self._numbers = TextCache()  # every other float of the line but time_s, in the line's order
-        self._templates: dict[tuple, tuple[str, int, int]] = {}  # layout -> (template, numbers before feet, after)
+        self._numbers = TextCache()  # the line's other floats but time_s, the closest pairs' last (their count varies)
+        self._templates: dict[tuple, tuple[str, int, int, int]] = {}  # layout -> (template, its number counts)
+        self._pairs: dict[tuple[str, str], str] = {}  # a closest pair's names -> its entry's template
 
     def joint_values(self, theta: np.ndarray) -> str | None:
         """The JSON array of joint values ``theta``; None when one is not finite."""
-        texts = self._joints(theta)
+        texts = self._joints(np.array(theta, dtype=float))
         return None if texts is None else "[" + ",".join(texts) + "]"
 
     def __call__(self, result: Result, frame: int = 1, state: State | None = None) -> str:
@@ -107,70 +124,82 @@ class CompactText:
     def _line(self, result: Result, frame: int, state: State) -> str | None:
         """The line through the layout's template, or None for anything it does not cover."""
         problem = result.problem
-        targets = problem.target_frames(state)
-        closest, carried, steps = result.closest, problem.carried_constraint, step_dicts(result)
-        residuals, terms = result.residuals, result.comfort_parts
+        targets, carried, steps = problem.target_frames(state), problem.carried_constraint, step_dicts(result)
+        residuals, terms, closest = result.residuals, result.comfort_parts, result.closest
         loads = list(zip(problem.loads, state.statics.load_points, strict=True))
-        scalars = [*residuals.values(), result.comfort, *terms.values()]
+        scalars = [
+            *residuals.values(),
+            result.comfort,
+            *terms.values(),
+            *[v for c in closest for v in (c.distance, c.clearance)],
+        ]
         nums: list[float] = []
         for rotation, position in targets.values():
             nums += floats(position)
             nums += rotation_quaternion(rotation)
-        nums += scalars
+        nums += scalars[: len(scalars) - 2 * len(closest)]
         nums += floats(result.com)
-        for c in closest:
-            scalars += (c.distance, c.clearance)
-            nums += (c.distance + 0.0, c.clearance + 0.0, *(np.asarray(c.point, dtype=float) + 0.0).tolist(),
-                     *(np.asarray(c.other_point, dtype=float) + 0.0).tolist())  # fmt: skip
+        ends = [len(nums)]
         if carried is not None:
             centre, rotation = carried.frame(state)
-            nums += floats(carried.carried.size)
-            nums += floats(centre)
-            nums += rotation_quaternion(rotation)
-            nums.append(CLEARANCE)
-        split = len(nums)
+            nums += [*floats(carried.carried.size), *floats(centre), *rotation_quaternion(rotation), CLEARANCE]
+        ends.append(len(nums))
         for c in result.contacts:
-            nums += floats(c["point"])
-            nums += floats(c["force"])
-            nums += floats(c["moment"])
+            nums += [*floats(c["point"]), *floats(c["force"]), *floats(c["moment"])]
         for ld, point in loads:
-            nums += floats(point)
-            nums += floats(ld.force)
-        if not all(isinstance(v, float) for v in scalars):  # an int, a None: JSON writes them otherwise
+            nums += [*floats(point), *floats(ld.force)]
+        ends.append(len(nums))
+        for c in closest:
+            nums += [c.distance, c.clearance, *floats(c.point), *floats(c.other_point)]
+        if not set(map(type, scalars)) <= _FLOATS:  # an int, a None: JSON writes them otherwise
             return None
         box = None if carried is None else (carried.carried.name, tuple(carried.carried.tcps), tuple(carried.excluded))
-        names = tuple([(c.part, c.other) for c in closest])
         wrenches = tuple([c["tcp"] for c in result.contacts]), tuple([ld.tcp.name for ld, _ in loads])
-        key = (tuple(targets), tuple(residuals), tuple(terms), names, box, steps is None, wrenches)
-        made = self._templates.get(key)
-        if made is None:
-            made = self._template(key, result, frame, state)
-        text, before, after = made
-        texts = self._numbers(nums)
-        values = self.joint_values(result.theta)
-        if texts is None or values is None or len(texts) != before + after or before != split:
+        key = (tuple(targets), tuple(residuals), tuple(terms), box, steps is None, wrenches)
+        made = self._templates.get(key) or self._template(key, result, frame, state)
+        a = np.array(nums, dtype=float)
+        a[ends[2] :] += 0.0  # the closest pairs' -0.0 (a touching pair's exact zero) written as 0.0, as to_dict does
+        texts, values = self._numbers(a), self.joint_values(result.theta)
+        if texts is None or values is None or made[1:] != tuple(ends):
             return None
+        pairs = []
+        for i, c in enumerate(closest):
+            pair = self._pairs.get((c.part, c.other)) or self._pair(c)
+            pairs.append(pair % tuple(texts[ends[2] + 8 * i : ends[2] + 8 * i + 8]))
         feet = '"planted"' if steps is None else '"step","steps":' + _ENCODE(steps)
         head = [_small(getattr(result, name)) for name in ("converged", "iterations", "time_s")]
         fills = (
             _small(frame), head[0], _small(None if result.stop is None else result.stop.value), head[1], head[2],
             _small(list(result.unmet)), _small(list(result.broken)), _small(result.shortfall),
-            _small(list(result.notes)), *texts[:before], feet, values, *texts[before:],
+            _small(list(result.notes)), *texts[: ends[0]], "[" + ",".join(pairs) + "]", *texts[ends[0] : ends[1]],
+            feet, values, *texts[ends[1] : ends[2]],
         )  # fmt: skip
-        return text % fills
+        return made[0] % fills
 
-    def _template(self, key: tuple, result: Result, frame: int, state: State) -> tuple[str, int, int]:
-        """The layout's template from the frame's own dicts: (text, numbers before feet, numbers after)."""
+    def _pair(self, c: Closeness) -> str:
+        """The template of a closest pair's entry (:meth:`~solver.constraints.clearance.Closeness.to_dict`)."""
+        text, slots = template(_slotted(c.to_dict()), separators=(",", ":"))
+        if slots != 8:
+            raise ValueError(f"a closest entry of {slots} numbers")
+        if len(self._pairs) >= _TEMPLATES * 16:
+            self._pairs.clear()
+        self._pairs[c.part, c.other] = text
+        return text
+
+    def _template(self, key: tuple, result: Result, frame: int, state: State) -> tuple[str, int, int, int]:
+        """The layout's template from the frame's own dicts: (text, the number counts up to the closest pairs, up to
+        the feet, up to the end)."""
         status = frame_status(result, frame, state)
         status.pop("steps", None)
         status["joint_values"] = SLOT
         status |= compact_wrenches(result, state)
-        cut = list(status).index("feet")
-        for name in _HEAD + _TEXT:
+        for name in (*_HEAD, "closest", "feet", "joint_values"):
             status[name] = SLOT
-        before = template({k: _slotted(v) for k, v in list(status.items())[:cut]}, separators=(",", ":"))[1]
-        text, slots = template({k: _slotted(v) for k, v in status.items()}, separators=(",", ":"))
+        keys = list(status)
+        parts = keys[len(_HEAD) : keys.index("closest")], keys[keys.index("closest") : keys.index("feet")], keys
+        ends = tuple(sum(_count(status[k]) for k in part) for part in parts)
+        text, _ = template({k: _slotted(v) for k, v in status.items()}, separators=(",", ":"))
         if len(self._templates) >= _TEMPLATES:
             self._templates.clear()
-        made = self._templates[key] = (text, before - len(_HEAD), slots - before - len(_TEXT))
+        made = self._templates[key] = (text, ends[0], ends[0] + ends[1], ends[2])
         return made
