@@ -105,15 +105,9 @@ class CompactText:
     """``json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":"))`` of frame after frame."""
 
     def __init__(self) -> None:
-        self._joints = TextCache()  # the joint values
-        self._numbers = TextCache()  # the line's other floats but time_s, the closest pairs' last (their count varies)
+        self._numbers = TextCache()  # the joint values, the line's other floats but time_s, the closest pairs' last
         self._templates: dict[tuple, tuple[str, int, int, int]] = {}  # layout -> (template, its number counts)
         self._pairs: dict[tuple[str, str], str] = {}  # a closest pair's names -> its entry's template
-
-    def joint_values(self, theta: np.ndarray) -> str | None:
-        """The JSON array of joint values ``theta``; None when one is not finite."""
-        texts = self._joints(np.array(theta, dtype=float))
-        return None if texts is None else "[" + ",".join(texts) + "]"
 
     def __call__(self, result: Result, frame: int = 1, state: State | None = None) -> str:
         """The compact file's line of one frame (without its newline)."""
@@ -157,11 +151,13 @@ class CompactText:
         wrenches = tuple([c["tcp"] for c in result.contacts]), tuple([ld.tcp.name for ld, _ in loads])
         key = (tuple(targets), tuple(residuals), tuple(terms), box, steps is None, wrenches)
         made = self._templates.get(key) or self._template(key, result, frame, state)
-        a = np.array(nums, dtype=float)
-        a[ends[2] :] += 0.0  # the closest pairs' -0.0 (a touching pair's exact zero) written as 0.0, as to_dict does
-        texts, values = self._numbers(a), self.joint_values(result.theta)
-        if texts is None or values is None or made[1:] != tuple(ends):
+        theta = np.asarray(result.theta, dtype=float)
+        a = np.concatenate((theta, nums))  # (their count varies: the closest pairs last, the others' texts kept)
+        a[len(theta) + ends[2] :] += 0.0  # the closest pairs' -0.0 (a touching pair's zero) written 0.0 as to_dict does
+        texts = self._numbers(a)
+        if texts is None or made[1:] != tuple(ends):
             return None
+        values, texts = "[" + ",".join(texts[: len(theta)]) + "]", texts[len(theta) :]
         pairs = []
         for i, c in enumerate(closest):
             pair = self._pairs.get((c.part, c.other)) or self._pair(c)
