@@ -101,6 +101,15 @@ def _count(value: object) -> int:
     return isinstance(value, float)
 
 
+def _near(closest: list[Closeness]) -> np.ndarray:
+    """The closest pairs' numbers pair by pair (distance, clearance, point, other_point), a -0.0 (a touching pair's
+    exact zero) as 0.0, as :meth:`~solver.constraints.clearance.Closeness.to_dict` writes them."""
+    if not closest:
+        return np.empty(0)
+    columns = [c.distance for c in closest], [c.clearance for c in closest], [c.point for c in closest]
+    return (np.column_stack((*columns, [c.other_point for c in closest])) + 0.0).ravel()
+
+
 class CompactText:
     """``json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":"))`` of frame after frame."""
 
@@ -143,8 +152,6 @@ class CompactText:
         for ld, point in loads:
             nums += [*floats(point), *floats(ld.force)]
         ends.append(len(nums))
-        for c in closest:
-            nums += [c.distance, c.clearance, *floats(c.point), *floats(c.other_point)]
         if not set(map(type, scalars)) <= _FLOATS:  # an int, a None: JSON writes them otherwise
             return None
         box = None if carried is None else (carried.carried.name, tuple(carried.carried.tcps), tuple(carried.excluded))
@@ -152,8 +159,7 @@ class CompactText:
         key = (tuple(targets), tuple(residuals), tuple(terms), box, steps is None, wrenches)
         made = self._templates.get(key) or self._template(key, result, frame, state)
         theta = np.asarray(result.theta, dtype=float)
-        a = np.concatenate((theta, nums))  # (their count varies: the closest pairs last, the others' texts kept)
-        a[len(theta) + ends[2] :] += 0.0  # the closest pairs' -0.0 (a touching pair's zero) written 0.0 as to_dict does
+        a = np.concatenate((theta, nums, _near(closest)))  # the closest pairs last: their count varies
         texts = self._numbers(a)
         if texts is None or made[1:] != tuple(ends):
             return None
