@@ -1,5 +1,5 @@
 """The compact file's line of a frame built as text: the same characters as ``json.dumps(compact_frame_dict(...),
-separators=(",", ":"))``, at a fraction of the cost (issue 37: the 10,000-frame motion).
+separators=(",", ":"))``, cheaper (issue 37: the 10,000-frame motion).
 
 Writing a float (its shortest ``repr``) is most of a line's cost, and most numbers of a frame keep their bits from
 the frame before (a held target, a joint that did not move): :class:`TextCache` turns only the changed ones into
@@ -167,6 +167,8 @@ class CompactText:
         pairs = []
         for i, c in enumerate(closest):
             pair = self._pairs.get((c.part, c.other)) or self._pair(c)
+            if pair is None:
+                return None
             pairs.append(pair % tuple(texts[ends[2] + 8 * i : ends[2] + 8 * i + 8]))
         feet = '"planted"' if steps is None else '"step","steps":' + _ENCODE(steps)
         head = [_small(getattr(result, name)) for name in ("converged", "iterations", "time_s")]
@@ -178,11 +180,12 @@ class CompactText:
         )  # fmt: skip
         return made[0] % fills
 
-    def _pair(self, c: Closeness) -> str:
-        """The template of a closest pair's entry (:meth:`~solver.constraints.clearance.Closeness.to_dict`)."""
+    def _pair(self, c: Closeness) -> str | None:
+        """The template of a closest pair's entry (:meth:`~solver.constraints.clearance.Closeness.to_dict`); None
+        if it does not hold the 8 numbers :func:`_near` gathers."""
         text, slots = template(_slotted(c.to_dict()), separators=(",", ":"))
         if slots != 8:
-            raise ValueError(f"a closest entry of {slots} numbers")
+            return None
         if len(self._pairs) >= _TEMPLATES * 16:
             self._pairs.clear()
         self._pairs[c.part, c.other] = text
