@@ -43,8 +43,11 @@ def terminate(signum: int, frame: object) -> None:
     raise KeyboardInterrupt
 
 
+_MAIN = threading.main_thread()  # the only thread Python runs handlers in
+
+
 def _main_thread() -> bool:
-    return threading.current_thread() is threading.main_thread()  # the only thread Python runs handlers in
+    return threading.current_thread() is _MAIN
 
 
 @contextmanager
@@ -74,31 +77,36 @@ def ignore_stops() -> None:
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
 
 
-@contextmanager
-def interrupts_held() -> Iterator[None]:
+class interrupts_held:  # noqa: N801 (used as the function it was: ``with interrupts_held():``)
     """Ctrl-C (SIGINT) or a SIGTERM handled as one arriving inside the block raises KeyboardInterrupt when the
     block ends, not inside it.
 
     A Python-level handler, not a signal mask: in a process with other threads (Blender's) the kernel hands the
     signal to a thread that does not block it, and Python would still raise inside the block. Only Python's own
     Ctrl-C handler is replaced (in the main thread); with any other (ignored, an application's) Ctrl-C is left as
-    it is, and without :func:`terminate` for SIGTERM the block runs as it is."""
-    outer = _Held.depth == 0
-    own_int = outer and _main_thread() and _signal.getsignal(signal.SIGINT) is signal.default_int_handler
-    own_term = outer and _main_thread() and _signal.getsignal(signal.SIGTERM) is terminate
-    if outer and not (own_int or own_term):
-        yield
-        return
-    if own_int:
-        _signal.signal(signal.SIGINT, _hold)
-    _Held.depth += 1
-    try:
-        yield
-    finally:
+    it is, and without :func:`terminate` for SIGTERM the block runs as it is. A class, not a generator: it is
+    entered once a frame written (~1 us saved a frame)."""
+
+    __slots__ = ("outer", "own_int", "active")
+
+    def __enter__(self) -> None:
+        self.outer = outer = _Held.depth == 0
+        main = outer and threading.current_thread() is _MAIN
+        self.own_int = main and _signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        self.active = not outer or self.own_int or (main and _signal.getsignal(signal.SIGTERM) is terminate)
+        if not self.active:
+            return
+        if self.own_int:
+            _signal.signal(signal.SIGINT, _hold)
+        _Held.depth += 1
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: object) -> None:
+        if not self.active:
+            return
         _Held.depth -= 1
-        if own_int:
+        if self.own_int:
             _signal.signal(signal.SIGINT, signal.default_int_handler)
-        if outer:
+        if self.outer:
             pending, _Held.pending = _Held.pending, False
-    if outer and pending:  # (an exception from the block goes on instead)
-        raise KeyboardInterrupt
+            if pending and kind is None:  # (an exception from the block goes on instead)
+                raise KeyboardInterrupt

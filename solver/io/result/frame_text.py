@@ -15,8 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..values import floats
-from .document import compact_wrenches, contacts_dict, frame_status, frame_to_dict, loads_list, rotation_quaternion
+from .document import contacts_dict, frame_status, frame_to_dict, loads_list, rotation_quaternion
 from .frame import Frame, frame_of_result
 
 if TYPE_CHECKING:
@@ -125,42 +124,3 @@ class PoseText:
         state = result.state if state is None else state
         status = json.dumps(frame_status(result, frame, state))
         return status[:-1] + ", " + self(frame_of_result(result, frame, state))[1:]
-
-
-class CompactText:
-    """``json.dumps(compact_frame_dict(result, frame, state), separators=(",", ":"))`` of frame after frame: a joint
-    value with the same bits as in the frame before keeps its text (a motion leaves most joints where they were, and
-    writing a float is most of the line's cost)."""
-
-    def __init__(self) -> None:
-        self._bits: np.ndarray | None = None  # the last frame's joint values as int64 bits: -0.0 is not 0.0
-        self._texts: np.ndarray = np.array([], dtype=object)  # their texts
-
-    def joint_values(self, theta: np.ndarray) -> str | None:
-        """The JSON array of joint values ``theta``; None when one is not finite (JSON's NaN is not repr's nan)."""
-        theta = np.ascontiguousarray(theta, dtype=float)
-        bits = theta.view(np.int64)
-        if self._bits is None or len(bits) != len(self._bits):
-            changed = np.ones(len(bits), dtype=bool)
-            self._texts = np.empty(len(bits), dtype=object)
-        else:
-            changed = bits != self._bits
-        text = repr(theta[changed].tolist())
-        if "n" in text:  # "nan", "inf": the only float reprs with an n
-            self._bits = None
-            return None
-        if len(text) > 2:
-            self._texts[changed] = text[1:-1].split(", ")
-        self._bits = bits.copy()
-        return "[" + ",".join(self._texts.tolist()) + "]"
-
-    def __call__(self, result: Result, frame: int = 1, state: State | None = None) -> str:
-        """The compact file's line of one frame (without its newline)."""
-        state = result.state if state is None else state
-        status = frame_status(result, frame, state)
-        values = self.joint_values(result.theta)
-        if values is None:
-            status["joint_values"] = floats(result.theta)
-            return COMPACT_JSON.encode(status | compact_wrenches(result, state))
-        tail = COMPACT_JSON.encode(compact_wrenches(result, state))
-        return COMPACT_JSON.encode(status)[:-1] + ',"joint_values":' + values + "," + tail[1:]

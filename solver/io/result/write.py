@@ -21,7 +21,8 @@ from ...iteration.result import Result
 from ..files import OutputFile
 from ..interrupts import interrupts_held
 from .document import compact_header
-from .frame_text import CompactText, PoseText
+from .frame_text import PoseText
+from .line_text import CompactText
 
 if TYPE_CHECKING:
     from ...body.state import State

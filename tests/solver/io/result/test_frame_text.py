@@ -20,7 +20,8 @@ from solver.ergonomics.report import frame_parts, frame_report
 from solver.ergonomics.report_text import LoadsText, dumps_filled
 from solver.ergonomics.stream import PlotSeries
 from solver.io.result.document import compact_frame_dict, frame_to_dict, result_to_dict, rotation_quaternion
-from solver.io.result.frame_text import SLOT, CompactText, Numbers, PoseText
+from solver.io.result.frame_text import SLOT, Numbers, PoseText
+from solver.io.result.line_text import CompactText
 from solver.io.values import quaternion
 
 BOX_LIFT_MOTION = Path(__file__).resolve().parents[4] / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -53,17 +54,6 @@ def test_compact_lines_are_the_json_of_their_dicts(solved) -> None:
     text = CompactText()  # one writer: each frame's joint values that kept their bits keep their text
     for number, result in [*solved, *solved[::-1]]:
         assert text(result, number) == compact_json(result, number)
-
-
-def test_compact_joint_values_that_change_get_new_text() -> None:
-    """The texts kept from the frame before: a value that changes in its bits only (0.0 to -0.0), a value not finite
-    (then JSON's own NaN), and another count of joints (another model) each get the text JSON gives them."""
-    text = CompactText()
-    values = np.array([0.0, 1.5, -2.25, 1e-17, 1e16, 0.1])
-    for theta in (values, values * [-1.0, 1, 1, 1, 1, 1], values + [0, 0, 1e-16, 0, 0, 0], values[:4], values):
-        assert text.joint_values(theta) == json.dumps(theta.tolist(), separators=(",", ":"))
-    assert text.joint_values(values * np.nan) is None and text.joint_values(np.array([])) == "[]"
-    assert text.joint_values(values) == json.dumps(values.tolist(), separators=(",", ":"))
 
 
 def test_a_compact_line_with_a_value_not_finite_is_the_json_of_its_dict(solved) -> None:
