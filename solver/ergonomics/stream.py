@@ -61,9 +61,9 @@ class PlotSeries:
         seen = ~np.isnan(table).all(axis=0)
         peak = np.where(seen, np.nanmax(np.where(np.isnan(table), 0.0, table), axis=0, initial=0.0), -1.0)
         order = [j for j in np.argsort(-peak, kind="stable") if seen[j]][:top]
-        frames = []
-        for i, row in enumerate(self.rows):
-            loads = {self.joints[j]: {"percent_strength": _number(table[i, j])} for j in order}
+        frames, names = [], [self.joints[j] for j in order]
+        for row, values in zip(self.rows, table[:, order].tolist(), strict=True):  # Python floats: no numpy scalars
+            loads = {name: {"percent_strength": _number(v)} for name, v in zip(names, values, strict=True)}
             frames.append(dict(row, joint_loads=dict(loads, l4_l5=row["l4_l5"])))
         return {"frames": frames}
 
