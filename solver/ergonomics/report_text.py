@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 from ..io.result.frame_text import SLOT, Numbers, interleave, template
 from .loads import JointLoads
 
@@ -33,12 +35,30 @@ class LoadsText:
             self._template, self._slots = template(layout, allow_nan=False)
             self._names = list(loads.names)
         numbers = Numbers()
-        moments, axis = numbers.rows(loads.moment), numbers.items(loads.axis_moment)
+        moments, axis = _rows(loads.moment), numbers.items(loads.axis_moment)
         percent = ["null" if "n" in p else p for p in Numbers().items(loads.percent)]  # nan, inf: null
         filled = (*interleave(moments, axis, percent), json.dumps(loads.l4_l5, allow_nan=False))
-        if not numbers.finite or len(filled) != self._slots:  # a moment not finite, or names the dict merges
+        finite = numbers.finite and not any("n" in m for m in moments[:1])  # _rows' first: all, if not finite
+        if not finite or len(filled) != self._slots:  # a moment not finite, or names the dict merges
             return json.dumps(loads.as_dict(), allow_nan=False)
         return self._template % filled
+
+
+def _rows(a: np.ndarray) -> list[str]:
+    """The text inside the brackets of each row of an (n, 3) array (``"x, y, z"``, repr of each float), written
+    once for a run of rows with the same bits (the joints of one ball joint share their moment); the first text is
+    all the array's text instead when a number is not finite (it holds "nan" or "inf")."""
+    a = np.ascontiguousarray(a, dtype=float)
+    if not len(a):
+        return []
+    bits = a.view(np.int64)  # bits, not values: 0.0 and -0.0 are written differently
+    starts = np.ones(len(a), dtype=bool)
+    starts[1:] = (bits[1:] != bits[:-1]).any(axis=1)
+    text = repr(a[starts].tolist())
+    if "n" in text:  # "nan", "inf": the only float reprs with an n
+        return [text] * len(a)
+    texts = text[2:-2].split("], [")
+    return [texts[i] for i in (np.cumsum(starts) - 1).tolist()]
 
 
 def dumps_filled(value: object, filling: str) -> str | None:

@@ -18,7 +18,8 @@ from solver.body.spatial import cross
 from solver.ergonomics import ErgoOptions, run
 from solver.ergonomics.loads import subtree_sums
 from solver.ergonomics.manikin import resolve_model, working_area
-from solver.ergonomics.report import csv_cells, csv_header, csv_row, frame_report
+from solver.ergonomics.report import csv_cells, csv_header, csv_row, frame_parts, frame_report
+from solver.ergonomics.report_text import LoadsText
 from solver.ergonomics.stream import motion_of
 from solver.io.result.read import ResultStream
 
@@ -87,3 +88,21 @@ def test_working_area_box_shown_per_frame_is_the_rounded_box_and_a_new_dict(resu
     assert area.rounded() == expected and area.rounded() is not area.rounded()
     assert area.outside_by(np.zeros(3)) == pytest.approx(np.linalg.norm(np.maximum([-area.x_half, area.y_back,
                                                                                area.z_low], 0.0)))  # fmt: skip
+
+
+def test_joint_moments_written_once_per_run_of_equal_rows_keep_their_own_text(result_file: Path) -> None:
+    """A joint's moment is written once for a run of rows with the same bits: rows equal but for the sign of a
+    zero, equal rows apart, a NaN and an inf are each the text :meth:`JointLoads.as_dict` gives."""
+    frame = next(iter(ResultStream(result_file)))
+    stream = ResultStream(result_file)
+    model = resolve_model(None, stream.scenario, result_file.parent)[0]
+    loads = frame_parts(frame, ErgoOptions(), model, working_area(model), None)[1]
+    rows = [[0.0, 1.5, -2.0], [-0.0, 1.5, -2.0], [-0.0, 1.5, -2.0], [0.0, 1.5, -2.0], [1e-17, 1e16, 0.1]]
+    loads.moment = loads.moment.copy()
+    loads.moment[: len(rows)] = rows
+    loads.moment[-1] = loads.moment[0]
+    text = LoadsText()
+    assert text(loads) == json.dumps(loads.as_dict(), allow_nan=False) and '"moment": [-0.0, 1.5, -2.0]' in text(loads)
+    for bad in (np.nan, np.inf):
+        loads.moment[7, 1] = bad
+        assert text(loads) == json.dumps(loads.as_dict(), allow_nan=False) and '"moment": [' in text(loads)
