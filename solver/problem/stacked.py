@@ -1,6 +1,7 @@
 """A problem's stacked constraint rows at one point: the scaled slack of its one-sided rows and the live rows of its
-scaled Jacobian (:meth:`~solver.problem.problem.Problem.scaled_slack`, :meth:`~.Problem.live_jacobian`), each once
-per state: the step and the line search ask for them at the same trial point."""
+scaled Jacobian (:meth:`~solver.problem.problem.Problem.scaled_slack`,
+:meth:`~solver.problem.problem.Problem.live_jacobian`), each once per state: the step and the line search ask for
+them at the same trial point."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from ..constraints import Constraint
 from ..kernels.reduction import reduce_and_scale
 
 
-class Problem(Protocol):
+class StackedRows(Protocol):
     """What these read of a :class:`~solver.problem.problem.Problem` (which imports this module): its stacked rows
     and their tables (``Problem._set_constraints``), its solver variables."""
 
@@ -40,7 +41,7 @@ SLACK = "scaled slack"  # the key of a problem's scaled slack in a state's cache
 ROWS = "jacobian rows"  # the key of a constraint's (rows, Jacobian rows) in a state's cache: (constraint, ROWS)
 
 
-def scaled_slack(problem: Problem, state: State) -> np.ndarray:
+def scaled_slack(problem: StackedRows, state: State) -> np.ndarray:
     """Per row of ``problem``, how far a met one-sided row is above its floor, times weight / tolerance (0 on the
     other rows), once per state (not to be written to)."""
     key = (problem, SLACK)
@@ -54,7 +55,7 @@ def scaled_slack(problem: Problem, state: State) -> np.ndarray:
     return out
 
 
-def live_jacobian(problem: Problem, state: State) -> tuple[np.ndarray, np.ndarray]:
+def live_jacobian(problem: StackedRows, state: State) -> tuple[np.ndarray, np.ndarray]:
     """(the rows of ``problem`` that may be nonzero, their rows of its scaled Jacobian (k, n_var))."""
     if not problem.constraints:
         return np.zeros(0, dtype=int), np.zeros((0, problem.n_var))
@@ -83,7 +84,7 @@ def live_jacobian(problem: Problem, state: State) -> tuple[np.ndarray, np.ndarra
     return live, jac
 
 
-def in_solver_variables(problem: Problem, jac: np.ndarray, state: State) -> np.ndarray:
+def in_solver_variables(problem: StackedRows, jac: np.ndarray, state: State) -> np.ndarray:
     """d rows / dx (k, n_x) -> d rows / dv (k, n_var) of ``problem``'s solver variables v."""
     red = problem.reduction
     if red is None:

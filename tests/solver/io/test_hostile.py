@@ -92,7 +92,7 @@ SOLVE_OUTPUT = [
     ("onto_a_directory", ["{in}/ok_snake.toml", "-o", "{out}/adir"], ["-o", "adir", "is a directory"]),
     ("name_300_characters", ["{in}/ok_snake.toml", "-o", "{out}/" + LONG], ["file name too long", "at most 255"]),
     ("onto_its_input", ["{in}/ok_snake.toml", "-o", "{in}/ok_snake.toml"], ["same file as the input"]),
-    ("under_a_file", ["{in}/ok_snake.toml", "-o", "{in}/ok_snake.toml/r.json"], ["ok_snake.toml is not a directory"]),
+    ("under_a_file", ["{in}/ok_snake.toml", "-o", "{in}/ok_snake.toml/r.json"], ["ok_snake.toml", "not a directory"]),
     ("empty_name", ["{in}/ok_snake.toml", "-o", ""], ["-o: expected a file name"]),
     ("trailing_slash", ["{in}/ok_snake.toml", "-o", "{out}/new/"], ["expected a file name, got a folder"]),
     ("in_proc", ["{in}/ok_snake.toml", "-o", "/proc/r.json"], ["cannot write in /proc"]),
