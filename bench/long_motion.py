@@ -42,14 +42,15 @@ NOTES = (  # what was measured once, by profiling: kept with the figures
     "which processes share and the system can drop; the process's own memory (RssAnon) peaks at ~260 MB. The peak",
     "moves by ~10 MB between otherwise equal runs (with `--report`, 501 and 514 MB in two environments and working",
     "folders before the joint values were dropped once keyed).",
-    "Where a frame's time goes (py-spy, 2026-11-28, 10,000 frames of `solve -o R.jsonl`): the iteration ~45 % (a",
-    "frame starts where the last one ended and adopts what was computed there, so only the moved targets' rows, the",
-    "step and, in ~15 % of the frames, a line search are new; the step's compiled kernel is the largest part), the",
-    "compact line ~19 % (mostly writing floats as text), the check of the way from the previous frame ~7 %, the",
-    "Result ~7 %, the frame's problem ~6 % and start-up ~13 % (imports, loading the cached kernels); in `batch.py`",
-    "also reading the scene into a problem (~40 % of a frame: the obstacles' meshes, the targets) and, with",
-    "`--report`, the report's ergonomics (~1.3 ms a frame). Keys inside runs of equal values are left out (same",
-    "curves): Blender holds every key twice once the scene is evaluated.",
+    "Where a frame's time goes (py-spy, 2026-11-28, ninth step, 10,000 frames of `solve -o R.jsonl`): the iteration",
+    "~40 % (a frame starts where the last one ended and adopts what was computed there, so only the moved targets'",
+    "rows, the step and, in ~15 % of the frames, a line search are new; the step's compiled kernel is the largest",
+    "part), the compact line ~17 % (mostly `repr` of the ~176 numbers that change a frame), the frame's problem ~9 %,",
+    "the Result ~8 %, the check of the way from the previous frame ~7 % and start-up ~15 % (imports, loading the",
+    "cached kernels); in `batch.py` also reading the scene into a problem (~0.3 ms a frame: the targets, settings and",
+    "obstacles' places; meshes that cannot change are read once per bake) and, with `--report`, the report's",
+    "ergonomics (~1.2 ms a frame). Keys inside runs of equal values are left out (same curves): Blender holds every",
+    "key twice once the scene is evaluated.",
 )
 
 
