@@ -10,12 +10,12 @@ import numpy as np
 
 from ..body.spatial import length
 from ..body.state import State
-from .base import Constraint
+from .base import MET_FACTOR, Constraint
 
 FORCE_TOLERANCE = 1.0  # N
 MOMENT_TOLERANCE = 0.1  # N*m
 # per row, Constraint.met_rows's bound: a row is met when |error| <= it (N, N*m)
-_MET = [tolerance * (1 + 1e-9) for tolerance in [FORCE_TOLERANCE] * 3 + [MOMENT_TOLERANCE] * 3]
+_MET = [tolerance * MET_FACTOR for tolerance in [FORCE_TOLERANCE] * 3 + [MOMENT_TOLERANCE] * 3]
 
 
 class BalanceConstraint(Constraint):

@@ -8,6 +8,8 @@ import numpy as np
 
 from ..body.state import State
 
+MET_FACTOR = 1 + 1e-9  # a row within its tolerance but for the last bits of rounding is met
+
 
 class Constraint(ABC):
     """g(x) = 0 rows. ``tolerance`` is per row in the row's own units; |error| <= tolerance is met."""
@@ -43,7 +45,7 @@ class Constraint(ABC):
 
     def met_rows(self, state: State) -> np.ndarray:
         """Per row: |error| within tolerance (NaN counts as unmet)."""
-        return np.abs(self.error(state)) <= self.tolerance() * (1 + 1e-9)
+        return np.abs(self.error(state)) <= self.tolerance() * MET_FACTOR
 
     def unmet(self, state: State) -> list[str]:
         """Names of what is not met at ``state`` (this constraint's name, or its members')."""

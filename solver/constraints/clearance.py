@@ -23,13 +23,14 @@ from ..body.state import State
 from ..collision import HalfSpace, Obstacle
 from ..collision.body import BodyCapsules, capsules_of
 from ..kernels.clearance import clearance_jacobian, least_bound, plane_rows
+from .base import MET_FACTOR
 from .inequality import Inequality
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 WATCH = 0.01  # m: a met row this close to its clearance gives the step its Jacobian (held if the step goes past)
 HOLD = 0.5e-3  # m: the watch band of the body's own pairs (an arm hangs against the trunk: docs/TUNING.md)
 SAFE = 1e-9  # m: what a movement bound keeps in hand against rounding
-MET = TOLERANCE * (1 + 1e-9)  # m: how far below its clearance a met row may be (Constraint.met_rows's bound)
+MET = TOLERANCE * MET_FACTOR  # m: how far below its clearance a met row may be (Constraint.met_rows's bound)
 FLOOR = HalfSpace([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], name="floor")  # z = 0, the free side up
 
 

@@ -32,7 +32,7 @@ from ..body.state import State
 from ..errors import ManikinError
 from ..kernels.frames import frame_errors, frame_jacobian_rows
 from ..options import AXES
-from .base import Constraint
+from .base import MET_FACTOR, Constraint
 
 POSITION_TOLERANCE = 1e-3  # m
 ROTATION_TOLERANCE = np.deg2rad(0.2)  # rad
@@ -191,7 +191,7 @@ class FrameGroup(Constraint):
         offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.member_rows = [slice(int(offsets[i]), int(offsets[i + 1])) for i in range(len(self.members))]
         self._tolerance = np.concatenate([c.tolerance() for c in self.members]) if self.members else np.zeros(0)
-        self._met_bound = self._tolerance * (1 + 1e-9)  # Constraint.met_rows's, once
+        self._met_bound = self._tolerance * MET_FACTOR  # Constraint.met_rows's, once
         self._row_weight = np.concatenate([np.full(c.rows, c.weight) for c in self.members]) if sizes else np.zeros(0)
         self.n_x = self.members[0].n_x if self.members else 0
         self.link = np.array([c.tcp.link for c in self.members], dtype=int)
