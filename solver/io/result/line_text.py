@@ -18,7 +18,6 @@ import numpy as np
 
 from ...collision.carried import CLEARANCE
 from ...stance.report import step_dicts
-from ..values import floats
 from .document import compact_frame_dict, compact_wrenches, frame_status, rotation_quaternion
 from .frame_text import COMPACT_JSON, SLOT, template
 
@@ -32,6 +31,7 @@ _STRING = json.encoder.encode_basestring_ascii  # what the encoder writes a str 
 _HEAD = ("frame", "converged", "stop", "iterations", "time_s", "unmet", "broken", "shortfall", "notes")
 _FLOATS = {float, np.float64}  # the number types JSON writes as float.__repr__ does
 _TEMPLATES = 64  # layouts kept; more are made again as needed
+_CLEARANCE = (CLEARANCE,)
 
 
 class TextCache:
@@ -106,8 +106,11 @@ def _near(closest: list[Closeness]) -> np.ndarray:
     exact zero) as 0.0, as :meth:`~solver.constraints.clearance.Closeness.to_dict` writes them."""
     if not closest:
         return np.empty(0)
-    columns = [c.distance for c in closest], [c.clearance for c in closest], [c.point for c in closest]
-    return (np.column_stack((*columns, [c.other_point for c in closest])) + 0.0).ravel()
+    out = np.empty((len(closest), 8))
+    out[:, :2] = [(c.distance, c.clearance) for c in closest]
+    out[:, 2:] = np.concatenate([p for c in closest for p in (c.point, c.other_point)]).reshape(len(closest), 6)
+    out += 0.0
+    return out.ravel()
 
 
 class CompactText:
@@ -117,6 +120,7 @@ class CompactText:
         self._numbers = TextCache()  # the joint values, the line's other floats but time_s, the closest pairs' last
         self._templates: dict[tuple, tuple[str, int, int, int]] = {}  # layout -> (template, its number counts)
         self._pairs: dict[tuple[str, str], str] = {}  # a closest pair's names -> its entry's template
+        self._quaternions: dict[bytes, np.ndarray] = {}  # a rotation's bits -> its quaternion (rotation_quaternion)
 
     def __call__(self, result: Result, frame: int = 1, state: State | None = None) -> str:
         """The compact file's line of one frame (without its newline)."""
@@ -136,30 +140,31 @@ class CompactText:
             *terms.values(),
             *[v for c in closest for v in (c.distance, c.clearance)],
         ]
-        nums: list[float] = []
+        # the line's numbers as the arrays they are, joined once (not each made a list, then an array again)
+        theta = result.theta
+        parts = [theta]
+        quaternion = self._quaternion
         for rotation, position in targets.values():
-            nums += floats(position)
-            nums += rotation_quaternion(rotation)
-        nums += scalars[: len(scalars) - 2 * len(closest)]
-        nums += floats(result.com)
-        ends = [len(nums)]
+            parts += (position, quaternion(rotation))
+        parts += (scalars[: len(scalars) - 2 * len(closest)], result.com)
+        ends = [sum(map(len, parts)) - len(theta)]
         if carried is not None:
             centre, rotation = carried.frame(state)
-            nums += [*floats(carried.carried.size), *floats(centre), *rotation_quaternion(rotation), CLEARANCE]
-        ends.append(len(nums))
+            parts += (carried.carried.size, centre, quaternion(rotation), _CLEARANCE)
+        ends.append(sum(map(len, parts)) - len(theta))
         for c in result.contacts:
-            nums += [*floats(c["point"]), *floats(c["force"]), *floats(c["moment"])]
+            parts += (c["point"], c["force"], c["moment"])
         for ld, point in loads:
-            nums += [*floats(point), *floats(ld.force)]
-        ends.append(len(nums))
+            parts += (point, ld.force)
+        ends.append(sum(map(len, parts)) - len(theta))
         if not set(map(type, scalars)) <= _FLOATS:  # an int, a None: JSON writes them otherwise
             return None
         box = None if carried is None else (carried.carried.name, tuple(carried.carried.tcps), tuple(carried.excluded))
         wrenches = tuple([c["tcp"] for c in result.contacts]), tuple([ld.tcp.name for ld, _ in loads])
         key = (tuple(targets), tuple(residuals), tuple(terms), box, steps is None, wrenches)
         made = self._templates.get(key) or self._template(key, result, frame, state)
-        theta = np.asarray(result.theta, dtype=float)
-        a = np.concatenate((theta, nums, _near(closest)))  # the closest pairs last: their count varies
+        parts.append(_near(closest))  # the closest pairs last: their count varies
+        a = np.concatenate(parts, dtype=float)
         texts = self._numbers(a)
         if texts is None or made[1:] != tuple(ends):
             return None
@@ -179,6 +184,17 @@ class CompactText:
             feet, values, *texts[ends[1] : ends[2]],
         )  # fmt: skip
         return made[0] % fills
+
+    def _quaternion(self, rotation: np.ndarray) -> np.ndarray:
+        """:func:`~.document.rotation_quaternion` of a rotation matrix as an array, kept by its bits (a held target's
+        rotation: the same bits frame after frame)."""
+        bits = np.asarray(rotation, dtype=float).tobytes()
+        found = self._quaternions.get(bits)
+        if found is None:
+            if len(self._quaternions) >= _TEMPLATES * 4:
+                self._quaternions.clear()
+            found = self._quaternions[bits] = np.array(rotation_quaternion(rotation))
+        return found
 
     def _pair(self, c: Closeness) -> str | None:
         """The template of a closest pair's entry (:meth:`~solver.constraints.clearance.Closeness.to_dict`); None
