@@ -19,7 +19,6 @@ on its own is evaluated as a group of one; grouping never changes a member, so m
 
 from __future__ import annotations
 
-import copy
 import functools
 import math
 
@@ -100,7 +99,7 @@ class FrameConstraint(Constraint):
     def moved(self, rotation: np.ndarray, position: np.ndarray) -> FrameConstraint:
         """This constraint with another target frame (``rotation`` (3, 3), ``position`` (3,) m): a keyed target's
         next frame, without building the rest again."""
-        out = copy.copy(self)
+        out = _shallow_copy(self)
         out.target_rotation = np.asarray(rotation, dtype=float)
         out.target_position = np.asarray(position, dtype=float)
         out._alone = None
@@ -146,6 +145,14 @@ def _components(mask: np.ndarray) -> slice | np.ndarray:
     """The indices where ``mask`` is set: a slice when they are adjacent (a view, no copy), else an index array."""
     index = np.flatnonzero(mask)
     return slice(int(index[0]), int(index[-1]) + 1) if index[-1] - index[0] + 1 == len(index) else index
+
+
+def _shallow_copy(obj: object) -> object:
+    """``copy.copy(obj)`` of a plain object (a constraint: a __dict__, no __copy__ or __slots__) without the reduce
+    protocol: a motion moves its targets' constraints every frame."""
+    twin = object.__new__(type(obj))
+    twin.__dict__.update(obj.__dict__)
+    return twin
 
 
 class _FrameValues:
@@ -226,10 +233,13 @@ class FrameGroup(Constraint):
     def moved(self, members: list[FrameConstraint]) -> FrameGroup:
         """This group with ``members``: the same constraints in the same order but for their target frames
         (:meth:`FrameConstraint.moved`). What depends on the TCPs, operators and the model is shared."""
-        group = copy.copy(self)
+        group = _shallow_copy(self)
         group.members = list(members)
-        group.target_rotation = np.array([c.target_rotation for c in members]).reshape(-1, 3, 3)
-        group.target_position = np.array([c.target_position for c in members]).reshape(-1, 3)
+        if members:  # joined: np.array of the list without its look at each item's nesting (the same numbers)
+            group.target_rotation = np.concatenate([c.target_rotation for c in members], dtype=float).reshape(-1, 3, 3)
+            group.target_position = np.concatenate([c.target_position for c in members], dtype=float).reshape(-1, 3)
+        else:
+            group.target_rotation, group.target_position = np.zeros((0, 3, 3)), np.zeros((0, 3))
         group._compiled_tables = None  # made from the shared ones with these targets
         return group
 

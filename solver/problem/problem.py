@@ -28,7 +28,7 @@ from ..constraints.self_clearance import SelfClearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
-from . import reports, specs, stacked
+from . import reports, stacked
 from .bounds import Bounds
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
@@ -114,11 +114,12 @@ class Problem:
         moved.targets = [t for t in targets if t.enabled]
         same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
         if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
-            validate_frames(targets, self.all_targets)  # only the frames moved (a motion's next frame)
-            pairs = zip(self.target_constraints, moved.targets, self.targets, strict=True)  # unmoved: kept as it is
-            members = [c if specs.same_frame(t, was) else c.moved(t.rotation if t.rotation is not None else
-                                                                  c.target_rotation, t.position)
-                       for c, t, was in pairs]  # fmt: skip
+            kept = list(map(_same_frame, targets, self.all_targets))  # each target at its frame before, or moved
+            validate_frames([t for t, k in zip(targets, kept, strict=True) if not k])  # the moved ones (next frame)
+            kept = [k for t, k in zip(targets, kept, strict=True) if t.enabled]  # moved.targets' (enabled alike)
+            pairs = zip(self.target_constraints, moved.targets, kept, strict=True)  # unmoved: kept as it is
+            members = [c if k else c.moved(t.rotation if t.rotation is not None else c.target_rotation, t.position)
+                       for c, t, k in pairs]  # fmt: skip
             moved.target_constraints = members
             moved.frames = self.frames.moved([*members, *self.loop_constraints])
             moved.constraints = [moved.frames if c is self.frames else c for c in self.constraints]
@@ -370,3 +371,21 @@ class Problem:
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
         return reports.unmet(self.constraints, state)
+
+
+def _same_frame(a: Target, b: Target) -> bool:
+    """:func:`~.specs.same_frame` (a motion asks it of every target every frame), its arrays compared as lists of
+    Python floats: ``==`` as np.array_equal's (-0.0 equals 0.0, a NaN nothing), without its calls."""
+    if a is b:
+        return True
+    if (a.rotation is None) != (b.rotation is None) or not _equal(a.position, b.position):
+        return False
+    return a.rotation is None or _equal(a.rotation, b.rotation)
+
+
+def _equal(a: object, b: object) -> bool:
+    """``np.array_equal(a, b)``; two float64 arrays of one shape by their lists (each a new float: no NaN is its
+    own equal)."""
+    if type(a) is np.ndarray and type(b) is np.ndarray and a.shape == b.shape and a.dtype == b.dtype == np.float64:
+        return a.tolist() == b.tolist()
+    return bool(np.array_equal(a, b))

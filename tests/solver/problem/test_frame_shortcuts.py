@@ -178,3 +178,27 @@ def test_targets_read_again_at_the_same_frames_keep_their_constraints(male50):
     bad = [*again[:2], dataclasses.replace(again[2], position=np.array([np.nan, 0.0, 1.0]))]
     with pytest.raises(ManikinError, match="hand_r position"):
         problem.with_targets(bad)
+
+
+def test_the_problems_same_frame_is_the_specs(male50):
+    """with_targets' compare of each target with its frame before (lists of Python floats) says what
+    specs.same_frame (np.array_equal) says: -0.0 equals 0.0, a NaN equals nothing, not even itself, other shapes and
+    dtypes alike; a target moved to -0.0 from 0.0 keeps its constraint."""
+    from solver.problem.problem import _same_frame
+    from solver.problem.specs import same_frame
+
+    nan = np.array([np.nan, 0.0, 1.0])
+    flipped = np.diag([1.0, -1.0, -1.0])
+    positions = [np.zeros(3), -np.zeros(3), nan, np.array([0.0, 1.0, 2.0]), np.array([0, 1, 2]), np.zeros(2),
+                 np.zeros((1, 3)), [0.0, 1.0, 2.0], np.array([0.0, 1.0, 2.0], dtype=np.float32)]  # fmt: skip
+    rotations = [None, np.eye(3), -0.0 * np.eye(3) + np.eye(3), flipped, np.eye(3).tolist()]
+    targets = [Target("hand_r", p, r) for p in positions for r in rotations]
+    targets += [Target("hand_r", nan, np.full((3, 3), np.nan))]
+    for a in targets:
+        for b in [*targets, dataclasses.replace(a)]:
+            assert _same_frame(a, b) == same_frame(a, b), (a.position, a.rotation, b.position, b.rotation)
+    problem = Problem(male50, _feet_and_hand(male50))
+    feet, lock = problem.all_targets[:2], problem.all_targets[2].lock
+    kept = problem.with_targets([*feet, Target("hand_r", np.zeros(3), np.eye(3), lock=lock)])
+    signed = Target("hand_r", -np.zeros(3), np.where(np.eye(3) == 1.0, 1.0, -0.0), lock=lock)
+    assert kept.with_targets([*feet, signed]).target_constraints[2] is kept.target_constraints[2]
