@@ -223,10 +223,7 @@ class MotionSweep:
         0 without a box kept out of obstacles."""
         if problem.carried_obstacle_constraint is None:
             return 0.0
-        start = self._box_at(problem, theta_a)[2]
-        move = self._box_at(problem, theta_b)[2] - start
-        # np.linalg.norm(move, axis=1).max(): its sums of squares, the square root (monotonic) of their largest
-        return math.sqrt(np.add.reduce(move * move, axis=1).max())
+        return _corner_travel(self._box_at(problem, theta_a)[2], self._box_at(problem, theta_b)[2])
 
     def carried_crossings(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray,
                           kin_b=None) -> list[tuple[str, float]]:  # fmt: skip
@@ -241,11 +238,12 @@ class MotionSweep:
         rows = problem.carried_obstacle_constraint
         if rows is None:
             return []
-        self._box_at(problem, theta_b, kin_b)
-        moved = self._box_travel(problem, theta_a, theta_b)
+        end = self._box_at(problem, theta_b, kin_b)
+        start = self._box_at(problem, theta_a)
+        moved = _corner_travel(start[2], end[2])  # _box_travel's, from the placements at hand
         if moved <= BOX_STEP:
             return []
-        if not rows.near_way(self._box_at(problem, theta_a)[:2], self._box_at(problem, theta_b)[:2], moved):
+        if not rows.near_way(start[:2], end[:2], moved):
             return []
         found = []
         for s in np.linspace(0.0, 1.0, math.ceil(moved / BOX_STEP) + 1)[1:-1]:
@@ -309,6 +307,14 @@ def planted_parts(before: Problem, after: Problem) -> tuple[str, ...]:
     return tuple(name for name, link in zip(caps.names, caps.link, strict=True) if link in links)
 
 
+def _corner_travel(start: np.ndarray, end: np.ndarray) -> float:
+    """How far (m) the corner that moves most moves from corners ``start`` to ``end`` (each (8, 3) m)."""
+    move = end - start
+    # np.linalg.norm(move, axis=1).max(): its sums of squares, the square root (monotonic) of their largest (the
+    # ufunc's reduce: .max() without its Python wrapper)
+    return math.sqrt(np.maximum.reduce(np.add.reduce(move * move, axis=1)))
+
+
 def _same_objects(a: list, b: list) -> bool:
     """Whether lists ``a`` and ``b`` hold the very same objects in the same order."""
     return len(a) == len(b) and all(map(operator.is_, a, b))
@@ -316,6 +322,8 @@ def _same_objects(a: list, b: list) -> bool:
 
 def _same_supports(a: list[Target], b: list[Target]) -> bool:
     """Whether support lists ``a`` and ``b`` hold the same TCPs, enabled alike, at the same frames."""
+    if len(a) == len(b) and all(map(operator.is_, a, b)):  # a motion's feet: the very same targets
+        return True
     return len(a) == len(b) and all(
         x is y or (x.tcp == y.tcp and x.enabled == y.enabled and same_frame(x, y)) for x, y in zip(a, b, strict=True)
     )
