@@ -16,7 +16,7 @@ from solver.motion import frames
 from solver.options import MotionLimits
 from solver.problem.bounds import Bounds
 from solver.problem.problem import Problem, ProblemSpec, Target
-from solver.problem.specs import validate, validate_frames
+from solver.problem.specs import same_frame, validate, validate_frames
 from solver.problem.tracks import Key, Track, targets_at
 
 
@@ -180,25 +180,22 @@ def test_targets_read_again_at_the_same_frames_keep_their_constraints(male50):
         problem.with_targets(bad)
 
 
-def test_the_problems_same_frame_is_the_specs(male50):
-    """with_targets' compare of each target with its frame before (lists of Python floats) says what
-    specs.same_frame (np.array_equal) says: -0.0 equals 0.0, a NaN equals nothing, not even itself, other shapes and
-    dtypes alike; a target moved to -0.0 from 0.0 keeps its constraint."""
-    from solver.problem.problem import _same_frame
-    from solver.problem.specs import same_frame
-
-    nan = np.array([np.nan, 0.0, 1.0])
-    flipped = np.diag([1.0, -1.0, -1.0])
-    positions = [np.zeros(3), -np.zeros(3), nan, np.array([0.0, 1.0, 2.0]), np.array([0, 1, 2]), np.zeros(2),
-                 np.zeros((1, 3)), [0.0, 1.0, 2.0], np.array([0.0, 1.0, 2.0], dtype=np.float32)]  # fmt: skip
-    rotations = [None, np.eye(3), -0.0 * np.eye(3) + np.eye(3), flipped, np.eye(3).tolist()]
-    targets = [Target("hand_r", p, r) for p in positions for r in rotations]
-    targets += [Target("hand_r", nan, np.full((3, 3), np.nan))]
-    for a in targets:
-        for b in [*targets, dataclasses.replace(a)]:
-            assert _same_frame(a, b) == same_frame(a, b), (a.position, a.rotation, b.position, b.rotation)
+def test_a_target_keeps_its_constraint_when_specs_same_frame_says_so(male50):
+    """with_targets compares each target with its frame before in Python floats: it keeps the constraint exactly
+    when specs.same_frame (np.array_equal) says the frame is the same: -0.0 equals 0.0, other dtypes and plain lists
+    alike; a NaN is refused."""
     problem = Problem(male50, _feet_and_hand(male50))
     feet, lock = problem.all_targets[:2], problem.all_targets[2].lock
-    kept = problem.with_targets([*feet, Target("hand_r", np.zeros(3), np.eye(3), lock=lock)])
-    signed = Target("hand_r", -np.zeros(3), np.where(np.eye(3) == 1.0, 1.0, -0.0), lock=lock)
-    assert kept.with_targets([*feet, signed]).target_constraints[2] is kept.target_constraints[2]
+    positions = [np.zeros(3), -np.zeros(3), np.array([0.0, 0.5, 1.0]), np.array([0, 0, 0]), [0.0, -0.0, 0.0],
+                 np.array([0.0, 0.5, 1.0], dtype=np.float32), np.array([0.0, 0.5, 1.0 + 1e-16])]  # fmt: skip
+    rotations = [None, np.eye(3), np.where(np.eye(3) == 1.0, 1.0, -0.0), np.diag([1.0, -1.0, -1.0]), np.eye(3).tolist()]
+    hands = [Target("hand_r", p, r, lock=lock) for p in positions for r in rotations]
+    for a in hands:
+        before = problem.with_targets([*feet, a])
+        for b in hands:
+            after = before.with_targets([*feet, b])
+            kept = after.target_constraints[2] is before.target_constraints[2]
+            assert kept == same_frame(a, b), (a.position, a.rotation, b.position, b.rotation)
+    before = problem.with_targets([*feet, hands[0]])
+    with pytest.raises(ManikinError, match="hand_r position"):
+        before.with_targets([*feet, Target("hand_r", np.array([np.nan, 0.0, 0.0]), lock=lock)])
