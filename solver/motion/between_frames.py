@@ -25,7 +25,7 @@ import numpy as np
 
 from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
 from ..collision.body import capsules_of
-from ..collision.carried import carried_frame
+from ..collision.carried import carried_frame, held_frame
 from ..collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
 from ..constraints.carried_obstacles import CarriedObstacles, box_corners
 from ..constraints.clearance import FLOOR, Clearance
@@ -42,6 +42,7 @@ MARGIN = 0.05  # m: the least margin of a mesh query (farther rows count as this
 MAX_SUBSTEPS = 64  # sub-steps of a re-solved frame at most
 BOX_STEP = 0.02  # m: a carried box's corners move about this far at most between the samples of its way
 PLANTED = 1e-4  # m: a support held within this of its place in the frame before stays planted
+Placed = tuple[np.ndarray, np.ndarray, np.ndarray]  # a carried box's centre (m), rotation and corners (8, 3) m
 SHARE = 2.0  # a sub-step may change each joint by this many times its share of the per-frame bound
 
 
@@ -174,7 +175,7 @@ class MotionSweep:
         n = problems[1].model.n
         theta_a, theta_b = previous_x[:n], result.x[:n]
         report = self.check(body, theta_a, theta_b, result.state)
-        boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state.kin)
+        boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state)
         if not (report.crossings or boxed) or not self.resolve:
             mark(result, report, frames)
             return mark_carried(result, frames, boxed)
@@ -203,32 +204,28 @@ class MotionSweep:
         self._planted = (after.model, supports, parts)
         return parts
 
-    def _box_at(self, problem: Problem, theta: np.ndarray, kin=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(centre m, rotation, corners (8, 3) m) of ``problem``'s carried box at joint values ``theta`` (``kin``: their
-        kinematics, if at hand), kept: a frame's end is the next frame's start."""
+    def _box_at(self, problem: Problem, theta: np.ndarray, at: State | None = None) -> Placed:
+        """(centre m, rotation, corners (8, 3) m) of ``problem``'s carried box at joint values ``theta`` (``at``: a
+        state there, whose placement of the box the solve made already), kept: a frame's end is the next frame's
+        start."""
         rows = problem.carried_obstacle_constraint
         key = (rows.tcps[0].name, rows.tcps[1].name, theta.tobytes())
         found = self._boxes.get(key)
         if found is None or found[0] is not problem.model or not _same_array(found[1], rows.half):
             if len(self._boxes) >= self.KEPT:
                 self._boxes.pop(next(iter(self._boxes)))
-            kin = problem.model.forward(theta) if kin is None else kin
-            centre, rotation = _placed(rows, kin)
+            if at is not None:  # the state's (its rows' held_frame: the sums of _placed, kept in the state)
+                centre, rotation = held_frame(at, rows.tcps)[1:]
+            else:
+                centre, rotation = _placed(rows, problem.model.forward(theta))
             placed = centre, rotation, box_corners(centre, rotation, rows.half)
             found = self._boxes[key] = (problem.model, rows.half, placed)
         return found[2]
 
-    def _box_travel(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray) -> float:
-        """How far (m) the corner of ``problem``'s carried box that moves most moves from ``theta_a`` to ``theta_b``;
-        0 without a box kept out of obstacles."""
-        if problem.carried_obstacle_constraint is None:
-            return 0.0
-        return _corner_travel(self._box_at(problem, theta_a)[2], self._box_at(problem, theta_b)[2])
-
     def carried_crossings(self, problem: Problem, theta_a: np.ndarray, theta_b: np.ndarray,
-                          kin_b=None) -> list[tuple[str, float]]:  # fmt: skip
+                          at_b: State | None = None) -> list[tuple[str, float]]:  # fmt: skip
         """(obstacle, fraction of the way) where the box carried in ``problem`` is inside an obstacle or below the
-        floor on the way from joint values ``theta_a`` to ``theta_b`` (``kin_b``: the kinematics there, if at hand;
+        floor on the way from joint values ``theta_a`` to ``theta_b`` (``at_b``: a state there, if at hand;
         both ends excluded: each frame's rows keep its own).
 
         The way is sampled (joint values linearly in between) so that no corner of the box moves more than about
@@ -238,9 +235,9 @@ class MotionSweep:
         rows = problem.carried_obstacle_constraint
         if rows is None:
             return []
-        end = self._box_at(problem, theta_b, kin_b)
+        end = self._box_at(problem, theta_b, at_b)
         start = self._box_at(problem, theta_a)
-        moved = _corner_travel(start[2], end[2])  # _box_travel's, from the placements at hand
+        moved = _corner_travel(start[2], end[2])
         if moved <= BOX_STEP:
             return []
         if not rows.near_way(start[:2], end[:2], moved):
@@ -262,7 +259,8 @@ class MotionSweep:
         crossing = [body.capsules.names.index(c.part) for c in report.crossings]
         moved = body.bound(self._pose(body, previous_x[:n]), self._pose(body, first_x[:n]))[crossing]  # m
         room = body.capsules.radius[crossing] - 2.0 * body.tolerance
-        box = self._box_travel(problem, previous_x[:n], first_x[:n]) / BOX_STEP
+        box = 0.0 if problem.carried_obstacle_constraint is None else _corner_travel(
+            self._box_at(problem, previous_x[:n])[2], self._box_at(problem, first_x[:n])[2]) / BOX_STEP  # fmt: skip
         count = min(MAX_SUBSTEPS, max(2, math.ceil(float(np.max(moved / room, initial=box)))))
         share = steps * min(1.0, SHARE / count)
         x, iterations, seconds, done = previous_x, 0, 0.0, 0

@@ -309,11 +309,13 @@ def test_a_leg_whose_foot_moves_is_still_checked_against_the_floor(male50):
 
 def test_what_the_sweep_keeps_from_frame_to_frame_is_what_it_computes_afresh(tmp_path, monkeypatch):
     """MotionSweep keeps from the last frame the planted parts (the same support targets), the bound from the
-    anchor to this frame's start (the last frame's to its end), the carried box's corners; it takes a frame's end
-    pose from the result's kinematics. Over the 200-frame lift (a carried box, a cabinet) each is what computing it
-    afresh gives, the same numbers (the same functions of the same inputs), and each shortcut is taken."""
-    taken = {"bounds": 0, "pose": 0, "planted": 0}
-    bounds, pose, travel, planted = MotionSweep._bounds, MotionSweep._pose, MotionSweep._box_travel, MotionSweep.planted
+    anchor to this frame's start (the last frame's to its end), the carried box's placements and corners; it takes
+    a frame's end pose from the result's kinematics and its box's placement from the result's state. Over the
+    200-frame lift (a carried box, a cabinet) each is what computing it afresh gives, the same numbers (the same
+    functions of the same inputs), and each shortcut is taken."""
+    taken = {"bounds": 0, "pose": 0, "planted": 0, "box": 0}
+    bounds, pose, box_at, planted = MotionSweep._bounds, MotionSweep._pose, MotionSweep._box_at, MotionSweep.planted
+    travel = between_frames._corner_travel
 
     def fresh_bounds(self, body, p, a, b):
         taken["bounds"] += self._way is not None and self._way[1] is p and self._way[2] is a
@@ -327,13 +329,16 @@ def test_what_the_sweep_keeps_from_frame_to_frame_is_what_it_computes_afresh(tmp
         assert all(np.array_equal(x, y) for x, y in zip(got, afresh, strict=True))
         return got
 
-    def fresh_travel(self, problem, theta_a, theta_b):
-        rows = problem.carried_obstacle_constraint
-        got = travel(self, problem, theta_a, theta_b)
-        if rows is not None:
-            ends = [box_corners(*carried_frame(*(problem.model.forward(t).tcp_frame(tcp)[1] for tcp in rows.tcps)),
-                                rows.half) for t in (theta_a, theta_b)]  # fmt: skip
-            assert got == float(np.linalg.norm(ends[1] - ends[0], axis=1).max())
+    def fresh_box_at(self, problem, theta, at=None):
+        taken["box"] += at is not None
+        rows, got = problem.carried_obstacle_constraint, box_at(self, problem, theta, at)
+        placed = carried_frame(*(problem.model.forward(theta).tcp_frame(tcp)[1] for tcp in rows.tcps))
+        assert all(np.array_equal(x, y) for x, y in zip(got, (*placed, box_corners(*placed, rows.half)), strict=True))
+        return got
+
+    def fresh_travel(start, end):
+        got = travel(start, end)
+        assert got == float(np.linalg.norm(end - start, axis=1).max())
         return got
 
     def fresh_planted(self, before, after):
@@ -342,9 +347,10 @@ def test_what_the_sweep_keeps_from_frame_to_frame_is_what_it_computes_afresh(tmp
         assert got == planted_parts(before, after)
         return got
 
-    for name, spy in (("_bounds", fresh_bounds), ("_pose", fresh_pose), ("_box_travel", fresh_travel),
+    for name, spy in (("_bounds", fresh_bounds), ("_pose", fresh_pose), ("_box_at", fresh_box_at),
                       ("planted", fresh_planted)):  # fmt: skip
         monkeypatch.setattr(MotionSweep, name, spy)
+    monkeypatch.setattr(between_frames, "_corner_travel", fresh_travel)
     results, sweep = lift_with_a_cabinet_behind(tmp_path, 0.0)
     assert all(r.converged for _, r in results) and min(taken.values()) > len(results) / 2, taken
     check = MotionSweep.check
