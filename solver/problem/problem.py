@@ -30,7 +30,17 @@ from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
 from . import reports, stacked
 from .bounds import Bounds
-from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
+from .specs import (
+    ExternalLoad,
+    Loop,
+    ProblemSpec,
+    Target,
+    same_but_frames,
+    same_frame,
+    same_supports,
+    validate,
+    validate_frames,
+)
 from .starts import behaviour_start
 
 __all__ = ["ExternalLoad", "Loop", "Problem", "ProblemSpec", "Target"]
@@ -114,7 +124,7 @@ class Problem:
         moved.targets = [t for t in targets if t.enabled]
         same = len(targets) == len(self.all_targets) and all(map(same_but_frames, self.all_targets, targets))
         if same and self.frames is not None and len(self.target_constraints) == len(moved.targets):
-            kept = list(map(_same_frame, targets, self.all_targets))  # each target at its frame before, or moved
+            kept = list(map(same_frame, targets, self.all_targets))  # each target at its frame before, or moved
             validate_frames([t for t, k in zip(targets, kept, strict=True) if not k])  # the moved ones (next frame)
             kept = [k for t, k in zip(targets, kept, strict=True) if t.enabled]  # moved.targets' (enabled alike)
             pairs = zip(self.target_constraints, moved.targets, kept, strict=True)  # unmoved: kept as it is
@@ -371,21 +381,3 @@ class Problem:
     def unmet(self, state: State) -> list[str]:
         """Names of the constraints (targets, loops, balance) with some row outside its tolerance."""
         return reports.unmet(self.constraints, state)
-
-
-def _same_frame(a: Target, b: Target) -> bool:
-    """:func:`~.specs.same_frame` (a motion asks it of every target every frame), its arrays compared as lists of
-    Python floats: ``==`` as np.array_equal's (-0.0 equals 0.0, a NaN nothing), without its calls."""
-    if a is b:
-        return True
-    if (a.rotation is None) != (b.rotation is None) or not _equal(a.position, b.position):
-        return False
-    return a.rotation is None or _equal(a.rotation, b.rotation)
-
-
-def _equal(a: object, b: object) -> bool:
-    """``np.array_equal(a, b)``; two float64 arrays of one shape by their lists (each a new float: no NaN is its
-    own equal)."""
-    if type(a) is np.ndarray and type(b) is np.ndarray and a.shape == b.shape and a.dtype == b.dtype == np.float64:
-        return a.tolist() == b.tolist()
-    return bool(np.array_equal(a, b))

@@ -181,8 +181,8 @@ def test_targets_read_again_at_the_same_frames_keep_their_constraints(male50):
 
 
 def test_a_target_keeps_its_constraint_when_specs_same_frame_says_so(male50):
-    """with_targets compares each target with its frame before in Python floats: it keeps the constraint exactly
-    when specs.same_frame (np.array_equal) says the frame is the same: -0.0 equals 0.0, other dtypes and plain lists
+    """with_targets (through specs.same_frame, in Python floats) keeps a target's constraint exactly when
+    np.array_equal says the frame is the same: -0.0 equals 0.0, other dtypes and plain lists
     alike; a NaN is refused."""
     problem = Problem(male50, _feet_and_hand(male50))
     feet, lock = problem.all_targets[:2], problem.all_targets[2].lock
@@ -195,7 +195,12 @@ def test_a_target_keeps_its_constraint_when_specs_same_frame_says_so(male50):
         for b in hands:
             after = before.with_targets([*feet, b])
             kept = after.target_constraints[2] is before.target_constraints[2]
-            assert kept == same_frame(a, b), (a.position, a.rotation, b.position, b.rotation)
+            same = (
+                (a.rotation is None) == (b.rotation is None)
+                and np.array_equal(a.position, b.position)
+                and (a.rotation is None or np.array_equal(a.rotation, b.rotation))
+            )
+            assert kept == same == same_frame(a, b), (a.position, a.rotation, b.position, b.rotation)
     before = problem.with_targets([*feet, hands[0]])
     with pytest.raises(ManikinError, match="hand_r position"):
         before.with_targets([*feet, Target("hand_r", np.array([np.nan, 0.0, 0.0]), lock=lock)])
