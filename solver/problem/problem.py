@@ -12,11 +12,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import kernels
-from ..body.contacts import Support, build_contacts
+from ..body.contacts import Support
 from ..body.model import GRAVITY, Model
 from ..body.reduction import build_reduction
 from ..body.state import State
-from ..body.statics import Load, StaticsLayout
 from ..collision.body import capsules_of
 from ..comfort import Comfort
 from ..constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
@@ -24,12 +23,13 @@ from ..constraints.carried_clearance import CarriedClearance
 from ..constraints.carried_obstacles import CarriedObstacles
 from ..constraints.clearance import FLOOR, Clearance, Closeness, floor_clearance
 from ..constraints.inequality import Inequality
-from ..constraints.self_clearance import SelfClearance
+from ..constraints.self_clearance import self_clearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
 from . import reports, specs, stacked
 from .bounds import Bounds
+from .parts import standard_comfort, statics_of
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
 
@@ -63,9 +63,8 @@ class Problem:
                     supports.append(Support(model.tcp(t.tcp), self._rotation_of(t, zero), t.friction, t.sole))
             if not supports:
                 raise ManikinError("balance needs at least one support target (support = true)")
-        self.contacts = build_contacts(model, supports)
-        self.loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in spec.loads]
-        self.layout = StaticsLayout(model, self.contacts, self.loads)
+        self.contacts, self.layout = statics_of(model, supports, spec.loads)
+        self.loads = list(self.layout.loads)
         n, n_w = model.n, self.contacts.n_vars
         self.n_x = n + n_w
         self.loop_constraints = [self._loop_constraint(lp) for lp in self.loops]
@@ -76,7 +75,7 @@ class Problem:
         self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if self.obstacles \
             else None  # fmt: skip
         self.self_collision = spec.self_collision
-        self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if spec.self_collision else None
+        self.self_constraint = self_clearance(model, self.n_x) if spec.self_collision else None
         if self.self_constraint is not None and not self.self_constraint.rows:
             self.self_constraint = None  # a body without the named parts (the snake)
         self.carried = carried = spec.carried
@@ -87,7 +86,7 @@ class Problem:
             if carried is not None and around else None  # fmt: skip
         self.extra_constraints = list(spec.extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
-        comfort = spec.comfort if spec.comfort is not None else Comfort.standard(model, spec.comfort_weights)
+        comfort = spec.comfort if spec.comfort is not None else standard_comfort(model, spec.comfort_weights)
         self.comfort = comfort.with_targets(self.targets)  # a term that reads the targets (gaze) aimed at them
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
         self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)

@@ -1,0 +1,38 @@
+"""Parts of a problem that depend on its model and a few plain inputs only, built once per model and key
+(:func:`solver.constraints.per_model.per_model`): the standard comfort, the contact set and its statics layout.
+Nothing writes to them after they are built (a motion's frames share them already)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..body.contacts import ContactSet, Support, build_contacts
+from ..body.model import Model
+from ..body.statics import Load, StaticsLayout
+from ..comfort import Comfort, ComfortWeights
+from ..comfort.standard import STANDARD_TERMS
+from ..constraints.per_model import exact, per_model
+from .specs import ExternalLoad
+
+
+def standard_comfort(model: Model, weights: ComfortWeights) -> Comfort:
+    """:meth:`Comfort.standard` of ``model`` with ``weights`` (exact: by their repr), once per registry of terms."""
+    key = ("standard comfort", repr(weights), tuple(STANDARD_TERMS.items()))
+    return per_model(model, key, lambda: Comfort.standard(model, weights))
+
+
+def statics_of(
+    model: Model, supports: list[Support], loads: Sequence[ExternalLoad]
+) -> tuple[ContactSet, StaticsLayout]:
+    """The contact set of ``supports`` and the statics layout with ``loads`` (N) on ``model``."""
+    key = ("statics", tuple((s.tcp.name, exact(s.normal_frame), float(s.friction).hex(), exact(s.sole))
+                            for s in supports), tuple((ld.tcp, exact(ld.force)) for ld in loads))  # fmt: skip
+
+    def build() -> tuple[ContactSet, StaticsLayout]:
+        contacts = build_contacts(model, supports)
+        forces = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in loads]
+        return contacts, StaticsLayout(model, contacts, forces)
+
+    return per_model(model, key, build)
