@@ -1,6 +1,7 @@
 """Parts of a problem that depend on its model and a few plain inputs only, built once per model and key
-(:func:`solver.constraints.per_model.per_model`): the standard comfort, the contact set and its statics layout.
-Nothing writes to them after they are built (a motion's frames share them already)."""
+(:func:`solver.constraints.per_model.per_model`): the standard comfort, the contact set and its statics layout, the
+variables' bounds and reduction. Nothing writes to them after they are built (a motion's frames share them already).
+"""
 
 from __future__ import annotations
 
@@ -10,10 +11,12 @@ import numpy as np
 
 from ..body.contacts import ContactSet, Support, build_contacts
 from ..body.model import Model
+from ..body.reduction import Reduction, build_reduction
 from ..body.statics import Load, StaticsLayout
 from ..comfort import Comfort, ComfortWeights
 from ..comfort.standard import STANDARD_TERMS
 from ..constraints.per_model import exact, per_model
+from .bounds import Bounds
 from .specs import ExternalLoad
 
 
@@ -36,3 +39,17 @@ def statics_of(
         return contacts, StaticsLayout(model, contacts, forces)
 
     return per_model(model, key, build)
+
+
+def variables_of(
+    model: Model, n_forces: int, body_weight: float, groups: Sequence[str]
+) -> tuple[Bounds, Reduction | None, Bounds]:
+    """The bounds of x = [joints, ``n_forces`` contact weights (in units of ``body_weight``, N)], the reduction of
+    the reduction ``groups`` (None without one) and the bounds of the solver's variables."""
+
+    def build() -> tuple[Bounds, Reduction | None, Bounds]:
+        xb = Bounds.of_model(model, n_forces, body_weight)
+        red = build_reduction(model, groups, xb.lower, xb.upper, xb.scale)
+        return xb, red, xb if red is None else Bounds(red.lower, red.upper, red.scale, red.is_joint)
+
+    return per_model(model, ("variables", n_forces, float(body_weight).hex(), tuple(groups)), build)
