@@ -5,19 +5,19 @@ variables' bounds and reduction. Nothing writes to them after they are built (a 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from ..body.contacts import ContactSet, Support, build_contacts
-from ..body.model import Model
+from ..body.model import Kinematics, Model
 from ..body.reduction import Reduction, build_reduction
 from ..body.statics import Load, StaticsLayout
 from ..comfort import Comfort, ComfortWeights
 from ..comfort.standard import STANDARD_TERMS
 from ..constraints.per_model import exact, per_model
 from .bounds import Bounds
-from .specs import ExternalLoad
+from .specs import ExternalLoad, Target
 
 
 def standard_comfort(model: Model, weights: ComfortWeights) -> Comfort:
@@ -27,18 +27,25 @@ def standard_comfort(model: Model, weights: ComfortWeights) -> Comfort:
 
 
 def statics_of(
-    model: Model, supports: list[Support], loads: Sequence[ExternalLoad]
+    model: Model, supports: list[Target], loads: Sequence[ExternalLoad], rotation: Callable[[Target], np.ndarray]
 ) -> tuple[ContactSet, StaticsLayout]:
-    """The contact set of ``supports`` and the statics layout with ``loads`` (N) on ``model``."""
-    key = ("statics", tuple((s.tcp.name, exact(s.normal_frame), float(s.friction).hex(), exact(s.sole))
-                            for s in supports), tuple((ld.tcp, exact(ld.force)) for ld in loads))  # fmt: skip
+    """The contact set of the ``supports`` (targets, each standing on its frame: ``rotation`` of it, world) and the
+    statics layout with ``loads`` (N) on ``model``. ``rotation`` of a target without one is the model's (its TCP in
+    the zero pose), so the targets' fields name it."""
+    key = ("statics", tuple((t.tcp, exact(t.rotation), float(t.friction).hex(), exact(t.sole)) for t in supports),
+           tuple((ld.tcp, exact(ld.force)) for ld in loads))  # fmt: skip
 
     def build() -> tuple[ContactSet, StaticsLayout]:
-        contacts = build_contacts(model, supports)
+        contacts = build_contacts(model, [Support(model.tcp(t.tcp), rotation(t), t.friction, t.sole) for t in supports])
         forces = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in loads]
         return contacts, StaticsLayout(model, contacts, forces)
 
     return per_model(model, key, build)
+
+
+def zero_kinematics(model: Model) -> Kinematics:
+    """``model``'s kinematics in its zero pose (the frame of a target without a rotation of its own)."""
+    return per_model(model, ("zero pose",), lambda: model.forward(model.zero_pose()))
 
 
 def variables_of(

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import kernels
-from ..body.contacts import Support
 from ..body.model import GRAVITY, Model
 from ..body.state import State
 from ..collision.body import capsules_of
@@ -29,7 +28,7 @@ from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
 from . import reports, specs, stacked
 from .bounds import Bounds
-from .parts import standard_comfort, statics_of, variables_of
+from .parts import standard_comfort, statics_of, variables_of, zero_kinematics
 from .specs import ExternalLoad, Loop, ProblemSpec, Target, same_but_frames, same_supports, validate, validate_frames
 from .starts import behaviour_start
 
@@ -55,15 +54,11 @@ class Problem:
         self.loops = list(spec.loops)
         self.load_specs = list(spec.loads)
         self.balance = balance = spec.balance
-        zero = self._zero_kin = model.forward(model.zero_pose())
-        supports = []
-        if balance:
-            for t in self.targets:
-                if t.support:
-                    supports.append(Support(model.tcp(t.tcp), self._rotation_of(t, zero), t.friction, t.sole))
-            if not supports:
-                raise ManikinError("balance needs at least one support target (support = true)")
-        self.contacts, self.layout = statics_of(model, supports, spec.loads)
+        zero = self._zero_kin = zero_kinematics(model)
+        held = [t for t in self.targets if t.support] if balance else []
+        if balance and not held:
+            raise ManikinError("balance needs at least one support target (support = true)")
+        self.contacts, self.layout = statics_of(model, held, spec.loads, lambda t: self._rotation_of(t, zero))
         self.loads = list(self.layout.loads)
         n, n_w = model.n, self.contacts.n_vars
         self.n_x = n + n_w
