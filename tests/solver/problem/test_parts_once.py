@@ -31,8 +31,11 @@ def lift() -> Problem:
 def fresh_statics(problem: Problem) -> tuple:
     """The contact set and layout of ``problem`` built anew, as Problem built them before the cache."""
     model, zero = problem.model, problem.model.forward(problem.model.zero_pose())
-    supports = [Support(model.tcp(t.tcp), problem._rotation_of(t, zero), t.friction, t.sole)
-                for t in problem.targets if t.support]  # fmt: skip
+
+    def rotation(t):  # the target's, else its TCP's in the zero pose
+        return np.asarray(t.rotation, dtype=float) if t.rotation is not None else zero.tcp_frame(model.tcp(t.tcp))[0]
+
+    supports = [Support(model.tcp(t.tcp), rotation(t), t.friction, t.sole) for t in problem.targets if t.support]
     contacts = build_contacts(model, supports)
     loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in problem.spec.loads]
     return contacts, StaticsLayout(model, contacts, loads)
