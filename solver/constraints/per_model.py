@@ -5,13 +5,13 @@ terms, the contact set and its statics layout, the floor's and the body's own cl
 time. Models are frozen, so a model (by identity, held weakly) and a key of every other input the built object
 depends on (exact: bytes of arrays, ``repr`` of floats) name it. An object that keeps state while it is solved
 (a clearance's last query) is kept as a template, never solved, and a shallow copy of it is handed out
-(:func:`fresh`): what a new build gives.
+(:func:`fresh`): what a new build gives. What is kept refers to its model, so a few models are kept, not a weak
+mapping (its values would keep their keys alive).
 """
 
 from __future__ import annotations
 
 import threading
-import weakref
 from collections.abc import Callable, Hashable
 from typing import TypeVar
 
@@ -20,8 +20,9 @@ import numpy as np
 from ..body.model import Model
 
 T = TypeVar("T")
+MODELS = 8  # models kept, oldest dropped first (as a study's worker keeps its bodies: solver.study.runner)
 ENTRIES = 32  # kept per model, oldest dropped first (a study varying a load or a friction makes a new key a run)
-_PER_MODEL: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_PER_MODEL: dict[Model, dict] = {}  # by identity (models are frozen, compared by identity)
 _LOCK = threading.Lock()  # a Dask worker may run tasks in threads
 
 
@@ -34,7 +35,11 @@ def per_model(model: Model, key: Hashable, build: Callable[[], T]) -> T:
             return found
     value = build()
     with _LOCK:
-        known = _PER_MODEL.setdefault(model, {})
+        known = _PER_MODEL.get(model)
+        if known is None:
+            if len(_PER_MODEL) >= MODELS:
+                _PER_MODEL.pop(next(iter(_PER_MODEL)))
+            known = _PER_MODEL[model] = {}
         if len(known) >= ENTRIES:
             known.pop(next(iter(known)))
         known[key] = value
