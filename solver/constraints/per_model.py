@@ -21,7 +21,7 @@ from ..body.model import Model
 
 T = TypeVar("T")
 MODELS = 8  # models kept, oldest dropped first (as a study's worker keeps its bodies: solver.study.runner)
-ENTRIES = 32  # kept per model, oldest dropped first (a study varying a load or a friction makes a new key a run)
+ENTRIES = 16  # kept per model, oldest dropped first (a study varying a load makes a new key a run; a layout ~0.5 MB)
 _PER_MODEL: dict[Model, dict] = {}  # by identity (models are frozen, compared by identity)
 _LOCK = threading.Lock()  # a Dask worker may run tasks in threads
 
