@@ -2,7 +2,7 @@
 
 A study's worker builds a problem per run for the same body (and a motion's restarts rebuild it): the comfort
 terms, the contact set and its statics layout, the floor's and the body's own clearance rows are the same every
-time. Models are frozen, so a model (by identity, held weakly) and a key of every other input the built object
+time. Models are frozen, so a model (by identity) and a key of every other input the built object
 depends on (exact: bytes of arrays, ``repr`` of floats) name it. An object that keeps state while it is solved
 (a clearance's last query) is kept as a template, never solved, and a shallow copy of it is handed out
 (:func:`fresh`): what a new build gives. What is kept refers to its model, so a few models are kept, not a weak
