@@ -25,6 +25,7 @@ from ..collision.body import BodyCapsules, capsules_of
 from ..kernels.clearance import clearance_jacobian, least_bound, plane_rows
 from .base import MET_FACTOR
 from .inequality import Inequality
+from .per_model import fresh, per_model
 
 TOLERANCE = 1e-3  # m: a row this far inside its clearance still counts as met
 WATCH = 0.01  # m: a met row this close to its clearance gives the step its Jacobian (held if the step goes past)
@@ -70,7 +71,9 @@ def floor_clearance(model: Model, targets: list, n_x: int) -> Clearance:
             held.add(tcp.link)
     capsules = capsules_of(model)
     exclude = tuple(name for name, link in zip(capsules.names, capsules.link, strict=True) if link in held)
-    return Clearance(model, capsules, [FLOOR], n_x, exclude=exclude, name="floor")
+    template = per_model(model, ("floor", exclude, n_x),
+                         lambda: Clearance(model, capsules, [FLOOR], n_x, exclude=exclude, name="floor"))  # fmt: skip
+    return fresh(template)  # its last query its own
 
 
 class ClearanceRows(Inequality):

@@ -20,6 +20,7 @@ on its own is evaluated as a group of one; grouping never changes a member, so m
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 
 import numpy as np
@@ -74,19 +75,13 @@ class FrameConstraint(Constraint):
         self.tcp = tcp
         self.target_rotation = np.asarray(rotation, dtype=float)
         self.target_position = np.asarray(position, dtype=float)
-        self.operator = np.asarray(operator, dtype=float).reshape(-1, 6)
+        self.operator = op = np.asarray(operator, dtype=float).reshape(-1, 6)
         self.reference = reference
         self.weight = weight
         self.n_x = n_x
-        base_tol = np.array([position_tolerance] * 3 + [rotation_tolerance] * 3)
-        self._tolerance = np.abs(self.operator) @ base_tol
-        self._is_selection = bool(np.all((self.operator == 0) | (self.operator == 1)))
-        locked = self.operator.sum(axis=0) > 0
-        position, rotation = locked * _FIRST_THREE, locked * ~_FIRST_THREE
-        # (residual name, the unrelaxed components it measures: a slice when adjacent, else their indices) for the
-        # locked translation / rotation (a slice's view has the values and order of a mask's copy)
-        parts = (("position", position), ("rotation", rotation))
-        self._locked_parts = [(f"{name}.{part}", _components(m)) for part, m in parts if m.any()]
+        key = (op.shape[0], op.tobytes(), float(position_tolerance).hex(), float(rotation_tolerance).hex())
+        self._tolerance, self._is_selection, parts = _relaxation(*key)
+        self._locked_parts = [(f"{name}.{part}", components) for part, components in parts]
         self._alone: FrameGroup | None = None  # the group of one that evaluates this constraint on its own
 
     @property
@@ -139,6 +134,22 @@ class FrameConstraint(Constraint):
             kept = err[components]
             out[part] = math.sqrt(kept.dot(kept))  # v @ v's number (matmul of two vectors calls dot), sooner
         return out
+
+
+@functools.lru_cache(maxsize=256)  # a problem's targets and loops share a few operators (a study builds them a run)
+def _relaxation(rows: int, operator: bytes, position_tolerance: str, rotation_tolerance: str) -> tuple:
+    """Of a (rows, 6) ``operator`` (its float64 bytes) and the tolerances (m, rad; float.hex): the rows' tolerance
+    (read-only), whether it selects components, and (part, the unrelaxed components it measures) of the locked
+    translation / rotation."""
+    op = np.frombuffer(operator, dtype=float).reshape(rows, 6)
+    base_tol = np.array([float.fromhex(position_tolerance)] * 3 + [float.fromhex(rotation_tolerance)] * 3)
+    tolerance = np.abs(op) @ base_tol
+    tolerance.setflags(write=False)
+    locked = op.sum(axis=0) > 0
+    position, rotation = locked * _FIRST_THREE, locked * ~_FIRST_THREE
+    # a slice when adjacent, else their indices (a slice's view has the values and order of a mask's copy)
+    parts = tuple((part, _components(m)) for part, m in (("position", position), ("rotation", rotation)) if m.any())
+    return tolerance, bool(np.all((op == 0) | (op == 1))), parts
 
 
 def _components(mask: np.ndarray) -> slice | np.ndarray:
@@ -195,11 +206,12 @@ class FrameGroup(Constraint):
     def __init__(self, members: list[FrameConstraint]) -> None:
         self.members = list(members)
         sizes = [c.rows for c in self.members]
-        offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
-        self.member_rows = [slice(int(offsets[i]), int(offsets[i + 1])) for i in range(len(self.members))]
+        offsets = list(itertools.accumulate(sizes, initial=0))
+        self.member_rows = [slice(a, b) for a, b in zip(offsets[:-1], offsets[1:], strict=True)]
         self._tolerance = np.concatenate([c.tolerance() for c in self.members]) if self.members else np.zeros(0)
         self._met_bound = self._tolerance * MET_FACTOR  # Constraint.met_rows's, once
-        self._row_weight = np.concatenate([np.full(c.rows, c.weight) for c in self.members]) if sizes else np.zeros(0)
+        weights = np.array([c.weight for c in self.members])  # each member's weight on each of its rows
+        self._row_weight = np.repeat(weights, sizes) if sizes else np.zeros(0)
         self.n_x = self.members[0].n_x if self.members else 0
         self.link = np.array([c.tcp.link for c in self.members], dtype=int)
         self.tcp_rotation = np.array([c.tcp.rotation for c in self.members]).reshape(-1, 3, 3)

@@ -18,12 +18,13 @@ import numpy as np
 from .. import kernels
 from ..body.model import Model
 from ..body.state import State
-from ..collision.body import BodyCapsules
+from ..collision.body import BodyCapsules, capsules_of
 from ..collision.distance import capsule_pairs
 from ..collision.proximity import PairProximity
 from ..collision.self_pairs import self_pairs
 from ..kernels.clearance import clearance_jacobian
 from .clearance import HOLD, ClearanceRows
+from .per_model import fresh, per_model
 
 
 class SelfClearance(ClearanceRows):
@@ -72,3 +73,9 @@ class SelfClearance(ClearanceRows):
             away = state.kin.jacobian_rows(got.point_other[rows], normal, np.zeros_like(normal), mask)
             out[:, : self.model.n] = self._part_rows(state, rows) - away
         return out
+
+
+def self_clearance(model: Model, n_x: int) -> SelfClearance:
+    """The self-clearance rows of ``model``'s capsules (:func:`~solver.collision.body.capsules_of`) for ``n_x``
+    variables: its pairs found once per model, its last query its own."""
+    return fresh(per_model(model, ("self clearance", n_x), lambda: SelfClearance(model, capsules_of(model), n_x)))

@@ -7,16 +7,14 @@ newtons compare and "converged" means max |scaled error| <= 1.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 
 import numpy as np
 
 from .. import kernels
-from ..body.contacts import Support, build_contacts
 from ..body.model import GRAVITY, Model
-from ..body.reduction import build_reduction
 from ..body.state import State
-from ..body.statics import Load, StaticsLayout
 from ..collision.body import capsules_of
 from ..comfort import Comfort
 from ..constraints import BalanceConstraint, Constraint, FrameConstraint, FrameGroup, lock_operator
@@ -24,12 +22,13 @@ from ..constraints.carried_clearance import CarriedClearance
 from ..constraints.carried_obstacles import CarriedObstacles
 from ..constraints.clearance import FLOOR, Clearance, Closeness, floor_clearance
 from ..constraints.inequality import Inequality
-from ..constraints.self_clearance import SelfClearance
+from ..constraints.self_clearance import self_clearance
 from ..errors import ManikinError
 from ..kernels.reduction import comfort_model
 from ..kernels.trial import linear_phi, scale_rows
 from . import reports, stacked
 from .bounds import Bounds
+from .parts import standard_comfort, statics_of, variables_of, zero_kinematics
 from .specs import (
     ExternalLoad,
     Loop,
@@ -65,17 +64,12 @@ class Problem:
         self.loops = list(spec.loops)
         self.load_specs = list(spec.loads)
         self.balance = balance = spec.balance
-        zero = self._zero_kin = model.forward(model.zero_pose())
-        supports = []
-        if balance:
-            for t in self.targets:
-                if t.support:
-                    supports.append(Support(model.tcp(t.tcp), self._rotation_of(t, zero), t.friction, t.sole))
-            if not supports:
-                raise ManikinError("balance needs at least one support target (support = true)")
-        self.contacts = build_contacts(model, supports)
-        self.loads = [Load(model.tcp(ld.tcp), np.asarray(ld.force, dtype=float)) for ld in spec.loads]
-        self.layout = StaticsLayout(model, self.contacts, self.loads)
+        zero = self._zero_kin = zero_kinematics(model)
+        held = [t for t in self.targets if t.support] if balance else []
+        if balance and not held:
+            raise ManikinError("balance needs at least one support target (support = true)")
+        self.contacts, self.layout = statics_of(model, held, spec.loads, lambda t: self._rotation_of(t, zero))
+        self.loads = list(self.layout.loads)
         n, n_w = model.n, self.contacts.n_vars
         self.n_x = n + n_w
         self.loop_constraints = [self._loop_constraint(lp) for lp in self.loops]
@@ -86,7 +80,7 @@ class Problem:
         self.obstacle_constraint = Clearance(model, capsules_of(model), self.obstacles, self.n_x) if self.obstacles \
             else None  # fmt: skip
         self.self_collision = spec.self_collision
-        self.self_constraint = SelfClearance(model, capsules_of(model), self.n_x) if spec.self_collision else None
+        self.self_constraint = self_clearance(model, self.n_x) if spec.self_collision else None
         if self.self_constraint is not None and not self.self_constraint.rows:
             self.self_constraint = None  # a body without the named parts (the snake)
         self.carried = carried = spec.carried
@@ -97,16 +91,12 @@ class Problem:
             if carried is not None and around else None  # fmt: skip
         self.extra_constraints = list(spec.extra_constraints)
         self._set_constraints([self._target_constraint(t, zero) for t in self.targets])
-        comfort = spec.comfort if spec.comfort is not None else Comfort.standard(model, spec.comfort_weights)
+        comfort = spec.comfort if spec.comfort is not None else standard_comfort(model, spec.comfort_weights)
         self.comfort = comfort.with_targets(self.targets)  # a term that reads the targets (gaze) aimed at them
         self.body_weight = model.total_mass * float(np.linalg.norm(GRAVITY))
-        self.x_bounds = Bounds.of_model(model, n_w, self.body_weight)
-        xb = self.x_bounds
         self.reduction_groups = spec.reduction
-        self.reduction = build_reduction(model, self.reduction_groups, xb.lower, xb.upper, xb.scale)
         # The solver's variables v: x itself, or beta with x = phi(beta) when reduced.
-        red = self.reduction
-        self.bounds = xb if red is None else Bounds(red.lower, red.upper, red.scale, red.is_joint)
+        self.x_bounds, self.reduction, self.bounds = variables_of(model, n_w, self.body_weight, spec.reduction)
         self.n_var = len(self.bounds)
 
     def with_targets(self, targets: list[Target]) -> Problem:
@@ -187,24 +177,25 @@ class Problem:
         rows += self.extra_constraints
         rows = [c for c in rows if c is not None]
         self.constraints: list[Constraint] = rows
+        self._sizes = sizes = [c.rows for c in rows]
         self.row_tolerance = np.concatenate([c.tolerance() for c in rows]) if rows else np.zeros(0)
         # per row: a one-sided constraint's (an Inequality: met rows have zero error, contact rows are held by the step)
-        self.one_sided = np.concatenate([np.full(c.rows, isinstance(c, Inequality)) for c in rows]) if rows \
-            else np.zeros(0, dtype=bool)  # fmt: skip
+        one_sided = [isinstance(c, Inequality) for c in rows]
+        self.one_sided = np.repeat(np.array(one_sided, dtype=bool), sizes)
         self.row_weight = np.concatenate([c.row_weight() for c in rows]) if rows else np.zeros(0)
         # per row: an obstacle's clearance (the scene's, not the floor's or the body's own: docs/TUNING.md)
-        obstacles = (self.obstacle_constraint, self.carried_obstacle_constraint)
-        self.obstacle_rows = np.concatenate([np.full(c.rows, any(c is o for o in obstacles)) for c in rows]) if rows \
-            else np.zeros(0, dtype=bool)  # fmt: skip
-        self.any_obstacle_rows = bool(self.obstacle_rows.any())
+        scene = (self.obstacle_constraint, self.carried_obstacle_constraint)
+        obstacles = [any(c is o for o in scene) for c in rows]
+        self.obstacle_rows = np.repeat(np.array(obstacles, dtype=bool), sizes)
+        self.any_obstacle_rows = any(o and k for o, k in zip(obstacles, sizes, strict=True))
         self.n_rows = len(self.row_tolerance)
-        self._row_offsets = np.cumsum([0] + [c.rows for c in rows[:-1]]).astype(int) if rows else np.zeros(0, int)
+        offsets = list(itertools.accumulate(sizes[:-1], initial=0)) if rows else []
+        self._row_offsets = np.array(offsets, dtype=int)
         self._row_scale = (self.row_weight / self.row_tolerance)[:, None]  # (rows, 1) of the scaled Jacobian
-        self._sizes = [c.rows for c in rows]
         # per one-sided constraint (an Inequality): its index and its rows, for scaled_slack (kinds fixed per problem)
-        self._one_sided_at = [(i, slice(int(o), int(o) + c.rows))
-                              for i, (c, o) in enumerate(zip(rows, self._row_offsets, strict=True))
-                              if isinstance(c, Inequality)]  # fmt: skip
+        self._one_sided_at = [
+            (i, slice(o, o + k)) for i, (side, o, k) in enumerate(zip(one_sided, offsets, sizes, strict=True)) if side
+        ]
         # live_jacobian's rows when all may be nonzero, shared (nothing writes to it; read-only would mean new kernels)
         self._all_rows = np.arange(self.n_rows)
 

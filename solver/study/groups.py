@@ -10,7 +10,10 @@ in this package.
 
 from __future__ import annotations
 
-from ..ergonomics.registry import frame_scores, motion_scores
+import operator
+
+from ..ergonomics.registry import SCORES, frame_scores, motion_scores
+from ..job.registry import METHODS
 from .job_columns import GROUP as JOB
 from .job_columns import job_columns
 
@@ -24,21 +27,34 @@ LOAD_PANELS = [  # (recorded group, column, title, limits drawn: NIOSH 1981, the
 
 def groups() -> dict[str, list[str]]:
     """Every group and its columns, in the order of a row's columns."""
+    return {group: list(columns) for group, columns in _groups()}
+
+
+def _groups() -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """:func:`groups`, made again only when a score or a job method was registered since (a run asks twice)."""
+    registered = (*SCORES.values(), *METHODS.values())
+    if _KNOWN and len(_KNOWN[0]) == len(registered) and all(map(operator.is_, _KNOWN[0], registered)):
+        return _KNOWN[1]
     out = dict(SHORTFALL)
     out |= {s.name: s.study_columns() for s in frame_scores() if s.study_columns()}
     out |= LOADS
     out |= {s.name: s.study_columns() for s in motion_scores() if s.study_columns()}
-    return out | {JOB: job_columns()}
+    made = tuple((group, tuple(columns)) for group, columns in (out | {JOB: job_columns()}).items())
+    _KNOWN[:] = [registered, made]
+    return made
+
+
+_KNOWN: list = []  # [the registered scores and job methods, their groups]
 
 
 def record() -> tuple[str, ...]:
     """Every group's name (the default of ``record``)."""
-    return tuple(groups())
+    return tuple(g for g, _ in _groups())
 
 
 def ergonomic() -> tuple[str, ...]:
     """The groups that need the ergonomics of a run (all but the shortfall and the job's, which rates it itself)."""
-    return tuple(g for g in groups() if g not in SHORTFALL and g != JOB)
+    return tuple(g for g, _ in _groups() if g not in SHORTFALL and g != JOB)
 
 
 def panels() -> list[tuple[str, str, str, tuple]]:

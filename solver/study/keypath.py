@@ -12,6 +12,7 @@ and a typo then fails at once, one line naming the study file, the parameter and
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from typing import Any
@@ -60,7 +61,7 @@ def _pick(entries: list, key: str) -> int:
     raise ValueError(f"no entry named {key!r} (by name or tcp; there are: {', '.join(map(str, names)) or 'none'})")
 
 
-def locate(data: dict, steps: list[Step]) -> tuple[dict | list, str | int]:
+def locate(data: dict, steps: list[Step] | tuple[Step, ...]) -> tuple[dict | list, str | int]:
     """The container holding the value at ``steps`` and its key there; ValueError naming the first missing step."""
     node: Any = data
     shown = ""
@@ -105,9 +106,15 @@ def check(data: dict, path: str, values: list, add: bool) -> None:
             raise ValueError(f"the file has a {kind(old)} there ({old!r}), the parameter gives {value!r}")
 
 
+@functools.lru_cache(maxsize=256)  # a study applies its few paths every run
+def _steps(path: str) -> tuple[Step, ...]:
+    """:func:`parse` of ``path``, kept (a malformed path is not: it raises every time)."""
+    return tuple(parse(path))
+
+
 def apply(data: dict, path: str, value: Any, add: bool) -> None:
     """Set (or, with ``add``, shift) the value at ``path`` in ``data`` in place (:func:`check` passed)."""
-    container, key = locate(data, parse(path))
+    container, key = locate(data, _steps(path))
     new = container[key] + value if add else value
     if isinstance(new, float) and not math.isfinite(new):
         raise ValueError(f"{path}: {new} is not a finite number")

@@ -15,6 +15,7 @@ load, feet, sole scale; no repeats: an envelope is deterministic), its id a hash
 from __future__ import annotations
 
 import copy
+import datetime
 import itertools
 from dataclasses import dataclass
 from typing import Any
@@ -64,7 +65,7 @@ def grid(scenario: StudyScenario) -> list[dict[str, Any]]:
 def substitute(scenario: StudyScenario, values: dict[str, Any], manikin: Manikin | None) -> dict:
     """The scenario's tables with each parameter's value set or added at its key paths and, unless the scenario
     keeps its own, the study's manikin in [manikin]; ValueError if a value does not go in."""
-    data = copy.deepcopy(scenario.data)
+    data = tables_copy(scenario.data)
     for p in scenario.parameters:
         for path in p.set:
             keypath.apply(data, path, values[p.name], add=False)
@@ -73,6 +74,20 @@ def substitute(scenario: StudyScenario, values: dict[str, Any], manikin: Manikin
     if manikin is not None:
         data["manikin"] = manikin.table()
     return data
+
+
+def tables_copy(value: Any) -> Any:
+    """A copy of parsed TOML tables: every table and list new, the values (str, numbers, dates: immutable) shared;
+    copy.deepcopy's result for these types, without its memo (a study copies its scenario's tables every run)."""
+    kind = type(value)
+    if kind is dict:
+        return {key: tables_copy(item) for key, item in value.items()}
+    if kind is list:
+        return [tables_copy(item) for item in value]
+    return value if kind in _IMMUTABLE else copy.deepcopy(value)
+
+
+_IMMUTABLE = {str, int, float, bool, datetime.datetime, datetime.date, datetime.time, type(None)}
 
 
 def own_manikin(scenario: StudyScenario) -> str:

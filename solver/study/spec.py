@@ -35,6 +35,7 @@
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import re
@@ -76,9 +77,10 @@ class Manikin:
     body: dict
     member: dict = field(default_factory=dict)
 
-    @property
+    @functools.cached_property
     def key(self) -> str:
-        """A hash of the body's tables: the same body, the same key."""
+        """A hash of the body's tables: the same body, the same key (once: the tables are not changed after they are
+        read, and a worker asks every run)."""
         return digest(self.body)
 
     def table(self) -> dict:
