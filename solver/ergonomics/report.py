@@ -43,6 +43,7 @@ SOURCES = sources()  # as the scores registered in .registry have them (the Blen
 
 
 _PLAIN = (str, int, bool, type(None))  # JSON values clean keeps as they are
+_KEPT = frozenset(_PLAIN)
 
 
 def clean(value):
@@ -50,8 +51,9 @@ def clean(value):
     kind = type(value)
     if kind is float:  # the common cases first, by exact type: a long motion cleans millions of values
         return value if math.isfinite(value) else None
-    if kind is dict:
-        return {k if type(k) is str else str(k): clean(v) for k, v in value.items()}
+    if kind is dict:  # a plain value or a float told here, without a call per value (x - x is 0.0 iff finite)
+        return {k if type(k) is str else str(k): v if type(v) in _KEPT else (v if v - v == 0.0 else None)
+                if type(v) is float else clean(v) for k, v in value.items()}  # fmt: skip
     if kind is list or kind is tuple:
         return [clean(v) for v in value]
     if kind in _PLAIN:

@@ -174,19 +174,38 @@ def _frame(t: TableReader) -> Frame:
 
 def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
     """A frame of the compact format: the model posed by its ``joint_values``, with its contacts and loads."""
-    values = t.vector("joint_values", model.n, limit=ANGLE, unit="rad or m")
+    values = _vector(t, "joint_values", model.n, ANGLE, "rad or m")
     contacts = []
     for name, c in t.named_tables("contacts").items():
         if name not in model.tcps:
             raise t.fail(f"contacts.{name}", "a contact at one of the TCPs: " + ", ".join(sorted(model.tcps)))
-        point, force = c.vector("point", 3, limit=LENGTH, unit="m"), c.vector("force", 3, limit=FORCE, unit="N")
-        contacts.append((name, point, force, c.vector("moment", 3, [0.0, 0.0, 0.0], limit=FORCE, unit="N*m")))
+        point, force = _vector(c, "point", 3, LENGTH, "m"), _vector(c, "force", 3, FORCE, "N")
+        contacts.append((name, point, force, _vector(c, "moment", 3, FORCE, "N*m", _ZERO)))
     loads = []
     for ld in t.table_list("loads"):
-        point, force = ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")
+        point, force = _vector(ld, "point", 3, LENGTH, "m"), _vector(ld, "force", 3, FORCE, "N")
         loads.append((ld.choice("tcp", model.tcps, "a TCP name"), point, force))
     g = GRAVITY if gravity is None else TableReader(t.path, {"gravity": gravity}, "", t.error).vector("gravity", 3)
     return frame_of_pose(model, model.forward(values), frame_status(t), contacts, loads, g)
+
+
+_ZERO = [0.0, 0.0, 0.0]  # a contact's moment when the file gives none (read, never changed)
+
+
+def _vector(t: TableReader, key: str, size: int, limit: float, unit: str, default: Any = None) -> np.ndarray:
+    """``t.vector(key, size, default, limit, unit)``, told at C speed for the usual list of floats within +-limit (a
+    compact frame's values); anything else (ints, NaN, a wrong size or type) goes through ``t.vector`` and its
+    checks and messages."""
+    value = t.data.get(key, default)
+    if type(value) is list and len(value) == size:
+        if size > 8:  # one pass in C over many values: their types, then their size (NaN fails the comparison)
+            if set(map(type, value)) == {float}:
+                a = np.array(value, dtype=float)
+                if (np.abs(a) <= limit).all():
+                    return a
+        elif all(type(v) is float and -limit <= v <= limit for v in value):
+            return np.array(value, dtype=float)
+    return t.vector(key, size, default, limit=limit, unit=unit)
 
 
 def frame_status(t: TableReader) -> dict:
