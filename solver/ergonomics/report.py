@@ -18,7 +18,7 @@ from ..io.result.frame import Frame
 from . import postures
 from .base import FrameInputs, MotionScore
 from .loads import JointLoads, hand_load_kg, load_arrays
-from .manikin import strengths, working_area
+from .manikin import feet_frame, strengths, working_area
 from .options import ErgoOptions
 from .registry import RANKING, SCORES, frame_scores, in_frame_order, motion_scores
 
@@ -91,9 +91,10 @@ def frame_parts(
     (:mod:`.report_text`) without building a dict per joint."""
     strength, strength_note = strengths(f, model)
     loads = load_arrays(f, strength)
-    posture = postures.measure(f)
+    feet = feet_frame(f.tcp_position, f.tcp_rotation)  # once: the posture, the worksheet and NIOSH all use it
+    posture = postures.measure(f, feet)
     load_kg = options.load_mass if options.load_mass is not None else hand_load_kg(f)
-    inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {})
+    inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {}, feet)
     report = dict(
         frame=f.number,
         converged=f.converged,

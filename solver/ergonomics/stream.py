@@ -113,9 +113,9 @@ def motion_of(stream: ResultStream, options: ErgoOptions) -> tuple[dict[str, dic
     numbers: list = []
     kept: dict[int, tuple] = {}  # position in the file -> (index, raw)
     latest: dict = {}  # a wanted frame number -> the position of its last frame so far
-    for index, raw in stream.raw():
+    for index, number, raw in stream.numbered():  # a compact file's lines not parsed but the kept ones
         position = len(numbers)
-        numbers.append(raw.get("frame", 1) if isinstance(raw, dict) else None)
+        numbers.append(number)
         if numbers[-1] in wanted:
             kept.pop(latest.get(numbers[-1]) or -1, None)  # an earlier frame of that number (not the first)
             latest[numbers[-1]] = position

@@ -24,7 +24,7 @@ from ...errors import ManikinError, ResultFileError
 from ..table_reader import TableReader
 from .frame import Frame, frame_of_pose
 from .model_json import model_from_dict
-from .scan import is_compact, scan
+from .scan import FrameLine, is_compact, parse_line, scan
 
 # bounds of a result file's values, far beyond any pose but small enough that products of them stay finite
 LENGTH, FORCE, MASS, ANGLE = 1e4, 1e7, 1e4, 1e4  # m (positions), N and N*m, kg (a link), rad or m (joint values)
@@ -58,9 +58,9 @@ class ResultStream:
             if kind == "frame" or key == "frames":
                 break
 
-    def _parts(self) -> Iterator[tuple[str, Any, Any]]:
+    def _parts(self, lazy: bool = False) -> Iterator[tuple[str, Any, Any]]:
         """The file's parts (:func:`~solver.io.result.scan.scan`), its top-level entries taken in on the way."""
-        for kind, key, value in scan(self.path, ResultFileError):
+        for kind, key, value in scan(self.path, ResultFileError, lazy):
             if kind == "key":
                 self._entry(key, value)
             yield kind, key, value
@@ -82,9 +82,22 @@ class ResultStream:
 
     def raw(self) -> Iterator[tuple[int, dict]]:
         """(index, raw frame object) of every frame, without building frames (for a quick pass)."""
+        yield from self._raw(lazy=False)
+
+    def numbered(self) -> Iterator[tuple[int, Any, Any]]:
+        """(index, frame number, raw) of every frame for a quick pass over the numbers: ``raw`` as :meth:`frame`
+        takes it, a compact file's frame line not parsed (nor checked) until then; the number is the frame's
+        ``frame`` (1 when it has none; None for a frame that is not an object)."""
+        for index, value in self._raw(lazy=True):
+            if isinstance(value, FrameLine):
+                yield index, value.number, value
+            else:
+                yield index, value.get("frame", 1) if isinstance(value, dict) else None, value
+
+    def _raw(self, lazy: bool) -> Iterator[tuple[int, Any]]:
         count = 0
-        for kind, index, value in self._parts():
-            if kind == "frame":
+        for kind, index, value in self._parts(lazy):
+            if kind == "frame" or kind == "line":
                 count += 1
                 yield index, value
         if not count:
@@ -92,7 +105,9 @@ class ResultStream:
         self.count = count
 
     def frame(self, index: int, raw: Any) -> Frame:
-        """The checked frame of a raw frame object (from :meth:`raw`)."""
+        """The checked frame of a raw frame object (from :meth:`raw` or :meth:`numbered`)."""
+        if isinstance(raw, FrameLine):
+            raw = parse_line(raw, self.path, ResultFileError)
         where = f"frames[{index}]."
         if not isinstance(raw, dict):
             raise ResultFileError(f"{self.path}: {where[:-1]}: expected a result frame (an object), got {raw!r:.60}")
