@@ -145,6 +145,11 @@ def measure(frame: Frame, feet: tuple[np.ndarray, np.ndarray, np.ndarray] | None
     return out
 
 
+def digits(key: str) -> int:
+    """The decimals :func:`rounded` keeps of a posture value: 3 for shares and metres, 1 for angles."""
+    return 3 if key.endswith(("share", "lateral", "half")) else 1
+
+
 def rounded(posture: dict) -> dict:
     """A copy with angles rounded to 0.1 degree and shares/metres to 3 decimals, for the report."""
     out = {}
@@ -152,7 +157,7 @@ def rounded(posture: dict) -> dict:
         if isinstance(v, dict):
             out[k] = rounded(v)
         elif isinstance(v, float):
-            out[k] = round(v, 3 if k.endswith(("share", "lateral", "half")) else 1)
+            out[k] = round(v, digits(k))
         else:
             out[k] = v
     return out

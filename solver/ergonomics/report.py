@@ -95,17 +95,28 @@ def frame_parts(
     posture = postures.measure(f, feet)
     load_kg = options.load_mass if options.load_mass is not None else hand_load_kg(f)
     inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {}, feet)
-    report = dict(
-        frame=f.number,
-        converged=f.converged,
-        status=f.status(),
-        posture=posture if "reason" in posture else postures.rounded(posture),
-        joint_loads=None,  # JSON-safe already (JointLoads.as_dict): not walked by clean, the bulk of a frame's values
-    )
-    for score in frame_scores() + (motion_scores() if motion is not None else []):
-        report[score.name] = score.evaluate(inputs)
+    head = clean(dict(frame=f.number, converged=f.converged, status=f.status()))
+    evaluated = frame_scores() + (motion_scores() if motion is not None else [])
+    scores = {score.name: score.evaluate(inputs) for score in evaluated}
     loads.l4_l5 = clean(loads.l4_l5)
-    return clean(report), loads, strength_note
+    # joint_loads: JSON-safe already (JointLoads.as_dict), the bulk of a frame's values; the posture made JSON-safe
+    # as it is rounded: clean walks only the scores' entries
+    entry = clean(posture) if "reason" in posture else _rounded_clean(posture)
+    return {**head, "posture": entry, "joint_loads": None, **clean(scores)}, loads, strength_note
+
+
+def _rounded_clean(posture: dict) -> dict:
+    """``clean(postures.rounded(posture))`` in one walk."""
+    out = {}
+    for k, v in posture.items():
+        if isinstance(v, dict):
+            out[k] = _rounded_clean(v)
+        elif isinstance(v, float):
+            r = round(v, postures.digits(k))
+            out[k] = r if type(r) is float and r - r == 0.0 else clean(r)  # x - x is 0.0 iff x is finite
+        else:
+            out[k] = clean(v)
+    return out
 
 
 def end_positions(score: MotionScore, numbers: Sequence[int | None], options: ErgoOptions) -> tuple[int, int]:
