@@ -101,16 +101,16 @@ def frame_parts(
     loads.l4_l5 = clean(loads.l4_l5)
     # joint_loads: JSON-safe already (JointLoads.as_dict), the bulk of a frame's values; the posture made JSON-safe
     # as it is rounded: clean walks only the scores' entries
-    entry = clean(posture) if "reason" in posture else _rounded_clean(posture)
+    entry = clean(posture) if "reason" in posture else rounded_clean(posture)
     return {**head, "posture": entry, "joint_loads": None, **clean(scores)}, loads, strength_note
 
 
-def _rounded_clean(posture: dict) -> dict:
+def rounded_clean(posture: dict) -> dict:
     """``clean(postures.rounded(posture))`` in one walk."""
     out = {}
     for k, v in posture.items():
         if isinstance(v, dict):
-            out[k] = _rounded_clean(v)
+            out[k] = rounded_clean(v)
         elif isinstance(v, float):
             r = round(v, postures.digits(k))
             out[k] = r if type(r) is float and r - r == 0.0 else clean(r)  # x - x is 0.0 iff x is finite

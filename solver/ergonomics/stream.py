@@ -97,7 +97,7 @@ def _frame_text(report: dict, loads: JointLoads, text: LoadsText) -> str:
     return written
 
 
-def _csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
+def array_csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
     """:func:`.report.csv_cells` of the :func:`.report.csv_row` of the report :func:`.report.frame_report` builds,
     the percent of strength of the joints at ``shown_at`` read from the arrays (plain floats) in one pass: rounded,
     or empty where not finite (x - x is 0.0 iff x is finite)."""
@@ -105,7 +105,7 @@ def _csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
     return row + [round(v, 4) if v - v == 0.0 else "" for v in loads.percent[shown_at].tolist()]
 
 
-class _ShownAt:
+class JointColumns:
     """The indices of the CSV's joints in a frame, found again only when the frame's joint names change (the same
     list for every frame of a motion)."""
 
@@ -177,13 +177,13 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         out, table = json_out, csv_out  # their write names the file on a full disk
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
-        text, shown_at = LoadsText(), _ShownAt(joints)
+        text, shown_at = LoadsText(), JointColumns(joints)
         for f in stream:
             report, loads, _ = frame_parts(f, options, model, area, motion)
             if count == 0:
                 rows.writerow(csv_header(report, joints))
             out.write(("\n" if count == 0 else ",\n") + _frame_text(report, loads, text))
-            rows.writerow(_csv_cells(report, loads, shown_at(f)))
+            rows.writerow(array_csv_cells(report, loads, shown_at(f)))
             series.add(report, loads)
             report["joint_loads"] = _Loads(loads)  # a dict of them built only for the frames the summary keeps
             shown, last = shown + [report] if len(shown) < SHOWN else shown, report

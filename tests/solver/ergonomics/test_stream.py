@@ -21,9 +21,9 @@ from solver.ergonomics.base import FrameInputs
 from solver.ergonomics.loads import load_arrays, subtree_sums
 from solver.ergonomics.manikin import feet_frame, resolve_model, strengths, working_area
 from solver.ergonomics.registry import in_frame_order
-from solver.ergonomics.report import _rounded_clean, clean, csv_cells, csv_header, csv_row, frame_parts, frame_report
+from solver.ergonomics.report import clean, csv_cells, csv_header, csv_row, frame_parts, frame_report, rounded_clean
 from solver.ergonomics.report_text import LoadsText
-from solver.ergonomics.stream import _csv_cells, _ShownAt, motion_of
+from solver.ergonomics.stream import JointColumns, array_csv_cells, motion_of
 from solver.io.result.read import ResultStream
 
 BOX_LIFT_MOTION = Path(__file__).resolve().parents[3] / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -134,7 +134,7 @@ def test_posture_rounded_and_made_json_safe_in_one_walk_is_clean_of_rounded(resu
     posture = postures.measure(frame)
     posture["trunk_flexion"], posture["l"]["weight_share"] = math.nan, np.float64(0.123456)
     posture["r"]["hand_lateral"], posture["r"]["elbow_flexion"] = -math.inf, np.float64(math.inf)
-    got = _rounded_clean(posture)
+    got = rounded_clean(posture)
     assert json.dumps(got, allow_nan=False) == json.dumps(clean(postures.rounded(posture)), allow_nan=False)
     assert got["trunk_flexion"] is None and type(got["l"]["weight_share"]) is float
 
@@ -149,9 +149,9 @@ def test_csv_cells_of_the_arrays_and_joint_indices_kept_per_layout(result_file: 
     loads.percent = loads.percent.copy()
     loads.percent[[0, 1, 2]] = [math.nan, math.inf, -math.inf]
     joints = frame.joint_names[:5] + frame.joint_names[-3:]
-    shown_at = _ShownAt(joints)
+    shown_at = JointColumns(joints)
     whole = report | {"joint_loads": loads.as_dict()}
-    assert _csv_cells(report, loads, shown_at(frame)) == csv_cells(csv_row(whole, joints))
+    assert array_csv_cells(report, loads, shown_at(frame)) == csv_cells(csv_row(whole, joints))
     order = frame.joint_names[::-1]
     turned = dataclasses.replace(frame, joint_names=order)
     assert shown_at(turned) == [order.index(j) for j in joints] and shown_at(frame) == [frame.index[j] for j in joints]
