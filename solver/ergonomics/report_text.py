@@ -36,7 +36,7 @@ class LoadsText:
             self._names = list(loads.names)
         numbers = Numbers()
         moments, axis = _rows(loads.moment), numbers.items(loads.axis_moment)
-        percent = _nulls(Numbers()._text(loads.percent))[1:-1].split(", ") if len(loads.percent) else []
+        percent = _nulls(repr(loads.percent.tolist()))[1:-1].split(", ") if len(loads.percent) else []
         filled = (*interleave(moments, axis, percent), json.dumps(loads.l4_l5, allow_nan=False))
         finite = numbers.finite and not any("n" in m for m in moments[:1])  # _rows' first: all, if not finite
         if not finite or len(filled) != self._slots:  # a moment not finite, or names the dict merges

@@ -152,7 +152,8 @@ def _compact_parts(stream: IO[str], path: Path, error: type[ManikinError], lazy:
         if not line.strip():
             continue
         start = _FRAME_START.match(line) if lazy and number > 1 else None
-        if start is not None and line.count('"frame"') == 1:  # its one "frame" key: the number JSON would read
+        # its one "frame" key (no other, nor one spelled with a \u escape): the number JSON would read
+        if start is not None and line.count('"frame"') == 1 and "\\u" not in line:
             yield "line", index, FrameLine(int(start.group(1)), number, index, line)
             index += 1
             continue

@@ -46,16 +46,19 @@ def _same(a: solver.Frame, b: solver.Frame) -> None:
 
 def test_numbered_gives_the_numbers_and_frames_of_the_full_read(lines: list[str], tmp_path: Path) -> None:
     """A line as the writer starts it is left unparsed, one that does not (spaces, "frame" not first, the key
-    twice: JSON takes the last) is parsed on the way; each builds the frame the full read builds."""
+    twice, also spelled with an escape: JSON takes the last) is parsed on the way; each builds the frame the full
+    read builds."""
     spaced = json.loads(lines[2])
     moved = {k: v for k, v in spaced.items() if k != "frame"} | {"frame": 7}
     twice = lines[3].rstrip("\n")[:-1] + ', "frame": 9}\n'
-    path = _file(tmp_path, [lines[0], lines[1], json.dumps(spaced) + "\n", json.dumps(moved) + "\n", twice])
+    escaped = lines[3].rstrip("\n")[:-1] + ', "fr\\u0061me": 11}\n'
+    lines = [lines[0], lines[1], json.dumps(spaced) + "\n", json.dumps(moved) + "\n", twice, escaped]
+    path = _file(tmp_path, lines)
     stream = ResultStream(path)
     numbered = list(stream.numbered())
     raw = list(stream.raw())
-    assert [n for _, n, _ in numbered] == [r.get("frame", 1) for _, r in raw] == [1, 2, 7, 9]
-    assert [type(r) for _, _, r in numbered] == [FrameLine, dict, dict, dict] and stream.count == 4
+    assert [n for _, n, _ in numbered] == [r.get("frame", 1) for _, r in raw] == [1, 2, 7, 9, 11]
+    assert [type(r) for _, _, r in numbered] == [FrameLine, dict, dict, dict, dict] and stream.count == 5
     for (i, _, quick), (j, full) in zip(numbered, raw, strict=True):
         assert i == j
         _same(stream.frame(i, quick), stream.frame(j, full))
