@@ -15,6 +15,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar
 
+import numpy as np
+
 from ..io.result.frame import Frame
 from .loads import JointLoads
 from .manikin import WorkingArea
@@ -29,7 +31,9 @@ class FrameInputs:
     ``load_kg``: kg in the hands (the options' load mass, else the result's loads on the hand TCPs); ``loads``: joint
     moments (N*m), percent of strength and L4/L5 (:class:`.loads.JointLoads`, ``l4_l5`` not yet JSON-cleaned);
     ``area``: the manikin's standard working area (None without one); ``motion``: the motion scores' values by name
-    (the report's top-level entries; empty where the frame is evaluated before the motion is known).
+    (the report's top-level entries; empty where the frame is evaluated before the motion is known); ``feet``: the
+    frame's :func:`.manikin.feet_frame` when the caller has it (None: each score computes it, as for a body without
+    feet).
     """
 
     frame: Frame
@@ -39,6 +43,7 @@ class FrameInputs:
     area: WorkingArea | None
     options: ErgoOptions
     motion: Mapping[str, dict] = field(default_factory=dict)
+    feet: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..body.spatial import length
 from ..io.result.frame import Frame
-from .base import MotionScore
+from .base import FrameInputs, MotionScore
 from .loads import hand_load_kg
 from .manikin import feet_frame
 from .options import ErgoOptions
@@ -79,10 +79,11 @@ def coupling_multiplier(coupling: str, v_cm: float) -> float:
     return low if v_cm < 75.0 else high
 
 
-def hand_point(frame: Frame) -> dict | None:
-    """H, V (cm) and A (deg) of the knuckles' midpoint in one frame; None without knuckles, ankles or feet."""
+def hand_point(frame: Frame, feet: tuple | None = None) -> dict | None:
+    """H, V (cm) and A (deg) of the knuckles' midpoint in one frame; None without knuckles, ankles or feet.
+    ``feet``: the frame's :func:`.manikin.feet_frame` if the caller has it."""
     ankles = ("ankle_l_dorsiflexion", "ankle_r_dorsiflexion")
-    feet = feet_frame(frame.tcp_position, frame.tcp_rotation)
+    feet = feet if feet is not None else feet_frame(frame.tcp_position, frame.tcp_rotation)
     if not {"knuckles_l", "knuckles_r"} <= set(frame.tcp_position) or not frame.has(*ankles) or feet is None:
         return None
     hands = 0.5 * (frame.tcp_position["knuckles_l"] + frame.tcp_position["knuckles_r"])
@@ -168,6 +169,10 @@ class Niosh(MotionScore):
 
     def at_frame(self, kept: dict | None, motion: dict, options: ErgoOptions) -> dict | None:
         return at_point(kept, motion, options.coupling)
+
+    def evaluate(self, inputs: FrameInputs) -> dict | None:
+        """:meth:`at_frame` of :meth:`keep`, the frame's feet frame taken from ``inputs``."""
+        return at_point(hand_point(inputs.frame, inputs.feet), inputs.motion[self.name], inputs.options.coupling)
 
     def columns(self, first: dict) -> list[str]:
         return ["niosh_H_cm", "niosh_V_cm", "niosh_A_deg", "niosh_RWL_kg"]

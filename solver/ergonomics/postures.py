@@ -46,6 +46,8 @@ _REQUIRED = ("l5_rx", "c7_rx", "clavicle_l_rx", "clavicle_r_rx", "hip_l_flexion"
     )
 )  # fmt: skip
 _TCPS = ("head", "hand_l", "hand_r", "foot_l", "foot_r")
+_Z = np.array([0.0, 0.0, 1.0])
+_Z.setflags(write=False)  # shared by every frame
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -79,13 +81,14 @@ def missing_for_posture(frame: Frame) -> str | None:
     return None
 
 
-def measure(frame: Frame) -> dict:
-    """The body angles of one frame (degrees unless noted); ``{"reason": ...}`` if the body is not human."""
+def measure(frame: Frame, feet: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> dict:
+    """The body angles of one frame (degrees unless noted); ``{"reason": ...}`` if the body is not human. ``feet``:
+    the frame's :func:`.manikin.feet_frame` if the caller has it."""
     reason = missing_for_posture(frame)
     if reason:
         return {"reason": reason}
-    z = np.array([0.0, 0.0, 1.0])
-    _, forward, left = feet_frame(frame.tcp_position, frame.tcp_rotation)
+    z = _Z
+    _, forward, left = feet if feet is not None else feet_frame(frame.tcp_position, frame.tcp_rotation)
     u = _unit(frame.pos("c7_rx") - frame.pos("l5_rx"))
     thorax_line = frame.pos("clavicle_l_rx") - frame.pos("clavicle_r_rx")
     hip_line = frame.pos("hip_l_flexion") - frame.pos("hip_r_flexion")
@@ -142,6 +145,11 @@ def measure(frame: Frame) -> dict:
     return out
 
 
+def digits(key: str) -> int:
+    """The decimals :func:`rounded` keeps of a posture value: 3 for shares and metres, 1 for angles."""
+    return 3 if key.endswith(("share", "lateral", "half")) else 1
+
+
 def rounded(posture: dict) -> dict:
     """A copy with angles rounded to 0.1 degree and shares/metres to 3 decimals, for the report."""
     out = {}
@@ -149,7 +157,7 @@ def rounded(posture: dict) -> dict:
         if isinstance(v, dict):
             out[k] = rounded(v)
         elif isinstance(v, float):
-            out[k] = round(v, 3 if k.endswith(("share", "lateral", "half")) else 1)
+            out[k] = round(v, digits(k))
         else:
             out[k] = v
     return out

@@ -18,7 +18,7 @@ from ..io.result.frame import Frame
 from . import postures
 from .base import FrameInputs, MotionScore
 from .loads import JointLoads, hand_load_kg, load_arrays
-from .manikin import strengths, working_area
+from .manikin import feet_frame, strengths, working_area
 from .options import ErgoOptions
 from .registry import RANKING, SCORES, frame_scores, in_frame_order, motion_scores
 
@@ -43,6 +43,7 @@ SOURCES = sources()  # as the scores registered in .registry have them (the Blen
 
 
 _PLAIN = (str, int, bool, type(None))  # JSON values clean keeps as they are
+_KEPT = frozenset(_PLAIN)
 
 
 def clean(value):
@@ -50,8 +51,9 @@ def clean(value):
     kind = type(value)
     if kind is float:  # the common cases first, by exact type: a long motion cleans millions of values
         return value if math.isfinite(value) else None
-    if kind is dict:
-        return {k if type(k) is str else str(k): clean(v) for k, v in value.items()}
+    if kind is dict:  # a plain value or a float told here, without a call per value (x - x is 0.0 iff finite)
+        return {k if type(k) is str else str(k): v if type(v) in _KEPT else (v if v - v == 0.0 else None)
+                if type(v) is float else clean(v) for k, v in value.items()}  # fmt: skip
     if kind is list or kind is tuple:
         return [clean(v) for v in value]
     if kind in _PLAIN:
@@ -89,20 +91,32 @@ def frame_parts(
     (:mod:`.report_text`) without building a dict per joint."""
     strength, strength_note = strengths(f, model)
     loads = load_arrays(f, strength)
-    posture = postures.measure(f)
+    feet = feet_frame(f.tcp_position, f.tcp_rotation)  # once: the posture, the worksheet and NIOSH all use it
+    posture = postures.measure(f, feet)
     load_kg = options.load_mass if options.load_mass is not None else hand_load_kg(f)
-    inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {})
-    report = dict(
-        frame=f.number,
-        converged=f.converged,
-        status=f.status(),
-        posture=posture if "reason" in posture else postures.rounded(posture),
-        joint_loads=None,  # JSON-safe already (JointLoads.as_dict): not walked by clean, the bulk of a frame's values
-    )
-    for score in frame_scores() + (motion_scores() if motion is not None else []):
-        report[score.name] = score.evaluate(inputs)
+    inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {}, feet)
+    head = clean(dict(frame=f.number, converged=f.converged, status=f.status()))
+    evaluated = frame_scores() + (motion_scores() if motion is not None else [])
+    scores = {score.name: score.evaluate(inputs) for score in evaluated}
     loads.l4_l5 = clean(loads.l4_l5)
-    return clean(report), loads, strength_note
+    # joint_loads: JSON-safe already (JointLoads.as_dict), the bulk of a frame's values; the posture made JSON-safe
+    # as it is rounded: clean walks only the scores' entries
+    entry = clean(posture) if "reason" in posture else rounded_clean(posture)
+    return {**head, "posture": entry, "joint_loads": None, **clean(scores)}, loads, strength_note
+
+
+def rounded_clean(posture: dict) -> dict:
+    """``clean(postures.rounded(posture))`` in one walk."""
+    out = {}
+    for k, v in posture.items():
+        if isinstance(v, dict):
+            out[k] = rounded_clean(v)
+        elif isinstance(v, float):
+            r = round(v, postures.digits(k))
+            out[k] = r if type(r) is float and r - r == 0.0 else clean(r)  # x - x is 0.0 iff x is finite
+        else:
+            out[k] = clean(v)
+    return out
 
 
 def end_positions(score: MotionScore, numbers: Sequence[int | None], options: ErgoOptions) -> tuple[int, int]:

@@ -36,12 +36,17 @@ class LoadsText:
             self._names = list(loads.names)
         numbers = Numbers()
         moments, axis = _rows(loads.moment), numbers.items(loads.axis_moment)
-        percent = ["null" if "n" in p else p for p in Numbers().items(loads.percent)]  # nan, inf: null
+        percent = _nulls(repr(loads.percent.tolist()))[1:-1].split(", ") if len(loads.percent) else []
         filled = (*interleave(moments, axis, percent), json.dumps(loads.l4_l5, allow_nan=False))
         finite = numbers.finite and not any("n" in m for m in moments[:1])  # _rows' first: all, if not finite
         if not finite or len(filled) != self._slots:  # a moment not finite, or names the dict merges
             return json.dumps(loads.as_dict(), allow_nan=False)
         return self._template % filled
+
+
+def _nulls(text: str) -> str:
+    """The repr of a list of floats with each nan, inf and -inf written as null (no other float repr holds them)."""
+    return text.replace("-inf", "null").replace("inf", "null").replace("nan", "null") if "n" in text else text
 
 
 def _rows(a: np.ndarray) -> list[str]:

@@ -97,12 +97,25 @@ def _frame_text(report: dict, loads: JointLoads, text: LoadsText) -> str:
     return written
 
 
-def _csv_row(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
-    """:func:`.report.csv_row` of the report :func:`.report.frame_report` builds: the percent of strength of the
-    joints at ``shown_at`` read from the arrays."""
-    percent = loads.percent[shown_at].tolist()
-    row = csv_row(report | {"joint_loads": {"l4_l5": loads.l4_l5}}, [])
-    return row + [v if math.isfinite(v) else None for v in percent]
+def array_csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
+    """:func:`.report.csv_cells` of the :func:`.report.csv_row` of the report :func:`.report.frame_report` builds,
+    the percent of strength of the joints at ``shown_at`` read from the arrays (plain floats) in one pass: rounded,
+    or empty where not finite (x - x is 0.0 iff x is finite)."""
+    row = csv_cells(csv_row(report | {"joint_loads": {"l4_l5": loads.l4_l5}}, []))
+    return row + [round(v, 4) if v - v == 0.0 else "" for v in loads.percent[shown_at].tolist()]
+
+
+class JointColumns:
+    """The indices of the CSV's joints in a frame, found again only when the frame's joint names change (the same
+    list for every frame of a motion)."""
+
+    def __init__(self, joints: list[str]) -> None:
+        self.joints, self.names, self.at = joints, None, []
+
+    def __call__(self, f: Frame) -> list[int]:
+        if f.joint_names != self.names:
+            self.names, self.at = list(f.joint_names), [f.index[j] for j in self.joints]
+        return self.at
 
 
 def motion_of(stream: ResultStream, options: ErgoOptions) -> tuple[dict[str, dict], Frame]:
@@ -113,9 +126,9 @@ def motion_of(stream: ResultStream, options: ErgoOptions) -> tuple[dict[str, dic
     numbers: list = []
     kept: dict[int, tuple] = {}  # position in the file -> (index, raw)
     latest: dict = {}  # a wanted frame number -> the position of its last frame so far
-    for index, raw in stream.raw():
+    for index, number, raw in stream.numbered():  # a compact file's lines not parsed but the kept ones
         position = len(numbers)
-        numbers.append(raw.get("frame", 1) if isinstance(raw, dict) else None)
+        numbers.append(number)
         if numbers[-1] in wanted:
             kept.pop(latest.get(numbers[-1]) or -1, None)  # an earlier frame of that number (not the first)
             latest[numbers[-1]] = position
@@ -164,13 +177,13 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         out, table = json_out, csv_out  # their write names the file on a full disk
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
-        text = LoadsText()
+        text, shown_at = LoadsText(), JointColumns(joints)
         for f in stream:
             report, loads, _ = frame_parts(f, options, model, area, motion)
             if count == 0:
                 rows.writerow(csv_header(report, joints))
             out.write(("\n" if count == 0 else ",\n") + _frame_text(report, loads, text))
-            rows.writerow(csv_cells(_csv_row(report, loads, [f.index[j] for j in joints])))
+            rows.writerow(array_csv_cells(report, loads, shown_at(f)))
             series.add(report, loads)
             report["joint_loads"] = _Loads(loads)  # a dict of them built only for the frames the summary keeps
             shown, last = shown + [report] if len(shown) < SHOWN else shown, report

@@ -77,8 +77,9 @@ def posture_items(posture: dict) -> dict:
     return items
 
 
-def working_area_item(frame: Frame, area: WorkingArea | None) -> dict:
-    feet = feet_frame(frame.tcp_position, frame.tcp_rotation)
+def working_area_item(frame: Frame, area: WorkingArea | None, feet: tuple | None = None) -> dict:
+    """``feet``: the frame's :func:`.manikin.feet_frame` if the caller has it."""
+    feet = feet if feet is not None else feet_frame(frame.tcp_position, frame.tcp_rotation)
     hands = [t for t in ("hand_l", "hand_r") if t in frame.tcp_position]
     if area is None or feet is None or len(hands) < 2:
         return _missing("no working area: needs the human manikin (scenario or --manikin) with hands and feet")
@@ -120,10 +121,12 @@ def force_items(frame: Frame, percent: np.ndarray, l4_l5: dict) -> dict:
     return items
 
 
-def worksheet(frame: Frame, posture: dict, percent: np.ndarray, l4_l5: dict, area: WorkingArea | None) -> dict:
-    """All items of one frame, plus ``overall``: the worst level among them."""
+def worksheet(
+    frame: Frame, posture: dict, percent: np.ndarray, l4_l5: dict, area: WorkingArea | None, feet: tuple | None = None
+) -> dict:
+    """All items of one frame, plus ``overall``: the worst level among them (``feet``: as :func:`working_area_item`)."""
     items = posture_items(posture)
-    items["hands_working_area"] = working_area_item(frame, area)
+    items["hands_working_area"] = working_area_item(frame, area, feet)
     items.update(force_items(frame, percent, l4_l5))
     order = {"green": 0, "yellow": 1, "red": 2}
     levels = [it["level"] for it in items.values() if it["level"] is not None]
@@ -172,7 +175,8 @@ class Worksheet(Score):
     value = None
 
     def evaluate(self, inputs: FrameInputs) -> dict:
-        return worksheet(inputs.frame, inputs.posture, inputs.loads.percent, inputs.loads.l4_l5, inputs.area)
+        loads = inputs.loads
+        return worksheet(inputs.frame, inputs.posture, loads.percent, loads.l4_l5, inputs.area, inputs.feet)
 
     def sources(self) -> dict[str, str]:
         return {self.name: self.source, "working_area": "Delfs 2012 §6.1.2 workspace box from the manikin's zero pose"}

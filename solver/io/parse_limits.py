@@ -83,5 +83,9 @@ def _depth_within(data: Any) -> bool:
         items = value.values() if isinstance(value, dict) else value if isinstance(value, list) else ()
         if items and depth >= MAX_DEPTH:  # its values are one level deeper
             return False
-        stack += [(v, depth + 1) for v in items if isinstance(v, dict | list)]
+        if items and not _LEAVES.issuperset(map(type, items)):  # a list of numbers only: told in one pass in C
+            stack += [(v, depth + 1) for v in items if isinstance(v, dict | list)]
     return True
+
+
+_LEAVES = frozenset({float, int, str, bool, type(None)})  # what a parser gives besides dicts and lists

@@ -127,7 +127,8 @@ def frame_of_pose(
     rotations, positions = kin.tcp_frames(list(model.tcps.values()))
     capsules = capsules_of(model)
     ends = capsules.world(kin)
-    shapes = [(n, a, b, float(r)) for n, a, b, r in zip(capsules.names, *ends, capsules.radius, strict=True)]
+    radii = capsules.radius.tolist()  # Python floats: float() of each numpy scalar
+    shapes = [(n, a, b, r) for n, a, b, r in zip(capsules.names, *ends, radii, strict=True)]
     return Frame(
         **status,
         joint_names=list(model.joint_names),

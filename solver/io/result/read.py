@@ -24,7 +24,7 @@ from ...errors import ManikinError, ResultFileError
 from ..table_reader import TableReader
 from .frame import Frame, frame_of_pose
 from .model_json import model_from_dict
-from .scan import is_compact, scan
+from .scan import FrameLine, is_compact, parse_line, scan
 
 # bounds of a result file's values, far beyond any pose but small enough that products of them stay finite
 LENGTH, FORCE, MASS, ANGLE = 1e4, 1e7, 1e4, 1e4  # m (positions), N and N*m, kg (a link), rad or m (joint values)
@@ -58,9 +58,9 @@ class ResultStream:
             if kind == "frame" or key == "frames":
                 break
 
-    def _parts(self) -> Iterator[tuple[str, Any, Any]]:
+    def _parts(self, lazy: bool = False) -> Iterator[tuple[str, Any, Any]]:
         """The file's parts (:func:`~solver.io.result.scan.scan`), its top-level entries taken in on the way."""
-        for kind, key, value in scan(self.path, ResultFileError):
+        for kind, key, value in scan(self.path, ResultFileError, lazy):
             if kind == "key":
                 self._entry(key, value)
             yield kind, key, value
@@ -82,9 +82,22 @@ class ResultStream:
 
     def raw(self) -> Iterator[tuple[int, dict]]:
         """(index, raw frame object) of every frame, without building frames (for a quick pass)."""
+        yield from self._raw(lazy=False)
+
+    def numbered(self) -> Iterator[tuple[int, Any, Any]]:
+        """(index, frame number, raw) of every frame for a quick pass over the numbers: ``raw`` as :meth:`frame`
+        takes it, a compact file's frame line not parsed (nor checked) until then; the number is the frame's
+        ``frame`` (1 when it has none; None for a frame that is not an object)."""
+        for index, value in self._raw(lazy=True):
+            if isinstance(value, FrameLine):
+                yield index, value.number, value
+            else:
+                yield index, value.get("frame", 1) if isinstance(value, dict) else None, value
+
+    def _raw(self, lazy: bool) -> Iterator[tuple[int, Any]]:
         count = 0
-        for kind, index, value in self._parts():
-            if kind == "frame":
+        for kind, index, value in self._parts(lazy):
+            if kind == "frame" or kind == "line":
                 count += 1
                 yield index, value
         if not count:
@@ -92,7 +105,9 @@ class ResultStream:
         self.count = count
 
     def frame(self, index: int, raw: Any) -> Frame:
-        """The checked frame of a raw frame object (from :meth:`raw`)."""
+        """The checked frame of a raw frame object (from :meth:`raw` or :meth:`numbered`)."""
+        if isinstance(raw, FrameLine):
+            raw = parse_line(raw, self.path, ResultFileError)
         where = f"frames[{index}]."
         if not isinstance(raw, dict):
             raise ResultFileError(f"{self.path}: {where[:-1]}: expected a result frame (an object), got {raw!r:.60}")
@@ -174,19 +189,38 @@ def _frame(t: TableReader) -> Frame:
 
 def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
     """A frame of the compact format: the model posed by its ``joint_values``, with its contacts and loads."""
-    values = t.vector("joint_values", model.n, limit=ANGLE, unit="rad or m")
+    values = _vector(t, "joint_values", model.n, ANGLE, "rad or m")
     contacts = []
     for name, c in t.named_tables("contacts").items():
         if name not in model.tcps:
             raise t.fail(f"contacts.{name}", "a contact at one of the TCPs: " + ", ".join(sorted(model.tcps)))
-        point, force = c.vector("point", 3, limit=LENGTH, unit="m"), c.vector("force", 3, limit=FORCE, unit="N")
-        contacts.append((name, point, force, c.vector("moment", 3, [0.0, 0.0, 0.0], limit=FORCE, unit="N*m")))
+        point, force = _vector(c, "point", 3, LENGTH, "m"), _vector(c, "force", 3, FORCE, "N")
+        contacts.append((name, point, force, _vector(c, "moment", 3, FORCE, "N*m", _ZERO)))
     loads = []
     for ld in t.table_list("loads"):
-        point, force = ld.vector("point", 3, limit=LENGTH, unit="m"), ld.vector("force", 3, limit=FORCE, unit="N")
+        point, force = _vector(ld, "point", 3, LENGTH, "m"), _vector(ld, "force", 3, FORCE, "N")
         loads.append((ld.choice("tcp", model.tcps, "a TCP name"), point, force))
     g = GRAVITY if gravity is None else TableReader(t.path, {"gravity": gravity}, "", t.error).vector("gravity", 3)
     return frame_of_pose(model, model.forward(values), frame_status(t), contacts, loads, g)
+
+
+_ZERO = [0.0, 0.0, 0.0]  # a contact's moment when the file gives none (read, never changed)
+
+
+def _vector(t: TableReader, key: str, size: int, limit: float, unit: str, default: Any = None) -> np.ndarray:
+    """``t.vector(key, size, default, limit, unit)``, told at C speed for the usual list of floats within +-limit (a
+    compact frame's values); anything else (ints, NaN, a wrong size or type) goes through ``t.vector`` and its
+    checks and messages."""
+    value = t.data.get(key, default)
+    if type(value) is list and len(value) == size:
+        if size > 8:  # one pass in C over many values: their types, then their size (NaN fails the comparison)
+            if set(map(type, value)) == {float}:
+                a = np.array(value, dtype=float)
+                if (np.abs(a) <= limit).all():
+                    return a
+        elif all(type(v) is float and -limit <= v <= limit for v in value):
+            return np.array(value, dtype=float)
+    return t.vector(key, size, default, limit=limit, unit=unit)
 
 
 def frame_status(t: TableReader) -> dict:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
@@ -128,21 +129,35 @@ def _json_parts(stream: IO[str], path: Path, error: type[ManikinError]) -> Itera
         raise s.fail("Extra data")
 
 
-def _compact_parts(stream: IO[str], path: Path, error: type[ManikinError]) -> Iterator[Part]:
-    """The parts of a compact file: the header line's entries, then each frame line (and an interrupted line)."""
+@dataclass(frozen=True)
+class FrameLine:
+    """A compact file's frame line not parsed yet (:func:`scan` with ``lazy``): the frame number it starts with,
+    where it is (its line number and its index among the frames) and its text."""
+
+    number: int
+    line: int
+    index: int
+    text: str
+
+
+# A frame line as the compact writer starts it: {"frame":N," (a number JSON reads as that int, one "frame" key)
+_FRAME_START = re.compile(r'\{"frame":(-?(?:0|[1-9][0-9]{0,17})),"')
+
+
+def _compact_parts(stream: IO[str], path: Path, error: type[ManikinError], lazy: bool = False) -> Iterator[Part]:
+    """The parts of a compact file: the header line's entries, then each frame line (and an interrupted line);
+    ``lazy``: a frame line that starts with its number as the writer puts it is ``("line", index, FrameLine)``."""
     index = 0
     for number, line in enumerate(stream, 1):
         if not line.strip():
             continue
-        try:
-            data = json.loads(line)
-        except json.JSONDecodeError as exc:
-            raise error(f"{path}: line {number}: not JSON ({exc.msg})") from None
-        except (ValueError, RecursionError) as exc:  # a number of more than 4,300 digits; nesting too deep
-            limit = too_many_digits if isinstance(exc, ValueError) else too_deep
-            raise error(str(limit(path, line, error)).replace(": line 1:", f": line {number}:", 1)) from None
-        if not isinstance(data, dict):
-            raise error(f"{path}: line {number}: expected a JSON object, got {type(data).__name__}")
+        start = _FRAME_START.match(line) if lazy and number > 1 else None
+        # its one "frame" key (no other, nor one spelled with a \u escape): the number JSON would read
+        if start is not None and line.count('"frame"') == 1 and "\\u" not in line:
+            yield "line", index, FrameLine(int(start.group(1)), number, index, line)
+            index += 1
+            continue
+        data = _line_value(line, number, path, error)
         if number == 1:
             yield from (("key", k, v) for k, v in data.items())
         elif "interrupted" in data and "frame" not in data:
@@ -150,6 +165,27 @@ def _compact_parts(stream: IO[str], path: Path, error: type[ManikinError]) -> It
         else:
             yield "frame", index, data
             index += 1
+
+
+def _line_value(line: str, number: int, path: Path, error: type[ManikinError]) -> dict:
+    """The JSON object on line ``number`` of a compact file."""
+    try:
+        data = json.loads(line)
+    except json.JSONDecodeError as exc:
+        raise error(f"{path}: line {number}: not JSON ({exc.msg})") from None
+    except (ValueError, RecursionError) as exc:  # a number of more than 4,300 digits; nesting too deep
+        limit = too_many_digits if isinstance(exc, ValueError) else too_deep
+        raise error(str(limit(path, line, error)).replace(": line 1:", f": line {number}:", 1)) from None
+    if not isinstance(data, dict):
+        raise error(f"{path}: line {number}: expected a JSON object, got {type(data).__name__}")
+    return data
+
+
+def parse_line(frame: FrameLine, path: Path, error: type[ManikinError]) -> dict:
+    """The raw frame of a :class:`FrameLine`, parsed and checked as :func:`scan` checks every frame."""
+    data = _line_value(frame.text, frame.line, path, error)
+    check_depth(data, path, error, f"frames[{frame.index}]")
+    return data
 
 
 def is_compact(path: Path, error: type[ManikinError]) -> bool:
@@ -170,14 +206,17 @@ def _open(path: Path, error: type[ManikinError]) -> IO[str]:
         raise read_error(path, exc, error) from None
 
 
-def scan(path: Path, error: type[ManikinError]) -> Iterator[Part]:
+def scan(path: Path, error: type[ManikinError], lazy: bool = False) -> Iterator[Part]:
     """The parts of the result file ``path`` in file order (either format), each value at most
-    :data:`~solver.io.parse_limits.MAX_DEPTH` levels deep."""
+    :data:`~solver.io.parse_limits.MAX_DEPTH` levels deep. ``lazy``: a compact file's frame lines that start with
+    their number are ``("line", index, FrameLine)``, neither parsed nor checked (:func:`parse_line` does both)."""
     compact = is_compact(path, error)
     with _open(path, error) as stream:
         try:
-            for kind, name, value in (_compact_parts if compact else _json_parts)(stream, path, error):
-                check_depth(value, path, error, f"frames[{name}]" if kind == "frame" else str(name))
+            parts = _compact_parts(stream, path, error, lazy) if compact else _json_parts(stream, path, error)
+            for kind, name, value in parts:
+                if kind != "line":
+                    check_depth(value, path, error, f"frames[{name}]" if kind == "frame" else str(name))
                 yield kind, name, value
         except (OSError, UnicodeDecodeError) as exc:
             raise read_error(path, exc, error) from None

@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import json
+import math
 from itertools import islice
 from pathlib import Path
 
@@ -15,12 +16,14 @@ import pytest
 
 import solver
 from solver.body.spatial import cross
-from solver.ergonomics import ErgoOptions, run
-from solver.ergonomics.loads import subtree_sums
-from solver.ergonomics.manikin import resolve_model, working_area
-from solver.ergonomics.report import csv_cells, csv_header, csv_row, frame_parts, frame_report
+from solver.ergonomics import ErgoOptions, postures, run
+from solver.ergonomics.base import FrameInputs
+from solver.ergonomics.loads import load_arrays, subtree_sums
+from solver.ergonomics.manikin import feet_frame, resolve_model, strengths, working_area
+from solver.ergonomics.registry import in_frame_order
+from solver.ergonomics.report import clean, csv_cells, csv_header, csv_row, frame_parts, frame_report, rounded_clean
 from solver.ergonomics.report_text import LoadsText
-from solver.ergonomics.stream import motion_of
+from solver.ergonomics.stream import JointColumns, array_csv_cells, motion_of
 from solver.io.result.read import ResultStream
 
 BOX_LIFT_MOTION = Path(__file__).resolve().parents[3] / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -106,3 +109,60 @@ def test_joint_moments_written_once_per_run_of_equal_rows_keep_their_own_text(re
     for bad in (np.nan, np.inf):
         loads.moment[7, 1] = bad
         assert text(loads) == json.dumps(loads.as_dict(), allow_nan=False) and '"moment": [' in text(loads)
+
+
+def test_feet_frame_handed_to_the_scores_gives_what_each_computes_itself(result_file: Path) -> None:
+    """frame_parts computes a frame's feet frame once (FrameInputs.feet): the posture and every score are what
+    they are when each computes it again."""
+    stream = ResultStream(result_file)
+    model = resolve_model(None, stream.scenario, result_file.parent)[0]
+    options, area = ErgoOptions(), working_area(model)
+    motion, _ = motion_of(stream, options)
+    for f in stream:
+        feet = feet_frame(f.tcp_position, f.tcp_rotation)
+        loads = load_arrays(f, strengths(f, model)[0])
+        posture = postures.measure(f)
+        assert postures.measure(f, feet) == posture
+        given = FrameInputs(f, posture, 0.0, loads, area, options, motion, feet)
+        again = FrameInputs(f, posture, 0.0, loads, area, options, motion)
+        for score in in_frame_order():
+            assert score.evaluate(given) == score.evaluate(again), score.name
+
+
+def test_posture_rounded_and_made_json_safe_in_one_walk_is_clean_of_rounded(result_file: Path) -> None:
+    frame = next(iter(ResultStream(result_file)))
+    posture = postures.measure(frame)
+    posture["trunk_flexion"], posture["l"]["weight_share"] = math.nan, np.float64(0.123456)
+    posture["r"]["hand_lateral"], posture["r"]["elbow_flexion"] = -math.inf, np.float64(math.inf)
+    got = rounded_clean(posture)
+    assert json.dumps(got, allow_nan=False) == json.dumps(clean(postures.rounded(posture)), allow_nan=False)
+    assert got["trunk_flexion"] is None and type(got["l"]["weight_share"]) is float
+
+
+def test_csv_cells_of_the_arrays_and_joint_indices_kept_per_layout(result_file: Path) -> None:
+    """The CSV row written from the arrays is the row of the whole report (NaN and inf percents empty), and the
+    joints' indices are found again for a frame whose joints come in another order."""
+    frame = next(iter(ResultStream(result_file)))
+    stream = ResultStream(result_file)
+    model = resolve_model(None, stream.scenario, result_file.parent)[0]
+    report, loads, _ = frame_parts(frame, ErgoOptions(), model, working_area(model), None)
+    loads.percent = loads.percent.copy()
+    loads.percent[[0, 1, 2]] = [math.nan, math.inf, -math.inf]
+    joints = frame.joint_names[:5] + frame.joint_names[-3:]
+    shown_at = JointColumns(joints)
+    whole = report | {"joint_loads": loads.as_dict()}
+    assert array_csv_cells(report, loads, shown_at(frame)) == csv_cells(csv_row(whole, joints))
+    order = frame.joint_names[::-1]
+    turned = dataclasses.replace(frame, joint_names=order)
+    assert shown_at(turned) == [order.index(j) for j in joints] and shown_at(frame) == [frame.index[j] for j in joints]
+
+
+def test_loads_text_writes_every_not_finite_percent_as_null(result_file: Path) -> None:
+    frame = next(iter(ResultStream(result_file)))
+    stream = ResultStream(result_file)
+    model = resolve_model(None, stream.scenario, result_file.parent)[0]
+    loads = frame_parts(frame, ErgoOptions(), model, working_area(model), None)[1]
+    loads.percent = loads.percent.copy()
+    loads.percent[[3, 4, 5]] = [math.nan, math.inf, -math.inf]
+    text = LoadsText()(loads)
+    assert text == json.dumps(loads.as_dict(), allow_nan=False) and text.count('"percent_strength": null') >= 3

@@ -23,3 +23,16 @@ def test_values_nested_to_the_limit_pass_and_one_level_more_is_refused(leaf: obj
     deeper = {"a": 1, "b": [_nested(MAX_DEPTH - 1, leaf)]}  # the leaf at depth MAX_DEPTH + 1
     with pytest.raises(ScenarioError, match=rf"f.toml: b\[0\]\.k.*nested more than {MAX_DEPTH} levels deep"):
         check_depth(deeper, "f.toml", ScenarioError)
+
+
+class _Items(list):
+    """A list of another type (as some parsers give): still walked."""
+
+
+@pytest.mark.parametrize("kind", [list, _Items])
+def test_a_too_deep_value_after_many_numbers_is_found(kind: type) -> None:
+    """A long list of numbers is told apart in one pass; one container among them is still walked into."""
+    numbers = kind([0.5] * 200 + [_nested(MAX_DEPTH, 1.0)] + [2] * 10)
+    check_depth({"a": kind([0.5] * 200 + [True, None, "s"])}, "f.toml", ScenarioError)
+    with pytest.raises(ScenarioError, match=rf"f.toml: a\[200\].*nested more than {MAX_DEPTH} levels deep"):
+        check_depth({"a": numbers}, "f.toml", ScenarioError)
