@@ -83,6 +83,9 @@ class Baker:
     Results themselves are not kept); a frame's bookkeeping and that call finish before a Ctrl-C takes effect.
     """
 
+    box_tcps: tuple[str, str] | None = None  # a carried box's TCPs (a subclass keying frames solved elsewhere: none)
+    hands: np.ndarray | None = None  # their solved positions per frame (frames, 2, 3), m: the box is keyed from them
+
     def __init__(
         self,
         scene: bpy.types.Scene,
