@@ -83,6 +83,9 @@ class Baker:
     Results themselves are not kept); a frame's bookkeeping and that call finish before a Ctrl-C takes effect.
     """
 
+    box_tcps: tuple[str, str] | None = None  # a carried box's TCPs (a subclass keying frames solved elsewhere: none)
+    hands: np.ndarray | None = None  # their solved positions per frame (frames, 2, 3), m: the box is keyed from them
+
     def __init__(
         self,
         scene: bpy.types.Scene,
@@ -110,6 +113,8 @@ class Baker:
         self._read = first  # the scene's problem last read: the next frame's shares its parts when it can
         self.thetas = np.zeros((len(self.frames), self.model.n))
         self.worlds = np.zeros((len(self.frames), 4, 4))  # the armature object's world matrix at each frame
+        self.box_tcps = carried_object.keyed_tcps(arm)  # a carried box's TCPs: their solved positions are kept
+        self.hands = None if self.box_tcps is None else np.zeros((len(self.frames), 2, 3))
         self.records: list[FrameRecord] = []
         self.failed = 0  # frames that did not converge
         self.shown: Result | None = None  # the result at the frame the scene returns to, if baked (sidebar)
@@ -157,6 +162,8 @@ class Baker:
             with interrupts_held():  # the frame is in every output or in none
                 self.thetas[self.done] = result.theta
                 self.worlds[self.done] = np.array(self.arm.matrix_world)  # the scene is at ``frame``
+                if self.hands is not None:  # the solve's kinematics (kept with the result): no forward when keying
+                    self.hands[self.done] = carried_object.tcp_points(self.model, self.box_tcps, result.state.kin)
                 self.records.append(record)
                 self.failed += not record.converged
                 if self.ergo is not None:
@@ -205,7 +212,8 @@ class Baker:
                 for k in range(4):
                     fc = keyframes.fcurve(arm, f"{base}.rotation_quaternion", k, bone.name)
                     keyframes.replace_keys(fc, frames, quats[b][:, k], thin)
-        carried_object.key_carried(arm, frames, thetas, self.worlds[: len(frames)], thin)  # the box follows the hands
+        hands = None if self.hands is None else self.hands[: len(frames)]
+        carried_object.key_carried(arm, frames, thetas, self.worlds[: len(frames)], thin, hands)  # box follows hands
         if release:
             del thetas
             self.thetas = self.thetas[:0].copy()

@@ -46,7 +46,10 @@ NO_PLOTS = (
 
 
 def _numbers(values, digits: int = 9) -> list[float]:
-    return [float(f"{float(v):.{digits}g}") for v in values]
+    """Each value rounded to ``digits`` significant digits, as its shortest text of those would read back."""
+    text = f"{{:.{digits}g}}".format  # one format for all (the same text as f"{v:.9g}")
+    floats = values.tolist() if isinstance(values, np.ndarray) else map(float, values)  # Python floats: the same
+    return [float(text(v)) for v in floats]
 
 
 def pose_part(result: Result) -> dict:

@@ -18,7 +18,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from ...solver.body.model import Model
+from ...solver.body.model import Kinematics, Model
 from ...solver.body.spatial import matrix_to_quat
 from ...solver.collision.carried import Carried, carried_frame
 from . import keyframes
@@ -98,8 +98,17 @@ def box_world(model: Model, tcps: tuple[str, str], theta: np.ndarray, world: np.
     """The box's 4x4 world matrix for the joint values ``theta`` with the armature object at ``world`` (4x4): its
     centre midway between the two TCPs (m), its axes as :func:`solver.collision.carried.carried_frame` says."""
     kin = model.forward(np.asarray(theta, dtype=float)[: model.n])
-    points = [world[:3, :3] @ kin.tcp_frame(model.tcp(tcp))[1] + world[:3, 3] for tcp in tcps]
-    return _matrix(*carried_frame(*points))
+    return _box_at([kin.tcp_frame(model.tcp(tcp))[1] for tcp in tcps], world)
+
+
+def tcp_points(model: Model, tcps: tuple[str, str], kin: Kinematics) -> list[np.ndarray]:
+    """The positions (m, armature space) of the box's two TCPs in the pose ``kin`` (a solve's kinematics)."""
+    return [kin.tcp_frame(model.tcp(tcp))[1] for tcp in tcps]
+
+
+def _box_at(points: list[np.ndarray] | np.ndarray, world: np.ndarray) -> np.ndarray:
+    """The box's 4x4 world matrix, its TCPs at ``points`` (m, armature space), the armature object at ``world``."""
+    return _matrix(*carried_frame(*[world[:3, :3] @ p + world[:3, 3] for p in points]))
 
 
 def _matrix(centre: np.ndarray, rotation: np.ndarray) -> np.ndarray:
@@ -112,6 +121,12 @@ def _solved_tcps(ob: bpy.types.Object, arm: bpy.types.Object) -> tuple[str, str]
     """The box's TCPs when the manikin's model has both (a renamed body file may not), else None."""
     tcps = carried_spec(ob).tcps
     return tcps if all(tcp in model_of(arm).tcps for tcp in tcps) else None
+
+
+def keyed_tcps(arm: bpy.types.Object) -> tuple[str, str] | None:
+    """The TCPs between which :func:`key_carried` keys ``arm``'s box, or None: no box (or TCPs the model lacks)."""
+    ob = find_carried(arm)
+    return None if ob is None else _solved_tcps(ob, arm)
 
 
 def place_carried(ob: bpy.types.Object, arm: bpy.types.Object, x: np.ndarray | None = None) -> bool:
@@ -139,17 +154,27 @@ def follow_solve(arm: bpy.types.Object, x: np.ndarray) -> None:
 
 
 def key_carried(
-    arm: bpy.types.Object, frames: np.ndarray, thetas: np.ndarray, worlds: np.ndarray, thin: bool = False
+    arm: bpy.types.Object,
+    frames: np.ndarray,
+    thetas: np.ndarray,
+    worlds: np.ndarray,
+    thin: bool = False,
+    points: np.ndarray | None = None,
 ) -> int:
     """Key ``arm``'s box (location, quaternion; linear, as the joints) at each of ``frames`` between its TCPs where
     the joint values ``thetas`` (frames, n) put them, the armature object at ``worlds`` (frames, 4, 4) there. Keys
-    outside the frames' range stay; ``thin`` as :func:`.keyframes.replace_keys`. Returns the frames keyed."""
+    outside the frames' range stay; ``thin`` as :func:`.keyframes.replace_keys`. ``points``: the TCPs' positions
+    in those poses (frames, 2, 3; :func:`tcp_points` of each frame's solve, in :func:`keyed_tcps`' order), which
+    saves a forward kinematics per frame. Returns the frames keyed."""
     ob = find_carried(arm)
     tcps = None if ob is None else _solved_tcps(ob, arm)
     if tcps is None or not len(frames):
         return 0
-    model = model_of(arm)
-    boxes = [box_world(model, tcps, theta, world) for theta, world in zip(thetas, worlds, strict=True)]
+    if points is not None:
+        boxes = [_box_at(at, world) for at, world in zip(points, worlds, strict=True)]
+    else:
+        model = model_of(arm)
+        boxes = [box_world(model, tcps, theta, world) for theta, world in zip(thetas, worlds, strict=True)]
     quats = np.array([matrix_to_quat(box[:3, :3]) for box in boxes])
     for i in range(1, len(quats)):  # q and -q are one turn: keep neighbours on one side so keys interpolate short
         if quats[i] @ quats[i - 1] < 0.0:

@@ -76,12 +76,27 @@ def _material(name: str, color: tuple[float, float, float], roughness: float, sh
     return material
 
 
-def _mesh_object(arm: bpy.types.Object, name: str, vertices: np.ndarray, polygons: list,
+def _fill(mesh: bpy.types.Mesh, vertices: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> None:
+    """What ``mesh.from_pydata(vertices, [], polygons)`` makes (the same mesh), from arrays: ``corners`` every
+    polygon's vertex indices in turn, ``sizes`` each polygon's count (a human has ~20,000: no list per polygon)."""
+    sizes = np.asarray(sizes, dtype=np.int32)
+    mesh.vertices.add(len(vertices))
+    mesh.loops.add(int(sizes.sum()))
+    mesh.polygons.add(len(sizes))
+    mesh.vertices.foreach_set("co", np.asarray(vertices, dtype=np.float32).ravel())
+    mesh.polygons.foreach_set("loop_start", np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32))
+    mesh.polygons.foreach_set("vertices", np.asarray(corners, dtype=np.int32))
+    mesh.shade_flat()
+    if len(sizes):
+        mesh.update(calc_edges=True, calc_edges_loose=False)
+
+
+def _mesh_object(arm: bpy.types.Object, name: str, vertices: np.ndarray, corners: np.ndarray, sizes: np.ndarray,
                  groups: dict[str, tuple[np.ndarray, np.ndarray]], mode: str) -> bpy.types.Object:  # fmt: skip
-    """A mesh object on ``arm``: weighted by ``groups`` (bone -> vertex indices, weights), deformed by an Armature
-    modifier, in the armature's collection."""
+    """A mesh object on ``arm`` (polygons as :func:`_fill` takes them): weighted by ``groups`` (bone -> vertex
+    indices, weights), deformed by an Armature modifier, in the armature's collection."""
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(vertices.tolist(), [], polygons)
+    _fill(mesh, vertices, corners, sizes)
     mesh.shade_smooth()
     obj = bpy.data.objects.new(name, mesh)
     obj.parent = arm
@@ -103,14 +118,14 @@ def _rigid(arm: bpy.types.Object, layout: RigLayout, body: BodyMesh, name: str, 
         index = np.flatnonzero(body.vertex_bone == b)
         if len(index):
             groups[bone.name] = (index, np.ones(len(index)))
-    obj = _mesh_object(arm, name, body.vertices, body.faces, groups, mode)
+    corners, sizes = [i for face in body.faces for i in face], [len(face) for face in body.faces]
+    obj = _mesh_object(arm, name, body.vertices, corners, sizes, groups, mode)
     obj.data.materials.append(_material(f"manikin.{mode.lower()}", color, 0.6))
     return obj
 
 
 def _human(arm: bpy.types.Object, skin: SkinMesh, name: str) -> bpy.types.Object:
-    polygons = np.split(skin.corners, np.cumsum(skin.sizes)[:-1])
-    obj = _mesh_object(arm, name, skin.vertices, [p.tolist() for p in polygons], skin.groups, "HUMAN")
+    obj = _mesh_object(arm, name, skin.vertices, skin.corners, skin.sizes, skin.groups, "HUMAN")
     mesh = obj.data
     mesh.materials.append(_material(SKIN_MATERIAL, SKIN_COLOR, SKIN_ROUGHNESS, shaded=True))
     for material, color in zip(EYE_MATERIALS, EYE_COLORS, strict=True):

@@ -90,6 +90,13 @@ def replace_keys(fc: bpy.types.FCurve, frames: np.ndarray, values: np.ndarray, t
         points.clear()
     n_old = len(kept["co"]) // 2 if kept else 0
     points.add(n_old + len(frames))
+    if not kept:  # new keys only: Blender's defaults stay as they are, only ours are written
+        for name in ("co", "handle_left", "handle_right"):
+            points.foreach_set(name, co)
+        for name, identifier in _NEW_KEY.items():
+            points.foreach_set(name, np.full(len(frames), _enum_value(name, identifier), dtype=np.int32))
+        fc.update()
+        return
     data = _read_keys(points)  # Blender's defaults for new keys (easing amplitude, period, ...)
     for name, array in data.items():
         size = len(array) // (n_old + len(frames))
