@@ -100,7 +100,7 @@ def scores(path: Path, rows: list[dict], manikins: list[str], record: tuple[str,
         ax.set_xticks(range(len(manikins)), labels, rotation=60 if many else 0, fontsize=7,
                       ha="right" if many else "center")  # fmt: skip
         ax.set_xlim(-0.6, len(manikins) - 0.4)
-        if k == 0:
+        if k == 0 and ax.get_legend_handles_labels()[0]:  # no legend where no run has a score (all failed)
             ax.legend(fontsize=7, loc="upper right", title="open: not converged", title_fontsize=7)
     fig.suptitle("Peak scores of each run, by manikin", fontsize=10)
     return _save(fig, path)
@@ -152,7 +152,7 @@ def envelopes(path: Path, rows: list[dict], manikins: list[str]) -> Path:
         ax.set_xticks(range(len(manikins)), manikins if k == 1 else [""] * len(manikins), fontsize=7,
                       rotation=60 if many else 0, ha="right" if many else "center")  # fmt: skip
         ax.set_xlim(-0.6, len(manikins) - 0.4)
-        if k == 0:
+        if k == 0 and ax.get_legend_handles_labels()[0]:  # no legend where no run has a score (all failed)
             ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.suptitle("Reach envelopes by manikin (bars: in the set conditions)", fontsize=10)
     return _save(fig, path)

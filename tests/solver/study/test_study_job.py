@@ -76,6 +76,7 @@ def test_a_bad_job_file_is_one_line(tmp_path) -> None:
         load_study(study)
 
 
+@pytest.mark.filterwarnings("error")  # the plots of a study whose every run failed draw without warnings
 def test_a_cycle_shorter_than_the_motion_fails_the_run_with_its_reason(tmp_path) -> None:
     job = tmp_path / "short.toml"
     job.write_text(JOB.read_text(encoding="utf-8").replace("cycle_time = 30.0", "cycle_time = 1.0")
