@@ -29,6 +29,8 @@ How each angle is measured (world positions of joints and TCPs from the result; 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -150,14 +152,14 @@ def digits(key: str) -> int:
     return 3 if key.endswith(("share", "lateral", "half")) else 1
 
 
-def rounded(posture: dict) -> dict:
-    """A copy with angles rounded to 0.1 degree and shares/metres to 3 decimals, for the report."""
+def rounded(posture: dict, finish: Callable[[Any], Any] | None = None) -> dict:
+    """A copy with angles rounded to 0.1 degree and shares/metres to 3 decimals, for the report; ``finish`` (the
+    report's JSON-safe ``clean``) applied to each value in the same walk."""
     out = {}
     for k, v in posture.items():
         if isinstance(v, dict):
-            out[k] = rounded(v)
+            v = rounded(v, finish)
         elif isinstance(v, float):
-            out[k] = round(v, digits(k))
-        else:
-            out[k] = v
+            v = round(v, digits(k))
+        out[k] = v if finish is None or type(v) is dict else finish(v)
     return out

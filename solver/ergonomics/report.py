@@ -101,22 +101,8 @@ def frame_parts(
     loads.l4_l5 = clean(loads.l4_l5)
     # joint_loads: JSON-safe already (JointLoads.as_dict), the bulk of a frame's values; the posture made JSON-safe
     # as it is rounded: clean walks only the scores' entries
-    entry = clean(posture) if "reason" in posture else rounded_clean(posture)
+    entry = clean(posture) if "reason" in posture else postures.rounded(posture, clean)
     return {**head, "posture": entry, "joint_loads": None, **clean(scores)}, loads, strength_note
-
-
-def rounded_clean(posture: dict) -> dict:
-    """``clean(postures.rounded(posture))`` in one walk."""
-    out = {}
-    for k, v in posture.items():
-        if isinstance(v, dict):
-            out[k] = rounded_clean(v)
-        elif isinstance(v, float):
-            r = round(v, postures.digits(k))
-            out[k] = r if type(r) is float and r - r == 0.0 else clean(r)  # x - x is 0.0 iff x is finite
-        else:
-            out[k] = clean(v)
-    return out
 
 
 def end_positions(score: MotionScore, numbers: Sequence[int | None], options: ErgoOptions) -> tuple[int, int]:

@@ -21,7 +21,7 @@ from solver.ergonomics.base import FrameInputs
 from solver.ergonomics.loads import load_arrays, subtree_sums
 from solver.ergonomics.manikin import feet_frame, resolve_model, strengths, working_area
 from solver.ergonomics.registry import in_frame_order
-from solver.ergonomics.report import clean, csv_cells, csv_header, csv_row, frame_parts, frame_report, rounded_clean
+from solver.ergonomics.report import clean, csv_cells, csv_header, csv_row, frame_parts, frame_report
 from solver.ergonomics.report_text import LoadsText
 from solver.ergonomics.stream import JointColumns, array_csv_cells, motion_of
 from solver.io.result.read import ResultStream
@@ -134,7 +134,7 @@ def test_posture_rounded_and_made_json_safe_in_one_walk_is_clean_of_rounded(resu
     posture = postures.measure(frame)
     posture["trunk_flexion"], posture["l"]["weight_share"] = math.nan, np.float64(0.123456)
     posture["r"]["hand_lateral"], posture["r"]["elbow_flexion"] = -math.inf, np.float64(math.inf)
-    got = rounded_clean(posture)
+    got = postures.rounded(posture, clean)
     assert json.dumps(got, allow_nan=False) == json.dumps(clean(postures.rounded(posture)), allow_nan=False)
     assert got["trunk_flexion"] is None and type(got["l"]["weight_share"]) is float
 
