@@ -8,7 +8,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -107,7 +106,6 @@ def array_csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> lis
 
 
 _TEXT_EXACT = 1e11  # below it round(v, 4) has <= 15 significant digits: its repr is the 4-decimal text, unpadded
-_TRAILING_ZEROS = re.compile("0+,")
 
 
 def rounded_texts(values: np.ndarray) -> list:
@@ -117,8 +115,11 @@ def rounded_texts(values: np.ndarray) -> list:
     may take fewer digits, or an exponent) are rounded one by one (x - x is 0.0 iff x is finite)."""
     if not len(values) or (np.abs(values) >= _TEXT_EXACT).any():
         return [round(v, 4) if v - v == 0.0 else "" for v in values.tolist()]
-    text = ("%.4f," * len(values)) % tuple(values.tolist())  # each with a point: zeros before a comma end its decimals
-    text = _TRAILING_ZEROS.sub(",", text).replace(".,", ".0,")
+    text = ("%.4f," * len(values)) % tuple(values.tolist())  # each with its point and 4 decimals
+    # each cell's trailing zeros stripped (4 decimals: 4 at most), longest run first; one 0 back after a bare point
+    for zeros in ("0000,", "000,", "00,", "0,"):
+        text = text.replace(zeros, ",")
+    text = text.replace(".,", ".0,")
     cells = text.split(",")[:-1]
     return ["" if "n" in cell else cell for cell in cells] if "n" in text else cells  # "nan", "inf": with an n
 
