@@ -98,11 +98,30 @@ def _frame_text(report: dict, loads: JointLoads, text: LoadsText) -> str:
 
 
 def array_csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
-    """:func:`.report.csv_cells` of the :func:`.report.csv_row` of the report :func:`.report.frame_report` builds,
-    the percent of strength of the joints at ``shown_at`` read from the arrays (plain floats) in one pass: rounded,
-    or empty where not finite (x - x is 0.0 iff x is finite)."""
+    """:func:`.report.csv_cells` of the :func:`.report.csv_row` of the report :func:`.report.frame_report` builds
+    (the same CSV text), the percent of strength of the joints at ``shown_at`` read from the arrays
+    (:func:`rounded_texts`)."""
     row = csv_cells(csv_row(report | {"joint_loads": {"l4_l5": loads.l4_l5}}, []))
-    return row + [round(v, 4) if v - v == 0.0 else "" for v in loads.percent[shown_at].tolist()]
+    return row + rounded_texts(loads.percent[shown_at])
+
+
+_TEXT_EXACT = 1e11  # below it round(v, 4) has <= 15 significant digits: its repr is the 4-decimal text, unpadded
+
+
+def rounded_texts(values: np.ndarray) -> list:
+    """``repr(round(v, 4))`` of each value (what the CSV writer writes of the rounded float), "" where not finite,
+    formatted in one pass: "%.4f" rounds as round() does (both correctly from the binary value), and stripped of
+    its trailing zeros it is the shortest text of a number of <= 15 digits, repr's. Values of 1e11 or more (repr
+    may take fewer digits, or an exponent) are rounded one by one (x - x is 0.0 iff x is finite)."""
+    if not len(values) or (np.abs(values) >= _TEXT_EXACT).any():
+        return [round(v, 4) if v - v == 0.0 else "" for v in values.tolist()]
+    text = ("%.4f," * len(values)) % tuple(values.tolist())  # each with its point and 4 decimals
+    # each cell's trailing zeros stripped (4 decimals: 4 at most), longest run first; one 0 back after a bare point
+    for zeros in ("0000,", "000,", "00,", "0,"):
+        text = text.replace(zeros, ",")
+    text = text.replace(".,", ".0,")
+    cells = text.split(",")[:-1]
+    return ["" if "n" in cell else cell for cell in cells] if "n" in text else cells  # "nan", "inf": with an n
 
 
 class JointColumns:

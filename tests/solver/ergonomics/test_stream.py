@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import io
 import json
 import math
 from itertools import islice
@@ -23,7 +24,7 @@ from solver.ergonomics.manikin import feet_frame, resolve_model, strengths, work
 from solver.ergonomics.registry import in_frame_order
 from solver.ergonomics.report import clean, csv_cells, csv_header, csv_row, frame_parts, frame_report
 from solver.ergonomics.report_text import LoadsText
-from solver.ergonomics.stream import JointColumns, array_csv_cells, motion_of
+from solver.ergonomics.stream import JointColumns, array_csv_cells, motion_of, rounded_texts
 from solver.io.result.read import ResultStream
 
 BOX_LIFT_MOTION = Path(__file__).resolve().parents[3] / "presets" / "scenarios" / "box_lift_motion.toml"
@@ -151,7 +152,11 @@ def test_csv_cells_of_the_arrays_and_joint_indices_kept_per_layout(result_file: 
     joints = frame.joint_names[:5] + frame.joint_names[-3:]
     shown_at = JointColumns(joints)
     whole = report | {"joint_loads": loads.as_dict()}
-    assert array_csv_cells(report, loads, shown_at(frame)) == csv_cells(csv_row(whole, joints))
+    texts = [
+        [str(v) for v in row]
+        for row in (array_csv_cells(report, loads, shown_at(frame)), csv_cells(csv_row(whole, joints)))
+    ]
+    assert texts[0] == texts[1]
     order = frame.joint_names[::-1]
     turned = dataclasses.replace(frame, joint_names=order)
     assert shown_at(turned) == [order.index(j) for j in joints] and shown_at(frame) == [frame.index[j] for j in joints]
@@ -166,3 +171,23 @@ def test_loads_text_writes_every_not_finite_percent_as_null(result_file: Path) -
     loads.percent[[3, 4, 5]] = [math.nan, math.inf, -math.inf]
     text = LoadsText()(loads)
     assert text == json.dumps(loads.as_dict(), allow_nan=False) and text.count('"percent_strength": null') >= 3
+
+
+def _csv_line(row: list) -> str:
+    out = io.StringIO()
+    csv.writer(out, lineterminator="\n").writerow(row)
+    return out.getvalue()
+
+
+def test_rounded_texts_are_the_text_of_each_value_rounded() -> None:
+    """rounded_texts's one-pass text is what the CSV writer writes of round(v, 4) ("" where not finite): values of
+    every size around the bound, ties of 4 decimals (exact binary halves), signed zeros, tiny values, NaN, inf."""
+    rng = np.random.default_rng(7)
+    spread = rng.uniform(-1.0, 1.0, 4000) * 10.0 ** rng.uniform(-7, 12, 4000)
+    ties = np.arange(-2000, 2000) / 2.0**5 + rng.integers(0, 1000, 4000)  # k/32: ties at the 4th decimal
+    edges = np.array([0.0, -0.0, 5e-5, -5e-5, 4.9999e-5, 0.99995, 9.99995, 1e11 - 1e-3, 1e11, 1.5e11, 1e16, 1e-300])
+    cases = (spread, np.abs(spread[np.abs(spread) < 1e11]), ties, edges, edges[:8], np.array([math.nan, 1.25, -0.0]),
+             np.array([math.inf, 2.0]), np.array([]))  # fmt: skip
+    for values in cases:
+        one_by_one = [round(v, 4) if math.isfinite(v) else "" for v in values.tolist()]
+        assert _csv_line(rounded_texts(values)) == _csv_line(one_by_one)
