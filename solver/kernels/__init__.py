@@ -10,6 +10,7 @@ compiling again.
 
 from __future__ import annotations
 
+import gc
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -187,6 +188,8 @@ class Kernel:
         self._compiled = compiled
         if sum(compiled.stats.cache_misses.values()):
             _state["compile_s"] += time.perf_counter() - start
+            if not gc.isenabled():  # a caller holding the collector off (a command's start-up): compiling's garbage now
+                gc.collect()
         return out
 
 
