@@ -3,6 +3,9 @@
 
 from __future__ import annotations
 
+import gc
+from types import TracebackType
+
 from ..errors import UsageError
 from ..io.output_paths import check_distinct, check_output
 
@@ -30,3 +33,38 @@ def check_count(value: int | None, flag: str) -> None:
     """A count option such as ``--workers``: None (its default) or a whole number >= 1."""
     if value is not None and value < 1:
         raise UsageError(f"{flag}: expected a whole number >= 1, got {value}")
+
+
+class StartupWithoutGC:
+    """A command's start-up without Python's cyclic garbage collector: the imports, Numba's registries and the loaded
+    kernels make ~10^5 objects that live as long as the process, and the collector walks them again and again as they
+    pile up, and all at exit, finding next to no garbage (0.1-0.2 s of a 0.8 s solve). :meth:`over` (at the latest on
+    leaving the block) puts them out of every later collection, exit's included (``gc.freeze``), and turns the
+    collector back on."""
+
+    def __enter__(self) -> StartupWithoutGC:
+        from .. import kernels
+
+        self._was_enabled = gc.isenabled()
+        self._compile_s = kernels.compile_seconds()
+        self._over = False
+        gc.disable()
+        return self
+
+    def over(self) -> None:
+        """The start-up is done: freeze what it made, collector on again (as it was before the block)."""
+        if self._over:
+            return
+        self._over = True
+        from .. import kernels
+
+        if kernels.compile_seconds() > self._compile_s:  # compiling leaves much garbage: free it, do not freeze it
+            gc.collect()
+        gc.freeze()
+        if self._was_enabled:
+            gc.enable()
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, traceback: TracebackType | None
+    ) -> None:
+        self.over()

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from ..io.files import STDOUT
 from ..io.interrupts import ignore_stops, stopped_by
-from .common import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, check_file_output
+from .common import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, StartupWithoutGC, check_file_output
 
 if TYPE_CHECKING:
     from ..io.result.write import ResultWriter
@@ -42,6 +42,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Solve the frames in order, each written as it is solved; 0 when all converged, else 3."""
     check_file_output(args.output, args.scenario)
+    with StartupWithoutGC() as startup:  # over once the first frame is solved (every kernel it needs loaded)
+        return _solve(args, startup)
+
+
+def _solve(args: argparse.Namespace, startup: StartupWithoutGC) -> int:
+    """:func:`run`'s work, within the command's start-up."""
     from ..io.result.write import ResultWriter
     from ..io.scenario.read import load_scenario
     from ..motion.frames import solve_motion
@@ -63,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
             if not result.converged:
                 failed.append(frame)
             progress.update(done, len(failed))
+            startup.over()
     except KeyboardInterrupt:
         progress.clear()
         return _interrupted(frames, writer)

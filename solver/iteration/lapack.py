@@ -7,11 +7,11 @@ wrappers elsewhere, they come from ``scipy.linalg.lapack`` as before.
 
 from __future__ import annotations
 
-import importlib.machinery
-import importlib.util
 import sys
 from pathlib import Path
 from types import ModuleType
+
+from ..kernels import extension_alone
 
 NAME = "scipy.linalg._flapack"
 
@@ -23,14 +23,9 @@ def flapack() -> ModuleType:
     if "scipy.linalg" not in sys.modules:
         import scipy  # scipy's own set-up first: its numpy check and (Windows) the folder of its bundled OpenBLAS
 
-        folder = Path(scipy.__file__).parent / "linalg"
-        for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-            spec = importlib.util.spec_from_file_location(NAME, folder / f"_flapack{suffix}")
-            if spec is not None and spec.loader is not None and Path(spec.origin or "").is_file():
-                module = importlib.util.module_from_spec(spec)
-                spec.loader.exec_module(module)
-                sys.modules[NAME] = module
-                return module
+        module = extension_alone(NAME, Path(scipy.__file__).parent / "linalg")
+        if module is not None:
+            return module
     from scipy.linalg import lapack
 
     return lapack

@@ -10,7 +10,10 @@ compiling again.
 
 from __future__ import annotations
 
+import gc
 import hashlib
+import importlib.machinery
+import importlib.util
 import os
 import sys
 import time
@@ -18,6 +21,7 @@ import types
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from types import ModuleType
 
 CHOICES = ("auto", "numba", "numpy")
 # "solver", or "bl_ext.<repo>.manikin.solver" inside Blender: Numba finds a cached kernel by its file's path but
@@ -55,8 +59,41 @@ def _decide() -> bool:
     except Exception as error:  # not installed, or its LLVM does not load on this machine
         _state["why"] = f"NumPy (Numba does not import: {type(error).__name__}: {error})"
         return False
+    _scipy_blas_alone()
     _state["why"] = f"Numba {numba.__version__} (cache {cache_folder()})"
     return True
+
+
+def _scipy_blas_alone() -> None:
+    """Load ``scipy.linalg.cython_blas`` (the BLAS that compiled ``np.dot`` calls) without the scipy.linalg package.
+    Numba's first kernel load imports it to check that there is a BLAS, and that import would also run scipy.linalg's
+    ``__init__``, which loads the rest of scipy.linalg and scipy.sparse (~30 ms here, 0.2-0.3 s in Blender) that the
+    kernels never use. Without scipy, Numba finds no BLAS either way."""
+    if "scipy.linalg" in sys.modules:
+        return
+    try:
+        import scipy  # scipy's own set-up first, as solver.iteration.lapack does
+    except ImportError:
+        return
+    extension_alone("scipy.linalg.cython_blas", Path(scipy.__file__).parent / "linalg")
+
+
+def extension_alone(name: str, folder: Path) -> ModuleType | None:
+    """The compiled extension module ``name`` (e.g. "scipy.linalg._flapack") loaded from its file in ``folder`` under
+    that name, without running its package's ``__init__`` (which may import much more), and kept in ``sys.modules``
+    so that a later import of it takes this one; the one already loaded if any; None where ``folder`` has no such
+    file. Here, not in a module above, as this package imports nothing else of the solver."""
+    if name in sys.modules:
+        return sys.modules[name]
+    stem = name.rpartition(".")[2]
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        spec = importlib.util.spec_from_file_location(name, folder / f"{stem}{suffix}")
+        if spec is not None and spec.loader is not None and Path(spec.origin or "").is_file():
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            sys.modules[name] = module
+            return module
+    return None
 
 
 def active() -> bool:
@@ -151,6 +188,8 @@ class Kernel:
         self._compiled = compiled
         if sum(compiled.stats.cache_misses.values()):
             _state["compile_s"] += time.perf_counter() - start
+            if not gc.isenabled():  # a caller holding the collector off (a command's start-up): compiling's garbage now
+                gc.collect()
         return out
 
 

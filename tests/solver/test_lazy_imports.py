@@ -8,13 +8,15 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _run(code: str, **env: str) -> str:
+def _run(code: str, timeout: float = 60, **env: str) -> str:
     environment = dict(os.environ, **env)
     done = subprocess.run(
-        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60, env=environment
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=timeout, env=environment
     )
     assert done.returncode == 0, done.stderr
     return done.stdout.strip()
@@ -60,3 +62,28 @@ def test_a_solve_loads_scipy_s_lapack_wrappers_only() -> None:
            "from scipy.linalg import lapack, solve; from solver.iteration import lapack as mine; " \
            "print(lapack.dpotrf is mine.dpotrf, solve([[2.0]], [4.0])[0])"  # fmt: skip
     assert _run(code, MANIKIN_KERNELS="numpy").splitlines() == ["True ['scipy.linalg._flapack']", "True 2.0"]
+
+
+def test_a_solve_with_compiled_kernels_loads_scipy_s_blas_alone_too() -> None:
+    """Numba's check for a BLAS (its first kernel load) finds scipy.linalg.cython_blas loaded by itself, not through
+    the scipy.linalg package; the kernels that call it (np.dot) give the NumPy path's pose, and a later
+    ``import scipy.linalg`` takes the same module."""
+    pytest.importorskip("numba")
+    code = "\n".join(
+        [
+            "import sys, numpy, solver",
+            "from solver import kernels",
+            "scenario = solver.load_scenario('presets/scenarios/box_lift.toml')",
+            "[(_, r)] = solver.solve_motion(scenario)",
+            "print(r.converged, sorted(m for m in sys.modules if m.startswith(('scipy.linalg', 'scipy.sparse'))))",
+            "blas = sys.modules['scipy.linalg.cython_blas']",
+            "import scipy.linalg.cython_blas as again",
+            "with kernels.using(False):",
+            "    [(_, plain)] = solver.solve_motion(scenario)",
+            "from solver.kernels.bounded_step import bounded_step",  # calls np.dot: the BLAS
+            "print(bounded_step._compiled is not None, again is blas, 'dgemm' in blas.__pyx_capi__)",
+            "print(numpy.allclose(r.x, plain.x, rtol=0, atol=1e-6))",
+        ]
+    )
+    lines = _run(code, timeout=300, MANIKIN_KERNELS="auto").splitlines()  # a first run compiles the kernels
+    assert lines == ["True ['scipy.linalg._flapack', 'scipy.linalg.cython_blas']", "True True True", "True"]
