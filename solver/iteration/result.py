@@ -18,6 +18,8 @@ if TYPE_CHECKING:
     from ..problem.problem import Problem
     from .stopping import StopReason
 
+BODY_COM = ("body", "center of mass")  # the whole body's com (m), kept under a name: a state's, whatever the problem
+
 
 @dataclass
 class Result:
@@ -46,10 +48,9 @@ class Result:
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
-        unmet = problem.unmet(state)
+        unmet, residuals, closest = problem.report(state)
         kept = state.cache.get((problem.comfort, PARTS))  # the last trial's, when it was evaluated with comfort
         parts = dict(kept) if kept is not None else problem.comfort.parts(state)
-        residuals = problem.residuals(state)
         result = cls(
             problem=problem,
             x=state.x.copy(),
@@ -61,10 +62,10 @@ class Result:
             comfort=problem.comfort.total(parts),
             comfort_parts=parts,
             contacts=[dict(c) for c in state.once(problem.contacts, "wrenches", partial(_wrenches, problem, state))],
-            com=state.kin.body_com(),
+            com=state.once(*BODY_COM, state.kin.body_com),  # a held pose's frames share it (State.adopt)
             broken=hard_unmet(problem, unmet),
             shortfall=shortfalls(problem, unmet, residuals),
-            closest=problem.closest(state),
+            closest=closest,
         )
         result._state = (problem, result.x, state)  # the solve's last evaluation: what it computed is kept
         return result
@@ -129,7 +130,12 @@ class Result:
 
 
 def _wrenches(problem: Problem, state: State) -> list[dict]:
-    return problem.contacts.wrenches(state.kin, state.w)
+    """The contacts' wrenches at ``state``, from its statics' corner points and forces when the solve computed them
+    (the balance's: the same numbers, as the statics' kernel computes them in einsum's order)."""
+    statics = state.__dict__.get("statics")  # computed_once keeps it there
+    if statics is None or statics.layout.contacts is not problem.contacts:
+        return problem.contacts.wrenches(state.kin, state.w)
+    return problem.contacts.wrenches(state.kin, state.w, statics.corner_points, statics.corner_forces)
 
 
 def shortfall_text(parts: dict[str, float]) -> str:

@@ -361,6 +361,10 @@ class Problem:
         red = self.reduction
         return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
 
+    def report(self, state: State) -> reports.Report:
+        """(:meth:`unmet`, :meth:`residuals`, :meth:`closest`) at ``state``, in one pass (what a result reports)."""
+        return reports.report(self.constraints, state)
+
     def closest(self, state: State) -> list[Closeness]:
         """The clearance rows within their margin (the floor's, the obstacles', the body's own, the carried box's and
         any extra :class:`~solver.constraints.clearance.Clearance`), nearest first (:mod:`.reports`)."""

@@ -98,6 +98,12 @@ def test_a_result_from_an_adopted_state_reports_what_a_fresh_one_does(lift):
         assert got["tcp"] == expected["tcp"]
         for key in ("point", "force", "moment"):
             close_to_rounding(got[key], expected[key])
+    assert warm.com is result.com  # kept under a name: a held pose's frames share it
+    close_to_rounding(cold.com, second.state_of_x(end.x.copy()).kin.body_com())
+    moved = end.x.copy()
+    moved[10] += 1e-3  # another point: its own com, not the one kept
+    close_to_rounding(Result.from_state(second, second.state_of_x(moved).adopt(end), 1, 0.0).com,
+                      second.state_of_x(moved).kin.body_com())  # fmt: skip
 
 
 def test_moved_frame_groups_share_what_does_not_depend_on_the_targets(lift):
