@@ -10,7 +10,7 @@ import numpy as np
 
 from ..constraints.clearance import ClearanceRows
 from ..problem.priorities import hard_unmet, shortfalls
-from .trial import PARTS
+from .trial import COST, PARTS
 
 if TYPE_CHECKING:
     from ..body.state import State
@@ -49,8 +49,7 @@ class Result:
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
         unmet, residuals, closest = problem.report(state)
-        kept = state.cache.get((problem.comfort, PARTS))  # the last trial's, when it was evaluated with comfort
-        parts = dict(kept) if kept is not None else problem.comfort.parts(state)
+        parts, comfort = _comfort(problem, state)
         result = cls(
             problem=problem,
             x=state.x.copy(),
@@ -59,7 +58,7 @@ class Result:
             time_s=time_s,
             residuals=residuals,
             unmet=unmet,
-            comfort=problem.comfort.total(parts),
+            comfort=comfort,
             comfort_parts=parts,
             contacts=[dict(c) for c in state.once(problem.contacts, "wrenches", partial(_wrenches, problem, state))],
             com=state.once(*BODY_COM, state.kin.body_com),  # a held pose's frames share it (State.adopt)
@@ -127,6 +126,18 @@ class Result:
         lines.append(f"  comfort {self.comfort:.4f} ({parts})")
         lines.append(f"  center of mass [{self.com[0]:.3f} {self.com[1]:.3f} {self.com[2]:.3f}] m")
         return "\n".join(lines)
+
+
+def _comfort(problem: Problem, state: State) -> tuple[dict[str, float], float]:
+    """(the comfort's parts, h) at ``state``: the last trial's when it was evaluated with comfort (kept with its cost
+    f = -h, and -(-h) is h to the bit), else computed."""
+    comfort = problem.comfort
+    kept = state.cache.get((comfort, PARTS))
+    if kept is None:
+        parts = comfort.parts(state)
+        return parts, comfort.total(parts)
+    cost = state.cache.get((comfort, COST))
+    return dict(kept), -cost[0] if cost is not None else comfort.total(kept)
 
 
 def _wrenches(problem: Problem, state: State) -> list[dict]:

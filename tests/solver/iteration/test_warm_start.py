@@ -125,3 +125,16 @@ def test_a_held_pose_does_not_carry_every_earlier_frame_along(lift):
     held = list(range(scenario.frames[-1], scenario.frames[-1] + 30))
     sizes = [len(result.state.cache) for _, result in solve_frames(scenario.problem_at, held, scenario.start)]
     assert max(sizes[10:]) <= max(sizes[:10])
+
+
+def test_a_results_comfort_is_the_total_of_its_parts(lift):
+    """From a trial point evaluated with comfort (its parts and cost f = -h kept) and from a fresh state, a result's
+    comfort is the comfort's total of its parts, to the bit."""
+    _, _, result, second = lift
+    evaluate = Evaluator(second, True)
+    trial = evaluate(second.to_variables(result.x))
+    evaluate.cost(trial.state)
+    parts = second.comfort.parts(second.state_of_x(result.x.copy()))
+    for state in (trial.state, second.state_of_x(result.x.copy())):
+        got = Result.from_state(second, state, 0, 0.0)
+        assert got.comfort_parts == parts and got.comfort == second.comfort.total(parts)
