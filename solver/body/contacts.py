@@ -62,10 +62,14 @@ class ContactSet:
             return np.zeros(self.n_vars)
         return np.full(self.n_vars, max(vertical_load, 0.0) / up)
 
-    def wrenches(self, kin: Kinematics, w: np.ndarray) -> list[dict]:
-        """Per support: total force (N), center of pressure (m) and moment about it (N*m), world frame."""
-        points = self.corner_points(kin)
-        forces = self.corner_forces(w)
+    def wrenches(
+        self, kin: Kinematics, w: np.ndarray, points: np.ndarray | None = None, forces: np.ndarray | None = None
+    ) -> list[dict]:
+        """Per support: total force (N), center of pressure (m) and moment about it (N*m), world frame. ``points``,
+        ``forces``: :meth:`corner_points` and :meth:`corner_forces` of ``kin`` and ``w`` when known (a state's
+        statics has them)."""
+        points = self.corner_points(kin) if points is None else points
+        forces = self.corner_forces(w) if forces is None else forces
         out, cops = [], np.empty((len(self.supports), 3))
         for s, (support, corners, normal) in enumerate(self._support_corners):
             pts, fs = points[corners], forces[corners]

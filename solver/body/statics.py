@@ -172,6 +172,12 @@ class Statics:
         self.__dict__["_subtree_wrench"] = wrench  # what the cached property would compute
         self._axis_loads = loads
 
+    @property
+    def corner_forces(self) -> np.ndarray:
+        """(c, 3) world force at each sole corner, N: :meth:`ContactSet.corner_forces` of the weights (not to be
+        written to)."""
+        return self._corner_forces
+
     def _compiled_derivatives(self) -> None:
         """The kernel path of :meth:`moment_derivatives`: G, the subtree outer sums, the edges' moment arms and the
         balance Jacobian's blocks in one loop."""

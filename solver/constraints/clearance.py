@@ -261,15 +261,17 @@ class ClearanceRows(Inequality):
         products and differences as arrays would give)."""
         if self._clear_by(state, self.margin):
             return []
+        near = (self.gap(state) < self.margin).nonzero()[0].tolist()  # the gap: distance - floor, kept per state
+        if not near:
+            return []
         distance, points, normals, capsule = self._evaluate(state)
-        near = (distance - self.floor < self.margin).nonzero()[0].tolist()
-        out, radius = [], self.capsules.radius
+        out, radius, floor, make = [], self.capsules.radius, self.floor, Closeness._make
         for i in sorted(near, key=distance.item):  # a stable sort, as argsort(kind="stable")
             d, r = distance.item(i), radius.item(capsule.item(i))
             (px, py, pz), (nx, ny, nz) = points[i].tolist(), normals[i].tolist()
             sx, sy, sz = px - r * nx, py - r * ny, pz - r * nz  # the part's surface point
             other = np.array((sx - d * nx, sy - d * ny, sz - d * nz))
-            out.append(Closeness(self._parts[i], self._others[i], d, self.floor.item(i), np.array((sx, sy, sz)), other))
+            out.append(make((self._parts[i], self._others[i], d, floor.item(i), np.array((sx, sy, sz)), other)))
         return out
 
 

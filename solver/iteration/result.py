@@ -10,13 +10,15 @@ import numpy as np
 
 from ..constraints.clearance import ClearanceRows
 from ..problem.priorities import hard_unmet, shortfalls
-from .trial import PARTS
+from .trial import COST, PARTS
 
 if TYPE_CHECKING:
     from ..body.state import State
     from ..constraints.clearance import Closeness
     from ..problem.problem import Problem
     from .stopping import StopReason
+
+BODY_COM = ("body", "center of mass")  # the whole body's com (m), kept under a name: a state's, whatever the problem
 
 
 @dataclass
@@ -46,10 +48,8 @@ class Result:
 
     @classmethod
     def from_state(cls, problem: Problem, state: State, iterations: int, time_s: float) -> Result:
-        unmet = problem.unmet(state)
-        kept = state.cache.get((problem.comfort, PARTS))  # the last trial's, when it was evaluated with comfort
-        parts = dict(kept) if kept is not None else problem.comfort.parts(state)
-        residuals = problem.residuals(state)
+        unmet, residuals, closest = problem.report(state)
+        parts, comfort = _comfort(problem, state)
         result = cls(
             problem=problem,
             x=state.x.copy(),
@@ -58,13 +58,13 @@ class Result:
             time_s=time_s,
             residuals=residuals,
             unmet=unmet,
-            comfort=problem.comfort.total(parts),
+            comfort=comfort,
             comfort_parts=parts,
             contacts=[dict(c) for c in state.once(problem.contacts, "wrenches", partial(_wrenches, problem, state))],
-            com=state.kin.body_com(),
+            com=state.once(*BODY_COM, state.kin.body_com),  # a held pose's frames share it (State.adopt)
             broken=hard_unmet(problem, unmet),
             shortfall=shortfalls(problem, unmet, residuals),
-            closest=problem.closest(state),
+            closest=closest,
         )
         result._state = (problem, result.x, state)  # the solve's last evaluation: what it computed is kept
         return result
@@ -128,8 +128,25 @@ class Result:
         return "\n".join(lines)
 
 
+def _comfort(problem: Problem, state: State) -> tuple[dict[str, float], float]:
+    """(the comfort's parts, h) at ``state``: the last trial's when it was evaluated with comfort (kept with its cost
+    f = -h, and -(-h) is h to the bit), else computed."""
+    comfort = problem.comfort
+    kept = state.cache.get((comfort, PARTS))
+    if kept is None:
+        parts = comfort.parts(state)
+        return parts, comfort.total(parts)
+    cost = state.cache.get((comfort, COST))
+    return dict(kept), -cost[0] if cost is not None else comfort.total(kept)
+
+
 def _wrenches(problem: Problem, state: State) -> list[dict]:
-    return problem.contacts.wrenches(state.kin, state.w)
+    """The contacts' wrenches at ``state``, from its statics' corner points and forces when the solve computed them
+    (the balance's: the same numbers, as the statics' kernel computes them in einsum's order)."""
+    statics = state.__dict__.get("statics")  # computed_once keeps it there
+    if statics is None or statics.layout.contacts is not problem.contacts:
+        return problem.contacts.wrenches(state.kin, state.w)
+    return problem.contacts.wrenches(state.kin, state.w, statics.corner_points, statics.corner_forces)
 
 
 def shortfall_text(parts: dict[str, float]) -> str:

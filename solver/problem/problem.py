@@ -277,19 +277,22 @@ class Problem:
         """
         n = self.model.n
         x0 = self.model.zero_pose() if x0 is None else np.asarray(x0, dtype=float)
-        if x0.shape[0] not in (n, self.n_x) or not np.isfinite(x0).all():
+        # the ufuncs' reductions: ndarray.all and .any without their Python wrappers (a motion starts every frame)
+        if x0.shape[0] not in (n, self.n_x) or not np.logical_and.reduce(np.isfinite(x0), axis=None):
             raise ManikinError(f"start pose must be {n} finite joint values (or {self.n_x} with forces)")
         theta = x0[:n]
-        if not theta.any():  # the zero pose, the default start: the behaviour model may crouch instead
+        x = x0 if x0.shape[0] == self.n_x else None  # joints and forces (none without supports): clipped as given
+        if not np.logical_or.reduce(theta, axis=None):  # the zero pose, the default start: perhaps a crouch
             crouch = behaviour_start(self)
-            theta = theta if crouch is None else crouch
-        if x0.shape[0] == self.n_x and self.contacts.n_vars:
-            w = x0[n:]
-        else:
-            down = self.body_weight - sum(float(ld.force[2]) for ld in self.loads)
-            w = self.contacts.even_weights(down)
-        x = self.x_bounds.clip(np.concatenate([theta, w]))
-        return self.bounds.clip(self.to_variables(x))
+            theta, x = (theta, x) if crouch is None else (crouch, None)
+        if x is None:
+            if x0.shape[0] == self.n_x and self.contacts.n_vars:
+                w = x0[n:]
+            else:
+                down = self.body_weight - sum(float(ld.force[2]) for ld in self.loads)
+                w = self.contacts.even_weights(down)
+            x = np.concatenate([theta, w])
+        return self.bounds.clip(self.to_variables(self.x_bounds.clip(x)))
 
     def scaled_error(self, state: State) -> np.ndarray:
         """All constraint rows divided by their tolerance and multiplied by their weight."""
@@ -360,6 +363,10 @@ class Problem:
             return rows
         red = self.reduction
         return red.times_basis(rows) if red.linear else rows @ self.reduction_jacobian(state)
+
+    def report(self, state: State) -> reports.Report:
+        """(:meth:`unmet`, :meth:`residuals`, :meth:`closest`) at ``state``, in one pass (what a result reports)."""
+        return reports.report(self.constraints, state)
 
     def closest(self, state: State) -> list[Closeness]:
         """The clearance rows within their margin (the floor's, the obstacles', the body's own, the carried box's and

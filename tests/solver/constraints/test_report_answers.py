@@ -13,11 +13,13 @@ import pytest
 from helpers import close_to_rounding
 
 import solver
+from solver import kernels
 from solver.body.contacts import ContactSet, Support, build_contacts
 from solver.body.spatial import cross
 from solver.constraints import BalanceConstraint, FrameGroup
 from solver.constraints.carried_obstacles import CarriedObstacles
 from solver.constraints.clearance import ClearanceRows
+from solver.iteration.result import Result
 from solver.problem.problem import Target
 
 SCENARIOS = Path(__file__).resolve().parents[3] / "presets" / "scenarios"
@@ -189,5 +191,49 @@ def test_wrenches_are_the_definition(problem):
             assert [list(g) for g in got] == [list(v) for v in want]
             for g, v in zip(got, want, strict=True):
                 assert g["tcp"] == v["tcp"]
+                close_to_rounding(np.hstack([g["point"], g["force"], g["moment"]]),
+                                  np.hstack([v["point"], v["force"], v["moment"]]))  # fmt: skip
+
+
+@pytest.mark.parametrize("relaxed", [False, True], ids=["lift", "relaxed hands"])
+def test_one_report_pass_gives_each_constraints_answers(problem, relaxed):
+    """Problem.report (unmet, residuals, closest in one pass, kept per constraint) equals each constraint asked on a
+    state of its own, and asking again (the kept answers) gives the same."""
+    problem = problem[relaxed]
+    for x in poses(problem)[:2]:
+        report, plain = problem.state_of_x(x.copy()), problem.state_of_x(x.copy())
+        got = problem.report(report)
+        near = [n for c in problem.constraints if isinstance(c, ClearanceRows) for n in c.closest(plain)]
+        near.sort(key=lambda n: n.distance)
+        assert got.unmet == [name for c in problem.constraints for name in c.unmet(plain)]
+        assert got.residuals == {k: v for c in problem.constraints for k, v in c.residuals(plain).items()}
+        assert [(n.part, n.other, n.distance) for n in got.closest] == [(n.part, n.other, n.distance) for n in near]
+        for g, w in zip(got.closest, near, strict=True):
+            assert np.array_equal(g.point, w.point) and np.array_equal(g.other_point, w.other_point)
+        again = problem.report(report)
+        assert again == got and again.closest is not got.closest  # the kept answers, in lists of the caller's own
+        assert (problem.unmet(report), problem.residuals(report), problem.closest(report)) == tuple(got)
+
+
+@pytest.mark.parametrize("compiled", [False, True], ids=["numpy", "kernels"])
+def test_a_results_wrenches_from_the_statics_are_the_contacts_own(problem, compiled):
+    """A result's contact wrenches take the corners' points and forces of the state's statics when the solve computed
+    them (the balance's): the same as the contacts compute from the joint values and weights alone, with the statics'
+    kernel and without, on varied poses and weights."""
+    lift = problem[0]
+    model = lift.model
+    rng = np.random.default_rng(11)
+    start = lift.to_x(lift.start())
+    with kernels.using(compiled):
+        for _ in range(4):
+            x = start.copy()
+            x[: model.n] += rng.uniform(-0.2, 0.2, model.n)
+            x[model.n :] = rng.uniform(0.0, 60.0, lift.contacts.n_vars)
+            state = lift.state_of_x(x)
+            got = Result.from_state(lift, state, 0, 0.0).contacts
+            assert "statics" in state.__dict__  # computed by the balance's report, before the wrenches
+            want = lift.contacts.wrenches(model.forward(x[: model.n]), x[model.n :])
+            assert [g["tcp"] for g in got] == [v["tcp"] for v in want]
+            for g, v in zip(got, want, strict=True):
                 close_to_rounding(np.hstack([g["point"], g["force"], g["moment"]]),
                                   np.hstack([v["point"], v["force"], v["moment"]]))  # fmt: skip

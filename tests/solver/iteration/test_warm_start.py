@@ -98,6 +98,12 @@ def test_a_result_from_an_adopted_state_reports_what_a_fresh_one_does(lift):
         assert got["tcp"] == expected["tcp"]
         for key in ("point", "force", "moment"):
             close_to_rounding(got[key], expected[key])
+    assert warm.com is result.com  # kept under a name: a held pose's frames share it
+    close_to_rounding(cold.com, second.state_of_x(end.x.copy()).kin.body_com())
+    moved = end.x.copy()
+    moved[10] += 1e-3  # another point: its own com, not the one kept
+    close_to_rounding(Result.from_state(second, second.state_of_x(moved).adopt(end), 1, 0.0).com,
+                      second.state_of_x(moved).kin.body_com())  # fmt: skip
 
 
 def test_moved_frame_groups_share_what_does_not_depend_on_the_targets(lift):
@@ -119,3 +125,16 @@ def test_a_held_pose_does_not_carry_every_earlier_frame_along(lift):
     held = list(range(scenario.frames[-1], scenario.frames[-1] + 30))
     sizes = [len(result.state.cache) for _, result in solve_frames(scenario.problem_at, held, scenario.start)]
     assert max(sizes[10:]) <= max(sizes[:10])
+
+
+def test_a_results_comfort_is_the_total_of_its_parts(lift):
+    """From a trial point evaluated with comfort (its parts and cost f = -h kept) and from a fresh state, a result's
+    comfort is the comfort's total of its parts, to the bit."""
+    _, _, result, second = lift
+    evaluate = Evaluator(second, True)
+    trial = evaluate(second.to_variables(result.x))
+    evaluate.cost(trial.state)
+    parts = second.comfort.parts(second.state_of_x(result.x.copy()))
+    for state in (trial.state, second.state_of_x(result.x.copy())):
+        got = Result.from_state(second, state, 0, 0.0)
+        assert got.comfort_parts == parts and got.comfort == second.comfort.total(parts)
