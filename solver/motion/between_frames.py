@@ -62,6 +62,8 @@ class MotionSweep:
         self._planted: tuple | None = None  # the last planted_parts: (model, the two problems' supports, parts)
         self._body_key: tuple | None = None  # the last body's clearance rows, own pairs, planted parts and dict key
         self._way: tuple | None = None  # the last anchored check's body, anchor, end pose and bound from one to other
+        self._certified: tuple | None = None  # the last way the anchor certified: (anchor, start pose, end pose)
+        self._travel: tuple | None = None  # the last carried box's corners at both ends and how far they moved (m)
         self.queries = 0  # poses whose distances were queried
         self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
         self.substeps = 0  # sub-step solves so far
@@ -115,8 +117,12 @@ class MotionSweep:
                 return SweepReport(None, [], 0, 0)
         a, b = self._pose(body, theta_a), self._pose(body, theta_b, at_b)
         if anchored:
+            last = self._certified  # a frame that did not move, again: the same way from the same anchor, certified
+            if last is not None and last[0] is self._anchor and last[1] is a and last[2] is b:
+                return SweepReport(b, [], 0, 0)
             bound = self._bounds(body, p, a, b)
             if not body.any_uncertain(d_p, bound[0], bound[1], bound[2]):
+                self._certified = (self._anchor, a, b)
                 return SweepReport(b, [], 0, 0)
         margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
         report = body.check(a, b, self._exact(body, a, margin), self._exact(body, b, margin), margin)
@@ -125,11 +131,14 @@ class MotionSweep:
 
     def _bounds(self, body: SweptBody, p: Pose, a: Pose, b: Pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``body.bounds([(p, a), (p, b), (a, b)])``; the first the last call's (p, b) when ``a`` is that ``b`` (the
-        previous frame's end is this frame's start)."""
+        previous frame's end is this frame's start), and so the second too when ``b`` is ``a`` as well."""
         last = self._way
         if last is not None and last[0] is body and last[1] is p and last[2] is a:
-            pb, ab = body.bounds([(p, b), (a, b)])
-            out = last[3], pb, ab
+            if b is a:  # a frame that did not move: its way from the anchor is the last one's end's
+                out = last[3], last[3], body.bound(a, b)
+            else:
+                pb, ab = body.bounds([(p, b), (a, b)])
+                out = last[3], pb, ab
         else:
             out = tuple(body.bounds([(p, a), (p, b), (a, b)]))
         self._way = (body, p, b, out[1])
@@ -237,7 +246,12 @@ class MotionSweep:
             return []
         end = self._box_at(problem, theta_b, at_b)
         start = self._box_at(problem, theta_a)
-        moved = _corner_travel(start[2], end[2])
+        last = self._travel  # the same corners as the last time (a frame that did not move, again): their travel
+        if last is not None and last[0] is start[2] and last[1] is end[2]:
+            moved = last[2]
+        else:
+            moved = _corner_travel(start[2], end[2])
+            self._travel = (start[2], end[2], moved)
         if moved <= BOX_STEP:
             return []
         if not rows.near_way(start[:2], end[:2], moved):
