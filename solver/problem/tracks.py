@@ -42,7 +42,12 @@ class Track:
         i = bisect.bisect_right(self._frames, frame) - 1
         a, b = keys[i], keys[i + 1]
         t = (frame - a.frame) / (b.frame - a.frame)
-        position = (1.0 - t) * a.position + t * b.position
+        ends = self._floats
+        if ends is not None and type(t) is float:  # the blend in Python floats: NumPy's bits, without its calls
+            (x0, y0, z0), (x1, y1, z1), s = ends[i], ends[i + 1], 1.0 - t
+            position = np.array([s * x0 + t * x1, s * y0 + t * y1, s * z0 + t * z1])
+        else:
+            position = (1.0 - t) * a.position + t * b.position
         if a.rotation is None or b.rotation is None:
             return position, a.rotation if b.rotation is None else b.rotation
         held = self._held[i]
@@ -51,6 +56,15 @@ class Track:
     @functools.cached_property
     def _frames(self) -> list[int]:
         return [k.frame for k in self.keys]
+
+    @functools.cached_property
+    def _floats(self) -> list[list[float]] | None:
+        """Each key's position (m) as three Python floats, or None unless every one is a float64 3-vector (a long
+        motion blends two of them every frame)."""
+        if all(type(k.position) is np.ndarray and k.position.dtype == np.float64 and k.position.shape == (3,)
+               for k in self.keys):  # fmt: skip
+            return [k.position.tolist() for k in self.keys]
+        return None
 
     @functools.cached_property
     def _arcs(self) -> list[Arc | None]:
