@@ -185,7 +185,9 @@ class MotionSweep:
         theta_a, theta_b = previous_x[:n], result.x[:n]
         report = self.check(body, theta_a, theta_b, result.state)
         boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state)
-        if not (report.crossings or boxed) or not self.resolve:
+        if not (report.crossings or boxed):  # nothing to mark (a long motion's every frame but a few)
+            return result
+        if not self.resolve:
             mark(result, report, frames)
             return mark_carried(result, frames, boxed)
         retried, done, count = self._substeps(problems, previous_x, body, report, options, steps(), result.x)
