@@ -18,12 +18,10 @@ from __future__ import annotations
 import math
 import operator
 from collections.abc import Callable
-from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
 from ..collision.body import capsules_of
 from ..collision.carried import carried_frame, held_frame
 from ..collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
@@ -34,6 +32,7 @@ from ..iteration.result import Result
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from ..problem.specs import Target, same_frame
+from ..problem.tracks import blend_targets
 
 if TYPE_CHECKING:
     from ..body.state import State
@@ -131,14 +130,11 @@ class MotionSweep:
 
     def _bounds(self, body: SweptBody, p: Pose, a: Pose, b: Pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``body.bounds([(p, a), (p, b), (a, b)])``; the first the last call's (p, b) when ``a`` is that ``b`` (the
-        previous frame's end is this frame's start), and so the second too when ``b`` is ``a`` as well."""
+        previous frame's end is this frame's start)."""
         last = self._way
         if last is not None and last[0] is body and last[1] is p and last[2] is a:
-            if b is a:  # a frame that did not move: its way from the anchor is the last one's end's
-                out = last[3], last[3], body.bound(a, b)
-            else:
-                pb, ab = body.bounds([(p, b), (a, b)])
-                out = last[3], pb, ab
+            pb, ab = body.bounds([(p, b), (a, b)])
+            out = last[3], pb, ab
         else:
             out = tuple(body.bounds([(p, a), (p, b), (a, b)]))
         self._way = (body, p, b, out[1])
@@ -249,11 +245,9 @@ class MotionSweep:
         end = self._box_at(problem, theta_b, at_b)
         start = self._box_at(problem, theta_a)
         last = self._travel  # the same corners as the last time (a frame that did not move, again): their travel
-        if last is not None and last[0] is start[2] and last[1] is end[2]:
-            moved = last[2]
-        else:
-            moved = _corner_travel(start[2], end[2])
-            self._travel = (start[2], end[2], moved)
+        if last is None or last[0] is not start[2] or last[1] is not end[2]:
+            last = self._travel = (start[2], end[2], _corner_travel(start[2], end[2]))
+        moved = last[2]
         if moved <= BOX_STEP:
             return []
         if not rows.near_way(start[:2], end[:2], moved):
@@ -355,21 +349,6 @@ def _same_place(a: Target, b: Target) -> bool:
     if a.rotation is None or b.rotation is None:
         return a.rotation is None and b.rotation is None
     return bool(np.allclose(a.rotation, b.rotation, atol=1e-6))
-
-
-def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | None:
-    """Targets ``s`` of the way from ``a`` to ``b`` (positions linear, rotations by slerp), or None when the two
-    lists do not hold the same TCPs in the same order."""
-    if [t.tcp for t in a] != [t.tcp for t in b]:
-        return None
-    out = []
-    for ta, tb in zip(a, b, strict=True):
-        position = (1.0 - s) * np.asarray(ta.position, dtype=float) + s * np.asarray(tb.position, dtype=float)
-        rotation = tb.rotation
-        if ta.rotation is not None and tb.rotation is not None:
-            rotation = quat_to_matrix(slerp(matrix_to_quat(ta.rotation), matrix_to_quat(tb.rotation), s))
-        out.append(replace(tb, position=position, rotation=rotation))
-    return out
 
 
 def _placed(rows: CarriedObstacles, kin) -> tuple[np.ndarray, np.ndarray]:

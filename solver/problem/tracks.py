@@ -1,4 +1,4 @@
-"""Targets keyed over frames: a track's keys and the target list at any frame.
+"""Targets keyed over frames: a track's keys and the target list at any frame; two target lists blended.
 
 A keyed target holds its first key before it and its last key after it; in between, positions are
 interpolated linearly and rotations by slerp.
@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import bisect
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..body.spatial import Arc, matrix_to_quat, quat_to_matrix
+from ..body.spatial import Arc, matrix_to_quat, quat_to_matrix, slerp
 from .specs import Target
 
 
@@ -86,4 +86,19 @@ def targets_at(targets: list[Target], tracks: list[Track], frame: float) -> list
     for track in tracks:
         position, rotation = track.pose_at(frame)
         out[track.target] = out[track.target].at(position, rotation)
+    return out
+
+
+def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | None:
+    """Targets ``s`` of the way from ``a`` to ``b`` (positions linear, rotations by slerp), or None when the two
+    lists do not hold the same TCPs in the same order."""
+    if [t.tcp for t in a] != [t.tcp for t in b]:
+        return None
+    out = []
+    for ta, tb in zip(a, b, strict=True):
+        position = (1.0 - s) * np.asarray(ta.position, dtype=float) + s * np.asarray(tb.position, dtype=float)
+        rotation = tb.rotation
+        if ta.rotation is not None and tb.rotation is not None:
+            rotation = quat_to_matrix(slerp(matrix_to_quat(ta.rotation), matrix_to_quat(tb.rotation), s))
+        out.append(replace(tb, position=position, rotation=rotation))
     return out
