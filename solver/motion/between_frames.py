@@ -18,12 +18,10 @@ from __future__ import annotations
 import math
 import operator
 from collections.abc import Callable
-from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..body.spatial import matrix_to_quat, quat_to_matrix, slerp
 from ..collision.body import capsules_of
 from ..collision.carried import carried_frame, held_frame
 from ..collision.sweep import TOLERANCE, Pose, SweepReport, SweptBody
@@ -34,6 +32,7 @@ from ..iteration.result import Result
 from ..options import SolverOptions
 from ..problem.problem import Problem
 from ..problem.specs import Target, same_frame
+from ..problem.tracks import blend_targets
 
 if TYPE_CHECKING:
     from ..body.state import State
@@ -62,6 +61,8 @@ class MotionSweep:
         self._planted: tuple | None = None  # the last planted_parts: (model, the two problems' supports, parts)
         self._body_key: tuple | None = None  # the last body's clearance rows, own pairs, planted parts and dict key
         self._way: tuple | None = None  # the last anchored check's body, anchor, end pose and bound from one to other
+        self._certified: tuple | None = None  # the last way the anchor certified: (anchor, start pose, end pose)
+        self._travel: tuple | None = None  # the last carried box's corners at both ends and how far they moved (m)
         self.queries = 0  # poses whose distances were queried
         self.samples = 0  # in-between capsule-obstacle queries so far (0 when no motion came near anything)
         self.substeps = 0  # sub-step solves so far
@@ -115,8 +116,12 @@ class MotionSweep:
                 return SweepReport(None, [], 0, 0)
         a, b = self._pose(body, theta_a), self._pose(body, theta_b, at_b)
         if anchored:
+            last = self._certified  # a frame that did not move, again: the same way from the same anchor, certified
+            if last is not None and last[0] is self._anchor and last[1] is a and last[2] is b:
+                return SweepReport(b, [], 0, 0)
             bound = self._bounds(body, p, a, b)
             if not body.any_uncertain(d_p, bound[0], bound[1], bound[2]):
+                self._certified = (self._anchor, a, b)
                 return SweepReport(b, [], 0, 0)
         margin = max(float(body.bound(a, b).max(initial=0.0)) + 2.0 * body.tolerance, MARGIN)
         report = body.check(a, b, self._exact(body, a, margin), self._exact(body, b, margin), margin)
@@ -176,7 +181,9 @@ class MotionSweep:
         theta_a, theta_b = previous_x[:n], result.x[:n]
         report = self.check(body, theta_a, theta_b, result.state)
         boxed = self.carried_crossings(problems[1], theta_a, theta_b, result.state)
-        if not (report.crossings or boxed) or not self.resolve:
+        if not (report.crossings or boxed):  # nothing to mark (a long motion's every frame but a few)
+            return result
+        if not self.resolve:
             mark(result, report, frames)
             return mark_carried(result, frames, boxed)
         retried, done, count = self._substeps(problems, previous_x, body, report, options, steps(), result.x)
@@ -237,7 +244,10 @@ class MotionSweep:
             return []
         end = self._box_at(problem, theta_b, at_b)
         start = self._box_at(problem, theta_a)
-        moved = _corner_travel(start[2], end[2])
+        last = self._travel  # the same corners as the last time (a frame that did not move, again): their travel
+        if last is None or last[0] is not start[2] or last[1] is not end[2]:
+            last = self._travel = (start[2], end[2], _corner_travel(start[2], end[2]))
+        moved = last[2]
         if moved <= BOX_STEP:
             return []
         if not rows.near_way(start[:2], end[:2], moved):
@@ -339,21 +349,6 @@ def _same_place(a: Target, b: Target) -> bool:
     if a.rotation is None or b.rotation is None:
         return a.rotation is None and b.rotation is None
     return bool(np.allclose(a.rotation, b.rotation, atol=1e-6))
-
-
-def blend_targets(a: list[Target], b: list[Target], s: float) -> list[Target] | None:
-    """Targets ``s`` of the way from ``a`` to ``b`` (positions linear, rotations by slerp), or None when the two
-    lists do not hold the same TCPs in the same order."""
-    if [t.tcp for t in a] != [t.tcp for t in b]:
-        return None
-    out = []
-    for ta, tb in zip(a, b, strict=True):
-        position = (1.0 - s) * np.asarray(ta.position, dtype=float) + s * np.asarray(tb.position, dtype=float)
-        rotation = tb.rotation
-        if ta.rotation is not None and tb.rotation is not None:
-            rotation = quat_to_matrix(slerp(matrix_to_quat(ta.rotation), matrix_to_quat(tb.rotation), s))
-        out.append(replace(tb, position=position, rotation=rotation))
-    return out
 
 
 def _placed(rows: CarriedObstacles, kin) -> tuple[np.ndarray, np.ndarray]:

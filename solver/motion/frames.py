@@ -64,9 +64,19 @@ _last_steps: list[tuple | None] = [None]  # (model, reduction, n_x, limits, step
 
 
 def bounded(problem: Problem, previous_x: np.ndarray, limits: MotionLimits) -> Problem:
-    """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``."""
-    step = kept_steps(problem, limits)
-    return problem.with_bounds(problem.bounds.around(problem.to_variables(previous_x), step))
+    """A shallow copy of ``problem`` whose variable bounds also keep each joint near ``previous_x``; the narrowed
+    bounds of the last call kept for the same bounds, reduction, steps and ``previous_x`` (a motion's frame after one
+    that did not move)."""
+    step, bounds, reduction = kept_steps(problem, limits), problem.bounds, problem.reduction
+    center, last = np.asarray(previous_x, dtype=float).tobytes(), _last_bounds[0]
+    if last is not None and last[0] is bounds and last[1] is reduction and last[2] is step and last[3] == center:
+        return problem.with_bounds(last[4])
+    narrowed = bounds.around(problem.to_variables(previous_x), step)
+    _last_bounds[0] = (bounds, reduction, step, center, narrowed)
+    return problem.with_bounds(narrowed)
+
+
+_last_bounds: list[tuple | None] = [None]  # (bounds, reduction, steps, previous_x's bytes, narrowed) of the last
 
 
 def solve_frames(

@@ -205,13 +205,13 @@ def test_the_target_held_behind_the_plate_stays_blocked(tmp_path):
     assert all("hand_r" in r.unmet and not r.converged for _, r in results[2:])  # short of the target, not through
 
 
-def lift_with_a_cabinet_behind(tmp_path: Path, trunk: float) -> tuple[list, MotionSweep]:
-    """The box lift spread over 200 frames, a cabinet 1 m behind the manikin, comfort ``trunk`` weight: the frames
-    and the sweep that checked them."""
-    data = long_motion(200)
+def lift_with_a_cabinet_behind(tmp_path: Path, trunk: float, frames: int = 200) -> tuple[list, MotionSweep]:
+    """The box lift spread over ``frames`` frames, a cabinet 1 m behind the manikin, comfort ``trunk`` weight: the
+    frames and the sweep that checked them."""
+    data = long_motion(frames)
     data["obstacles"] = [dict(name="cabinet", kind="box", center=[0.0, 1.0, 0.8], size=[1.0, 0.4, 1.6])]
     data["comfort"] = {"trunk": trunk}
-    path = tmp_path / f"lift_{trunk}.toml"
+    path = tmp_path / f"lift_{trunk}_{frames}.toml"
     path.write_text(dumps_toml(data), encoding="utf-8")
     sc = load_scenario(path)
     sweep = MotionSweep()
@@ -356,6 +356,47 @@ def test_what_the_sweep_keeps_from_frame_to_frame_is_what_it_computes_afresh(tmp
     check = MotionSweep.check
     monkeypatch.setattr(MotionSweep, "check", lambda self, body, a, b, at_b=None: check(self, body, a, b))
     again, swept = lift_with_a_cabinet_behind(tmp_path, 0.0)  # no end state given: the path-bound pre-test first
+    assert (swept.queries, swept.samples) == (sweep.queries, sweep.samples)
+    assert all(np.array_equal(r.x, s.x) and r.unmet == s.unmet for (_, r), (_, s) in zip(results, again, strict=True))
+
+
+def test_a_frame_that_did_not_move_again_is_what_checking_it_afresh_gives(tmp_path, monkeypatch):
+    """A long motion's frame whose solution stays where the last one ended (its targets moved within their
+    tolerance) asks the sweep the same way again: the same anchor, the same start and end poses. The sweep then returns
+    the certificate it found the last time, and the travel of the carried box's corners it measured. Over the lift
+    spread over 500 frames each shortcut is taken, each is what computing it afresh gives (the anchor's bounds certify
+    the way; a new sweep finds the same crossings of the box), and with the shortcuts off the motion queries, samples
+    and solves the same."""
+    taken = {"certified": 0, "travel": 0}
+    check, carried = MotionSweep.check, MotionSweep.carried_crossings
+
+    def fresh_check(self, body, theta_a, theta_b, at_b=None):
+        last, anchor = self._certified, self._anchor
+        got = check(self, body, theta_a, theta_b, at_b)
+        if last is not None and last[0] is anchor and last[1] is self._pose(body, theta_a) and last[2] is got.b:
+            taken["certified"] += 1
+            _, p, d_p = anchor
+            a, b = last[1], last[2]
+            assert not body.any_uncertain(d_p, *body.bounds([(p, a), (p, b), (a, b)])) and not got.crossings
+        return got
+
+    def fresh_carried(self, problem, theta_a, theta_b, at_b=None):
+        last = self._travel
+        got = carried(self, problem, theta_a, theta_b, at_b)
+        if last is not None and self._travel is last:
+            taken["travel"] += 1
+            start, end = (MotionSweep()._box_at(problem, theta)[2] for theta in (theta_a, theta_b))
+            assert last[2] == between_frames._corner_travel(start, end)
+            assert got == MotionSweep().carried_crossings(problem, theta_a, theta_b)
+        return got
+
+    monkeypatch.setattr(MotionSweep, "check", fresh_check)
+    monkeypatch.setattr(MotionSweep, "carried_crossings", fresh_carried)
+    results, sweep = lift_with_a_cabinet_behind(tmp_path, BEHAVIOUR.trunk, frames=500)
+    assert min(taken.values()) > 10, taken
+    monkeypatch.setattr(MotionSweep, "_certified", property(lambda self: None, lambda self, value: None), raising=False)
+    monkeypatch.setattr(MotionSweep, "_travel", property(lambda self: None, lambda self, value: None), raising=False)
+    again, swept = lift_with_a_cabinet_behind(tmp_path, BEHAVIOUR.trunk, frames=500)  # every way checked afresh
     assert (swept.queries, swept.samples) == (sweep.queries, sweep.samples)
     assert all(np.array_equal(r.x, s.x) and r.unmet == s.unmet for (_, r), (_, s) in zip(results, again, strict=True))
 

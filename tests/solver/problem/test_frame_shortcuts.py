@@ -58,6 +58,28 @@ def test_a_tracks_pose_is_the_slerp_of_its_keys_at_every_frame():
             getattr(moved[0], name) == value, name  # fmt: skip
 
 
+def test_a_tracks_position_blended_in_floats_is_numpys_blend():
+    """At a frame given as a Python int or float (a motion's frames) the keyed position is blended in Python floats:
+    to the bit NumPy's (1 - t) a + t b, a float64 3-vector; keys not all float64 3-vectors take NumPy's way."""
+    rng = np.random.default_rng(7)
+    floats = tuple(Key(f, rng.normal(scale=0.5, size=3)) for f in (0, 7, 9, 30, 1000))
+    ints = (Key(0, np.array([0, 1, 2])), Key(10, np.array([3, -4, 5])))  # integer positions: NumPy's way
+
+    def blend(keys: tuple[Key, ...], frame: float) -> np.ndarray:  # with NumPy, as the keys are
+        if not keys[0].frame < frame < keys[-1].frame:
+            return (keys[0] if frame <= keys[0].frame else keys[-1]).position
+        i = max(i for i, k in enumerate(keys) if k.frame <= frame)
+        t = (frame - keys[i].frame) / (keys[i + 1].frame - keys[i].frame)
+        return (1.0 - t) * keys[i].position + t * keys[i + 1].position
+
+    assert Track(0, floats)._floats is not None and Track(0, ints)._floats is None
+    for keys in (floats, ints):
+        track = Track(0, keys)
+        for frame in [*range(-3, 1004), *rng.uniform(-5.0, 1005.0, 500).tolist()]:
+            position, expected = track.pose_at(frame)[0], blend(keys, frame)
+            assert position.dtype == expected.dtype and position.tobytes() == expected.tobytes(), frame
+
+
 def test_a_spec_replaced_is_what_dataclasses_replace_makes(male50):
     targets = _feet_and_hand(male50)
     spec = ProblemSpec(targets, balance=True, reduction=["spine"])
@@ -145,7 +167,7 @@ def test_bounds_narrowed_are_read_only_and_leave_the_wider_bounds_alone():
 def test_the_per_frame_steps_kept_are_those_computed_afresh(male50):
     """kept_steps keeps the last answer for the same model, reduction, variable count and limits: asked in turn for
     problems with and without a reduction and for two limits, each answer is the one computed afresh, and so are the
-    bounds of each bounded problem."""
+    bounds of each bounded problem (around the same joint values again: the narrowed bounds kept from the last)."""
     targets = _feet_and_hand(male50)
     plain = Problem(male50, ProblemSpec(targets))
     reduced = Problem(male50, ProblemSpec(targets, reduction=("lumbar", "thoracic", "shoulder")))
@@ -156,11 +178,12 @@ def test_the_per_frame_steps_kept_are_those_computed_afresh(male50):
         steps = frames.kept_steps(problem, limit)
         np.testing.assert_array_equal(steps, frames.variable_steps(problem, limit))
         assert not steps.flags.writeable and len(steps) == problem.n_var
-        x = problem.to_x(problem.start())
-        narrowed = frames.bounded(problem, x, limit).bounds
-        afresh = problem.bounds.around(problem.to_variables(x), frames.variable_steps(problem, limit))
-        np.testing.assert_array_equal(narrowed.lower, afresh.lower)
-        np.testing.assert_array_equal(narrowed.upper, afresh.upper)
+        start = problem.to_x(problem.start())
+        for x in (start, start.copy(), start + 0.01, start + 0.01):  # a frame that did not move: the bounds kept
+            narrowed = frames.bounded(problem, x, limit).bounds
+            afresh = problem.bounds.around(problem.to_variables(x), frames.variable_steps(problem, limit))
+            np.testing.assert_array_equal(narrowed.lower, afresh.lower)
+            np.testing.assert_array_equal(narrowed.upper, afresh.upper)
 
 
 def test_targets_read_again_at_the_same_frames_keep_their_constraints(male50):
