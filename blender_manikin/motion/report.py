@@ -21,10 +21,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...solver.ergonomics import ErgoOptions, checked
+from ...solver.ergonomics.held import HeldFrames
 from ...solver.ergonomics.loads import JointLoads
 from ...solver.ergonomics.manikin import working_area
 from ...solver.ergonomics.registry import frame_scores, motion_scores
-from ...solver.ergonomics.report import clean, frame_parts, sources
+from ...solver.ergonomics.report import clean, sources
 from ...solver.ergonomics.report_text import LoadsText, dumps_filled
 from ...solver.ergonomics.stream import PlotSeries
 from ...solver.errors import ManikinError
@@ -35,6 +36,7 @@ from .frame_store import FrameStore
 
 if TYPE_CHECKING:
     from ...solver import Model, Result
+    from ...solver.body.model import Kinematics
     from ...solver.body.state import State
     from ...solver.ergonomics.base import Score
     from .bake import Baker, FrameRecord
@@ -80,14 +82,19 @@ class MotionReport:
         self.path = None if path is None else Path(os.path.abspath(path))  # a device path stays itself
         # each frame's part, kept in a temporary file until the motion scores (and so their entries) are known
         self._frames = None if self.path is None else tempfile.TemporaryFile("w+", encoding="utf-8")
-        self._loads = LoadsText()
+        self._loads, self._loads_text = LoadsText(), ""
+        self._parts = HeldFrames(self.options, model, self.area, None)  # a held pose's ergonomics computed once
         self._fields: list[str] = []  # a frame record's fields, in order
+        self._posed: tuple[Kinematics, Frame] | None = None  # the last frame's kinematics (the solver's) and frame
 
     def add(self, record: FrameRecord, result: Result, state: State | None = None) -> None:
         """One baked frame (``state``: the result's, if the caller has it): its ergonomics, appended to the frames
         file."""
-        f = frame_of_result(result, record.frame, state)
-        ergo, loads, _ = frame_parts(f, self.options, self.model, self.area, None)
+        kin = (result.state if state is None else state).kin
+        posed = self._posed[1] if self._posed is not None and self._posed[0] is kin else None  # a held pose
+        f = frame_of_result(result, record.frame, state, posed)
+        self._posed = (kin, f)
+        ergo, loads, _ = self._parts(f)
         self.ends = [self.ends[0] if self.ends else f, f]
         self.kept.append({s.name: s.keep(f) for s in self.motions})
         if self.series is not None:
@@ -110,7 +117,9 @@ class MotionReport:
         self._fields = self._fields or [f.name for f in fields(record)]
         values = {name: getattr(record, name) for name in self._fields}  # asdict without its deep copy: clean copies
         frame = clean(values) | {"ergonomics": {k: ergo[k] for k in self.parts} | {"joint_loads": SLOT}}
-        text = dumps_filled(frame, self._loads(loads))
+        if not (self._parts.held and self._loads_text):  # a held pose's loads: the text written last
+            self._loads_text = self._loads(loads)
+        text = dumps_filled(frame, self._loads_text)
         if text is None:  # a note holding the slot's text: the dicts as they are
             frame["ergonomics"]["joint_loads"] = loads.as_dict()
             text = json.dumps(frame, allow_nan=False)

@@ -88,6 +88,9 @@ class Score(ABC):
     source: ClassVar[str]  # the publication it follows (the report's "sources")
     value: ClassVar[str | None] = "score"  # the entry's key of its one number per frame (None: it has none)
     bands: ClassVar[Bands | None] = None  # its panel in the scores plot (None: not drawn there)
+    # its entry reads only the frame's pose, contacts and loads, not its number or how its solve went: a held pose's
+    # entry is computed once (.held.HeldFrames; a score that reads the number must leave it False)
+    pose_only: ClassVar[bool] = False
 
     @abstractmethod
     def evaluate(self, inputs: FrameInputs) -> dict:

@@ -155,6 +155,7 @@ class Niosh(MotionScore):
     (:func:`at_point`). A study records the lifting index and the RWL of a lift with a load in the hands."""
 
     name = "niosh"
+    pose_only = True
     title = "NIOSH"
     source = "Waters et al. 1993; NIOSH Applications Manual for the Revised Lifting Equation, Pub. 94-110"
 

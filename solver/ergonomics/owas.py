@@ -109,6 +109,7 @@ class Owas(Score):
     plot or to take the peak of."""
 
     name = "owas"
+    pose_only = True
     title = "OWAS"
     source = ("Karhu, Kansi & Kuorinka 1977, Appl. Ergon. 8(4):199-201; action categories transcribed from "
               "github.com/rs9000/ergonomics (disputed cells flagged)")  # fmt: skip

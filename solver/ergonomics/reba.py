@@ -139,6 +139,7 @@ class Reba(Score):
     """REBA's score (1-15) of the worse side and its risk level, with its parts (:func:`reba`)."""
 
     name = "reba"
+    pose_only = True
     title = "REBA"
     source = "Hignett & McAtamney 2000, Appl. Ergon. 31:201-205"
     bands = Bands("REBA score", (0.5, 3.5, 7.5, 15.5), "1-3 negligible/low, 4-7 medium, 8+ high")

@@ -83,6 +83,14 @@ def frame_report(
     return report, strength_note
 
 
+HEAD_KEYS = ("frame", "converged", "status")  # a report frame's first entries, and its CSV row's first cells
+
+
+def frame_head(f: Frame) -> dict:
+    """A report frame's :data:`HEAD_KEYS` entries (JSON-safe): its number and how its solve went."""
+    return clean(dict(frame=f.number, converged=f.converged, status=f.status()))
+
+
 def frame_parts(
     f: Frame, options: ErgoOptions, model: Model | None, area, motion: dict[str, dict] | None
 ) -> tuple[dict, JointLoads, str]:
@@ -95,7 +103,7 @@ def frame_parts(
     posture = postures.measure(f, feet)
     load_kg = options.load_mass if options.load_mass is not None else hand_load_kg(f)
     inputs = FrameInputs(f, posture, load_kg, loads, area, options, motion or {}, feet)
-    head = clean(dict(frame=f.number, converged=f.converged, status=f.status()))
+    head = frame_head(f)
     evaluated = frame_scores() + (motion_scores() if motion is not None else [])
     scores = {score.name: score.evaluate(inputs) for score in evaluated}
     loads.l4_l5 = clean(loads.l4_l5)

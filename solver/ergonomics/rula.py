@@ -140,6 +140,7 @@ class Rula(Score):
     """RULA's grand score (1-7) of the worse side, with its parts (:func:`rula`)."""
 
     name = "rula"
+    pose_only = True
     title = "RULA"
     source = "McAtamney & Corlett 1993, Appl. Ergon. 24(2):91-99"
     bands = Bands("RULA grand score", (0.5, 2.5, 4.5, 7.5), "1-2 acceptable, 3-4 investigate, 5+ change")

@@ -16,11 +16,12 @@ from ..io.files import OutputFile
 from ..io.result.frame import Frame
 from ..io.result.frame_text import SLOT
 from ..io.result.read import ResultStream
+from .held import HeldFrames
 from .loads import JointLoads
 from .manikin import check_fits, resolve_model, strengths, working_area
 from .options import ErgoOptions
 from .registry import RANKING, SCORES, frame_scores, motion_scores
-from .report import csv_cells, csv_header, csv_row, end_positions, frame_parts, report_head
+from .report import HEAD_KEYS, csv_cells, csv_header, csv_row, end_positions, report_head
 from .report_text import LoadsText, dumps_filled
 
 PLOTTED_ITEMS = ("back_bend", "neck", "shoulder_l", "shoulder_r")  # the worksheet items plots.plot_back draws
@@ -95,6 +96,33 @@ def _frame_text(report: dict, loads: JointLoads, text: LoadsText) -> str:
         report["joint_loads"] = loads.as_dict()
         written = json.dumps(report, allow_nan=False)
     return written
+
+
+class HeldText:
+    """A report frame's JSON text and CSV cells, a held pose's (:class:`.held.HeldFrames`) made from the frame
+    before's: its text after the head (:data:`.report.HEAD_KEYS`) and its cells after the first three are the
+    same."""
+
+    def __init__(self) -> None:
+        self.kept = False  # a frame's text and cells are kept
+        self._tail = ""
+        self._cells: list = []
+
+    def keep(self, report: dict, text: str, cells: list) -> tuple[str, list]:
+        """Keep the ``text`` and ``cells`` of ``report`` (made in full); returns them."""
+        head = _head_text(report)
+        self.kept = text.startswith(head)
+        self._tail, self._cells = text[len(head) :], cells[len(HEAD_KEYS) :]
+        return text, cells
+
+    def again(self, report: dict) -> tuple[str, list]:
+        """The text and cells of ``report``, a held pose of the frame kept."""
+        return _head_text(report) + self._tail, csv_cells([report[key] for key in HEAD_KEYS]) + self._cells
+
+
+def _head_text(report: dict) -> str:
+    """The JSON text of a report frame up to its head's last value."""
+    return json.dumps({key: report[key] for key in HEAD_KEYS})[:-1]
 
 
 def array_csv_cells(report: dict, loads: JointLoads, shown_at: list[int]) -> list:
@@ -196,13 +224,20 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         out, table = json_out, csv_out  # their write names the file on a full disk
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
-        text, shown_at = LoadsText(), JointColumns(joints)
+        parts, text, shown_at = HeldFrames(options, model, area, motion), LoadsText(), JointColumns(joints)
+        written = HeldText()
         for f in stream:
-            report, loads, _ = frame_parts(f, options, model, area, motion)
+            report, loads, _ = parts(f)
             if count == 0:
                 rows.writerow(csv_header(report, joints))
-            out.write(("\n" if count == 0 else ",\n") + _frame_text(report, loads, text))
-            rows.writerow(array_csv_cells(report, loads, shown_at(f)))
+            if parts.held and written.kept:
+                line, cells = written.again(report)
+            else:
+                line, cells = written.keep(
+                    report, _frame_text(report, loads, text), array_csv_cells(report, loads, shown_at(f))
+                )
+            out.write(("\n" if count == 0 else ",\n") + line)
+            rows.writerow(cells)
             series.add(report, loads)
             report["joint_loads"] = _Loads(loads)  # a dict of them built only for the frames the summary keeps
             shown, last = shown + [report] if len(shown) < SHOWN else shown, report

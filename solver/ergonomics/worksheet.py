@@ -170,6 +170,7 @@ class Worksheet(Score):
     summary words are the L4/L5 compression and the worst level."""
 
     name = "worksheet"
+    pose_only = True
     title = "worksheet"
     source = "Delfs 2012 §5.4 / fig. 5.2 (SES); thresholds ISO 11226, EN 1005-4, NIOSH 1981, project defaults"
     value = None

@@ -7,7 +7,8 @@ contact wrenches and external loads. Units: m, N, N*m, kg, rad.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, fields, replace
 from functools import lru_cache
 from typing import TYPE_CHECKING
 
@@ -75,6 +76,11 @@ class Frame:
     def value(self, name: str) -> float:
         return float(self.joint_value[self.index[name]])
 
+    def same_pose(self, other: Frame | None) -> bool:
+        """Whether ``other`` holds every field of this frame but the solve's (``number``, ``converged``, ``unmet``,
+        ``broken``) bit for bit: the same body, pose, contacts and loads (a held pose)."""
+        return other is not None and all(_same(getattr(self, name), getattr(other, name)) for name in _POSE_FIELDS)
+
     def status(self) -> str:
         """ "converged", "out of reach: ..." (priority 1 held: a real, balanced pose), "NOT held: ..." (its loads
         are not physical) or "unknown" (a file without the solve's status)."""
@@ -85,6 +91,28 @@ class Frame:
         if self.broken:
             return "NOT held: " + ", ".join(self.broken)
         return "out of reach: " + ", ".join(self.unmet)
+
+
+_SOLVE_FIELDS = ("number", "converged", "unmet", "broken")
+_POSE_FIELDS = tuple(f.name for f in fields(Frame) if f.init and f.name not in _SOLVE_FIELDS)
+
+
+def _same(a: object, b: object) -> bool:
+    """``a`` and ``b`` (arrays, floats and containers of them) equal bit for bit: 0.0 is not -0.0, NaN not NaN."""
+    if a is b:
+        return True
+    kind = type(a)
+    if kind is not type(b):
+        return False
+    if kind is np.ndarray:
+        return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+    if kind is dict:
+        return list(a) == list(b) and all(_same(a[k], b[k]) for k in a)
+    if kind is list or kind is tuple:
+        return len(a) == len(b) and all(map(_same, a, b))
+    if kind is float:
+        return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
+    return a == b
 
 
 @lru_cache(maxsize=16)
@@ -103,14 +131,17 @@ def _below_weights(parent: tuple[int, ...]) -> np.ndarray:
     return weights
 
 
-def frame_of_result(result: Result, number: int = 1, state: State | None = None) -> Frame:
+def frame_of_result(result: Result, number: int = 1, state: State | None = None, posed: Frame | None = None) -> Frame:
     """The frame of a solve's result (what its result file would hold, without writing it); ``state`` is the
-    result's state when the caller has it already."""
+    result's state when the caller has it already; ``posed``: a frame of the same model and kinematics (the same
+    object: a held pose), whose posed arrays (read, never changed) this frame takes as they are."""
     problem = result.problem
     state = result.state if state is None else state
     contacts = [(c["tcp"], c["point"], c["force"], c["moment"]) for c in result.contacts]
     loads = [(ld.tcp.name, p, ld.force) for ld, p in zip(problem.loads, state.statics.load_points, strict=True)]
     status = dict(number=number, converged=result.converged, unmet=tuple(result.unmet), broken=tuple(result.broken))
+    if posed is not None:
+        return replace(posed, **status, contacts=contacts, loads=loads)
     return frame_of_pose(problem.model, state.kin, status, contacts, loads)
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +53,7 @@ class ResultStream:
         self.count: int | None = None  # frames, after a whole pass
         self._model: Model | None = None
         self._gravity: list | None = None
+        self._last: Frame | None = None  # the compact frame read last (its pose's arrays kept for the next)
         self.compact = is_compact(self.path, ResultFileError)
         for kind, key, _ in self._parts():
             if kind == "frame" or key == "frames":
@@ -116,7 +117,8 @@ class ResultStream:
             return _frame(t)
         if self._model is None:
             raise ResultFileError(f"{self.path}: model: expected the manikin's model in the header line (missing)")
-        return compact_frame(t, self._model, self._gravity)
+        self._last = compact_frame(t, self._model, self._gravity, self._last)
+        return self._last
 
     def __iter__(self) -> Iterator[Frame]:
         for index, raw in self.raw():
@@ -187,8 +189,10 @@ def _frame(t: TableReader) -> Frame:
     )
 
 
-def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
-    """A frame of the compact format: the model posed by its ``joint_values``, with its contacts and loads."""
+def compact_frame(t: TableReader, model: Model, gravity: Any = None, last: Frame | None = None) -> Frame:
+    """A frame of the compact format: the model posed by its ``joint_values``, with its contacts and loads;
+    ``last``: a frame of the same model read before, whose posed arrays (read, never changed) a frame with its
+    joint values takes as they are."""
     values = _vector(t, "joint_values", model.n, ANGLE, "rad or m")
     contacts = []
     for name, c in t.named_tables("contacts").items():
@@ -201,6 +205,8 @@ def compact_frame(t: TableReader, model: Model, gravity: Any = None) -> Frame:
         point, force = _vector(ld, "point", 3, LENGTH, "m"), _vector(ld, "force", 3, FORCE, "N")
         loads.append((ld.choice("tcp", model.tcps, "a TCP name"), point, force))
     g = GRAVITY if gravity is None else TableReader(t.path, {"gravity": gravity}, "", t.error).vector("gravity", 3)
+    if last is not None and values.tobytes() == last.joint_value.tobytes():  # the same pose: its arrays shared
+        return replace(last, **frame_status(t), contacts=contacts, loads=loads, gravity=np.array(g, dtype=float))
     return frame_of_pose(model, model.forward(values), frame_status(t), contacts, loads, g)
 
 
