@@ -27,7 +27,8 @@ if TYPE_CHECKING:
 @dataclass
 class Frame:
     """One frame as arrays. Joint i moves link ``joint_link[i]``; ``below[j, k]``: link k in the subtree of link j
-    (itself included)."""
+    (itself included). A frame is a value, not changed once made: the readers give a held pose's frames the same
+    arrays, and the writers keep a held pose's text (:meth:`same_pose`)."""
 
     number: int
     converged: bool | None
@@ -98,7 +99,8 @@ _POSE_FIELDS = tuple(f.name for f in fields(Frame) if f.init and f.name not in _
 
 
 def _same(a: object, b: object) -> bool:
-    """``a`` and ``b`` (arrays, floats and containers of them) equal bit for bit: 0.0 is not -0.0, NaN not NaN."""
+    """``a`` and ``b`` (arrays, floats and containers of them) the same numbers: arrays bit for bit, floats by value
+    and sign (0.0 is not -0.0; NaN is NaN)."""
     if a is b:
         return True
     kind = type(a)
@@ -111,7 +113,7 @@ def _same(a: object, b: object) -> bool:
     if kind is list or kind is tuple:
         return len(a) == len(b) and all(map(_same, a, b))
     if kind is float:
-        return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
+        return (a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))) or (a != a and b != b)
     return a == b
 
 

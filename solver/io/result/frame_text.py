@@ -19,6 +19,7 @@ from .document import contacts_dict, frame_status, frame_to_dict, loads_list, ro
 from .frame import Frame, frame_of_result
 
 if TYPE_CHECKING:
+    from ...body.model import Kinematics
     from ...body.state import State
     from ...iteration.result import Result
 
@@ -82,14 +83,23 @@ def _layout(f: Frame) -> tuple:
 
 class PoseText:
     """``json.dumps(frame_to_dict(f))`` of frame after frame (default separators), its template kept between frames
-    of the same layout."""
+    of the same layout, and its text while the pose is held (:meth:`~.frame.Frame.same_pose`)."""
 
     def __init__(self) -> None:
         self._key: tuple | None = None
         self._template = ""
         self._slots = 0
+        self._last: Frame | None = None  # the frame written last and its text
+        self._text = ""
+        self._posed: tuple[Kinematics, Frame] | None = None  # result_frame's last: the solver's kinematics, frame
 
     def __call__(self, f: Frame) -> str:
+        if f.same_pose(self._last):
+            return self._text
+        self._last, self._text = f, self._pose(f)
+        return self._text
+
+    def _pose(self, f: Frame) -> str:
         key = _layout(f)
         if key != self._key:
             self._template, self._slots = template(frame_to_dict(f, SLOT))
@@ -123,4 +133,7 @@ class PoseText:
         """``json.dumps(result_to_dict(result, frame, state))``: the status, then the pose."""
         state = result.state if state is None else state
         status = json.dumps(frame_status(result, frame, state))
-        return status[:-1] + ", " + self(frame_of_result(result, frame, state))[1:]
+        posed = self._posed[1] if self._posed is not None and self._posed[0] is state.kin else None  # held: shared
+        f = frame_of_result(result, frame, state, posed)
+        self._posed = (state.kin, f)
+        return status[:-1] + ", " + self(f)[1:]

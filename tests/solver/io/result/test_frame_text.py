@@ -184,3 +184,18 @@ def test_a_result_evaluates_its_pose_once(solved, monkeypatch) -> None:
     assert result.state is not state and result.state.x is result.x
     other = result.problem.state_of_x(result.x + 0.01)
     assert "kin" not in result.problem.state_of_x(result.x).adopt(other).__dict__  # not the same point: not taken
+
+
+def test_a_held_pose_keeps_its_text_and_shares_its_arrays_until_it_moves(solved) -> None:
+    """Frames of the same solver kinematics share the posed arrays and the pose's text; a frame of the same
+    kinematics with another contact force, or of other kinematics, is written again: each the text of its dicts."""
+    (n0, r0), (n1, r1) = solved[0], solved[1]
+    pushed = dataclasses.replace(r0, contacts=[dict(c) for c in r0.contacts])
+    pushed.contacts[0]["force"] = pushed.contacts[0]["force"] + np.array([0.0, 0.0, 1e-9])
+    pose, kept = PoseText(), []
+    for number, result in [(n0, r0), (n0 + 1, r0), (n0 + 2, pushed), (n1, r1), (n1 + 1, r1), (n1 + 2, r0)]:
+        assert pose.result_frame(result, number) == json.dumps(result_to_dict(result, number))
+        kept.append(pose._posed[1])
+    assert kept[1].joint_position is kept[0].joint_position is kept[2].joint_position
+    assert kept[3].joint_position is not kept[2].joint_position and kept[5].joint_position is not kept[0].joint_position
+    assert kept[4].number == n1 + 1 and kept[1].contacts is not kept[0].contacts
