@@ -12,7 +12,6 @@ from types import SimpleNamespace
 import bpy
 import numpy as np
 
-from ...solver.ergonomics.report import frame_parts
 from ...solver.io.result.frame import Frame
 from ...solver.io.result.read import ResultStream
 from ..motion.bake import Baker, FrameRecord
@@ -31,7 +30,7 @@ class FileReport(MotionReport):
 
     def add_frame(self, record: FrameRecord, f: Frame, raw: dict) -> None:
         """One frame read from the file (``raw``: its JSON, for the solve's status)."""
-        ergo, loads, _ = frame_parts(f, self.options, self.model, self.area, None)
+        ergo, loads, _ = self._parts(f)  # a held pose's ergonomics computed once
         self.ends = [self.ends[0] if self.ends else f, f]
         self.kept.append({s.name: s.keep(f) for s in self.motions})
         if self.store is not None:

@@ -200,7 +200,7 @@ def write_json(report: dict, path: Path) -> None:
 def csv_header(first: dict, joints: list[str]) -> list[str]:
     """The CSV's columns: the frame's status, every score's columns (:func:`.registry.in_frame_order`; ``first``:
     the first frame's report) and the percent of strength of the ``joints`` shown."""
-    header = ["frame", "converged", "status"]
+    header = list(HEAD_KEYS)
     for score in in_frame_order():
         header += score.columns(first)
     return header + [f"pct_{j}" for j in joints]
@@ -208,7 +208,7 @@ def csv_header(first: dict, joints: list[str]) -> list[str]:
 
 def csv_row(f: dict, joints: list[str]) -> list:
     """One frame's row (as :func:`csv_header`), from its report."""
-    row = [f["frame"], f["converged"], f.get("status")]
+    row = [f.get(key) for key in HEAD_KEYS]
     for score in in_frame_order():
         row += score.cells(f)
     return row + [f["joint_loads"][j]["percent_strength"] for j in joints]

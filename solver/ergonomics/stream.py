@@ -108,12 +108,11 @@ class HeldText:
         self._tail = ""
         self._cells: list = []
 
-    def keep(self, report: dict, text: str, cells: list) -> tuple[str, list]:
-        """Keep the ``text`` and ``cells`` of ``report`` (made in full); returns them."""
+    def keep(self, report: dict, text: str, cells: list) -> None:
+        """Keep the ``text`` and ``cells`` of ``report`` (made in full)."""
         head = _head_text(report)
         self.kept = text.startswith(head)
         self._tail, self._cells = text[len(head) :], cells[len(HEAD_KEYS) :]
-        return text, cells
 
     def again(self, report: dict) -> tuple[str, list]:
         """The text and cells of ``report``, a held pose of the frame kept."""
@@ -225,17 +224,16 @@ def evaluate_file(result: str | Path, output: Path, options: ErgoOptions, plots:
         out.write(json.dumps(head, allow_nan=False)[:-1] + ', "frames": [')
         rows = csv.writer(table, lineterminator="\n")
         parts, text, shown_at = HeldFrames(options, model, area, motion), LoadsText(), JointColumns(joints)
-        written = HeldText()
+        kept_text = HeldText()
         for f in stream:
             report, loads, _ = parts(f)
             if count == 0:
                 rows.writerow(csv_header(report, joints))
-            if parts.held and written.kept:
-                line, cells = written.again(report)
+            if parts.held and kept_text.kept:
+                line, cells = kept_text.again(report)
             else:
-                line, cells = written.keep(
-                    report, _frame_text(report, loads, text), array_csv_cells(report, loads, shown_at(f))
-                )
+                line, cells = _frame_text(report, loads, text), array_csv_cells(report, loads, shown_at(f))
+                kept_text.keep(report, line, cells)
             out.write(("\n" if count == 0 else ",\n") + line)
             rows.writerow(cells)
             series.add(report, loads)

@@ -28,7 +28,8 @@ if TYPE_CHECKING:
 class Frame:
     """One frame as arrays. Joint i moves link ``joint_link[i]``; ``below[j, k]``: link k in the subtree of link j
     (itself included). A frame is a value, not changed once made: the readers give a held pose's frames the same
-    arrays, and the writers keep a held pose's text (:meth:`same_pose`)."""
+    arrays (read-only in a frame of a pose, :func:`frame_of_pose`), and the writers keep a held pose's text
+    (:meth:`same_pose`); to change one, copy it (``dataclasses.replace`` with new arrays)."""
 
     number: int
     converged: bool | None
@@ -160,11 +161,7 @@ def frame_of_pose(
     rotations, positions = kin.tcp_frames(list(model.tcps.values()))
     capsules = capsules_of(model)
     ends = capsules.world(kin)
-    radii = capsules.radius.tolist()  # Python floats: float() of each numpy scalar
-    shapes = [(n, a, b, r) for n, a, b, r in zip(capsules.names, *ends, radii, strict=True)]
-    return Frame(
-        **status,
-        joint_names=list(model.joint_names),
+    posed = dict(
         joint_value=np.array(kin.theta, dtype=float),
         joint_range=np.column_stack([model.lower, model.upper]),
         joint_position=kin.position.copy(),
@@ -172,14 +169,23 @@ def frame_of_pose(
         prismatic=model.prismatic.copy(),
         joint_link=np.arange(model.n),
         joint_strength=model.strength.copy(),
-        link_names=list(model.link_names),
         link_parent=np.asarray(model.parent, dtype=int).copy(),
         link_mass=model.mass.copy(),
         link_com=kin.com.copy(),
+        gravity=np.asarray(gravity, dtype=float).copy(),
+    )
+    for a in (*posed.values(), rotations, positions, *ends):  # shared by a held pose's frames: made read-only
+        a.setflags(write=False)
+    radii = capsules.radius.tolist()  # Python floats: float() of each numpy scalar
+    shapes = [(n, a, b, r) for n, a, b, r in zip(capsules.names, *ends, radii, strict=True)]
+    return Frame(
+        **status,
+        **posed,
+        joint_names=list(model.joint_names),
+        link_names=list(model.link_names),
         tcp_position=dict(zip(model.tcps, positions, strict=True)),
         tcp_rotation=dict(zip(model.tcps, rotations, strict=True)),
         tcp_link={name: tcp.link for name, tcp in model.tcps.items()},
-        gravity=np.asarray(gravity, dtype=float).copy(),
         contacts=contacts,
         loads=loads,
         collision_shapes=shapes,
