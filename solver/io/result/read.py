@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from itertools import chain
 from pathlib import Path
 from typing import Any
 
@@ -153,9 +154,10 @@ def frame_from_dict(raw: Any, where: str = "frame") -> Frame:
 
 def _frame(t: TableReader) -> Frame:
     t.required("joints", "links", "tcps")
-    link_names, link_parent, mass, com = _links(t.table_list("links", non_empty=True))
+    links = _usual_links(t.data["links"]) or _links(t.table_list("links", non_empty=True))
+    link_names, link_parent, mass, com = links
     lindex = {n: i for i, n in enumerate(link_names)}
-    joints = _joints(t.named_tables("joints"), lindex)
+    joints = _usual_joints(t.data["joints"], lindex) or _joints(t.named_tables("joints"), lindex)
     tcp_position, tcp_rotation, tcp_link = {}, {}, {}
     for name, tcp in t.named_tables("tcps").items():
         tcp_position[name] = tcp.vector("position", 3, limit=LENGTH, unit="m")
@@ -282,6 +284,94 @@ def _joints(joints: dict[str, TableReader], lindex: dict[str, int]) -> dict[str,
         joint_link=np.array(links, dtype=int),
         joint_strength=np.array(strengths).reshape(-1, 2) if has_strength else None,
     )
+
+
+def _floats(values: list, limit: float, size: int | None = None) -> np.ndarray | None:
+    """``values`` (floats, or lists of ``size`` floats) as an array when each is a float within +-``limit``; None
+    for anything else (an int, a NaN, a wrong size: the checked readers then name it)."""
+    if size is not None:
+        if not all(type(v) is list and len(v) == size for v in values):
+            return None
+        values = list(chain.from_iterable(values))
+    if not values or set(map(type, values)) != {float}:
+        return None
+    a = np.array(values, dtype=float)
+    return a if (np.abs(a) <= limit).all() else None
+
+
+def _limits(values: list, unlimited: float, limit: float) -> np.ndarray | None:
+    """:meth:`TableReader.limit` of each value (None: ``unlimited``), or None when one is not a float within
+    +-``limit`` or null."""
+    given = [v for v in values if v is not None]
+    if given and _floats(given, limit) is None:
+        return None
+    return np.array([unlimited if v is None else v for v in values], dtype=float)
+
+
+def _usual_links(links: Any) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray] | None:
+    """:func:`_links` of a frame's links as the writers put them (every name a string, every number a float in
+    range), in bulk; None for anything else, which :func:`_links` checks one by one and names."""
+    if type(links) is not list or not links or not all(type(lk) is dict for lk in links):
+        return None
+    names = [lk.get("name") for lk in links]
+    if not all(type(n) is str and n for n in names):
+        return None
+    mass, com = _floats([lk.get("mass") for lk in links], MASS), _floats([lk.get("com") for lk in links], LENGTH, 3)
+    if mass is None or com is None or (mass < 0.0).any():
+        return None
+    index = {n: i for i, n in enumerate(names)}
+    parents = [lk.get("parent") for lk in links]
+    if not all(p is None or type(p) is str for p in parents):
+        return None
+    return names, np.array([index.get(p, -1) for p in parents], dtype=int), mass, com.reshape(-1, 3)
+
+
+def _usual_joints(joints: Any, lindex: dict[str, int]) -> dict[str, Any] | None:
+    """:func:`_joints` of a frame's joints as the writers put them, in bulk (each axis normalised as there, one by
+    one, for the same bits); None for anything else, which :func:`_joints` checks one by one and names."""
+    if type(joints) is not dict or not joints or not all(type(jt) is dict for jt in joints.values()):
+        return None
+    tables = list(joints.values())
+    links = [jt.get("link") for jt in tables]
+    if not all(type(link) is str and link in lindex for link in links):
+        return None
+    values = _floats([jt.get("value") for jt in tables], ANGLE)
+    lower = _limits([jt.get("min") for jt in tables], -math.inf, ANGLE)
+    upper = _limits([jt.get("max") for jt in tables], math.inf, ANGLE)
+    positions = _floats([jt.get("position") for jt in tables], LENGTH, 3)
+    axes = _floats([jt.get("axis") for jt in tables], LENGTH, 3)
+    strengths = _usual_strengths([jt.get("strength") for jt in tables])
+    if values is None or lower is None or upper is None or positions is None or axes is None or strengths is None:
+        return None
+    axes = axes.reshape(-1, 3)
+    norms = [np.linalg.norm(axis) for axis in axes]
+    if min(norms) < 1e-9:
+        return None
+    return dict(
+        joint_names=list(joints),
+        joint_value=values,
+        joint_range=np.column_stack([lower, upper]),
+        joint_position=positions.reshape(-1, 3),
+        joint_axis=np.array([axis / norm for axis, norm in zip(axes, norms, strict=True)]).reshape(-1, 3),
+        prismatic=np.array([jt.get("type") == "prismatic" for jt in tables], dtype=bool),
+        joint_link=np.array([lindex[link] for link in links], dtype=int),
+        joint_strength=strengths if len(strengths) else None,
+    )
+
+
+def _usual_strengths(values: list) -> np.ndarray | None:
+    """:func:`_strength` of each joint as an (n, 2) array (empty when no joint has one), or None for anything but
+    null or a pair of floats within +-FORCE or null."""
+    if all(v is None for v in values):
+        return np.zeros((0, 2))
+    if not all(v is None or (type(v) is list and len(v) == 2) for v in values):
+        return None
+    pairs = _limits([side for v in values if v is not None for side in v], math.inf, FORCE)
+    if pairs is None:
+        return None
+    out = np.full((len(values), 2), math.nan)
+    out[[i for i, v in enumerate(values) if v is not None]] = pairs.reshape(-1, 2)
+    return out
 
 
 def _strength(jt: TableReader) -> list[float]:
