@@ -25,7 +25,7 @@ from ...errors import ManikinError, ResultFileError
 from ..table_reader import TableReader
 from .frame import Frame, frame_of_pose
 from .model_json import model_from_dict
-from .scan import FrameLine, is_compact, parse_line, scan
+from .scan import FrameLine, UncheckedFrame, checked_frame, is_compact, parse_line, scan
 
 # bounds of a result file's values, far beyond any pose but small enough that products of them stay finite
 LENGTH, FORCE, MASS, ANGLE = 1e4, 1e7, 1e4, 1e4  # m (positions), N and N*m, kg (a link), rad or m (joint values)
@@ -88,13 +88,15 @@ class ResultStream:
 
     def numbered(self) -> Iterator[tuple[int, Any, Any]]:
         """(index, frame number, raw) of every frame for a quick pass over the numbers: ``raw`` as :meth:`frame`
-        takes it, a compact file's frame line not parsed (nor checked) until then; the number is the frame's
-        ``frame`` (1 when it has none; None for a frame that is not an object)."""
+        takes it, a compact file's frame line not parsed (nor checked) until then, a result JSON's frame not held
+        to the nesting limit until then (:class:`~.scan.UncheckedFrame`); the number is the frame's
+        ``frame`` (1 when it has none; None for a frame that is not an object or whose ``frame`` is not a number:
+        building it says what is wrong)."""
         for index, value in self._raw(lazy=True):
             if isinstance(value, FrameLine):
                 yield index, value.number, value
             else:
-                yield index, value.get("frame", 1) if isinstance(value, dict) else None, value
+                yield index, _number(value.data if isinstance(value, UncheckedFrame) else value), value
 
     def _raw(self, lazy: bool) -> Iterator[tuple[int, Any]]:
         count = 0
@@ -110,6 +112,8 @@ class ResultStream:
         """The checked frame of a raw frame object (from :meth:`raw` or :meth:`numbered`)."""
         if isinstance(raw, FrameLine):
             raw = parse_line(raw, self.path, ResultFileError)
+        elif isinstance(raw, UncheckedFrame):
+            raw = checked_frame(raw, self.path, ResultFileError)
         where = f"frames[{index}]."
         if not isinstance(raw, dict):
             raise ResultFileError(f"{self.path}: {where[:-1]}: expected a result frame (an object), got {raw!r:.60}")
@@ -124,6 +128,12 @@ class ResultStream:
     def __iter__(self) -> Iterator[Frame]:
         for index, raw in self.raw():
             yield self.frame(index, raw)
+
+
+def _number(raw: Any) -> int | float | None:
+    """A raw frame's ``frame`` for the quick pass (1 when absent), None when it is no number."""
+    number = raw.get("frame", 1) if isinstance(raw, dict) else None
+    return number if isinstance(number, (int, float)) else None
 
 
 def read_result(path: str | Path) -> ResultFile:

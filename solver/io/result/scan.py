@@ -206,16 +206,34 @@ def _open(path: Path, error: type[ManikinError]) -> IO[str]:
         raise read_error(path, exc, error) from None
 
 
+@dataclass(frozen=True)
+class UncheckedFrame:
+    """A result JSON's frame parsed but not yet held to :data:`~solver.io.parse_limits.MAX_DEPTH` (:func:`scan`
+    with ``lazy``; :func:`checked_frame` checks it)."""
+
+    data: Any
+    index: int
+
+
+def checked_frame(frame: UncheckedFrame, path: Path, error: type[ManikinError]) -> Any:
+    """The raw frame of an :class:`UncheckedFrame`, checked as :func:`scan` checks every frame."""
+    check_depth(frame.data, path, error, f"frames[{frame.index}]")
+    return frame.data
+
+
 def scan(path: Path, error: type[ManikinError], lazy: bool = False) -> Iterator[Part]:
     """The parts of the result file ``path`` in file order (either format), each value at most
     :data:`~solver.io.parse_limits.MAX_DEPTH` levels deep. ``lazy``: a compact file's frame lines that start with
-    their number are ``("line", index, FrameLine)``, neither parsed nor checked (:func:`parse_line` does both)."""
+    their number are ``("line", index, FrameLine)``, neither parsed nor checked (:func:`parse_line` does both); a
+    result JSON's frames are ``("frame", index, UncheckedFrame)``, parsed, not checked (:func:`checked_frame`)."""
     compact = is_compact(path, error)
     with _open(path, error) as stream:
         try:
             parts = _compact_parts(stream, path, error, lazy) if compact else _json_parts(stream, path, error)
             for kind, name, value in parts:
-                if kind != "line":
+                if lazy and kind == "frame" and not compact:  # a quick pass over the numbers: checked when built
+                    value = UncheckedFrame(value, name)
+                elif kind != "line":
                     check_depth(value, path, error, f"frames[{name}]" if kind == "frame" else str(name))
                 yield kind, name, value
         except (OSError, UnicodeDecodeError) as exc:

@@ -118,3 +118,46 @@ def test_values_not_plain_floats_go_through_the_readers_checks(lines, tmp_path, 
     else:
         with pytest.raises(ResultFileError, match=rf"frames\[0\]\.(contacts\.\w+\.)?{key}: expected .*{message}"):
             next(iter(stream))
+
+
+@pytest.fixture(scope="module")
+def json_frames(tmp_path_factory) -> list[dict]:
+    scenario = solver.load_motion(BOX_LIFT_MOTION)
+    path = solver.write_result(
+        tmp_path_factory.mktemp("quick") / "three.json", islice(solver.solve_motion(scenario), 3)
+    )
+    return json.loads(path.read_text(encoding="utf-8"))["frames"]
+
+
+def test_a_result_json_quick_pass_leaves_the_nesting_check_to_the_frames_built(json_frames, tmp_path: Path) -> None:
+    """The quick pass over a result JSON's numbers does not walk its frames for their nesting: a frame built from
+    it is checked then, and is the frame the full read builds."""
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps({"frames": json_frames}), encoding="utf-8")
+    stream = ResultStream(path)
+    numbered, raw = list(stream.numbered()), list(stream.raw())
+    assert [n for _, n, _ in numbered] == [1, 2, 3] and all(
+        isinstance(r, result_scan.UncheckedFrame) for *_, r in numbered
+    )
+    for (i, _, quick), (j, full) in zip(numbered, raw, strict=True):
+        _same(stream.frame(i, quick), stream.frame(j, full))
+
+
+@pytest.mark.parametrize("where", ["frame", "notes"])
+def test_a_result_json_frame_too_deep_or_a_list_for_its_number_is_one_line(json_frames, tmp_path, where) -> None:
+    """ergo on a result JSON whose second frame holds a value nested 40 deep (its number, or its notes), or a list
+    for its number: the one line naming it (a number that is a list once broke the quick pass with a TypeError)."""
+    deep: object = 1
+    for _ in range(40):
+        deep = [deep]
+    for value, message in ((deep, f"frames[1].{where}[...]: arrays or tables nested more than 32"), ([2], None)):
+        if message is None and where != "frame":
+            continue
+        frames = [dict(f) for f in json_frames]
+        frames[1][where] = value
+        path = tmp_path / "r.json"
+        path.write_text(json.dumps({"frames": frames}), encoding="utf-8")
+        with pytest.raises(ResultFileError) as caught:
+            solver.ergonomics.run(path, tmp_path / "e.json", plots=False)
+        assert (message or "frames[1].frame: expected a whole frame number") in str(caught.value)
+        assert not list(tmp_path.glob("e.*"))
