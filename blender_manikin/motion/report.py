@@ -30,13 +30,12 @@ from ...solver.ergonomics.report_text import LoadsText, dumps_filled
 from ...solver.ergonomics.stream import PlotSeries
 from ...solver.errors import ManikinError
 from ...solver.io.files import open_output
-from ...solver.io.result.frame import Frame, frame_of_result
+from ...solver.io.result.frame import Frame, ResultFrames
 from ...solver.io.result.frame_text import SLOT
 from .frame_store import FrameStore
 
 if TYPE_CHECKING:
     from ...solver import Model, Result
-    from ...solver.body.model import Kinematics
     from ...solver.body.state import State
     from ...solver.ergonomics.base import Score
     from .bake import Baker, FrameRecord
@@ -85,15 +84,12 @@ class MotionReport:
         self._loads, self._loads_text = LoadsText(), ""
         self._parts = HeldFrames(self.options, model, self.area, None)  # a held pose's ergonomics computed once
         self._fields: list[str] = []  # a frame record's fields, in order
-        self._posed: tuple[Kinematics, Frame] | None = None  # the last frame's kinematics (the solver's) and frame
+        self._frame_of = ResultFrames()  # a held pose's frames share their arrays
 
     def add(self, record: FrameRecord, result: Result, state: State | None = None) -> None:
         """One baked frame (``state``: the result's, if the caller has it): its ergonomics, appended to the frames
         file."""
-        kin = (result.state if state is None else state).kin
-        posed = self._posed[1] if self._posed is not None and self._posed[0] is kin else None  # a held pose
-        f = frame_of_result(result, record.frame, state, posed)
-        self._posed = (kin, f)
+        f = self._frame_of(result, record.frame, state)
         ergo, loads, _ = self._parts(f)
         self.ends = [self.ends[0] if self.ends else f, f]
         self.kept.append({s.name: s.keep(f) for s in self.motions})

@@ -148,6 +148,21 @@ def frame_of_result(result: Result, number: int = 1, state: State | None = None,
     return frame_of_pose(problem.model, state.kin, status, contacts, loads)
 
 
+class ResultFrames:
+    """:func:`frame_of_result` of result after result (a motion's), a frame of the solver's same kinematics object as
+    the frame before (a held pose: :meth:`State.adopt`) sharing that frame's posed arrays."""
+
+    def __init__(self) -> None:
+        self._last: tuple[Kinematics, Frame] | None = None  # the last frame's kinematics (the solver's) and frame
+
+    def __call__(self, result: Result, number: int = 1, state: State | None = None) -> Frame:
+        kin = (result.state if state is None else state).kin
+        posed = self._last[1] if self._last is not None and self._last[0] is kin else None
+        f = frame_of_result(result, number, state, posed)
+        self._last = (kin, f)
+        return f
+
+
 def frame_of_pose(
     model: Model,
     kin: Kinematics,

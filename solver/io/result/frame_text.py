@@ -16,10 +16,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .document import contacts_dict, frame_status, frame_to_dict, loads_list, rotation_quaternion
-from .frame import Frame, frame_of_result
+from .frame import Frame, ResultFrames
 
 if TYPE_CHECKING:
-    from ...body.model import Kinematics
     from ...body.state import State
     from ...iteration.result import Result
 
@@ -91,7 +90,7 @@ class PoseText:
         self._slots = 0
         self._last: Frame | None = None  # the frame written last and its text
         self._text = ""
-        self._posed: tuple[Kinematics, Frame] | None = None  # result_frame's last: the solver's kinematics, frame
+        self._frames = ResultFrames()  # result_frame's frames, a held pose's sharing its arrays
 
     def __call__(self, f: Frame) -> str:
         if f.same_pose(self._last):
@@ -133,7 +132,4 @@ class PoseText:
         """``json.dumps(result_to_dict(result, frame, state))``: the status, then the pose."""
         state = result.state if state is None else state
         status = json.dumps(frame_status(result, frame, state))
-        posed = self._posed[1] if self._posed is not None and self._posed[0] is state.kin else None  # held: shared
-        f = frame_of_result(result, frame, state, posed)
-        self._posed = (state.kin, f)
-        return status[:-1] + ", " + self(f)[1:]
+        return status[:-1] + ", " + self(self._frames(result, frame, state))[1:]

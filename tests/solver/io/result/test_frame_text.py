@@ -195,7 +195,7 @@ def test_a_held_pose_keeps_its_text_and_shares_its_arrays_until_it_moves(solved)
     pose, kept = PoseText(), []
     for number, result in [(n0, r0), (n0 + 1, r0), (n0 + 2, pushed), (n1, r1), (n1 + 1, r1), (n1 + 2, r0)]:
         assert pose.result_frame(result, number) == json.dumps(result_to_dict(result, number))
-        kept.append(pose._posed[1])
+        kept.append(pose._frames._last[1])
     assert kept[1].joint_position is kept[0].joint_position is kept[2].joint_position
     assert kept[3].joint_position is not kept[2].joint_position and kept[5].joint_position is not kept[0].joint_position
     assert kept[4].number == n1 + 1 and kept[1].contacts is not kept[0].contacts
